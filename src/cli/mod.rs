@@ -1,0 +1,1 @@
+//! The `raystep` command line.

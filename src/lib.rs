@@ -1,0 +1,27 @@
+//! # raystep — ray tracing, one pixel at a time
+//!
+//! raystep traces a single pixel and keeps every step of the work — the ray, each intersection
+//! test with its numbers, the closest-hit bookkeeping, the shadow, reflection and refraction
+//! branches — while a full parallel render runs the very same code without recording anything.
+//!
+//! The modules, in the order data flows through them:
+//!
+//! - [`math`]: rays (validated where they are made), the [`math::Real`] precision abstraction the
+//!   kernels are generic over (f32 for the renderer, f64 for the calculator and the lab), γₙ.
+//! - [`scene`]: the TOML scene format, OBJ meshes, validation with located errors, and the
+//!   scene's [`scene::Features`].
+//! - [`shapes`]: one kernel per primitive (sphere, plane, triangle, box), each returning a record
+//!   of every intermediate it computed.
+//! - [`accel`]: finding the closest hit — the seeds' naive loop, observed.
+//! - [`trace`]: the camera, the observer ([`trace::Silent`] and [`trace::Recorder`]), the step
+//!   trace records, Phong/Snell/Schlick shading and the one recursive Whitted tracer.
+//! - [`cli`]: the `raystep` command line.
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod accel;
+pub mod cli;
+pub mod math;
+pub mod scene;
+pub mod shapes;
+pub mod trace;

@@ -1,0 +1,456 @@
+//! Loading and validating a scene: TOML syntax errors with file:line:column, semantic errors that
+//! name the object and field (with the field's line and column), OBJ meshes through `tobj`.
+
+use super::model::*;
+use super::*;
+use sha2::{Digest, Sha256};
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::Path;
+use toml::Spanned;
+
+/// A scene that could not be loaded: where and why.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{}", self.render())]
+pub struct SceneError {
+    /// The scene (or OBJ) file.
+    pub file: String,
+    /// 1-based line, when known.
+    pub line: Option<usize>,
+    /// 1-based column, when known.
+    pub column: Option<usize>,
+    /// The object and field, e.g. `sphere "ball" → radius`.
+    pub field: Option<String>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl SceneError {
+    fn render(&self) -> String {
+        let mut s = self.file.clone();
+        if let (Some(l), Some(c)) = (self.line, self.column) {
+            s += &format!(":{l}:{c}");
+        }
+        s += ": ";
+        if let Some(f) = &self.field {
+            s += &format!("{f}: ");
+        }
+        s + &self.message
+    }
+}
+
+/// Loads a scene file (and the OBJ files it names, relative to it).
+pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
+    let file = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: file.clone(),
+        line: None,
+        column: None,
+        field: None,
+        message: format!("cannot read the scene file: {e}"),
+    })?;
+    let mut scene = load_str(&text, &file, path.parent())?;
+    scene.path = Some(path.to_path_buf());
+    Ok(scene)
+}
+
+/// Loads a scene from TOML text. `file` names it in errors; `base` is where OBJ paths start from.
+pub fn load_str(text: &str, file: &str, base: Option<&Path>) -> Result<Scene, SceneError> {
+    let ctx = Ctx { text, file };
+    let parsed: SceneFile = toml::from_str(text).map_err(|e| {
+        let (line, column) = e.span().map(|s| ctx.line_col(s.start)).unzip();
+        SceneError {
+            file: file.into(),
+            line,
+            column,
+            field: None,
+            message: e.message().trim().to_string(),
+        }
+    })?;
+    ctx.build(parsed, base)
+}
+
+struct Ctx<'a> {
+    text: &'a str,
+    file: &'a str,
+}
+
+/// Where an object sits in the file, for locating its fields.
+struct Loc<'a> {
+    what: String,
+    span: Option<Range<usize>>,
+    ctx: &'a Ctx<'a>,
+}
+
+impl Loc<'_> {
+    fn err(&self, field: &str, message: impl Into<String>) -> SceneError {
+        let (line, column) = match &self.span {
+            Some(span) => {
+                let pos = self.ctx.find_field(span.clone(), field).unwrap_or(span.start);
+                let (l, c) = self.ctx.line_col(pos);
+                (Some(l), Some(c))
+            }
+            None => (None, None),
+        };
+        SceneError {
+            file: self.ctx.file.into(),
+            line,
+            column,
+            field: Some(if field.is_empty() { self.what.clone() } else { format!("{} → {field}", self.what) }),
+            message: message.into(),
+        }
+    }
+
+    fn num(&self, field: &str, x: f64) -> Result<f32, SceneError> {
+        let v = x as f32;
+        if !v.is_finite() {
+            return Err(self.err(field, format!("must be a finite number, got {x}")));
+        }
+        Ok(v)
+    }
+
+    fn nonneg(&self, field: &str, x: f64) -> Result<f32, SceneError> {
+        let v = self.num(field, x)?;
+        if v < 0.0 {
+            return Err(self.err(field, format!("must not be negative, got {x}")));
+        }
+        Ok(v)
+    }
+
+    fn unit(&self, field: &str, x: f64) -> Result<f32, SceneError> {
+        let v = self.nonneg(field, x)?;
+        if v > 1.0 {
+            return Err(self.err(field, format!("must lie in [0, 1], got {x}")));
+        }
+        Ok(v)
+    }
+
+    fn vec3(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
+        let v = Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
+        if !v.is_finite() {
+            return Err(self.err(field, format!("must be three finite numbers, got {a:?}")));
+        }
+        Ok(v)
+    }
+
+    fn color(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
+        let v = self.vec3(field, a)?;
+        if v.min_element() < 0.0 {
+            return Err(self.err(field, format!("colour components must not be negative, got {a:?}")));
+        }
+        Ok(v)
+    }
+
+    fn choice<T: clap::ValueEnum>(&self, field: &str, s: &str) -> Result<T, SceneError> {
+        T::from_str(s, true).map_err(|_| {
+            let names: Vec<String> = T::value_variants()
+                .iter()
+                .filter_map(|v| v.to_possible_value().map(|p| format!("\"{}\"", p.get_name())))
+                .collect();
+            self.err(field, format!("unknown value \"{s}\"; expected one of {}", names.join(", ")))
+        })
+    }
+}
+
+const MAX_DIMENSION: i64 = 16384;
+const MAX_PIXELS: i64 = 40_000_000;
+
+impl<'a> Ctx<'a> {
+    fn line_col(&self, pos: usize) -> (usize, usize) {
+        let pos = pos.min(self.text.len());
+        let before = &self.text[..pos];
+        let line = before.matches('\n').count() + 1;
+        let col = before.rfind('\n').map_or(pos, |nl| pos - nl - 1) + 1;
+        (line, col)
+    }
+
+    /// The byte offset of `field = …` inside an object's span.
+    fn find_field(&self, span: Range<usize>, field: &str) -> Option<usize> {
+        if field.is_empty() {
+            return None;
+        }
+        let body = self.text.get(span.clone())?;
+        let mut offset = 0;
+        for line in body.split_inclusive('\n') {
+            let trimmed = line.trim_start();
+            if let Some(rest) = trimmed.strip_prefix(field)
+                && rest.trim_start().starts_with('=')
+            {
+                return Some(span.start + offset + (line.len() - trimmed.len()));
+            }
+            offset += line.len();
+        }
+        None
+    }
+
+    fn loc<T>(&'a self, what: String, s: &Spanned<T>) -> Loc<'a> {
+        Loc { what, span: Some(s.span()), ctx: self }
+    }
+
+    fn build(&self, f: SceneFile, base: Option<&Path>) -> Result<Scene, SceneError> {
+        let camera = self.camera(f.camera.as_ref())?;
+        let settings = self.settings(f.render.as_ref())?;
+
+        let mut lights = vec![];
+        for (i, l) in f.light.iter().enumerate() {
+            let loc = self.loc(format!("light {i}"), l);
+            let d = l.get_ref();
+            lights.push(Light {
+                name: d.name.clone().unwrap_or_else(|| format!("light {i}")),
+                position: loc.vec3("position", d.position)?,
+                color: loc.color("color", d.color)?,
+            });
+        }
+
+        let mut materials = vec![];
+        let mut by_name: HashMap<String, u32> = HashMap::new();
+        for (i, m) in f.material.iter().enumerate() {
+            let d = m.get_ref();
+            let name = d.name.clone().unwrap_or_else(|| format!("material {i}"));
+            let loc = self.loc(format!("material \"{name}\""), m);
+            if by_name.contains_key(&name) {
+                return Err(loc.err("name", format!("a material named \"{name}\" is already defined")));
+            }
+            let shininess = loc.num("shininess", d.shininess)?;
+            if shininess <= 0.0 {
+                return Err(loc.err("shininess", format!("must be positive, got {}", d.shininess)));
+            }
+            let refractive_index = loc.num("refractive_index", d.refractive_index)?;
+            if refractive_index <= 0.0 {
+                return Err(loc.err("refractive_index", format!("must be positive, got {}", d.refractive_index)));
+            }
+            by_name.insert(name.clone(), materials.len() as u32);
+            materials.push(Material {
+                name,
+                color: loc.color("color", d.color)?,
+                ambient: loc.nonneg("ambient", d.ambient)?,
+                diffuse: loc.nonneg("diffuse", d.diffuse)?,
+                specular: loc.nonneg("specular", d.specular)?,
+                shininess,
+                reflective: loc.unit("reflective", d.reflective)?,
+                transparency: loc.unit("transparency", d.transparency)?,
+                refractive_index,
+            });
+        }
+        let mut default_material = None;
+        let mut material = |loc: &Loc, name: &Option<String>| -> Result<u32, SceneError> {
+            match name {
+                Some(n) => by_name.get(n).copied().ok_or_else(|| {
+                    let mut known: Vec<&String> = by_name.keys().collect();
+                    known.sort();
+                    let known = if known.is_empty() {
+                        "no materials are defined".to_string()
+                    } else {
+                        format!("known: {}", known.iter().map(|k| format!("\"{k}\"")).collect::<Vec<_>>().join(", "))
+                    };
+                    loc.err("material", format!("unknown material \"{n}\" ({known})"))
+                }),
+                None => Ok(*default_material.get_or_insert_with(|| {
+                    materials.push(Material::default());
+                    materials.len() as u32 - 1
+                })),
+            }
+        };
+
+        let mut objects: Vec<Object> = vec![];
+        let mut groups: Vec<Group> = vec![];
+        let mut names: HashMap<String, ()> = HashMap::new();
+        let mut add_group = |loc: &Loc, name: String, shapes: Vec<Shape>, mat: u32| -> Result<(), SceneError> {
+            if names.insert(name.clone(), ()).is_some() {
+                return Err(loc.err("name", format!("another object is already named \"{name}\"")));
+            }
+            let g = groups.len() as u32;
+            groups.push(Group { name, first: objects.len() as u32, count: shapes.len() as u32 });
+            objects.extend(shapes.into_iter().map(|shape| Object { shape, material: mat, group: g }));
+            Ok(())
+        };
+
+        for (i, s) in f.sphere.iter().enumerate() {
+            let d = s.get_ref();
+            let name = d.name.clone().unwrap_or_else(|| format!("sphere {i}"));
+            let loc = self.loc(format!("sphere \"{name}\""), s);
+            let center = loc.vec3("center", d.center)?;
+            let radius = loc.num("radius", d.radius)?;
+            if radius <= 0.0 {
+                return Err(loc.err("radius", format!("must be positive, got {}", d.radius)));
+            }
+            let m = material(&loc, &d.material)?;
+            add_group(&loc, name, vec![Shape::Sphere { center, radius }], m)?;
+        }
+        for (i, p) in f.plane.iter().enumerate() {
+            let d = p.get_ref();
+            let name = d.name.clone().unwrap_or_else(|| format!("plane {i}"));
+            let loc = self.loc(format!("plane \"{name}\""), p);
+            let shape = if let Some(axis) = &d.axis {
+                if d.point.is_some() || d.normal.is_some() {
+                    return Err(loc.err("axis", "give either `point` and `normal`, or `axis` and `offset`, not both"));
+                }
+                let axis = match axis.as_str() {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    other => return Err(loc.err("axis", format!("must be \"x\", \"y\" or \"z\", got \"{other}\""))),
+                };
+                Shape::AxisPlane { axis, offset: loc.num("offset", d.offset.unwrap_or(0.0))? }
+            } else {
+                if d.offset.is_some() {
+                    return Err(loc.err("offset", "`offset` goes with `axis`; a general plane takes `point` and `normal`"));
+                }
+                let point = loc.vec3("point", d.point.unwrap_or([0.0; 3]))?;
+                let n = d.normal.unwrap_or([0.0, 1.0, 0.0]);
+                loc.vec3("normal", n)?;
+                let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                if !(len > 0.0) || !len.is_finite() {
+                    return Err(loc.err("normal", format!("must be a non-zero vector, got {n:?}")));
+                }
+                let normal = Vec3::new((n[0] / len) as f32, (n[1] / len) as f32, (n[2] / len) as f32);
+                let offset = loc.num("point", point.as_dvec3().dot(normal.as_dvec3()))?;
+                Shape::Plane { normal, offset }
+            };
+            let m = material(&loc, &d.material)?;
+            add_group(&loc, name, vec![shape], m)?;
+        }
+        for (i, t) in f.triangle.iter().enumerate() {
+            let d = t.get_ref();
+            let name = d.name.clone().unwrap_or_else(|| format!("triangle {i}"));
+            let loc = self.loc(format!("triangle \"{name}\""), t);
+            let p = [
+                loc.vec3("vertices", d.vertices[0])?,
+                loc.vec3("vertices", d.vertices[1])?,
+                loc.vec3("vertices", d.vertices[2])?,
+            ];
+            let m = material(&loc, &d.material)?;
+            add_group(&loc, name, vec![Shape::Triangle { p }], m)?;
+        }
+        for (i, mesh) in f.mesh.iter().enumerate() {
+            let d = mesh.get_ref();
+            let name = d.name.clone().unwrap_or_else(|| format!("mesh {i}"));
+            let loc = self.loc(format!("mesh \"{name}\""), mesh);
+            let translate = loc.vec3("translate", d.translate)?;
+            let scale = loc.num("scale", d.scale)?;
+            if scale <= 0.0 {
+                return Err(loc.err("scale", format!("must be positive, got {}", d.scale)));
+            }
+            let path = base.map_or_else(|| Path::new(&d.obj).to_path_buf(), |b| b.join(&d.obj));
+            let tris = load_obj(&path, translate, scale).map_err(|m| loc.err("obj", m))?;
+            let m = material(&loc, &d.material)?;
+            add_group(&loc, name, tris, m)?;
+        }
+
+        let features = Features::compute(&objects, &materials, lights.len(), f.mesh.len());
+        let name = f.title.clone().unwrap_or_else(|| {
+            Path::new(self.file).file_name().map_or(self.file.to_string(), |n| n.to_string_lossy().into_owned())
+        });
+        let hash = Sha256::digest(self.text.as_bytes());
+        Ok(Scene {
+            name,
+            path: None,
+            source_hash: hash.iter().map(|b| format!("{b:02x}")).collect(),
+            camera,
+            settings,
+            lights,
+            materials,
+            objects,
+            groups,
+            features,
+        })
+    }
+
+    fn camera(&self, c: Option<&Spanned<CameraDef>>) -> Result<Camera, SceneError> {
+        let default = CameraDef::default();
+        let (loc, d) = match c {
+            Some(c) => (self.loc("camera".into(), c), c.get_ref()),
+            None => (Loc { what: "camera".into(), span: None, ctx: self }, &default),
+        };
+        let from = loc.vec3("from", d.from)?;
+        let at = loc.vec3("at", d.at)?;
+        let up = loc.vec3("up", d.up)?;
+        let fov = loc.num("fov", d.fov)?;
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(loc.err("fov", format!("must lie strictly between 0 and 180 degrees, got {}", d.fov)));
+        }
+        for (field, v) in [("width", d.width), ("height", d.height)] {
+            if !(1..=MAX_DIMENSION).contains(&v) {
+                return Err(loc.err(field, format!("must be between 1 and {MAX_DIMENSION} pixels, got {v}")));
+            }
+        }
+        if d.width * d.height > MAX_PIXELS {
+            return Err(loc.err(
+                "width",
+                format!("{}×{} is {} pixels, more than the limit of {MAX_PIXELS}", d.width, d.height, d.width * d.height),
+            ));
+        }
+        let view = (from - at).as_dvec3();
+        if view.length() == 0.0 {
+            return Err(loc.err("at", "`from` and `at` are the same point: the camera looks nowhere"));
+        }
+        let w = view.normalize();
+        if up.as_dvec3().length() == 0.0 || up.as_dvec3().normalize().cross(w).length() < 1e-6 {
+            return Err(loc.err("up", format!("{up:?} is parallel to the view direction (or zero): the camera's roll is undefined")));
+        }
+        Ok(Camera { from, at, up, fov, width: d.width as u32, height: d.height as u32 })
+    }
+
+    fn settings(&self, r: Option<&Spanned<RenderDef>>) -> Result<Settings, SceneError> {
+        let default = RenderDef::default();
+        let (loc, d) = match r {
+            Some(r) => (self.loc("render".into(), r), r.get_ref()),
+            None => (Loc { what: "render".into(), span: None, ctx: self }, &default),
+        };
+        if !(0..=64).contains(&d.max_depth) {
+            return Err(loc.err("max_depth", format!("must be between 0 and 64, got {}", d.max_depth)));
+        }
+        if !(1..=65536).contains(&d.spp) {
+            return Err(loc.err("spp", format!("must be between 1 and 65536, got {}", d.spp)));
+        }
+        let epsilon = loc.num("epsilon", d.epsilon)?;
+        if epsilon <= 0.0 {
+            return Err(loc.err("epsilon", format!("must be positive, got {}", d.epsilon)));
+        }
+        if !(0..=u32::MAX as i64).contains(&d.seed) {
+            return Err(loc.err("seed", format!("must be between 0 and {}, got {}", u32::MAX, d.seed)));
+        }
+        Ok(Settings {
+            max_depth: d.max_depth as u32,
+            spp: d.spp as u32,
+            background: loc.color("background", d.background)?,
+            sphere_method: loc.choice("sphere_method", &d.sphere_method)?,
+            triangle_method: loc.choice("triangle_method", &d.triangle_method)?,
+            offset: loc.choice("offset", &d.offset)?,
+            epsilon,
+            accel: loc.choice("accel", &d.accel)?,
+            seed: d.seed as u32,
+        })
+    }
+}
+
+/// Loads an OBJ file's faces (triangulated) as triangles, scaled then translated.
+fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, String> {
+    if !path.is_file() {
+        return Err(format!("OBJ file {} does not exist", path.display()));
+    }
+    let opts = tobj::LoadOptions { triangulate: true, single_index: false, ignore_points: true, ignore_lines: true };
+    let (models, _) = tobj::load_obj(path, &opts).map_err(|e| format!("cannot load OBJ file {}: {e}", path.display()))?;
+    let mut tris = vec![];
+    for model in &models {
+        let m = &model.mesh;
+        let pos = |i: u32| -> Result<Vec3, String> {
+            let i = i as usize * 3;
+            let p = m.positions.get(i..i + 3).ok_or_else(|| {
+                format!("{}: object \"{}\" refers to vertex {} which does not exist", path.display(), model.name, i / 3 + 1)
+            })?;
+            let v = Vec3::new(p[0], p[1], p[2]) * scale + translate;
+            if !v.is_finite() {
+                return Err(format!("{}: vertex {} is not finite: {p:?}", path.display(), i / 3 + 1));
+            }
+            Ok(v)
+        };
+        for f in m.indices.chunks_exact(3) {
+            tris.push(Shape::Triangle { p: [pos(f[0])?, pos(f[1])?, pos(f[2])?] });
+        }
+    }
+    if tris.is_empty() {
+        return Err(format!("OBJ file {} has no faces", path.display()));
+    }
+    Ok(tris)
+}

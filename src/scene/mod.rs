@@ -1,0 +1,273 @@
+//! The scene as data: the validated [`Scene`] every other module reads, its [`Features`], and the
+//! loader ([`load`]) that turns a TOML file (plus OBJ meshes) into it or into a located
+//! [`SceneError`].
+
+mod features;
+mod load;
+mod model;
+
+pub use features::Features;
+pub use load::{SceneError, load_file, load_str};
+pub use model::SceneFile;
+
+use crate::shapes::{SphereMethod, TriangleMethod};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+
+/// The built-in default scene (three spheres on a plane, one light): what `raystep` opens with no
+/// scene given. It is `scenes/three-spheres.toml`, compiled into the binary.
+pub const DEFAULT_SCENE: &str = include_str!("../../scenes/three-spheres.toml");
+/// The file name reported for the built-in scene.
+pub const DEFAULT_SCENE_NAME: &str = "three-spheres.toml (built in)";
+
+/// Loads the built-in default scene.
+pub fn default_scene() -> Scene {
+    load_str(DEFAULT_SCENE, DEFAULT_SCENE_NAME, None).expect("the built-in scene is valid")
+}
+
+/// The pinhole camera, in the convention of *Ray Tracing in One Weekend* (DESIGN.md).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Camera {
+    /// Eye position.
+    pub from: Vec3,
+    /// Point looked at.
+    pub at: Vec3,
+    /// Up hint.
+    pub up: Vec3,
+    /// Vertical field of view in degrees.
+    pub fov: f32,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+/// How spawned rays (shadow, reflection, refraction) leave a surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum OffsetPolicy {
+    /// Start exactly at the computed hit point: shows shadow acne.
+    None,
+    /// The Ray Tracer Challenge's `over_point`: move `epsilon` along the normal. Fails at large
+    /// scales (acne) and skips surfaces closer than `epsilon` (NUMERICS.md S7, S19).
+    Fixed,
+    /// pbrt-v4 `OffsetRayOrigin`: move by the hit point's rounding-error bound along the normal,
+    /// then one float further. Scale-independent; the default.
+    #[default]
+    Robust,
+}
+
+/// Which structure finds the closest hit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum AccelChoice {
+    /// Brute force for small scenes, the BVH for larger ones.
+    #[default]
+    Auto,
+    /// The seeds' naive loop over every primitive.
+    None,
+    /// A bounding volume hierarchy.
+    Bvh,
+}
+
+/// Render and tracing settings (the scene's `[render]` table, possibly overridden on the command line).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// Recursion limit for reflection and refraction (the primary ray has depth 0).
+    pub max_depth: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Colour of rays that hit nothing (linear RGB).
+    pub background: Vec3,
+    /// The ray–sphere method.
+    pub sphere_method: SphereMethod,
+    /// The ray–triangle method.
+    pub triangle_method: TriangleMethod,
+    /// The ray-origin offset policy for spawned rays.
+    pub offset: OffsetPolicy,
+    /// The distance used by `offset = "fixed"`.
+    pub epsilon: f32,
+    /// Acceleration structure.
+    pub accel: AccelChoice,
+    /// Seed mixed into every sample's jitter (renders with different seeds are independent).
+    pub seed: u32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            max_depth: 5,
+            spp: 1,
+            background: Vec3::ZERO,
+            sphere_method: SphereMethod::default(),
+            triangle_method: TriangleMethod::default(),
+            offset: OffsetPolicy::default(),
+            epsilon: 1e-4,
+            accel: AccelChoice::default(),
+            seed: 0,
+        }
+    }
+}
+
+/// A point light.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Light {
+    /// Name (`light 0` … when the file gives none).
+    pub name: String,
+    /// Position.
+    pub position: Vec3,
+    /// Intensity (linear RGB).
+    pub color: Vec3,
+}
+
+/// A Phong material, with the defaults of The Ray Tracer Challenge.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Material {
+    /// Name objects refer to it by.
+    pub name: String,
+    /// Surface colour (linear RGB).
+    pub color: Vec3,
+    /// Ambient coefficient.
+    pub ambient: f32,
+    /// Diffuse coefficient.
+    pub diffuse: f32,
+    /// Specular coefficient.
+    pub specular: f32,
+    /// Phong exponent.
+    pub shininess: f32,
+    /// Mirror reflectance in [0, 1].
+    pub reflective: f32,
+    /// Transmittance in [0, 1].
+    pub transparency: f32,
+    /// Index of refraction.
+    pub refractive_index: f32,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            name: "default".into(),
+            color: Vec3::ONE,
+            ambient: 0.1,
+            diffuse: 0.9,
+            specular: 0.9,
+            shininess: 200.0,
+            reflective: 0.0,
+            transparency: 0.0,
+            refractive_index: 1.0,
+        }
+    }
+}
+
+/// A primitive's geometry.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Shape {
+    /// A sphere.
+    Sphere {
+        /// Centre G.
+        center: Vec3,
+        /// Radius r > 0.
+        radius: f32,
+    },
+    /// The general plane X·n = offset.
+    Plane {
+        /// Unit normal.
+        normal: Vec3,
+        /// offset = P·n for a point P on the plane.
+        offset: f32,
+    },
+    /// The axis-aligned plane X_axis = offset.
+    AxisPlane {
+        /// 0 = x, 1 = y, 2 = z.
+        axis: usize,
+        /// The plane's coordinate.
+        offset: f32,
+    },
+    /// A triangle P0, P1, P2.
+    Triangle {
+        /// The vertices.
+        p: [Vec3; 3],
+    },
+}
+
+impl Shape {
+    /// The kind's name, as the scene file spells it.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Shape::Sphere { .. } => "sphere",
+            Shape::Plane { .. } | Shape::AxisPlane { .. } => "plane",
+            Shape::Triangle { .. } => "triangle",
+        }
+    }
+    /// Whether the shape is unbounded (planes: kept out of the BVH).
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Shape::Plane { .. } | Shape::AxisPlane { .. })
+    }
+}
+
+/// One primitive of the scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Object {
+    /// Geometry.
+    pub shape: Shape,
+    /// Index into [`Scene::materials`].
+    pub material: u32,
+    /// Index into [`Scene::groups`] (a named sphere, plane or triangle, or a whole mesh).
+    pub group: u32,
+}
+
+/// A named entry of the scene file: one sphere, plane or triangle, or one mesh's triangles.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Group {
+    /// Name given in the file, or `sphere 0`, `mesh 1`, … .
+    pub name: String,
+    /// The first object of the group.
+    pub first: u32,
+    /// How many objects it holds (1 except for meshes).
+    pub count: u32,
+}
+
+/// A validated scene: everything the tracer needs, nothing unchecked.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Display name (the file's `title`, else its file name).
+    pub name: String,
+    /// The file it came from, if any.
+    pub path: Option<PathBuf>,
+    /// SHA-256 of the scene file's text (hex), so a saved trace can name the scene it came from.
+    pub source_hash: String,
+    /// The camera.
+    pub camera: Camera,
+    /// Render settings.
+    pub settings: Settings,
+    /// Point lights.
+    pub lights: Vec<Light>,
+    /// Materials (objects refer to them by index).
+    pub materials: Vec<Material>,
+    /// Every primitive, meshes expanded to triangles.
+    pub objects: Vec<Object>,
+    /// Named groups of objects.
+    pub groups: Vec<Group>,
+    /// What the scene uses.
+    pub features: Features,
+}
+
+impl Scene {
+    /// The readable name of object `id`: the group's name, with `[k]` for a mesh's k-th triangle.
+    pub fn object_name(&self, id: u32) -> String {
+        let obj = &self.objects[id as usize];
+        let g = &self.groups[obj.group as usize];
+        if g.count == 1 { g.name.clone() } else { format!("{}[{}]", g.name, id - g.first) }
+    }
+    /// The material of object `id`.
+    #[inline(always)]
+    pub fn material_of(&self, id: u32) -> &Material {
+        &self.materials[self.objects[id as usize].material as usize]
+    }
+    /// Finds the objects of the group called `name`.
+    pub fn find_group(&self, name: &str) -> Option<&Group> {
+        self.groups.iter().find(|g| g.name == name)
+    }
+}

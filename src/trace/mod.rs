@@ -1,0 +1,13 @@
+//! Tracing: the camera, deterministic sampling, shading, the observer and its records, and the
+//! one recursive Whitted tracer.
+
+pub mod camera;
+pub mod observer;
+pub mod record;
+pub mod sampling;
+pub mod shading;
+pub mod whitted;
+
+pub use observer::{Counter, Observer, Recorder, Silent};
+pub use record::{HitRecord, NodeVisit, RayKind, RayRecord, Stage, Step, StepRecord, Trace, TraceError};
+pub use whitted::Tracer;

@@ -1,0 +1,161 @@
+//! The observer passed into the tracer: [`Silent`] for rendering (every hook is an empty inline
+//! function, so recording compiles away), [`Counter`] for render statistics, and [`Recorder`],
+//! which builds the step trace tree.
+//!
+//! Steps are handed over as closures: a silent observer never calls them, so the record (and
+//! every `String` in it) is never built on the render path.
+
+use super::record::{HitRecord, NodeVisit, RayKind, RayRecord, Step, StepRecord};
+use crate::math::Ray;
+use glam::Vec3;
+
+/// What the tracer reports as it works.
+pub trait Observer {
+    /// Whether this observer keeps anything (lets callers skip work that only feeds records).
+    const RECORDS: bool;
+    /// A ray starts (its steps follow until [`Observer::end_ray`]).
+    #[inline(always)]
+    fn begin_ray(&mut self, _kind: RayKind, _depth: u32, _ray: &Ray<f32>, _weight: f32) {}
+    /// A primitive intersection test ran.
+    #[inline(always)]
+    fn prim_test(&mut self, _step: impl FnOnce() -> Step) {}
+    /// A BVH node was visited.
+    #[inline(always)]
+    fn node_visit(&mut self, _visit: impl FnOnce() -> NodeVisit) {}
+    /// Any other step.
+    #[inline(always)]
+    fn step(&mut self, _step: impl FnOnce() -> Step) {}
+    /// The current ray ends with this hit and colour.
+    #[inline(always)]
+    fn end_ray(&mut self, _hit: impl FnOnce() -> Option<HitRecord>, _color: Vec3) {}
+}
+
+/// Keeps nothing: the render path.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Silent;
+
+impl Observer for Silent {
+    const RECORDS: bool = false;
+}
+
+/// Counts rays by kind and tests, for render statistics; records nothing else.
+#[derive(Debug, Default, Clone, Copy, PartialEq, Eq)]
+pub struct Counter {
+    /// Primary rays.
+    pub primary: u64,
+    /// Shadow rays.
+    pub shadow: u64,
+    /// Reflection rays.
+    pub reflection: u64,
+    /// Refraction rays.
+    pub refraction: u64,
+    /// Primitive intersection tests.
+    pub prim_tests: u64,
+    /// BVH node visits (box tests).
+    pub node_visits: u64,
+}
+
+impl Counter {
+    /// All rays.
+    pub fn rays(&self) -> u64 {
+        self.primary + self.shadow + self.reflection + self.refraction
+    }
+    /// Adds another counter's figures.
+    pub fn merge(&mut self, o: &Counter) {
+        self.primary += o.primary;
+        self.shadow += o.shadow;
+        self.reflection += o.reflection;
+        self.refraction += o.refraction;
+        self.prim_tests += o.prim_tests;
+        self.node_visits += o.node_visits;
+    }
+}
+
+impl Observer for Counter {
+    const RECORDS: bool = false;
+    #[inline(always)]
+    fn begin_ray(&mut self, kind: RayKind, _: u32, _: &Ray<f32>, _: f32) {
+        match kind {
+            RayKind::Primary => self.primary += 1,
+            RayKind::Shadow => self.shadow += 1,
+            RayKind::Reflection => self.reflection += 1,
+            RayKind::Refraction => self.refraction += 1,
+        }
+    }
+    #[inline(always)]
+    fn prim_test(&mut self, _: impl FnOnce() -> Step) {
+        self.prim_tests += 1;
+    }
+    #[inline(always)]
+    fn node_visit(&mut self, _: impl FnOnce() -> NodeVisit) {
+        self.node_visits += 1;
+    }
+}
+
+/// Builds the trace tree.
+#[derive(Debug, Default)]
+pub struct Recorder {
+    stack: Vec<RayRecord>,
+    root: Option<RayRecord>,
+}
+
+impl Recorder {
+    /// A fresh recorder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// The finished root ray, once the primary ray has ended.
+    pub fn finish(self) -> Option<RayRecord> {
+        self.root
+    }
+    fn push(&mut self, step: Step) {
+        if let Some(r) = self.stack.last_mut() {
+            r.steps.push(StepRecord { stage: step.stage(), step });
+        }
+    }
+}
+
+fn arr(v: Vec3) -> [f32; 3] {
+    v.to_array()
+}
+
+impl Observer for Recorder {
+    const RECORDS: bool = true;
+    fn begin_ray(&mut self, kind: RayKind, depth: u32, ray: &Ray<f32>, weight: f32) {
+        if let Some(parent) = self.stack.last_mut() {
+            let child = parent.children.len() as u32;
+            parent.steps.push(StepRecord { stage: Step::Spawn { child }.stage(), step: Step::Spawn { child } });
+        }
+        self.stack.push(RayRecord {
+            kind,
+            depth,
+            origin: arr(ray.origin),
+            direction: arr(ray.dir),
+            t_min: ray.t_min,
+            t_max: ray.t_max.is_finite().then_some(ray.t_max),
+            steps: vec![],
+            hit: None,
+            children: vec![],
+            weight,
+            color: [0.0; 3],
+        });
+    }
+    fn prim_test(&mut self, step: impl FnOnce() -> Step) {
+        self.push(step());
+    }
+    fn node_visit(&mut self, visit: impl FnOnce() -> NodeVisit) {
+        self.push(Step::Node(visit()));
+    }
+    fn step(&mut self, step: impl FnOnce() -> Step) {
+        self.push(step());
+    }
+    fn end_ray(&mut self, hit: impl FnOnce() -> Option<HitRecord>, color: Vec3) {
+        let Some(mut r) = self.stack.pop() else { return };
+        r.hit = hit();
+        r.color = arr(color);
+        match self.stack.last_mut() {
+            Some(parent) => parent.children.push(r),
+            None => self.root = Some(r),
+        }
+    }
+}

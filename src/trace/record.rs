@@ -1,0 +1,399 @@
+//! The step trace: a tree of rays, each with its steps in order. Serialized as versioned JSON;
+//! loading a trace needs no scene (object names are stored in the steps).
+
+use crate::shapes::{BoxTest, PlaneTest, SphereTest, TriangleTest};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The trace format's version. Bump it when a field changes meaning.
+pub const TRACE_VERSION: u32 = 1;
+
+/// The kind of a ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Hash)]
+#[serde(rename_all = "kebab-case")]
+pub enum RayKind {
+    /// From the camera through the pixel.
+    Primary,
+    /// From a hit point towards a light.
+    Shadow,
+    /// Mirror reflection.
+    Reflection,
+    /// Transmission through a transparent surface.
+    Refraction,
+}
+
+/// The stage of a GPU ray-tracing pipeline (Vulkan / DXR) that would run a step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stage {
+    /// The ray-generation shader: the camera makes the primary ray.
+    RayGeneration,
+    /// Fixed-function acceleration-structure traversal (box tests, BVH nodes).
+    Traversal,
+    /// The intersection shader (custom primitives) or built-in triangle test.
+    Intersection,
+    /// The any-hit shader: decides whether a candidate hit is accepted.
+    AnyHit,
+    /// The closest-hit shader: shading and spawning secondary rays.
+    ClosestHit,
+    /// The miss shader: the ray hit nothing.
+    Miss,
+}
+
+/// One BVH node visit (recorded by the BVH traversal).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct NodeVisit {
+    /// Node index in the tree.
+    pub node: u32,
+    /// Depth (root = 0).
+    pub depth: u32,
+    /// The slab test against the node's box.
+    pub test: BoxTest<f32>,
+    /// Whether the node is a leaf.
+    pub leaf: bool,
+    /// Children pushed for later visiting, in the order they will be visited (nearer first).
+    pub pushed: Vec<u32>,
+}
+
+/// One step of a ray's work.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "kebab-case")]
+pub enum Step {
+    /// The camera made the primary ray.
+    Camera {
+        /// Pixel (x from the left, y from the top).
+        pixel: [u32; 2],
+        /// Sample index.
+        sample: u32,
+        /// Position inside the pixel, in [0, 1)² (0.5, 0.5 = the centre).
+        offset: [f32; 2],
+        /// Screen coordinates sx, sy in [−1, 1].
+        screen: [f32; 2],
+        /// The ray direction.
+        direction: [f32; 3],
+    },
+    /// A BVH node visit.
+    Node(NodeVisit),
+    /// A ray–sphere test.
+    Sphere {
+        /// Object id.
+        object: u32,
+        /// Object name.
+        name: String,
+        /// Every intermediate.
+        test: SphereTest<f32>,
+    },
+    /// A ray–plane test.
+    Plane {
+        /// Object id.
+        object: u32,
+        /// Object name.
+        name: String,
+        /// Every intermediate.
+        test: PlaneTest<f32>,
+    },
+    /// A ray–triangle test.
+    Triangle {
+        /// Object id.
+        object: u32,
+        /// Object name.
+        name: String,
+        /// The vertices P0, P1, P2.
+        vertices: [[f32; 3]; 3],
+        /// Every intermediate.
+        test: TriangleTest<f32>,
+    },
+    /// A candidate hit became the closest so far (the ray's t_max shrinks to it).
+    Accept {
+        /// Object id.
+        object: u32,
+        /// Object name.
+        name: String,
+        /// The new closest t.
+        t: f32,
+        /// The previous closest t (∞ at first).
+        previous: f32,
+    },
+    /// The ray hit nothing: the background colour.
+    Miss {
+        /// The background colour.
+        background: [f32; 3],
+    },
+    /// The surface interaction at the closest hit.
+    Surface {
+        /// Hit point.
+        point: [f32; 3],
+        /// Unit normal, facing the incoming ray.
+        normal: [f32; 3],
+        /// Whether the ray hit the surface from inside (normal flipped).
+        inside: bool,
+        /// Rounding-error bound of the hit point, per axis.
+        error_bound: [f32; 3],
+        /// Where spawned rays on this side start (after the offset policy).
+        over_point: [f32; 3],
+    },
+    /// A shadow ray is about to be traced towards a light.
+    ShadowRay {
+        /// Light index.
+        light: u32,
+        /// Light name.
+        name: String,
+        /// Distance to the light.
+        distance: f32,
+    },
+    /// Phong lighting from one light.
+    Light {
+        /// Light index.
+        light: u32,
+        /// Light name.
+        name: String,
+        /// Whether the light is blocked.
+        blocked: bool,
+        /// The blocking object's name.
+        blocker: Option<String>,
+        /// l·n.
+        l_dot_n: f32,
+        /// r·e (reflected light direction · eye direction).
+        r_dot_e: f32,
+        /// Ambient term.
+        ambient: [f32; 3],
+        /// Diffuse term (zero in shadow or when l·n < 0).
+        diffuse: [f32; 3],
+        /// Specular term.
+        specular: [f32; 3],
+    },
+    /// A reflection ray is spawned.
+    Reflect {
+        /// The material's reflectivity.
+        reflective: f32,
+        /// The reflected direction r = d − 2(d·n)n.
+        direction: [f32; 3],
+    },
+    /// Snell's law at a transparent surface.
+    Refract {
+        /// Index of refraction on the incoming side.
+        n1: f32,
+        /// Index of refraction on the far side.
+        n2: f32,
+        /// cos θᵢ = e·n.
+        cos_i: f32,
+        /// sin² θₜ = (n1/n2)²(1 − cos² θᵢ).
+        sin2_t: f32,
+        /// The critical angle in degrees, when n1 > n2.
+        critical_angle_deg: Option<f32>,
+        /// Total internal reflection (sin² θₜ > 1): no refracted ray.
+        total_internal_reflection: bool,
+        /// The refracted direction, unless TIR.
+        direction: Option<[f32; 3]>,
+    },
+    /// Schlick's approximation blends reflection and refraction.
+    Schlick {
+        /// The reflectance R(θ).
+        reflectance: f32,
+    },
+    /// A secondary ray was not traced because the recursion limit was reached.
+    DepthLimit {
+        /// The limit.
+        max_depth: u32,
+    },
+    /// A child ray was traced here: index into the ray's `children`.
+    Spawn {
+        /// Index into `children`.
+        child: u32,
+    },
+    /// The ray's final colour (the sum of the terms above).
+    Color {
+        /// Linear RGB.
+        color: [f32; 3],
+    },
+}
+
+impl Step {
+    /// The pipeline stage that would run this step.
+    pub fn stage(&self) -> Stage {
+        match self {
+            Step::Camera { .. } => Stage::RayGeneration,
+            Step::Node(_) => Stage::Traversal,
+            Step::Sphere { .. } | Step::Plane { .. } | Step::Triangle { .. } => Stage::Intersection,
+            Step::Accept { .. } => Stage::AnyHit,
+            Step::Miss { .. } => Stage::Miss,
+            _ => Stage::ClosestHit,
+        }
+    }
+}
+
+/// A step with its pipeline stage (the stage is stored so a trace reads without raystep).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct StepRecord {
+    /// The pipeline stage.
+    pub stage: Stage,
+    /// The step.
+    #[serde(flatten)]
+    pub step: Step,
+}
+
+/// The closest hit of a ray.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HitRecord {
+    /// Object id.
+    pub object: u32,
+    /// Object name.
+    pub name: String,
+    /// Hit distance.
+    pub t: f32,
+    /// Triangle barycentric u, v (weights of P1 and P2).
+    pub uv: Option<[f32; 2]>,
+}
+
+/// One ray of the trace tree.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RayRecord {
+    /// Kind.
+    pub kind: RayKind,
+    /// Recursion depth (primary = 0).
+    pub depth: u32,
+    /// Origin.
+    pub origin: [f32; 3],
+    /// Direction.
+    pub direction: [f32; 3],
+    /// Interval start.
+    pub t_min: f32,
+    /// Interval end (∞ is stored as null in JSON).
+    pub t_max: Option<f32>,
+    /// Steps in order.
+    pub steps: Vec<StepRecord>,
+    /// The closest hit (for shadow rays: the first blocker found).
+    pub hit: Option<HitRecord>,
+    /// Child rays, in the order they were traced.
+    pub children: Vec<RayRecord>,
+    /// The weight the parent multiplies this ray's colour by (1 for primary rays).
+    pub weight: f32,
+    /// The colour this ray returns (linear RGB, before the parent's weight).
+    pub color: [f32; 3],
+}
+
+/// A whole recorded trace of one sample of one pixel.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Trace {
+    /// Format version ([`TRACE_VERSION`]).
+    pub version: u32,
+    /// The raystep version that wrote it.
+    pub raystep: String,
+    /// The scene's name.
+    pub scene: String,
+    /// SHA-256 of the scene file.
+    pub scene_hash: String,
+    /// Pixel (x, y).
+    pub pixel: [u32; 2],
+    /// Sample index.
+    pub sample: u32,
+    /// The settings the trace was made with.
+    pub settings: crate::scene::Settings,
+    /// The primary ray and everything below it.
+    pub root: RayRecord,
+    /// The sample's final colour (linear RGB), bit-identical to the render's.
+    pub color: [f32; 3],
+}
+
+/// Why a trace file could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum TraceError {
+    /// The file could not be read.
+    #[error("{file}: cannot read: {source}")]
+    Io {
+        /// The file.
+        file: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Not JSON, or not a trace.
+    #[error("{file}:{line}:{column}: not a raystep trace: {message}")]
+    Corrupt {
+        /// The file.
+        file: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What serde said.
+        message: String,
+    },
+    /// A trace of a version this raystep does not read.
+    #[error("{file}: field `version`: trace format version {found} is not supported (this raystep reads version {TRACE_VERSION})")]
+    Version {
+        /// The file.
+        file: String,
+        /// The version found.
+        found: u64,
+    },
+}
+
+impl Trace {
+    /// Serializes to pretty JSON.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("traces serialize")
+    }
+
+    /// Parses a trace, checking the version before the rest so that a future format gets a
+    /// version error rather than a confusing field error.
+    pub fn from_json(text: &str, file: &str) -> Result<Trace, TraceError> {
+        let corrupt = |e: serde_json::Error| TraceError::Corrupt {
+            file: file.into(),
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        };
+        let value: serde_json::Value = serde_json::from_str(text).map_err(corrupt)?;
+        match value.get("version").and_then(|v| v.as_u64()) {
+            Some(v) if v == TRACE_VERSION as u64 => {}
+            Some(found) => return Err(TraceError::Version { file: file.into(), found }),
+            None => {
+                return Err(TraceError::Corrupt {
+                    file: file.into(),
+                    line: 1,
+                    column: 1,
+                    message: "missing numeric field `version`".into(),
+                });
+            }
+        }
+        serde_json::from_str(text).map_err(corrupt)
+    }
+
+    /// Reads a trace file.
+    pub fn load(path: &Path) -> Result<Trace, TraceError> {
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|source| TraceError::Io { file: file.clone(), source })?;
+        Self::from_json(&text, &file)
+    }
+
+    /// Every ray in depth-first order (the order they were traced).
+    pub fn rays(&self) -> Vec<&RayRecord> {
+        fn walk<'a>(r: &'a RayRecord, out: &mut Vec<&'a RayRecord>) {
+            out.push(r);
+            for c in &r.children {
+                walk(c, out);
+            }
+        }
+        let mut out = vec![];
+        walk(&self.root, &mut out);
+        out
+    }
+
+    /// Every step in the order it happened, with the ray it belongs to (a timeline): a child
+    /// ray's steps appear where its parent spawned it.
+    pub fn timeline(&self) -> Vec<(&RayRecord, &StepRecord)> {
+        fn walk<'a>(r: &'a RayRecord, out: &mut Vec<(&'a RayRecord, &'a StepRecord)>) {
+            for s in &r.steps {
+                out.push((r, s));
+                if let Step::Spawn { child } = s.step
+                    && let Some(c) = r.children.get(child as usize)
+                {
+                    walk(c, out);
+                }
+            }
+        }
+        let mut out = vec![];
+        walk(&self.root, &mut out);
+        out
+    }
+}

@@ -1,0 +1,343 @@
+//! The one recursive Whitted tracer. The render, the stepped pixel, the exercises and the CPU side
+//! of the GPU comparison all call [`Tracer::trace_sample`]; only the observer differs.
+
+use super::camera::CameraRays;
+use super::observer::{Observer, Recorder};
+use super::record::{HitRecord, RayKind, Step, TRACE_VERSION, Trace};
+use super::sampling::sample_offset;
+use super::shading::{critical_angle_deg, phong, reflect, refract, schlick};
+use crate::accel::{Accelerator, Hit};
+use crate::math::{Ray, gamma};
+use crate::scene::{OffsetPolicy, Scene, Shape};
+use glam::Vec3;
+
+/// pbrt-v4's `ShadowEpsilon`: shadow rays stop at 1 − 1e-4 of the segment to the light.
+const SHADOW_EPSILON: f32 = 1e-4;
+/// Nesting depth of transparent media a ray can be inside (deeper nesting is ignored).
+const MAX_MEDIA: usize = 8;
+
+/// The transparent objects a ray is inside, innermost last, with their indices of refraction.
+/// This is the Ray Tracer Challenge's `containers` list, carried down the recursion instead of
+/// rebuilt from every intersection along the ray.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Media {
+    ids: [u32; MAX_MEDIA],
+    iors: [f32; MAX_MEDIA],
+    len: usize,
+}
+
+impl Media {
+    fn top_ior(&self) -> f32 {
+        if self.len == 0 { 1.0 } else { self.iors[self.len - 1] }
+    }
+    fn position(&self, id: u32) -> Option<usize> {
+        self.ids[..self.len].iter().position(|&i| i == id)
+    }
+    /// (n1, n2) for a ray crossing the surface of object `id` with index `ior`.
+    fn indices(&self, id: u32, ior: f32) -> (f32, f32) {
+        let n1 = self.top_ior();
+        match self.position(id) {
+            Some(k) => {
+                // Leaving `id`: the far side is whatever encloses us once `id` is removed.
+                let mut rest = *self;
+                rest.remove(k);
+                (n1, rest.top_ior())
+            }
+            None => (n1, ior),
+        }
+    }
+    fn remove(&mut self, k: usize) {
+        self.ids.copy_within(k + 1..self.len, k);
+        self.iors.copy_within(k + 1..self.len, k);
+        self.len -= 1;
+    }
+    /// The media on the other side of the surface of `id`.
+    fn crossed(&self, id: u32, ior: f32) -> Media {
+        let mut m = *self;
+        match m.position(id) {
+            Some(k) => m.remove(k),
+            None if m.len < MAX_MEDIA => {
+                m.ids[m.len] = id;
+                m.iors[m.len] = ior;
+                m.len += 1;
+            }
+            None => {}
+        }
+        m
+    }
+}
+
+/// Where a ray met a surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Interaction {
+    /// The hit point (re-projected onto the surface where the shape allows).
+    pub point: Vec3,
+    /// Unit normal facing the incoming ray.
+    pub normal: Vec3,
+    /// Unit vector from the point back towards the ray origin.
+    pub eye: Vec3,
+    /// Whether the ray hit the back (inside) of the surface.
+    pub inside: bool,
+    /// Per-axis bound on the point's rounding error.
+    pub error: Vec3,
+}
+
+/// Computes the interaction at `hit`. Each shape computes the point from its own parametrization
+/// where that is more accurate than S + tQ, with the error bound of pbrt-v4 (§6.8):
+/// sphere — re-projected onto the sphere, bound γ₅|P − G| + γ₂|P|; triangle — from barycentrics,
+/// bound γ₇ Σ|bᵢPᵢ|; axis-aligned plane — the coordinate snapped exactly (zero error on that axis);
+/// general plane — re-projected, bound γ₇(|P| + |P·n||n| + |c||n|).
+#[inline(always)]
+pub fn interact(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
+    let raw = ray.at(hit.t);
+    let (point, outward, error) = match scene.objects[hit.object as usize].shape {
+        Shape::Sphere { center, radius } => {
+            let rel = raw - center;
+            let len = rel.length();
+            let rel = if len > 0.0 { rel * (radius / len) } else { rel };
+            let p = center + rel;
+            (p, rel / radius, gamma::<f32>(5) * rel.abs() + gamma::<f32>(2) * p.abs())
+        }
+        Shape::Plane { normal, offset } => {
+            let p = raw - normal * (raw.dot(normal) - offset);
+            let e = gamma::<f32>(7) * (p.abs() + normal.abs() * (p.abs().dot(normal.abs()) + offset.abs()));
+            (p, normal, e)
+        }
+        Shape::AxisPlane { axis, offset } => {
+            let mut p = raw;
+            p[axis] = offset;
+            let mut n = Vec3::ZERO;
+            n[axis] = 1.0;
+            let mut e = gamma::<f32>(3) * p.abs();
+            e[axis] = 0.0;
+            (p, n, e)
+        }
+        Shape::Triangle { p } => {
+            let b0 = 1.0 - hit.u - hit.v;
+            let point = p[0] * b0 + p[1] * hit.u + p[2] * hit.v;
+            let e = gamma::<f32>(7) * ((p[0] * b0).abs() + (p[1] * hit.u).abs() + (p[2] * hit.v).abs());
+            let n = (p[1] - p[0]).cross(p[2] - p[0]);
+            (point, n / n.length(), e)
+        }
+    };
+    let eye = -ray.dir / ray.dir.length();
+    let inside = outward.dot(eye) < 0.0;
+    Interaction { point, normal: if inside { -outward } else { outward }, eye, inside, error }
+}
+
+/// The origin and t_min of a ray leaving `it` in direction `w`, by the scene's offset policy.
+#[inline(always)]
+pub fn spawn_origin(policy: OffsetPolicy, epsilon: f32, it: &Interaction, w: Vec3) -> Vec3 {
+    let side = if w.dot(it.normal) >= 0.0 { 1.0 } else { -1.0 };
+    match policy {
+        OffsetPolicy::None => it.point,
+        // RTC's over_point / under_point.
+        OffsetPolicy::Fixed => it.point + it.normal * (epsilon * side),
+        OffsetPolicy::Robust => {
+            // pbrt-v4 OffsetRayOrigin: move |n|·error along n to the side w leaves on, then round
+            // each moved coordinate one float further away so the offset survives the addition.
+            let n = it.normal * side;
+            let d = n.abs().dot(it.error);
+            let mut o = it.point + n * d;
+            for i in 0..3 {
+                if n[i] > 0.0 {
+                    o[i] = o[i].next_up();
+                } else if n[i] < 0.0 {
+                    o[i] = o[i].next_down();
+                }
+            }
+            o
+        }
+    }
+}
+
+/// The tracer: a scene, its accelerator and its camera.
+pub struct Tracer<'s, A: Accelerator> {
+    /// The scene.
+    pub scene: &'s Scene,
+    /// Finds hits.
+    pub accel: &'s A,
+    /// Primary rays.
+    pub camera: CameraRays,
+}
+
+impl<'s, A: Accelerator> Tracer<'s, A> {
+    /// A tracer over `scene` using `accel`.
+    pub fn new(scene: &'s Scene, accel: &'s A) -> Self {
+        Tracer { scene, accel, camera: CameraRays::new(&scene.camera) }
+    }
+
+    /// Traces sample `sample` of pixel (x, y) and returns its linear colour.
+    #[inline]
+    pub fn trace_sample<O: Observer>(&self, x: u32, y: u32, sample: u32, obs: &mut O) -> Vec3 {
+        let s = &self.scene.settings;
+        let offset = sample_offset(x, y, sample, s.spp, s.seed);
+        let (ray, screen) = self.camera.ray(x, y, offset);
+        obs.begin_ray(RayKind::Primary, 0, &ray, 1.0);
+        obs.step(|| Step::Camera {
+            pixel: [x, y],
+            sample,
+            offset,
+            screen,
+            direction: ray.dir.to_array(),
+        });
+        let (color, hit) = self.shade_ray(&ray, 0, Media::default(), obs);
+        obs.end_ray(|| self.hit_record(hit), color);
+        color
+    }
+
+    /// The pixel's colour: the mean of its `spp` samples.
+    #[inline]
+    pub fn trace_pixel<O: Observer>(&self, x: u32, y: u32, obs: &mut O) -> Vec3 {
+        let spp = self.scene.settings.spp;
+        let mut sum = Vec3::ZERO;
+        for k in 0..spp {
+            sum += self.trace_sample(x, y, k, obs);
+        }
+        sum / spp as f32
+    }
+
+    /// Records the full step trace of one sample of one pixel.
+    pub fn record(&self, x: u32, y: u32, sample: u32) -> Trace {
+        let mut rec = Recorder::new();
+        let color = self.trace_sample(x, y, sample, &mut rec);
+        Trace {
+            version: TRACE_VERSION,
+            raystep: env!("CARGO_PKG_VERSION").into(),
+            scene: self.scene.name.clone(),
+            scene_hash: self.scene.source_hash.clone(),
+            pixel: [x, y],
+            sample,
+            settings: self.scene.settings.clone(),
+            root: rec.finish().expect("the primary ray ends"),
+            color: color.to_array(),
+        }
+    }
+
+    fn hit_record(&self, hit: Option<Hit>) -> Option<HitRecord> {
+        hit.map(|h| {
+            let tri = matches!(self.scene.objects[h.object as usize].shape, Shape::Triangle { .. });
+            HitRecord { object: h.object, name: self.scene.object_name(h.object), t: h.t, uv: tri.then_some([h.u, h.v]) }
+        })
+    }
+
+    /// Traces a secondary ray as a child of the current one.
+    fn trace_child<O: Observer>(&self, ray: &Ray<f32>, kind: RayKind, depth: u32, weight: f32, media: Media, obs: &mut O) -> Vec3 {
+        obs.begin_ray(kind, depth, ray, weight);
+        let (color, hit) = self.shade_ray(ray, depth, media, obs);
+        obs.end_ray(|| self.hit_record(hit), color);
+        color
+    }
+
+    /// Finds the closest hit and shades it (the body of a colour ray).
+    fn shade_ray<O: Observer>(&self, ray: &Ray<f32>, depth: u32, media: Media, obs: &mut O) -> (Vec3, Option<Hit>) {
+        let scene = self.scene;
+        let Some(hit) = self.accel.closest(scene, ray, obs) else {
+            let bg = scene.settings.background;
+            obs.step(|| Step::Miss { background: bg.to_array() });
+            obs.step(|| Step::Color { color: bg.to_array() });
+            return (bg, None);
+        };
+        let color = self.shade(&hit, ray, depth, media, obs);
+        obs.step(|| Step::Color { color: color.to_array() });
+        (color, Some(hit))
+    }
+
+    fn shade<O: Observer>(&self, hit: &Hit, ray: &Ray<f32>, depth: u32, media: Media, obs: &mut O) -> Vec3 {
+        let scene = self.scene;
+        let s = &scene.settings;
+        let m = scene.material_of(hit.object);
+        let it = interact(scene, hit, ray);
+        obs.step(|| Step::Surface {
+            point: it.point.to_array(),
+            normal: it.normal.to_array(),
+            inside: it.inside,
+            error_bound: it.error.to_array(),
+            over_point: spawn_origin(s.offset, s.epsilon, &it, it.normal).to_array(),
+        });
+
+        // Direct light: Phong from each light, ambient only where a shadow ray is blocked.
+        let mut surface = Vec3::ZERO;
+        if scene.lights.is_empty() {
+            // No lights: show the ambient colour rather than black (a scene with no lights still
+            // shows its shapes).
+            surface = m.color * m.ambient;
+        }
+        for (li, light) in scene.lights.iter().enumerate() {
+            let to_light = light.position - it.point;
+            // A light behind the surface contributes only ambient, shadowed or not: no shadow ray.
+            let facing = to_light.dot(it.normal) > 0.0;
+            let mut blocker = None;
+            if facing {
+                obs.step(|| Step::ShadowRay { light: li as u32, name: light.name.clone(), distance: to_light.length() });
+                let o = spawn_origin(s.offset, s.epsilon, &it, to_light);
+                if let Ok(shadow) = Ray::new(o, light.position - o, 0.0, 1.0 - SHADOW_EPSILON) {
+                    obs.begin_ray(RayKind::Shadow, depth + 1, &shadow, 0.0);
+                    blocker = self.accel.any(scene, &shadow, obs);
+                    obs.end_ray(|| self.hit_record(blocker), Vec3::ZERO);
+                }
+            }
+            let terms = phong(m, light.position, light.color, it.point, it.eye, it.normal, blocker.is_some());
+            obs.step(|| Step::Light {
+                light: li as u32,
+                name: light.name.clone(),
+                blocked: blocker.is_some(),
+                blocker: blocker.map(|b| scene.object_name(b.object)),
+                l_dot_n: terms.l_dot_n,
+                r_dot_e: terms.r_dot_e,
+                ambient: terms.ambient.to_array(),
+                diffuse: terms.diffuse.to_array(),
+                specular: terms.specular.to_array(),
+            });
+            surface += terms.sum();
+        }
+
+        let can_recurse = depth < s.max_depth;
+        // Reflection.
+        let mut reflected = Vec3::ZERO;
+        if m.reflective > 0.0 {
+            if can_recurse {
+                let dir = reflect(ray.dir, it.normal);
+                obs.step(|| Step::Reflect { reflective: m.reflective, direction: dir.to_array() });
+                let o = spawn_origin(s.offset, s.epsilon, &it, dir);
+                // dir is a reflection of a valid direction: finite and non-zero.
+                let r = Ray { origin: o, dir, t_min: 0.0, t_max: f32::INFINITY };
+                reflected = self.trace_child(&r, RayKind::Reflection, depth + 1, m.reflective, media, obs) * m.reflective;
+            } else {
+                obs.step(|| Step::DepthLimit { max_depth: s.max_depth });
+            }
+        }
+        // Refraction.
+        if m.transparency > 0.0 {
+            let (n1, n2) = media.indices(hit.object, m.refractive_index);
+            let refr = refract(it.eye, it.normal, n1, n2);
+            let mut refracted = Vec3::ZERO;
+            if can_recurse {
+                obs.step(|| Step::Refract {
+                    n1,
+                    n2,
+                    cos_i: refr.cos_i,
+                    sin2_t: refr.sin2_t,
+                    critical_angle_deg: critical_angle_deg(n1, n2),
+                    total_internal_reflection: refr.direction.is_none(),
+                    direction: refr.direction.map(|d| d.to_array()),
+                });
+                if let Some(dir) = refr.direction
+                    && let Ok(r) = Ray::new(spawn_origin(s.offset, s.epsilon, &it, dir), dir, 0.0, f32::INFINITY)
+                {
+                    let inner = media.crossed(hit.object, m.refractive_index);
+                    refracted = self.trace_child(&r, RayKind::Refraction, depth + 1, m.transparency, inner, obs) * m.transparency;
+                }
+            } else if m.reflective == 0.0 {
+                obs.step(|| Step::DepthLimit { max_depth: s.max_depth });
+            }
+            if m.reflective > 0.0 {
+                let reflectance = schlick(refr.cos_i, n1, n2);
+                obs.step(|| Step::Schlick { reflectance });
+                return surface + reflected * reflectance + refracted * (1.0 - reflectance);
+            }
+            return surface + reflected + refracted;
+        }
+        surface + reflected
+    }
+}
