@@ -169,6 +169,12 @@ impl<'a> Ctx<'a> {
         if field.is_empty() {
             return None;
         }
+        // A `[[table]]`'s span covers only its header: its body runs to the next header.
+        let end = self.text[span.end..]
+            .find("\n[")
+            .map_or(self.text.len(), |i| span.end + i)
+            .max(span.end);
+        let span = span.start..end;
         let body = self.text.get(span.clone())?;
         let mut offset = 0;
         for line in body.split_inclusive('\n') {
@@ -386,7 +392,7 @@ impl<'a> Ctx<'a> {
         }
         let w = view.normalize();
         if up.as_dvec3().length() == 0.0 || up.as_dvec3().normalize().cross(w).length() < 1e-6 {
-            return Err(loc.err("up", format!("{up:?} is parallel to the view direction (or zero): the camera's roll is undefined")));
+            return Err(loc.err("up", format!("{:?} is parallel to the view direction (or zero): the camera's roll is undefined", d.up)));
         }
         Ok(Camera { from, at, up, fov, width: d.width as u32, height: d.height as u32 })
     }

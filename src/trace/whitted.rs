@@ -197,6 +197,12 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         sum / spp as f32
     }
 
+    /// Traces an arbitrary ray as a primary ray (depth 0, in air) and returns its colour.
+    /// Used by tests with The Ray Tracer Challenge's rays, and by the exercises.
+    pub fn trace_ray<O: Observer>(&self, ray: &Ray<f32>, obs: &mut O) -> Vec3 {
+        self.trace_child(ray, RayKind::Primary, 0, 1.0, Media::default(), obs)
+    }
+
     /// Records the full step trace of one sample of one pixel.
     pub fn record(&self, x: u32, y: u32, sample: u32) -> Trace {
         let mut rec = Recorder::new();
