@@ -21,6 +21,7 @@
 
 pub mod accel;
 pub mod cli;
+pub mod io;
 pub mod math;
 pub mod scene;
 pub mod shapes;

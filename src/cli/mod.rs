@@ -1,1 +1,156 @@
-//! The `raystep` command line.
+//! The `raystep` command line (clap). Every command returns a plain error message; [`main`]
+//! prints it and exits non-zero. No command panics on bad input.
+
+mod intersect;
+mod scene_cmd;
+mod trace_cmd;
+
+use crate::scene::{AccelChoice, OffsetPolicy, Scene};
+use crate::shapes::{SphereMethod, TriangleMethod};
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// raystep: ray tracing, stepped through one pixel at a time.
+#[derive(Debug, Parser)]
+#[command(name = "raystep", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do (with no command: the app on the built-in scene).
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Test one ray against one primitive and explain every intermediate (a calculator to check
+    /// hand computations against).
+    #[command(subcommand)]
+    Intersect(intersect::Shape),
+    /// Trace one pixel of a scene and print every step.
+    Trace(trace_cmd::TraceArgs),
+    /// Work with scene files.
+    #[command(subcommand)]
+    Scene(scene_cmd::SceneCmd),
+}
+
+/// Settings that override the scene's `[render]` table.
+#[derive(Debug, Clone, Default, clap::Args)]
+pub struct SettingsArgs {
+    /// Samples per pixel.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub spp: Option<u32>,
+    /// Recursion limit for reflection and refraction.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(0..=64))]
+    pub max_depth: Option<u32>,
+    /// Ray–sphere method.
+    #[arg(long, value_enum)]
+    pub sphere_method: Option<SphereMethod>,
+    /// Ray–triangle method.
+    #[arg(long, value_enum)]
+    pub triangle_method: Option<TriangleMethod>,
+    /// Ray-origin offset for shadow, reflection and refraction rays.
+    #[arg(long, value_enum)]
+    pub offset: Option<OffsetPolicy>,
+    /// Acceleration structure.
+    #[arg(long, value_enum)]
+    pub accel: Option<AccelChoice>,
+    /// Seed for the antialiasing jitter.
+    #[arg(long)]
+    pub seed: Option<u32>,
+}
+
+impl SettingsArgs {
+    /// Applies the overrides to a scene's settings.
+    pub fn apply(&self, scene: &mut Scene) {
+        let s = &mut scene.settings;
+        if let Some(v) = self.spp {
+            s.spp = v;
+        }
+        if let Some(v) = self.max_depth {
+            s.max_depth = v;
+        }
+        if let Some(v) = self.sphere_method {
+            s.sphere_method = v;
+        }
+        if let Some(v) = self.triangle_method {
+            s.triangle_method = v;
+        }
+        if let Some(v) = self.offset {
+            s.offset = v;
+        }
+        if let Some(v) = self.accel {
+            s.accel = v;
+        }
+        if let Some(v) = self.seed {
+            s.seed = v;
+        }
+    }
+}
+
+/// Parses `X,Y,Z` into three finite numbers.
+pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three numbers X,Y,Z, got \"{s}\""));
+    }
+    let mut out = [0.0; 3];
+    for (o, p) in out.iter_mut().zip(&parts) {
+        let v: f64 = p.parse().map_err(|_| format!("\"{p}\" is not a number"))?;
+        if !v.is_finite() {
+            return Err(format!("\"{p}\" is not a finite number"));
+        }
+        *o = v;
+    }
+    Ok(out)
+}
+
+/// Parses `X,Y` into a pixel position.
+pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 2 {
+        return Err(format!("expected a pixel X,Y, got \"{s}\""));
+    }
+    let x = parts[0].parse().map_err(|_| format!("\"{}\" is not a pixel coordinate", parts[0]))?;
+    let y = parts[1].parse().map_err(|_| format!("\"{}\" is not a pixel coordinate", parts[1]))?;
+    Ok([x, y])
+}
+
+/// Loads a scene file, or the built-in scene for `None`, and applies setting overrides.
+pub fn load_scene(path: Option<&PathBuf>, overrides: &SettingsArgs) -> Result<Scene, String> {
+    let mut scene = match path {
+        Some(p) => crate::scene::load_file(p).map_err(|e| e.to_string())?,
+        None => crate::scene::default_scene(),
+    };
+    overrides.apply(&mut scene);
+    Ok(scene)
+}
+
+/// Runs the command line; returns the process exit code.
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        None => no_command(),
+        Some(Command::Intersect(shape)) => intersect::run(&shape),
+        Some(Command::Trace(args)) => trace_cmd::run(&args),
+        Some(Command::Scene(cmd)) => scene_cmd::run(&cmd),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(msg) => {
+            eprintln!("error: {msg}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn no_command() -> Result<(), String> {
+    let scene = crate::scene::default_scene();
+    println!(
+        "raystep {} — the built-in scene \"{}\" ({} primitives). Try:\n  raystep trace scenes/three-spheres.toml --pixel 160,120\n  raystep intersect sphere --center 0,0,0 --radius 1 --origin 0,0,-5 --dir 0,0,1\n  raystep --help",
+        env!("CARGO_PKG_VERSION"),
+        scene.name,
+        scene.features.primitives
+    );
+    Ok(())
+}

@@ -2,6 +2,7 @@
 //! one recursive Whitted tracer.
 
 pub mod camera;
+pub mod describe;
 pub mod observer;
 pub mod record;
 pub mod sampling;

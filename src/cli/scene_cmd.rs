@@ -1,0 +1,100 @@
+//! `raystep scene …`.
+
+use super::{SettingsArgs, load_scene};
+use clap::Subcommand;
+use std::path::PathBuf;
+
+/// Scene commands.
+#[derive(Debug, Subcommand)]
+pub enum SceneCmd {
+    /// Validate a scene file and print what it contains and what raystep will leave out.
+    Check {
+        /// The scene file.
+        scene: PathBuf,
+        /// Print the features as JSON.
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+/// Runs a scene command.
+pub fn run(cmd: &SceneCmd) -> Result<(), String> {
+    match cmd {
+        SceneCmd::Check { scene, json } => check(scene, *json),
+    }
+}
+
+fn check(path: &PathBuf, json: bool) -> Result<(), String> {
+    let scene = load_scene(Some(path), &SettingsArgs::default())?;
+    let f = &scene.features;
+    if json {
+        println!("{}", serde_json::to_string_pretty(f).expect("features serialize"));
+        return Ok(());
+    }
+    let c = &scene.camera;
+    let s = &scene.settings;
+    println!("{}: ok — \"{}\"", path.display(), scene.name);
+    println!(
+        "  camera     {}×{}, vertical fov {}°, from {:?} looking at {:?}",
+        c.width,
+        c.height,
+        c.fov,
+        c.from.to_array(),
+        c.at.to_array()
+    );
+    let mut kinds = vec![];
+    for (n, what) in [(f.spheres, "sphere"), (f.planes, "plane"), (f.triangles, "triangle")] {
+        if n > 0 {
+            kinds.push(format!("{n} {what}{}", if n == 1 { "" } else { "s" }));
+        }
+    }
+    if f.meshes > 0 {
+        kinds.push(format!("from {} mesh{}", f.meshes, if f.meshes == 1 { "" } else { "es" }));
+    }
+    println!("  primitives {} ({})", f.primitives, kinds.join(", "));
+    println!("  lights     {}", f.lights);
+    println!(
+        "  materials  {} (reflective: {}, transparent: {})",
+        scene.materials.len(),
+        if f.reflective { "yes" } else { "no" },
+        if f.transparent { "yes" } else { "no" }
+    );
+    println!(
+        "  settings   sphere {}, triangle {}, offset {}, accel {}, max depth {}, {} sample{} per pixel",
+        value_name(&s.sphere_method),
+        value_name(&s.triangle_method),
+        value_name(&s.offset),
+        value_name(&s.accel),
+        s.max_depth,
+        s.spp,
+        if s.spp == 1 { "" } else { "s" }
+    );
+    let mut out = vec![];
+    if f.spheres == 0 {
+        out.push("sphere tests");
+    }
+    if f.planes == 0 {
+        out.push("plane tests");
+    }
+    if f.triangles == 0 {
+        out.push("triangle tests");
+    }
+    if f.lights == 0 {
+        out.push("shadow rays");
+    }
+    if !f.reflective {
+        out.push("reflection rays");
+    }
+    if !f.transparent {
+        out.push("refraction");
+    }
+    if !out.is_empty() {
+        println!("  leaves out {}", out.join(", "));
+    }
+    Ok(())
+}
+
+/// The command-line spelling of a setting's value.
+pub fn value_name<T: clap::ValueEnum>(v: &T) -> String {
+    v.to_possible_value().map_or_else(String::new, |p| p.get_name().to_string())
+}

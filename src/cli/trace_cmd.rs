@@ -1,0 +1,62 @@
+//! `raystep trace`.
+
+use super::{SettingsArgs, load_scene, parse_pixel};
+use crate::accel::BruteForce;
+use crate::trace::{Tracer, describe};
+use std::path::PathBuf;
+
+/// Arguments of `raystep trace`.
+#[derive(Debug, clap::Args)]
+pub struct TraceArgs {
+    /// The scene file.
+    pub scene: PathBuf,
+    /// The pixel X,Y (x from the left, y from the top).
+    #[arg(long, value_parser = parse_pixel)]
+    pub pixel: [u32; 2],
+    /// Which sample of the pixel (0 … spp − 1).
+    #[arg(long, default_value_t = 0)]
+    pub sample: u32,
+    /// Print the trace as JSON instead of a tree.
+    #[arg(long)]
+    pub json: bool,
+    /// Also save the trace as JSON to this file (written atomically).
+    #[arg(long)]
+    pub save: Option<PathBuf>,
+    /// Setting overrides.
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+}
+
+/// Runs `raystep trace`.
+pub fn run(args: &TraceArgs) -> Result<(), String> {
+    let scene = load_scene(Some(&args.scene), &args.settings)?;
+    let [x, y] = args.pixel;
+    let c = &scene.camera;
+    if x >= c.width || y >= c.height {
+        return Err(format!(
+            "--pixel {x},{y} is outside the {}×{} image (x < {}, y < {})",
+            c.width, c.height, c.width, c.height
+        ));
+    }
+    if args.sample >= scene.settings.spp {
+        return Err(format!(
+            "--sample {} does not exist: the scene takes {} sample{} per pixel (0 … {})",
+            args.sample,
+            scene.settings.spp,
+            if scene.settings.spp == 1 { "" } else { "s" },
+            scene.settings.spp - 1
+        ));
+    }
+    let tracer = Tracer::new(&scene, &BruteForce);
+    let trace = tracer.record(x, y, args.sample);
+    let json = trace.to_json();
+    if let Some(path) = &args.save {
+        crate::io::write_atomic(path, json.as_bytes())?;
+    }
+    if args.json {
+        println!("{json}");
+    } else {
+        print!("{}", describe::tree(&trace));
+    }
+    Ok(())
+}

@@ -1,0 +1,257 @@
+//! One-line descriptions of steps in words, for the command line's trace tree (and the app).
+
+use super::record::{RayRecord, Stage, Step, Trace};
+use crate::shapes::{PlaneForm, RootChoice, SphereCase, SphereMethod, TriangleMethod};
+use std::fmt::Write;
+
+/// Formats a vector compactly, e.g. `(0, 1.5, -5)`.
+pub fn v3(v: [f32; 3]) -> String {
+    format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]))
+}
+
+/// Formats a number: shortest round-trip form, `∞` for infinity.
+pub fn num(x: f32) -> String {
+    if x == f32::INFINITY {
+        "∞".into()
+    } else if x == f32::NEG_INFINITY {
+        "-∞".into()
+    } else {
+        format!("{x}")
+    }
+}
+
+fn opt(x: Option<f32>) -> String {
+    x.map_or("—".into(), num)
+}
+
+/// The stage's name as the pipeline calls it.
+pub fn stage_name(s: Stage) -> &'static str {
+    match s {
+        Stage::RayGeneration => "ray-generation",
+        Stage::Traversal => "traversal",
+        Stage::Intersection => "intersection",
+        Stage::AnyHit => "any-hit",
+        Stage::ClosestHit => "closest-hit",
+        Stage::Miss => "miss",
+    }
+}
+
+/// Describes one step in a line of words and numbers.
+pub fn describe(step: &Step) -> String {
+    match step {
+        Step::Camera { pixel, sample, offset, screen, direction } => format!(
+            "camera: pixel ({}, {}) sample {sample}, at ({}, {}) in the pixel → screen ({}, {}) → direction {}",
+            pixel[0],
+            pixel[1],
+            num(offset[0]),
+            num(offset[1]),
+            num(screen[0]),
+            num(screen[1]),
+            v3(*direction)
+        ),
+        Step::Node(n) => format!(
+            "BVH node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}{}",
+            n.node,
+            n.depth,
+            if n.leaf { ", leaf" } else { "" },
+            num(n.test.t_near),
+            num(n.test.t_far),
+            if n.test.hit { "hit" } else { "culled" },
+            if n.pushed.is_empty() {
+                String::new()
+            } else {
+                format!(", visit children {:?}", n.pushed)
+            }
+        ),
+        Step::Sphere { name, test, .. } => {
+            let mut s = format!(
+                "sphere \"{name}\" ({}): a = {}, b = {}, c = {}, Δ = b² − 4ac = {}",
+                match test.method {
+                    SphereMethod::Textbook => "textbook",
+                    SphereMethod::Stable => "stable",
+                },
+                num(test.a),
+                num(test.b),
+                num(test.c),
+                num(test.discriminant)
+            );
+            match test.case {
+                SphereCase::Miss => s += " < 0 → no real roots: miss",
+                SphereCase::Tangent => s += " = 0 → tangent",
+                SphereCase::EnterExit => s += " > 0 → enters and exits",
+            }
+            if let Some([t0, t1]) = test.roots {
+                let _ = write!(s, ", roots {} and {}", num(t0), num(t1));
+            }
+            s += match test.choice {
+                RootChoice::NoRoots => "",
+                RootChoice::NearRoot => " → the near root is the hit",
+                RootChoice::FarRoot => " → origin inside: the far root is the hit",
+                RootChoice::Behind => " → both roots behind the origin: miss",
+                RootChoice::BeyondTMax => " → beyond the closest hit so far: miss",
+            };
+            s
+        }
+        Step::Plane { name, test, .. } => {
+            let form = match test.form {
+                PlaneForm::General { .. } => "X·n = c",
+                PlaneForm::Axis { axis, .. } => ["x = c", "y = c", "z = c"][axis],
+            };
+            if test.parallel {
+                format!("plane \"{name}\" ({form}): denominator = {} → parallel: miss", num(test.denominator))
+            } else {
+                format!(
+                    "plane \"{name}\" ({form}): t = {} / {} = {}{}",
+                    num(test.numerator),
+                    num(test.denominator),
+                    opt(test.t_raw),
+                    match (test.t, test.t_raw) {
+                        (Some(_), _) => " → hit",
+                        (None, Some(t)) if t > 0.0 => " → beyond the closest hit so far: miss",
+                        _ => " → behind the origin: miss",
+                    }
+                )
+            }
+        }
+        Step::Triangle { name, test, .. } => match test.method {
+            TriangleMethod::MollerTrumbore => format!(
+                "triangle \"{name}\" (Möller–Trumbore): D0 = {}, Dt = {}, Du = {}, Dv = {}, t* = {}, u* = {}, v* = {} → stopped at step {}: {}",
+                num(test.det),
+                opt(test.dt),
+                opt(test.du),
+                opt(test.dv),
+                opt(test.t_star),
+                opt(test.u),
+                opt(test.v),
+                test.stopped_at,
+                test.stop_reason()
+            ),
+            TriangleMethod::Watertight => format!(
+                "triangle \"{name}\" (watertight): edges {}, det = {}, t = {}, u = {}, v = {} → {}",
+                test.edges.map_or("—".into(), v3),
+                num(test.det),
+                opt(test.t_star),
+                opt(test.u),
+                opt(test.v),
+                test.stop_reason()
+            ),
+        },
+        Step::Accept { name, t, previous, .. } => {
+            format!("closest so far: \"{name}\" at t = {} (was {}); t_max shrinks", num(*t), num(*previous))
+        }
+        Step::Miss { background } => format!("no hit: background {}", v3(*background)),
+        Step::Surface { point, normal, inside, over_point, .. } => format!(
+            "surface at {} with normal {}{}; spawned rays start at {}",
+            v3(*point),
+            v3(*normal),
+            if *inside { " (hit from inside: normal flipped)" } else { "" },
+            v3(*over_point)
+        ),
+        Step::ShadowRay { name, distance, .. } => {
+            format!("shadow ray towards light \"{name}\" ({} away)", num(*distance))
+        }
+        Step::Light { name, blocked, blocker, l_dot_n, r_dot_e, ambient, diffuse, specular, .. } => {
+            let vis = if *blocked {
+                format!("blocked by \"{}\": ambient only", blocker.as_deref().unwrap_or("?"))
+            } else if *l_dot_n <= 0.0 {
+                "behind the surface: ambient only".into()
+            } else {
+                "visible".into()
+            };
+            format!(
+                "light \"{name}\": {vis}; l·n = {}, r·e = {}; ambient {} + diffuse {} + specular {}",
+                num(*l_dot_n),
+                num(*r_dot_e),
+                v3(*ambient),
+                v3(*diffuse),
+                v3(*specular)
+            )
+        }
+        Step::Reflect { reflective, direction } => {
+            format!("reflect (reflective = {}): r = d − 2(d·n)n = {}", num(*reflective), v3(*direction))
+        }
+        Step::Refract { n1, n2, cos_i, sin2_t, critical_angle_deg, total_internal_reflection, direction } => {
+            let mut s = format!(
+                "refract n1 = {} → n2 = {}: cos θi = {}, sin² θt = {}",
+                num(*n1),
+                num(*n2),
+                num(*cos_i),
+                num(*sin2_t)
+            );
+            if let Some(c) = critical_angle_deg {
+                let _ = write!(s, " (critical angle {}°)", num(*c));
+            }
+            if *total_internal_reflection {
+                s += " > 1 → total internal reflection: no refracted ray";
+            } else if let Some(d) = direction {
+                let _ = write!(s, " → refracted direction {}", v3(*d));
+            }
+            s
+        }
+        Step::Schlick { reflectance } => format!(
+            "Schlick: reflectance R = {}, so reflection × R + refraction × (1 − R)",
+            num(*reflectance)
+        ),
+        Step::DepthLimit { max_depth } => format!("recursion limit {max_depth} reached: no secondary ray"),
+        Step::Spawn { child } => format!("→ child ray {child}"),
+        Step::Color { color } => format!("colour {}", v3(*color)),
+    }
+}
+
+fn kind_name(r: &RayRecord) -> &'static str {
+    match r.kind {
+        super::RayKind::Primary => "primary",
+        super::RayKind::Shadow => "shadow",
+        super::RayKind::Reflection => "reflection",
+        super::RayKind::Refraction => "refraction",
+    }
+}
+
+/// The whole trace as an indented tree of rays and steps, children where they were spawned.
+pub fn tree(trace: &Trace) -> String {
+    fn ray(r: &RayRecord, indent: usize, out: &mut String) {
+        let pad = "  ".repeat(indent);
+        let _ = writeln!(
+            out,
+            "{pad}{} ray (depth {}): S = {}, Q = {}, t in ({}, {}){}",
+            kind_name(r),
+            r.depth,
+            v3(r.origin),
+            v3(r.direction),
+            num(r.t_min),
+            r.t_max.map_or("∞".into(), num),
+            if r.weight != 1.0 && r.weight != 0.0 { format!(", weight {}", num(r.weight)) } else { String::new() }
+        );
+        for s in &r.steps {
+            if let Step::Spawn { child } = s.step {
+                if let Some(c) = r.children.get(child as usize) {
+                    ray(c, indent + 1, out);
+                }
+                continue;
+            }
+            let _ = writeln!(out, "{pad}  [{}] {}", stage_name(s.stage), describe(&s.step));
+        }
+        match (&r.hit, r.kind) {
+            (Some(h), super::RayKind::Shadow) => {
+                let _ = writeln!(out, "{pad}  ⇒ blocked by \"{}\" at t = {}", h.name, num(h.t));
+            }
+            (None, super::RayKind::Shadow) => {
+                let _ = writeln!(out, "{pad}  ⇒ nothing in the way");
+            }
+            (Some(h), _) => {
+                let _ = writeln!(out, "{pad}  ⇒ hit \"{}\" at t = {}", h.name, num(h.t));
+            }
+            (None, _) => {}
+        }
+    }
+    let mut out = format!(
+        "scene \"{}\", pixel ({}, {}), sample {}: colour {}\n",
+        trace.scene,
+        trace.pixel[0],
+        trace.pixel[1],
+        trace.sample,
+        v3(trace.color)
+    );
+    ray(&trace.root, 0, &mut out);
+    out
+}
