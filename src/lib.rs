@@ -23,6 +23,7 @@ pub mod accel;
 pub mod cli;
 pub mod io;
 pub mod math;
+pub mod render;
 pub mod scene;
 pub mod shapes;
 pub mod trace;

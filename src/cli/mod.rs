@@ -2,6 +2,7 @@
 //! prints it and exits non-zero. No command panics on bad input.
 
 mod intersect;
+mod render_cmd;
 mod scene_cmd;
 mod trace_cmd;
 
@@ -29,6 +30,8 @@ pub enum Command {
     Intersect(intersect::Shape),
     /// Trace one pixel of a scene and print every step.
     Trace(trace_cmd::TraceArgs),
+    /// Render a scene in parallel to a PNG, with statistics.
+    Render(render_cmd::RenderArgs),
     /// Work with scene files.
     #[command(subcommand)]
     Scene(scene_cmd::SceneCmd),
@@ -134,6 +137,7 @@ pub fn main() -> ExitCode {
         Some(Command::Intersect(shape)) => intersect::run(&shape),
         Some(Command::Trace(args)) => trace_cmd::run(&args),
         Some(Command::Scene(cmd)) => scene_cmd::run(&cmd),
+        Some(Command::Render(args)) => render_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -5,6 +5,7 @@
 mod features;
 mod load;
 mod model;
+pub mod spd;
 
 pub use features::Features;
 pub use load::{SceneError, load_file, load_str};

@@ -1,6 +1,6 @@
 //! One-line descriptions of steps in words, for the command line's trace tree (and the app).
 
-use super::record::{RayRecord, Stage, Step, Trace};
+use super::record::{NodeAction, RayRecord, Stage, Step, Trace};
 use crate::shapes::{PlaneForm, RootChoice, SphereCase, SphereMethod, TriangleMethod};
 use std::fmt::Write;
 
@@ -50,17 +50,17 @@ pub fn describe(step: &Step) -> String {
             v3(*direction)
         ),
         Step::Node(n) => format!(
-            "BVH node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}{}",
+            "BVH node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
             n.node,
             n.depth,
             if n.leaf { ", leaf" } else { "" },
             num(n.test.t_near),
             num(n.test.t_far),
-            if n.test.hit { "hit" } else { "culled" },
-            if n.pushed.is_empty() {
-                String::new()
-            } else {
-                format!(", visit children {:?}", n.pushed)
+            match n.action {
+                NodeAction::Culled => "culled",
+                NodeAction::Descend => "hit: descend into its children",
+                NodeAction::Pushed => "hit, but farther than its sibling: pushed for later",
+                NodeAction::TestPrimitives => "hit: test its primitives",
             }
         ),
         Step::Sphere { name, test, .. } => {

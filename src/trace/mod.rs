@@ -10,5 +10,5 @@ pub mod shading;
 pub mod whitted;
 
 pub use observer::{Counter, Observer, Recorder, Silent};
-pub use record::{HitRecord, NodeVisit, RayKind, RayRecord, Stage, Step, StepRecord, Trace, TraceError};
+pub use record::{HitRecord, NodeAction, NodeVisit, RayKind, RayRecord, Stage, Step, StepRecord, Trace, TraceError};
 pub use whitted::Tracer;

@@ -51,8 +51,22 @@ pub struct NodeVisit {
     pub test: BoxTest<f32>,
     /// Whether the node is a leaf.
     pub leaf: bool,
-    /// Children pushed for later visiting, in the order they will be visited (nearer first).
-    pub pushed: Vec<u32>,
+    /// What the traversal did with the node.
+    pub action: NodeAction,
+}
+
+/// What the traversal did with a node after testing its box. Siblings are recorded nearer first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum NodeAction {
+    /// The ray misses the box, or the box starts beyond the closest hit so far: skipped whole.
+    Culled,
+    /// An inner node: its children are tested next.
+    Descend,
+    /// An inner node, farther than its sibling: pushed on the stack for later.
+    Pushed,
+    /// A leaf: its primitives are tested (the tests follow).
+    TestPrimitives,
 }
 
 /// One step of a ray's work.

@@ -1,0 +1,274 @@
+//! A bounding volume hierarchy: built by obvhs (`Bvh2`, PLOC + reinsertion), traversed by
+//! raystep's own loop so that every node visit can be observed.
+//!
+//! The traversal follows obvhs's `ray_traverse_dynamic` (test both children of a node, visit the
+//! nearer first, push the farther), with NUMERICS.md's robust slab test instead of obvhs's: true
+//! IEEE reciprocals (obvhs clamps tiny components, giving false misses for near-parallel rays,
+//! S21), the ray's own t_min honoured (S23), and `<=` so flat boxes are hit (S22). Infinite planes
+//! stay outside the tree: they are tested first and their hit tightens t_max.
+
+use super::{Accelerator, Hit, accept, test_object};
+use crate::math::Ray;
+use crate::scene::{Scene, Shape};
+use crate::shapes::aabb::slab_robust;
+use crate::trace::{NodeAction, NodeVisit, Observer};
+use glam::{Vec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::bvh2::{Bvh2, builder::build_bvh2};
+use obvhs::{BvhBuildParams, Boundable};
+use smallvec::SmallVec;
+use std::time::{Duration, Instant};
+
+struct PrimBox(Aabb);
+
+impl Boundable for PrimBox {
+    fn aabb(&self) -> Aabb {
+        self.0
+    }
+}
+
+/// The box of a finite shape, rounded outwards by one float so it contains the shape's points
+/// as the kernels compute them.
+pub fn shape_bounds(shape: &Shape) -> Option<(Vec3, Vec3)> {
+    let (lo, hi) = match *shape {
+        Shape::Sphere { center, radius } => (center - Vec3::splat(radius), center + Vec3::splat(radius)),
+        Shape::Triangle { p } => (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2])),
+        Shape::Plane { .. } | Shape::AxisPlane { .. } => return None,
+    };
+    let down = |v: Vec3| Vec3::new(v.x.next_down(), v.y.next_down(), v.z.next_down());
+    let up = |v: Vec3| Vec3::new(v.x.next_up(), v.y.next_up(), v.z.next_up());
+    match shape {
+        Shape::Sphere { .. } => Some((down(lo), up(hi))),
+        // Triangle boxes are exact: the vertices are the extremes.
+        _ => Some((lo, hi)),
+    }
+}
+
+/// One node of the tree in raystep's own layout (box, and either two children or a leaf range).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Node {
+    /// Box minimum.
+    pub min: Vec3,
+    /// Box maximum.
+    pub max: Vec3,
+    /// Leaf: index of its first object in [`Bvh::leaf_objects`]; inner: index of its first child
+    /// (the second is `first + 1`).
+    pub first: u32,
+    /// Number of objects in a leaf; 0 for an inner node.
+    pub count: u32,
+}
+
+impl Node {
+    /// Whether the node is a leaf.
+    #[inline(always)]
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+}
+
+/// A BVH over a scene's finite primitives, plus the list of its planes.
+pub struct Bvh {
+    /// The nodes; `nodes[0]` is the root.
+    pub nodes: Vec<Node>,
+    /// Object ids in leaf order.
+    pub leaf_objects: Vec<u32>,
+    /// Infinite primitives (planes), tested before the tree.
+    pub planes: Vec<u32>,
+    /// The tree's depth.
+    pub max_depth: usize,
+    /// Wall time of obvhs's core build.
+    pub build_time: Duration,
+    /// obvhs's tree itself (kept for comparisons with its own traversal).
+    pub obvhs: Bvh2,
+}
+
+impl Bvh {
+    /// Builds the tree over the scene's finite objects with obvhs's medium-quality preset.
+    pub fn build(scene: &Scene) -> Bvh {
+        let start = Instant::now();
+        let mut finite = vec![];
+        let mut boxes = vec![];
+        let mut planes = vec![];
+        for (id, o) in scene.objects.iter().enumerate() {
+            match shape_bounds(&o.shape) {
+                Some((lo, hi)) => {
+                    finite.push(id as u32);
+                    boxes.push(PrimBox(Aabb::new(Vec3A::from(lo), Vec3A::from(hi))));
+                }
+                None => planes.push(id as u32),
+            }
+        }
+        let mut core = Duration::ZERO;
+        let bvh2 = if boxes.is_empty() {
+            Bvh2::default()
+        } else {
+            build_bvh2(&boxes, BvhBuildParams::medium_build(), &mut core)
+        };
+        let nodes: Vec<Node> = bvh2
+            .nodes
+            .iter()
+            .map(|n| {
+                let b = n.aabb();
+                Node { min: Vec3::from(b.min), max: Vec3::from(b.max), first: n.first_index, count: n.prim_count }
+            })
+            .collect();
+        let leaf_objects = bvh2.primitive_indices.iter().map(|&i| finite[i as usize]).collect();
+        let max_depth = tree_depth(&nodes);
+        let _ = core;
+        Bvh { nodes, leaf_objects, planes, max_depth, build_time: start.elapsed(), obvhs: bvh2 }
+    }
+
+    /// Walks the tree for `ray`, calling `leaf(object, ray)` for each primitive in the leaves the
+    /// ray reaches, nearer subtrees first. `leaf` returns false to stop (any-hit). t_max shrinks
+    /// as `leaf` finds closer hits (it updates `ray.t_max`).
+    #[inline(always)]
+    fn traverse<O: Observer>(
+        &self,
+        ray: &mut Ray<f32>,
+        obs: &mut O,
+        mut leaf: impl FnMut(u32, &mut Ray<f32>, &mut O) -> bool,
+    ) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        // True IEEE reciprocals: ±∞ for zero components, the sign of zero kept.
+        let inv = Vec3::ONE / ray.dir;
+        let root = &self.nodes[0];
+        let test = slab_robust(ray, inv, root.min, root.max);
+        let root_action = match (test.hit, root.is_leaf()) {
+            (false, _) => NodeAction::Culled,
+            (true, true) => NodeAction::TestPrimitives,
+            (true, false) => NodeAction::Descend,
+        };
+        obs.node_visit(|| NodeVisit { node: 0, depth: 0, test, leaf: root.is_leaf(), action: root_action });
+        match root_action {
+            NodeAction::Culled => return,
+            NodeAction::TestPrimitives => {
+                for k in root.first..root.first + root.count {
+                    if !leaf(self.leaf_objects[k as usize], ray, obs) {
+                        return;
+                    }
+                }
+                return;
+            }
+            _ => {}
+        }
+        // (first child index, depth of the children)
+        let mut stack: SmallVec<[(u32, u32); 64]> = SmallVec::new();
+        let mut current = (root.first, 1u32);
+        loop {
+            let (first, depth) = current;
+            let ids = [first, first + 1];
+            let a = &self.nodes[first as usize];
+            let b = &self.nodes[first as usize + 1];
+            let ta = slab_robust(ray, inv, a.min, a.max);
+            let tb = slab_robust(ray, inv, b.min, b.max);
+            // Nearer first.
+            let (near, far, tn, tf, in_, if_) = if ta.t_near <= tb.t_near {
+                (a, b, ta, tb, ids[0], ids[1])
+            } else {
+                (b, a, tb, ta, ids[1], ids[0])
+            };
+            let mut next: Option<(u32, u32)> = None;
+            let mut stopped = false;
+            for (node, t, id, is_near) in [(near, tn, in_, true), (far, tf, if_, false)] {
+                // The far box is re-checked against t_max, which the near leaf may have shrunk.
+                let hit = t.hit && t.t_near <= ray.t_max;
+                let action = match (hit, node.is_leaf()) {
+                    (false, _) => NodeAction::Culled,
+                    (true, true) => NodeAction::TestPrimitives,
+                    (true, false) if is_near || next.is_none() => NodeAction::Descend,
+                    (true, false) => NodeAction::Pushed,
+                };
+                obs.node_visit(|| NodeVisit { node: id, depth, test: t, leaf: node.is_leaf(), action });
+                match action {
+                    NodeAction::Culled => {}
+                    NodeAction::TestPrimitives => {
+                        for k in node.first..node.first + node.count {
+                            if !leaf(self.leaf_objects[k as usize], ray, obs) {
+                                stopped = true;
+                                break;
+                            }
+                        }
+                    }
+                    NodeAction::Descend => next = Some((node.first, depth + 1)),
+                    NodeAction::Pushed => stack.push((node.first, depth + 1)),
+                }
+                if stopped {
+                    return;
+                }
+            }
+            current = match next {
+                Some(n) => n,
+                None => match stack.pop() {
+                    Some(n) => n,
+                    None => return,
+                },
+            };
+        }
+    }
+}
+
+impl Accelerator for Bvh {
+    #[inline]
+    fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        let mut r = *ray;
+        let mut best = None;
+        for &id in &self.planes {
+            if let Some(h) = test_object(scene, id, &r, obs) {
+                accept(scene, &h, r.t_max, obs);
+                r.t_max = h.t;
+                best = Some(h);
+            }
+        }
+        self.traverse(&mut r, obs, |id, r, obs| {
+            if let Some(h) = test_object(scene, id, r, obs) {
+                accept(scene, &h, r.t_max, obs);
+                r.t_max = h.t;
+                best = Some(h);
+            }
+            true
+        });
+        best
+    }
+
+    #[inline]
+    fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        for &id in &self.planes {
+            if let Some(h) = test_object(scene, id, ray, obs) {
+                accept(scene, &h, ray.t_max, obs);
+                return Some(h);
+            }
+        }
+        let mut found = None;
+        let mut r = *ray;
+        self.traverse(&mut r, obs, |id, r, obs| match test_object(scene, id, r, obs) {
+            Some(h) => {
+                accept(scene, &h, r.t_max, obs);
+                found = Some(h);
+                false
+            }
+            None => true,
+        });
+        found
+    }
+
+    fn name(&self) -> &'static str {
+        "BVH"
+    }
+}
+
+/// The number of levels below the root (0 for a single leaf or an empty tree).
+fn tree_depth(nodes: &[Node]) -> usize {
+    let mut deepest = 0;
+    let mut stack = vec![(0usize, 0usize)];
+    while let Some((i, d)) = stack.pop() {
+        let Some(n) = nodes.get(i) else { continue };
+        deepest = deepest.max(d);
+        if !n.is_leaf() {
+            stack.push((n.first as usize, d + 1));
+            stack.push((n.first as usize + 1, d + 1));
+        }
+    }
+    deepest
+}

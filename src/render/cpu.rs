@@ -1,0 +1,149 @@
+//! The full parallel render: rayon over 16×16 tiles, each pixel traced by the same
+//! [`Tracer::trace_pixel`] the stepped pixel uses. Every pixel depends only on (scene, pixel,
+//! sample), so the image is identical whatever the thread count.
+
+use crate::accel::Accelerator;
+use crate::trace::{Counter, Silent, Tracer};
+use glam::Vec3;
+use rayon::prelude::*;
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+const TILE: u32 = 16;
+
+/// How to render.
+#[derive(Debug, Clone, Default)]
+pub struct RenderOptions {
+    /// Worker threads (None: all cores).
+    pub threads: Option<usize>,
+    /// Show a progress bar on stderr (only when stderr is a terminal).
+    pub progress: bool,
+    /// Count rays and tests, and BVH node visits per pixel (for the stats and the heatmap).
+    pub count: bool,
+}
+
+/// Figures a teacher wants after a render.
+#[derive(Debug, Clone, Default)]
+pub struct RenderStats {
+    /// Time spent tracing (excludes loading and building).
+    pub trace: Duration,
+    /// Rays and tests (zero unless `count` was set).
+    pub counts: Counter,
+    /// Threads used.
+    pub threads: usize,
+}
+
+impl RenderStats {
+    /// Millions of rays (all kinds) per second of tracing.
+    pub fn mrays_per_s(&self) -> f64 {
+        self.counts.rays() as f64 / self.trace.as_secs_f64().max(1e-9) / 1e6
+    }
+}
+
+/// A rendered image in linear RGB, with per-pixel BVH node visits when counted.
+#[derive(Debug, Clone)]
+pub struct RenderOutput {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// Linear RGB, row-major from the top-left.
+    pub pixels: Vec<Vec3>,
+    /// BVH node visits per pixel (all rays of the pixel), when counted.
+    pub node_visits: Option<Vec<u32>>,
+    /// Statistics.
+    pub stats: RenderStats,
+}
+
+struct Tile {
+    x0: u32,
+    y0: u32,
+    w: u32,
+    h: u32,
+}
+
+/// Renders the tracer's scene.
+pub fn render<A: Accelerator>(tracer: &Tracer<'_, A>, opts: &RenderOptions) -> Result<RenderOutput, String> {
+    let (width, height) = (tracer.camera.width, tracer.camera.height);
+    let mut tiles = vec![];
+    for y0 in (0..height).step_by(TILE as usize) {
+        for x0 in (0..width).step_by(TILE as usize) {
+            tiles.push(Tile { x0, y0, w: TILE.min(width - x0), h: TILE.min(height - y0) });
+        }
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("cannot start the worker threads: {e}"))?;
+    let bar = if opts.progress && std::io::stderr().is_terminal() && tiles.len() > 64 {
+        let b = indicatif::ProgressBar::new(tiles.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template("{spinner} tracing [{bar:40}] {percent}% {elapsed} (eta {eta})")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        Some(b)
+    } else {
+        None
+    };
+    let start = Instant::now();
+    let count = opts.count;
+    let results: Vec<(Vec<Vec3>, Vec<u32>, Counter)> = pool.install(|| {
+        tiles
+            .par_iter()
+            .map(|t| {
+                let mut px = Vec::with_capacity((t.w * t.h) as usize);
+                let mut visits = vec![];
+                let mut counter = Counter::default();
+                for y in t.y0..t.y0 + t.h {
+                    for x in t.x0..t.x0 + t.w {
+                        if count {
+                            let before = counter.node_visits;
+                            px.push(tracer.trace_pixel(x, y, &mut counter));
+                            visits.push((counter.node_visits - before) as u32);
+                        } else {
+                            px.push(tracer.trace_pixel(x, y, &mut Silent));
+                        }
+                    }
+                }
+                if let Some(b) = &bar {
+                    b.inc(1);
+                }
+                (px, visits, counter)
+            })
+            .collect()
+    });
+    let trace = start.elapsed();
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let mut pixels = vec![Vec3::ZERO; (width * height) as usize];
+    let mut node_visits = count.then(|| vec![0u32; (width * height) as usize]);
+    let mut counts = Counter::default();
+    for (t, (px, visits, c)) in tiles.iter().zip(results) {
+        counts.merge(&c);
+        for (k, p) in px.into_iter().enumerate() {
+            let (dx, dy) = (k as u32 % t.w, k as u32 / t.w);
+            let i = ((t.y0 + dy) * width + t.x0 + dx) as usize;
+            pixels[i] = p;
+            if let Some(nv) = &mut node_visits {
+                nv[i] = visits[k];
+            }
+        }
+    }
+    Ok(RenderOutput {
+        width,
+        height,
+        pixels,
+        node_visits,
+        stats: RenderStats { trace, counts, threads: pool.current_num_threads() },
+    })
+}
+
+/// Traces one pixel with a counting observer (for tests and the app's pixel readout).
+pub fn count_pixel<A: Accelerator>(tracer: &Tracer<'_, A>, x: u32, y: u32) -> (Vec3, Counter) {
+    let mut c = Counter::default();
+    let color = tracer.trace_pixel(x, y, &mut c);
+    (color, c)
+}
+

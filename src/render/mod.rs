@@ -1,0 +1,6 @@
+//! Rendering the whole image: the parallel CPU renderer, and image output (sRGB PNG, heatmaps).
+
+pub mod cpu;
+pub mod image;
+
+pub use cpu::{RenderOptions, RenderOutput, RenderStats, render};

@@ -1,0 +1,1 @@
+//! Standard Procedural Databases scenes (placeholder: being written).
