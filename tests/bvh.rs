@@ -1,0 +1,267 @@
+//! The BVH finds exactly what brute force finds (random rays and the stiff cases S21–S23),
+//! agrees with obvhs's own traversal, and a traced pixel equals the rendered pixel bit for bit.
+
+use glam::{Vec3, Vec3A};
+use raystep::accel::{Accelerator, BruteForce, Bvh, SceneAccel};
+use raystep::math::Ray;
+use raystep::render::{RenderOptions, render};
+use raystep::scene::{Scene, load_str};
+use raystep::trace::{NodeAction, Recorder, Silent, Step, Tracer};
+
+/// A tiny deterministic generator (xorshift) so the test needs no extra crate.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * self.next()
+    }
+    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
+        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
+    }
+}
+
+fn fmt(v: Vec3) -> String {
+    format!("[{:e}, {:e}, {:e}]", v.x, v.y, v.z)
+}
+
+/// A scene of random spheres and triangles (and a plane), as TOML.
+fn random_scene(seed: u64, spheres: usize, triangles: usize, scale: f32) -> Scene {
+    let mut r = Rng(seed);
+    let mut t = String::from("[[plane]]\naxis = \"y\"\noffset = ") + &format!("{:e}\n", -12.0 * scale);
+    for _ in 0..spheres {
+        t += &format!(
+            "[[sphere]]\ncenter = {}\nradius = {:e}\n",
+            fmt(r.vec(-10.0, 10.0) * scale),
+            r.range(0.1, 1.5) * scale
+        );
+    }
+    for _ in 0..triangles {
+        let c = r.vec(-10.0, 10.0);
+        let p: Vec<Vec3> = (0..3).map(|_| (c + r.vec(-2.0, 2.0)) * scale).collect();
+        t += &format!("[[triangle]]\nvertices = [{}, {}, {}]\n", fmt(p[0]), fmt(p[1]), fmt(p[2]));
+    }
+    load_str(&t, "random.toml", None).unwrap()
+}
+
+fn random_rays(seed: u64, n: usize, scale: f32) -> Vec<Ray<f32>> {
+    let mut r = Rng(seed);
+    (0..n)
+        .map(|_| {
+            let o = r.vec(-20.0, 20.0) * scale;
+            let target = r.vec(-10.0, 10.0) * scale;
+            Ray::infinite(o, target - o).unwrap()
+        })
+        .collect()
+}
+
+fn assert_same(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>]) {
+    let mut hits = 0;
+    for (k, ray) in rays.iter().enumerate() {
+        let a = BruteForce.closest(scene, ray, &mut Silent);
+        let b = bvh.closest(scene, ray, &mut Silent);
+        // The same kernel on the same ray gives bit-identical t; objects differ only on exact ties.
+        assert_eq!(a.map(|h| h.t), b.map(|h| h.t), "ray {k}: {ray:?}");
+        if let (Some(a), Some(b)) = (a, b) {
+            hits += 1;
+            if a.object != b.object {
+                assert_eq!(a.t, b.t);
+            }
+        }
+        let sa = BruteForce.any(scene, ray, &mut Silent).is_some();
+        let sb = bvh.any(scene, ray, &mut Silent).is_some();
+        assert_eq!(sa, sb, "any-hit differs for ray {k}");
+    }
+    assert!(hits > rays.len() / 10, "too few hits ({hits}) for the test to mean much");
+}
+
+#[test]
+fn bvh_equals_brute_force_on_random_rays() {
+    for (seed, spheres, tris) in [(1, 200, 0), (2, 0, 300), (3, 150, 150), (4, 1, 0), (5, 0, 2)] {
+        let scene = random_scene(seed, spheres, tris, 1.0);
+        let bvh = Bvh::build(&scene);
+        assert_same(&scene, &bvh, &random_rays(seed + 100, 3000, 1.0));
+    }
+}
+
+#[test]
+fn bvh_matches_obvhs_own_traversal() {
+    // obvhs's `ray_traverse` over the same tree, with raystep's kernel as its intersection
+    // callback: the closest t must agree. (Random rays here are far from parallel to any axis, so
+    // obvhs's clamped reciprocals do not matter.)
+    let scene = random_scene(7, 100, 200, 1.0);
+    let bvh = Bvh::build(&scene);
+    let finite: Vec<u32> = (0..scene.objects.len() as u32).filter(|id| !bvh.planes.contains(id)).collect();
+    for ray in random_rays(8, 3000, 1.0) {
+        let mut theirs = obvhs::ray::RayHit::none();
+        let oray = obvhs::ray::Ray::new(Vec3A::from(ray.origin), Vec3A::from(ray.dir), 0.0, f32::INFINITY);
+        bvh.obvhs.ray_traverse(oray, &mut theirs, |r, slot| {
+            let id = finite[bvh.obvhs.primitive_indices[slot] as usize];
+            let ray = Ray { origin: Vec3::from(r.origin), dir: Vec3::from(r.direction), t_min: r.tmin, t_max: r.tmax };
+            raystep::accel::test_object(&scene, id, &ray, &mut Silent).map_or(f32::INFINITY, |h| h.t)
+        });
+        // Compare without the plane (obvhs's tree holds only finite primitives).
+        let mut ours = None;
+        let mut r = ray;
+        for &id in &finite {
+            if let Some(h) = raystep::accel::test_object(&scene, id, &r, &mut Silent) {
+                r.t_max = h.t;
+                ours = Some(h.t);
+            }
+        }
+        assert_eq!(ours.unwrap_or(f32::INFINITY), theirs.t);
+    }
+}
+
+#[test]
+fn s21_near_parallel_rays_never_miss() {
+    // A grid of flat triangles in z = 5; rays along (1e-9, 0, 1) — obvhs's clamped reciprocal
+    // (1/ε instead of 1e9) would misplace the x slabs; raystep's traversal must match brute force.
+    let mut t = String::new();
+    for i in 0..20 {
+        let x = i as f32;
+        t += &format!("[[triangle]]\nvertices = [[{x}, 0, 5], [{}, 0, 5], [{x}, 1, 5]]\n", x + 1.0);
+        t += &format!("[[triangle]]\nvertices = [[{}, 0, 5], [{}, 1, 5], [{x}, 1, 5]]\n", x + 1.0, x + 1.0);
+    }
+    let scene = load_str(&t, "s21.toml", None).unwrap();
+    let bvh = Bvh::build(&scene);
+    let rays: Vec<Ray<f32>> = (0..400)
+        .map(|k| Ray::infinite(Vec3::new(0.025 + k as f32 * 0.05, 0.5, 0.0), Vec3::new(1e-9, 0.0, 1.0)).unwrap())
+        .collect();
+    for ray in &rays {
+        let a = BruteForce.closest(&scene, ray, &mut Silent);
+        assert!(a.is_some());
+        assert_eq!(a.map(|h| h.t), bvh.closest(&scene, ray, &mut Silent).map(|h| h.t));
+    }
+}
+
+#[test]
+fn s22_zero_thickness_boxes_are_hit() {
+    // Axis-aligned quads make flat node boxes (zero thickness in z).
+    let scene = random_scene(11, 0, 0, 1.0);
+    let _ = scene;
+    let mut t = String::new();
+    for i in 0..16 {
+        let (x, y) = ((i % 4) as f32 * 2.0, (i / 4) as f32 * 2.0);
+        t += &format!("[[triangle]]\nvertices = [[{x}, {y}, 3], [{}, {y}, 3], [{x}, {}, 3]]\n", x + 2.0, y + 2.0);
+    }
+    let scene = load_str(&t, "s22.toml", None).unwrap();
+    let bvh = Bvh::build(&scene);
+    let mut r = Rng(5);
+    for _ in 0..2000 {
+        let target = Vec3::new(r.range(0.0, 8.0), r.range(0.0, 8.0), 3.0);
+        let o = Vec3::new(r.range(-5.0, 13.0), r.range(-5.0, 13.0), -4.0);
+        let ray = Ray::infinite(o, target - o).unwrap();
+        assert_eq!(
+            BruteForce.closest(&scene, &ray, &mut Silent).map(|h| h.t),
+            bvh.closest(&scene, &ray, &mut Silent).map(|h| h.t)
+        );
+    }
+}
+
+#[test]
+fn s23_tiny_scale_and_close_surfaces() {
+    // The whole random scene scaled by 1e-5: no fixed t_min may creep into traversal.
+    let scene = random_scene(21, 100, 100, 1e-5);
+    let bvh = Bvh::build(&scene);
+    assert_same(&scene, &bvh, &random_rays(22, 2000, 1e-5));
+    // Two spheres whose surfaces are 5e-5 apart, ray leaving the inner one from its surface.
+    let t = "[[sphere]]\nradius = 1\n[[sphere]]\nradius = 1.00005\n[[sphere]]\ncenter = [5, 0, 0]\n\
+             [[sphere]]\ncenter = [-5, 0, 0]\n";
+    let scene = load_str(t, "s23.toml", None).unwrap();
+    let bvh = Bvh::build(&scene);
+    let ray = Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::Z, 1e-6, f32::INFINITY).unwrap();
+    let a = BruteForce.closest(&scene, &ray, &mut Silent).unwrap();
+    let b = bvh.closest(&scene, &ray, &mut Silent).unwrap();
+    assert_eq!((a.object, a.t), (b.object, b.t));
+    assert_eq!(a.object, 1, "the outer sphere, 5e-5 away, is found");
+}
+
+#[test]
+fn recorded_traversal_shows_nodes_and_leaf_tests() {
+    let scene = random_scene(31, 60, 0, 1.0);
+    let bvh = Bvh::build(&scene);
+    let ray = Ray::infinite(Vec3::new(0.0, 0.0, -30.0), Vec3::Z).unwrap();
+    let mut rec = Recorder::new();
+    rec_closest(&scene, &bvh, &ray, &mut rec);
+    let root = rec.finish().unwrap();
+    let nodes: Vec<_> = root
+        .steps
+        .iter()
+        .filter_map(|s| if let Step::Node(n) = &s.step { Some(n.clone()) } else { None })
+        .collect();
+    assert_eq!(nodes[0].node, 0, "the root is visited first");
+    assert_eq!(nodes[0].depth, 0);
+    // Every primitive test follows a leaf visit whose action is TestPrimitives.
+    let mut in_leaf = false;
+    for s in &root.steps {
+        match &s.step {
+            Step::Node(n) => in_leaf = n.action == NodeAction::TestPrimitives,
+            Step::Sphere { .. } => assert!(in_leaf, "a sphere test outside a tested leaf"),
+            _ => {}
+        }
+    }
+    // Fewer sphere tests than spheres: the BVH culled some.
+    let tests = root.steps.iter().filter(|s| matches!(s.step, Step::Sphere { .. })).count();
+    assert!(tests < 60, "{tests} tests");
+}
+
+fn rec_closest(scene: &Scene, bvh: &Bvh, ray: &Ray<f32>, rec: &mut Recorder) {
+    use raystep::trace::{Observer, RayKind};
+    rec.begin_ray(RayKind::Primary, 0, ray, 1.0);
+    let hit = bvh.closest(scene, ray, rec);
+    rec.end_ray(|| None, Vec3::ZERO);
+    let _ = hit;
+}
+
+#[test]
+fn traced_pixel_equals_rendered_pixel_with_and_without_bvh() {
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/three-spheres.toml")).unwrap();
+    for accel in ["none", "bvh"] {
+        for spp in [1, 4] {
+            let mut scene = load_str(&text, "three-spheres.toml", None).unwrap();
+            scene.camera.width = 48;
+            scene.camera.height = 36;
+            scene.settings.accel = if accel == "bvh" {
+                raystep::scene::AccelChoice::Bvh
+            } else {
+                raystep::scene::AccelChoice::None
+            };
+            scene.settings.spp = spp;
+            let (a, _) = SceneAccel::build(&scene);
+            let tracer = Tracer::new(&scene, &a);
+            for threads in [1, 2] {
+                let out = render(&tracer, &RenderOptions { threads: Some(threads), ..Default::default() }).unwrap();
+                for y in (0..36).step_by(5) {
+                    for x in (0..48).step_by(5) {
+                        let mut sum = Vec3::ZERO;
+                        for k in 0..spp {
+                            sum += Vec3::from(tracer.record(x, y, k).color);
+                        }
+                        let traced = sum / spp as f32;
+                        assert_eq!(traced.to_array(), out.pixels[(y * 48 + x) as usize].to_array(), "({x}, {y})");
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn render_is_identical_whatever_the_thread_count() {
+    let scene = random_scene(41, 80, 80, 1.0);
+    let mut scene = scene;
+    scene.camera.width = 64;
+    scene.camera.height = 48;
+    scene.camera.from = Vec3::new(0.0, 2.0, -40.0);
+    let (a, _) = SceneAccel::build(&scene);
+    let tracer = Tracer::new(&scene, &a);
+    let one = render(&tracer, &RenderOptions { threads: Some(1), ..Default::default() }).unwrap();
+    let two = render(&tracer, &RenderOptions { threads: Some(2), ..Default::default() }).unwrap();
+    let bits = |o: &raystep::render::RenderOutput| o.pixels.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+    assert_eq!(bits(&one), bits(&two));
+}
