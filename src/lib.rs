@@ -22,6 +22,7 @@
 pub mod accel;
 pub mod cli;
 pub mod io;
+pub mod jsonf;
 pub mod math;
 pub mod render;
 pub mod scene;

@@ -40,7 +40,7 @@ pub trait Vector<T>:
 
 /// A floating-point precision the kernels can run in: `f32` or `f64`.
 pub trait Real:
-    num_traits::Float + Debug + Default + Send + Sync + serde::Serialize + std::fmt::Display + 'static
+    num_traits::Float + Debug + Default + Send + Sync + serde::Serialize + crate::jsonf::JsonFloat + std::fmt::Display + 'static
 {
     /// The matching glam vector type.
     type V: Vector<Self>;

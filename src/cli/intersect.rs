@@ -394,8 +394,8 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 }
             );
             let mut m = Map::new();
-            m.insert("t_near".into(), json!(t.t_near));
-            m.insert("t_far".into(), json!(t.t_far));
+            m.insert("t_near".into(), jv(t.t_near));
+            m.insert("t_far".into(), jv(t.t_far));
             m.insert("hit".into(), json!(t.hit));
             m.insert("t".into(), if t.hit { json!(t.t_near) } else { Value::Null });
             return Ok((s, Value::Object(m)));
@@ -415,6 +415,19 @@ fn inf<T: Real>(x: T) -> String {
 
 fn stop<T: Real>(t: &triangle::TriangleTest<T>, step: u8, why: &str) -> String {
     if t.stopped_at == step { format!(" — {why}: stop") } else { String::new() }
+}
+
+/// A number as JSON; infinities and NaN as the strings "inf", "-inf", "nan" (as in traces).
+fn jv<T: Real>(x: T) -> Value {
+    serde_json::to_value(WithJsonF(x)).unwrap_or(Value::Null)
+}
+
+struct WithJsonF<T>(T);
+
+impl<T: Real> serde::Serialize for WithJsonF<T> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        crate::jsonf::serialize(&self.0, s)
+    }
 }
 
 fn finish<T: Real>(mut m: Map<String, Value>, t: Option<T>) -> Value {

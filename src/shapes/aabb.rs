@@ -17,29 +17,38 @@ pub enum BoxMethod {
 
 /// One axis of the slab test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
 pub struct SlabAxis<T> {
     /// 1/Q_axis (±∞ for a zero component: the sign of zero decides the sign of ∞).
+    #[serde(with = "crate::jsonf")]
     pub inv_dir: T,
     /// Entry distance into this slab (the smaller of the two plane distances).
+    #[serde(with = "crate::jsonf")]
     pub t_entry: T,
     /// Exit distance from this slab (the larger).
+    #[serde(with = "crate::jsonf")]
     pub t_exit: T,
 }
 
 /// Every intermediate of one slab test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
 pub struct BoxTest<T> {
     /// The method used.
     pub method: BoxMethod,
     /// The box's minimum corner.
+    #[serde(with = "crate::jsonf")]
     pub min: [T; 3],
     /// The box's maximum corner.
+    #[serde(with = "crate::jsonf")]
     pub max: [T; 3],
     /// Per axis: the reciprocal and the slab's entry and exit distances.
     pub axes: [SlabAxis<T>; 3],
     /// max(t_min, entries): where the ray is inside all three slabs from.
+    #[serde(with = "crate::jsonf")]
     pub t_near: T,
     /// min(t_max, exits) (for `robust`, enlarged by 1 + 2γ₃).
+    #[serde(with = "crate::jsonf")]
     pub t_far: T,
     /// Whether the ray's interval meets the box.
     pub hit: bool,

@@ -6,12 +6,15 @@ use serde::{Deserialize, Serialize};
 /// How the plane is given.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "form")]
+#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
 pub enum PlaneForm<T> {
     /// X·n = c with unit normal n.
     General {
         /// The unit normal n.
+        #[serde(with = "crate::jsonf")]
         normal: [T; 3],
         /// c = P·n for a point P on the plane.
+        #[serde(with = "crate::jsonf")]
         offset: T,
     },
     /// X_axis = c: the seeds' shortcut t = (c − S_axis)/Q_axis.
@@ -19,24 +22,30 @@ pub enum PlaneForm<T> {
         /// 0 = x, 1 = y, 2 = z.
         axis: usize,
         /// The plane's coordinate c on that axis.
+        #[serde(with = "crate::jsonf")]
         offset: T,
     },
 }
 
 /// Every intermediate of one ray–plane test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
 pub struct PlaneTest<T> {
     /// Which form was tested.
     pub form: PlaneForm<T>,
     /// The denominator Q·n (general) or Q_axis (axis-aligned). Zero (of either sign): parallel.
+    #[serde(with = "crate::jsonf")]
     pub denominator: T,
     /// The numerator c − S·n (general) or c − S_axis (axis-aligned).
+    #[serde(with = "crate::jsonf")]
     pub numerator: T,
     /// Whether the ray is parallel to the plane (denominator = ±0): always a miss, never NaN.
     pub parallel: bool,
     /// numerator / denominator, when not parallel (may be negative, or ±∞ on overflow).
+    #[serde(with = "crate::jsonf")]
     pub t_raw: Option<T>,
     /// The hit distance, when t_raw lies in (t_min, t_max).
+    #[serde(with = "crate::jsonf")]
     pub t: Option<T>,
 }
 

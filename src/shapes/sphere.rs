@@ -48,30 +48,37 @@ pub enum RootChoice {
 
 /// Every intermediate of one ray–sphere test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
 pub struct SphereTest<T> {
     /// The method used.
     pub method: SphereMethod,
     /// a = d·d.
+    #[serde(with = "crate::jsonf")]
     pub a: T,
     /// b = 2 f·d with f = S − G (reported in the seeds' form for both methods).
+    #[serde(with = "crate::jsonf")]
     pub b: T,
     /// c = f·f − r².
+    #[serde(with = "crate::jsonf")]
     pub c: T,
     /// The seeds' discriminant b² − 4ac (for `stable`, 4a·Δ′, the same quantity computed robustly).
+    #[serde(with = "crate::jsonf")]
     pub discriminant: T,
     /// `stable` only: Δ′ = r² − ‖f − (f·d / a)·d‖², the squared distance margin of the ray's line.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
+    #[serde(with = "crate::jsonf", skip_serializing_if = "Option::is_none", default)]
     pub delta_prime: Option<T>,
     /// `stable` only: q = b′ + sign(b′)·√(a·Δ′) with b′ = −f·d.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
+    #[serde(with = "crate::jsonf", skip_serializing_if = "Option::is_none", default)]
     pub q: Option<T>,
     /// The two roots in ascending order (equal when tangent), or none.
+    #[serde(with = "crate::jsonf")]
     pub roots: Option<[T; 2]>,
     /// Which case of the discriminant this is.
     pub case: SphereCase,
     /// Which root was taken and why.
     pub choice: RootChoice,
     /// The hit distance, if a root lies in (t_min, t_max).
+    #[serde(with = "crate::jsonf")]
     pub t: Option<T>,
     /// Whether the origin is inside the sphere (c < 0).
     pub inside: bool,

@@ -38,34 +38,43 @@ pub enum TriangleMethod {
 /// 11. if v* < 0 or u* + v* > 1: **stop**
 /// 12. hit at t*, with barycentrics (1 − u* − v*, u*, v*)
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
 pub struct TriangleTest<T> {
     /// The method used.
     pub method: TriangleMethod,
     /// The determinant: D0 for Möller–Trumbore; e0 + e1 + e2 for watertight.
+    #[serde(with = "crate::jsonf")]
     pub det: T,
     /// Möller–Trumbore: Dt (None if stopped before step 4). Watertight: the scaled t (Σ eᵢ·zᵢ).
+    #[serde(with = "crate::jsonf")]
     pub dt: Option<T>,
     /// Möller–Trumbore: Du (None if stopped before step 6).
+    #[serde(with = "crate::jsonf")]
     pub du: Option<T>,
     /// Möller–Trumbore: Dv (None if stopped before step 9).
+    #[serde(with = "crate::jsonf")]
     pub dv: Option<T>,
     /// Watertight: the three edge functions e0, e1, e2 (barycentric weights of P0, P1, P2 times det).
-    #[serde(skip_serializing_if = "Option::is_none", default)]
+    #[serde(with = "crate::jsonf", skip_serializing_if = "Option::is_none", default)]
     pub edges: Option<[T; 3]>,
     /// Watertight: the ray-space permutation (kx, ky, kz), kz the largest |Q| component.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub permutation: Option<[usize; 3]>,
     /// t* (None if not reached).
+    #[serde(with = "crate::jsonf")]
     pub t_star: Option<T>,
     /// u*, the weight of P1 (None if not reached).
+    #[serde(with = "crate::jsonf")]
     pub u: Option<T>,
     /// v*, the weight of P2 (None if not reached).
+    #[serde(with = "crate::jsonf")]
     pub v: Option<T>,
     /// The step (1–12, numbered as above) at which the test stopped; 12 means a hit.
     /// Watertight maps its rejections onto the same numbers: 2 parallel (det = 0), 5 t out of range,
     /// 8 mixed edge signs (outside).
     pub stopped_at: u8,
     /// The hit distance, if the test reached step 12.
+    #[serde(with = "crate::jsonf")]
     pub t: Option<T>,
 }
 

@@ -80,10 +80,13 @@ pub enum Step {
         /// Sample index.
         sample: u32,
         /// Position inside the pixel, in [0, 1)² (0.5, 0.5 = the centre).
+        #[serde(with = "crate::jsonf")]
         offset: [f32; 2],
         /// Screen coordinates sx, sy in [−1, 1].
+        #[serde(with = "crate::jsonf")]
         screen: [f32; 2],
         /// The ray direction.
+        #[serde(with = "crate::jsonf")]
         direction: [f32; 3],
     },
     /// A BVH node visit.
@@ -113,6 +116,7 @@ pub enum Step {
         /// Object name.
         name: String,
         /// The vertices P0, P1, P2.
+        #[serde(with = "crate::jsonf")]
         vertices: [[f32; 3]; 3],
         /// Every intermediate.
         test: TriangleTest<f32>,
@@ -124,26 +128,33 @@ pub enum Step {
         /// Object name.
         name: String,
         /// The new closest t.
+        #[serde(with = "crate::jsonf")]
         t: f32,
         /// The previous closest t (∞ at first).
+        #[serde(with = "crate::jsonf")]
         previous: f32,
     },
     /// The ray hit nothing: the background colour.
     Miss {
         /// The background colour.
+        #[serde(with = "crate::jsonf")]
         background: [f32; 3],
     },
     /// The surface interaction at the closest hit.
     Surface {
         /// Hit point.
+        #[serde(with = "crate::jsonf")]
         point: [f32; 3],
         /// Unit normal, facing the incoming ray.
+        #[serde(with = "crate::jsonf")]
         normal: [f32; 3],
         /// Whether the ray hit the surface from inside (normal flipped).
         inside: bool,
         /// Rounding-error bound of the hit point, per axis.
+        #[serde(with = "crate::jsonf")]
         error_bound: [f32; 3],
         /// Where spawned rays on this side start (after the offset policy).
+        #[serde(with = "crate::jsonf")]
         over_point: [f32; 3],
     },
     /// A shadow ray is about to be traced towards a light.
@@ -153,6 +164,7 @@ pub enum Step {
         /// Light name.
         name: String,
         /// Distance to the light.
+        #[serde(with = "crate::jsonf")]
         distance: f32,
     },
     /// Phong lighting from one light.
@@ -166,43 +178,57 @@ pub enum Step {
         /// The blocking object's name.
         blocker: Option<String>,
         /// l·n.
+        #[serde(with = "crate::jsonf")]
         l_dot_n: f32,
         /// r·e (reflected light direction · eye direction).
+        #[serde(with = "crate::jsonf")]
         r_dot_e: f32,
         /// Ambient term.
+        #[serde(with = "crate::jsonf")]
         ambient: [f32; 3],
         /// Diffuse term (zero in shadow or when l·n < 0).
+        #[serde(with = "crate::jsonf")]
         diffuse: [f32; 3],
         /// Specular term.
+        #[serde(with = "crate::jsonf")]
         specular: [f32; 3],
     },
     /// A reflection ray is spawned.
     Reflect {
         /// The material's reflectivity.
+        #[serde(with = "crate::jsonf")]
         reflective: f32,
         /// The reflected direction r = d − 2(d·n)n.
+        #[serde(with = "crate::jsonf")]
         direction: [f32; 3],
     },
     /// Snell's law at a transparent surface.
     Refract {
         /// Index of refraction on the incoming side.
+        #[serde(with = "crate::jsonf")]
         n1: f32,
         /// Index of refraction on the far side.
+        #[serde(with = "crate::jsonf")]
         n2: f32,
         /// cos θᵢ = e·n.
+        #[serde(with = "crate::jsonf")]
         cos_i: f32,
         /// sin² θₜ = (n1/n2)²(1 − cos² θᵢ).
+        #[serde(with = "crate::jsonf")]
         sin2_t: f32,
         /// The critical angle in degrees, when n1 > n2.
+        #[serde(with = "crate::jsonf")]
         critical_angle_deg: Option<f32>,
         /// Total internal reflection (sin² θₜ > 1): no refracted ray.
         total_internal_reflection: bool,
         /// The refracted direction, unless TIR.
+        #[serde(with = "crate::jsonf")]
         direction: Option<[f32; 3]>,
     },
     /// Schlick's approximation blends reflection and refraction.
     Schlick {
         /// The reflectance R(θ).
+        #[serde(with = "crate::jsonf")]
         reflectance: f32,
     },
     /// A secondary ray was not traced because the recursion limit was reached.
@@ -218,6 +244,7 @@ pub enum Step {
     /// The ray's final colour (the sum of the terms above).
     Color {
         /// Linear RGB.
+        #[serde(with = "crate::jsonf")]
         color: [f32; 3],
     },
 }
@@ -254,8 +281,10 @@ pub struct HitRecord {
     /// Object name.
     pub name: String,
     /// Hit distance.
+    #[serde(with = "crate::jsonf")]
     pub t: f32,
     /// Triangle barycentric u, v (weights of P1 and P2).
+    #[serde(with = "crate::jsonf")]
     pub uv: Option<[f32; 2]>,
 }
 
@@ -267,12 +296,16 @@ pub struct RayRecord {
     /// Recursion depth (primary = 0).
     pub depth: u32,
     /// Origin.
+    #[serde(with = "crate::jsonf")]
     pub origin: [f32; 3],
     /// Direction.
+    #[serde(with = "crate::jsonf")]
     pub direction: [f32; 3],
     /// Interval start.
+    #[serde(with = "crate::jsonf")]
     pub t_min: f32,
     /// Interval end (∞ is stored as null in JSON).
+    #[serde(with = "crate::jsonf")]
     pub t_max: Option<f32>,
     /// Steps in order.
     pub steps: Vec<StepRecord>,
@@ -281,8 +314,10 @@ pub struct RayRecord {
     /// Child rays, in the order they were traced.
     pub children: Vec<RayRecord>,
     /// The weight the parent multiplies this ray's colour by (1 for primary rays).
+    #[serde(with = "crate::jsonf")]
     pub weight: f32,
     /// The colour this ray returns (linear RGB, before the parent's weight).
+    #[serde(with = "crate::jsonf")]
     pub color: [f32; 3],
 }
 
@@ -306,6 +341,7 @@ pub struct Trace {
     /// The primary ray and everything below it.
     pub root: RayRecord,
     /// The sample's final colour (linear RGB), bit-identical to the render's.
+    #[serde(with = "crate::jsonf")]
     pub color: [f32; 3],
 }
 
@@ -353,8 +389,9 @@ impl Trace {
     pub fn from_json(text: &str, file: &str) -> Result<Trace, TraceError> {
         let corrupt = |e: serde_json::Error| TraceError::Corrupt {
             file: file.into(),
-            line: e.line(),
-            column: e.column(),
+            // serde_json counts an empty input as column 0; our positions are 1-based.
+            line: e.line().max(1),
+            column: e.column().max(1),
             message: e.to_string(),
         };
         let value: serde_json::Value = serde_json::from_str(text).map_err(corrupt)?;

@@ -159,17 +159,55 @@ pub struct Tracer<'s, A: Accelerator> {
     pub accel: &'s A,
     /// Primary rays.
     pub camera: CameraRays,
+    /// Which optional stages are compiled into the tracing loop: (shadow rays, reflection,
+    /// refraction). Set from the scene's features, so an opaque scene runs a tracer with no
+    /// refraction code at all (DESIGN.md principle 4).
+    pub stages: (bool, bool, bool),
+}
+
+/// Calls `$self.$f::<O, L, R, T>($args)` with the const flags matching `$self.stages`.
+macro_rules! specialized {
+    ($self:ident . $f:ident ::<$o:ty>($($arg:expr),*)) => {
+        match $self.stages {
+            (false, false, false) => $self.$f::<$o, false, false, false>($($arg),*),
+            (false, false, true) => $self.$f::<$o, false, false, true>($($arg),*),
+            (false, true, false) => $self.$f::<$o, false, true, false>($($arg),*),
+            (false, true, true) => $self.$f::<$o, false, true, true>($($arg),*),
+            (true, false, false) => $self.$f::<$o, true, false, false>($($arg),*),
+            (true, false, true) => $self.$f::<$o, true, false, true>($($arg),*),
+            (true, true, false) => $self.$f::<$o, true, true, false>($($arg),*),
+            (true, true, true) => $self.$f::<$o, true, true, true>($($arg),*),
+        }
+    };
 }
 
 impl<'s, A: Accelerator> Tracer<'s, A> {
     /// A tracer over `scene` using `accel`.
     pub fn new(scene: &'s Scene, accel: &'s A) -> Self {
-        Tracer { scene, accel, camera: CameraRays::new(&scene.camera) }
+        let f = &scene.features;
+        Tracer { scene, accel, camera: CameraRays::new(&scene.camera), stages: (f.lights > 0, f.reflective, f.transparent) }
+    }
+
+    /// Turns the per-scene specialization off (every stage compiled in and checked at run time),
+    /// for the benchmark that shows what specialization saves. Results are identical.
+    pub fn unspecialized(mut self) -> Self {
+        self.stages = (true, true, true);
+        self
     }
 
     /// Traces sample `sample` of pixel (x, y) and returns its linear colour.
     #[inline]
     pub fn trace_sample<O: Observer>(&self, x: u32, y: u32, sample: u32, obs: &mut O) -> Vec3 {
+        specialized!(self.sample_spec::<O>(x, y, sample, obs))
+    }
+
+    fn sample_spec<O: Observer, const L: bool, const R: bool, const T: bool>(
+        &self,
+        x: u32,
+        y: u32,
+        sample: u32,
+        obs: &mut O,
+    ) -> Vec3 {
         let s = &self.scene.settings;
         let offset = sample_offset(x, y, sample, s.spp, s.seed);
         let (ray, screen) = self.camera.ray(x, y, offset);
@@ -181,7 +219,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             screen,
             direction: ray.dir.to_array(),
         });
-        let (color, hit) = self.shade_ray(&ray, 0, Media::default(), obs);
+        let (color, hit) = self.shade_ray::<O, L, R, T>(&ray, 0, Media::default(), obs);
         obs.end_ray(|| self.hit_record(hit), color);
         color
     }
@@ -200,7 +238,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
     /// Traces an arbitrary ray as a primary ray (depth 0, in air) and returns its colour.
     /// Used by tests with The Ray Tracer Challenge's rays, and by the exercises.
     pub fn trace_ray<O: Observer>(&self, ray: &Ray<f32>, obs: &mut O) -> Vec3 {
-        self.trace_child(ray, RayKind::Primary, 0, 1.0, Media::default(), obs)
+        specialized!(self.primary_spec::<O>(ray, obs))
+    }
+
+    fn primary_spec<O: Observer, const L: bool, const R: bool, const T: bool>(&self, ray: &Ray<f32>, obs: &mut O) -> Vec3 {
+        self.trace_child::<O, L, R, T>(ray, RayKind::Primary, 0, 1.0, Media::default(), obs)
     }
 
     /// Records the full step trace of one sample of one pixel.
@@ -228,15 +270,29 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
     }
 
     /// Traces a secondary ray as a child of the current one.
-    fn trace_child<O: Observer>(&self, ray: &Ray<f32>, kind: RayKind, depth: u32, weight: f32, media: Media, obs: &mut O) -> Vec3 {
+    fn trace_child<O: Observer, const L: bool, const R: bool, const T: bool>(
+        &self,
+        ray: &Ray<f32>,
+        kind: RayKind,
+        depth: u32,
+        weight: f32,
+        media: Media,
+        obs: &mut O,
+    ) -> Vec3 {
         obs.begin_ray(kind, depth, ray, weight);
-        let (color, hit) = self.shade_ray(ray, depth, media, obs);
+        let (color, hit) = self.shade_ray::<O, L, R, T>(ray, depth, media, obs);
         obs.end_ray(|| self.hit_record(hit), color);
         color
     }
 
     /// Finds the closest hit and shades it (the body of a colour ray).
-    fn shade_ray<O: Observer>(&self, ray: &Ray<f32>, depth: u32, media: Media, obs: &mut O) -> (Vec3, Option<Hit>) {
+    fn shade_ray<O: Observer, const L: bool, const R: bool, const T: bool>(
+        &self,
+        ray: &Ray<f32>,
+        depth: u32,
+        media: Media,
+        obs: &mut O,
+    ) -> (Vec3, Option<Hit>) {
         let scene = self.scene;
         let Some(hit) = self.accel.closest(scene, ray, obs) else {
             let bg = scene.settings.background;
@@ -244,12 +300,20 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             obs.step(|| Step::Color { color: bg.to_array() });
             return (bg, None);
         };
-        let color = self.shade(&hit, ray, depth, media, obs);
+        let color = self.shade::<O, L, R, T>(&hit, ray, depth, media, obs);
         obs.step(|| Step::Color { color: color.to_array() });
         (color, Some(hit))
     }
 
-    fn shade<O: Observer>(&self, hit: &Hit, ray: &Ray<f32>, depth: u32, media: Media, obs: &mut O) -> Vec3 {
+    /// Shades a hit. `L`, `R`, `T`: whether shadow rays, reflection and refraction are compiled in.
+    fn shade<O: Observer, const L: bool, const R: bool, const T: bool>(
+        &self,
+        hit: &Hit,
+        ray: &Ray<f32>,
+        depth: u32,
+        media: Media,
+        obs: &mut O,
+    ) -> Vec3 {
         let scene = self.scene;
         let s = &scene.settings;
         let m = scene.material_of(hit.object);
@@ -264,12 +328,12 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
 
         // Direct light: Phong from each light, ambient only where a shadow ray is blocked.
         let mut surface = Vec3::ZERO;
-        if scene.lights.is_empty() {
+        if !L || scene.lights.is_empty() {
             // No lights: show the ambient colour rather than black (a scene with no lights still
             // shows its shapes).
             surface = m.color * m.ambient;
         }
-        for (li, light) in scene.lights.iter().enumerate() {
+        for (li, light) in scene.lights.iter().enumerate().take(if L { usize::MAX } else { 0 }) {
             let to_light = light.position - it.point;
             // A light behind the surface contributes only ambient, shadowed or not: no shadow ray.
             let facing = to_light.dot(it.normal) > 0.0;
@@ -301,20 +365,20 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         let can_recurse = depth < s.max_depth;
         // Reflection.
         let mut reflected = Vec3::ZERO;
-        if m.reflective > 0.0 {
+        if R && m.reflective > 0.0 {
             if can_recurse {
                 let dir = reflect(ray.dir, it.normal);
                 obs.step(|| Step::Reflect { reflective: m.reflective, direction: dir.to_array() });
                 let o = spawn_origin(s.offset, s.epsilon, &it, dir);
                 // dir is a reflection of a valid direction: finite and non-zero.
                 let r = Ray { origin: o, dir, t_min: 0.0, t_max: f32::INFINITY };
-                reflected = self.trace_child(&r, RayKind::Reflection, depth + 1, m.reflective, media, obs) * m.reflective;
+                reflected = self.trace_child::<O, L, R, T>(&r, RayKind::Reflection, depth + 1, m.reflective, media, obs) * m.reflective;
             } else {
                 obs.step(|| Step::DepthLimit { max_depth: s.max_depth });
             }
         }
         // Refraction.
-        if m.transparency > 0.0 {
+        if T && m.transparency > 0.0 {
             let (n1, n2) = media.indices(hit.object, m.refractive_index);
             let refr = refract(it.eye, it.normal, n1, n2);
             let mut refracted = Vec3::ZERO;
@@ -332,12 +396,12 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     && let Ok(r) = Ray::new(spawn_origin(s.offset, s.epsilon, &it, dir), dir, 0.0, f32::INFINITY)
                 {
                     let inner = media.crossed(hit.object, m.refractive_index);
-                    refracted = self.trace_child(&r, RayKind::Refraction, depth + 1, m.transparency, inner, obs) * m.transparency;
+                    refracted = self.trace_child::<O, L, R, T>(&r, RayKind::Refraction, depth + 1, m.transparency, inner, obs) * m.transparency;
                 }
             } else if m.reflective == 0.0 {
                 obs.step(|| Step::DepthLimit { max_depth: s.max_depth });
             }
-            if m.reflective > 0.0 {
+            if R && m.reflective > 0.0 {
                 let reflectance = schlick(refr.cos_i, n1, n2);
                 obs.step(|| Step::Schlick { reflectance });
                 return surface + reflected * reflectance + refracted * (1.0 - reflectance);
