@@ -20,6 +20,7 @@
 #![warn(missing_docs)]
 
 pub mod accel;
+pub mod bench;
 pub mod cli;
 pub mod io;
 pub mod jsonf;

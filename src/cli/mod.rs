@@ -1,6 +1,7 @@
 //! The `raystep` command line (clap). Every command returns a plain error message; [`main`]
 //! prints it and exits non-zero. No command panics on bad input.
 
+mod bench_cmd;
 mod intersect;
 mod render_cmd;
 mod scene_cmd;
@@ -32,6 +33,8 @@ pub enum Command {
     Trace(trace_cmd::TraceArgs),
     /// Render a scene in parallel to a PNG, with statistics.
     Render(render_cmd::RenderArgs),
+    /// Print performance figures (medians of timed repetitions).
+    Bench(bench_cmd::BenchArgs),
     /// Work with scene files.
     #[command(subcommand)]
     Scene(scene_cmd::SceneCmd),
@@ -138,6 +141,7 @@ pub fn main() -> ExitCode {
         Some(Command::Trace(args)) => trace_cmd::run(&args),
         Some(Command::Scene(cmd)) => scene_cmd::run(&cmd),
         Some(Command::Render(args)) => render_cmd::run(&args),
+        Some(Command::Bench(args)) => bench_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,211 @@
+//! Benchmarks behind `raystep bench`: they print figures; nothing here asserts a speed.
+//!
+//! Each figure is the median of several timed repetitions on this machine, single-threaded
+//! unless it says otherwise.
+
+use crate::accel::{Accelerator, BruteForce, Bvh, SceneAccel, test_object};
+use crate::math::Ray;
+use crate::render::{RenderOptions, render};
+use crate::scene::{AccelChoice, Scene, load_str};
+use crate::trace::{Counter, Silent, Tracer};
+use glam::{Vec3, Vec3A};
+use std::time::{Duration, Instant};
+
+/// Median wall time of `reps` runs of `f`.
+pub fn median_time(reps: usize, mut f: impl FnMut()) -> Duration {
+    let mut t: Vec<Duration> = (0..reps.max(1))
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed()
+        })
+        .collect();
+    t.sort();
+    t[t.len() / 2]
+}
+
+/// Counts the rays one full render of the tracer's scene casts (all kinds).
+fn count_rays<A: Accelerator>(tracer: &Tracer<'_, A>) -> Counter {
+    let mut c = Counter::default();
+    for y in 0..tracer.camera.height {
+        for x in 0..tracer.camera.width {
+            tracer.trace_pixel(x, y, &mut c);
+        }
+    }
+    c
+}
+
+fn all_pixels<A: Accelerator>(tracer: &Tracer<'_, A>) {
+    for y in 0..tracer.camera.height {
+        for x in 0..tracer.camera.width {
+            std::hint::black_box(tracer.trace_pixel(x, y, &mut Silent));
+        }
+    }
+}
+
+/// Issue-2 figures: one thread, rays per second with the silent observer (specialized and with
+/// every stage compiled in) and with the recorder (a full step trace per pixel).
+pub fn tracer(scenes: &[Scene], reps: usize) {
+    println!("## Tracer throughput, one thread (Mrays/s, all ray kinds)");
+    println!("| scene | rays/frame | silent, specialized | silent, all stages | recorder (trace per pixel) | recorder cost |");
+    println!("|---|---|---|---|---|---|");
+    for scene in scenes {
+        let (accel, _) = SceneAccel::build(scene);
+        let tracer = Tracer::new(scene, &accel);
+        let generic = Tracer::new(scene, &accel).unspecialized();
+        let rays = count_rays(&tracer).rays() as f64;
+        let t_silent = median_time(reps, || all_pixels(&tracer));
+        let t_generic = median_time(reps, || all_pixels(&generic));
+        let spp = scene.settings.spp;
+        let t_rec = median_time(reps, || {
+            for y in 0..tracer.camera.height {
+                for x in 0..tracer.camera.width {
+                    for k in 0..spp {
+                        std::hint::black_box(tracer.record(x, y, k));
+                    }
+                }
+            }
+        });
+        let m = |t: Duration| rays / t.as_secs_f64() / 1e6;
+        println!(
+            "| {} | {} | {:.2} | {:.2} | {:.3} | {:.0}× |",
+            scene.name,
+            rays as u64,
+            m(t_silent),
+            m(t_generic),
+            m(t_rec),
+            t_rec.as_secs_f64() / t_silent.as_secs_f64()
+        );
+    }
+}
+
+fn spheres_scene(n: usize) -> Scene {
+    // n spheres on a jittered grid in front of the camera, one light, 160×120.
+    let mut t = String::from(
+        "[camera]\nfrom = [0, 0, -30]\nwidth = 160\nheight = 120\nfov = 40\n[[light]]\nposition = [-20, 20, -30]\n",
+    );
+    let side = (n as f32).sqrt().ceil() as usize;
+    for i in 0..n {
+        let (gx, gy) = ((i % side) as f32, (i / side) as f32);
+        let s = 16.0 / side as f32;
+        let x = (gx - side as f32 / 2.0 + 0.5) * s;
+        let y = (gy - side as f32 / 2.0 + 0.5) * s;
+        t += &format!("[[sphere]]\ncenter = [{x}, {y}, {}]\nradius = {}\n", (i % 3) as f32, s * 0.4);
+    }
+    load_str(&t, "spheres.toml", None).expect("generated scene is valid")
+}
+
+/// The brute-force / BVH crossover that sets [`crate::accel::AUTO_BVH_THRESHOLD`].
+pub fn accel_threshold(reps: usize) {
+    println!("## Brute force vs BVH by primitive count (160×120, one light, one thread)");
+    println!("| spheres | brute force (ms) | BVH (ms) | BVH speed-up |");
+    println!("|---|---|---|---|");
+    for n in [1, 2, 4, 8, 12, 16, 24, 32, 64, 128, 256] {
+        let mut scene = spheres_scene(n);
+        scene.settings.accel = AccelChoice::None;
+        let (brute, _) = SceneAccel::build(&scene);
+        scene.settings.accel = AccelChoice::Bvh;
+        let (bvh, _) = SceneAccel::build(&scene);
+        let tb = median_time(reps, || all_pixels(&Tracer::new(&scene, &brute)));
+        let tv = median_time(reps, || all_pixels(&Tracer::new(&scene, &bvh)));
+        println!(
+            "| {n} | {:.2} | {:.2} | {:.2}× |",
+            tb.as_secs_f64() * 1e3,
+            tv.as_secs_f64() * 1e3,
+            tb.as_secs_f64() / tv.as_secs_f64()
+        );
+    }
+}
+
+/// Issue-3 figures for one (large) scene: BVH build, render Mrays/s on one and on all threads,
+/// BVH vs brute force (brute force timed on every k-th row and scaled up), traversal vs obvhs's
+/// own, and tracing + recording one pixel.
+pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
+    println!("## {} ({} primitives, {}×{})", scene.name, scene.features.primitives, scene.camera.width, scene.camera.height);
+    let mut s = scene.clone();
+    s.settings.accel = AccelChoice::Bvh;
+    let t0 = Instant::now();
+    let bvh = Bvh::build(&s);
+    let build = t0.elapsed();
+    println!("- BVH build: {:.1} ms ({} nodes, depth {})", build.as_secs_f64() * 1e3, bvh.nodes.len(), bvh.max_depth);
+    let tracer = Tracer::new(&s, &bvh);
+    let counted = render(&tracer, &RenderOptions { threads: Some(1), progress: false, count: true }).expect("render");
+    let rays = counted.stats.counts.rays() as f64;
+    let mut per_threads = vec![];
+    for threads in [1usize, 2] {
+        let t = median_time(reps, || {
+            std::hint::black_box(render(&tracer, &RenderOptions { threads: Some(threads), ..Default::default() }).expect("render"));
+        });
+        per_threads.push(t);
+        println!("- render, {threads} thread{}: {:.1} ms, {:.2} Mrays/s", if threads == 1 { "" } else { "s" }, t.as_secs_f64() * 1e3, rays / t.as_secs_f64() / 1e6);
+    }
+    println!("- two threads vs one: {:.2}×", per_threads[0].as_secs_f64() / per_threads[1].as_secs_f64());
+    // Brute force on every `brute_rows`-th row, scaled to the whole image.
+    let rows: Vec<u32> = (0..s.camera.height).step_by(brute_rows.max(1) as usize).collect();
+    let time_rows = |a: &dyn Fn(u32, u32)| {
+        let st = Instant::now();
+        for &y in &rows {
+            for x in 0..s.camera.width {
+                a(x, y);
+            }
+        }
+        st.elapsed()
+    };
+    let brute_tracer = Tracer::new(&s, &BruteForce);
+    let tb = time_rows(&|x, y| {
+        std::hint::black_box(brute_tracer.trace_pixel(x, y, &mut Silent));
+    });
+    let tv = time_rows(&|x, y| {
+        std::hint::black_box(tracer.trace_pixel(x, y, &mut Silent));
+    });
+    println!(
+        "- BVH vs brute force (one thread, {} of {} rows): {:.1}× faster ({:.1} ms vs {:.1} ms)",
+        rows.len(),
+        s.camera.height,
+        tb.as_secs_f64() / tv.as_secs_f64(),
+        tv.as_secs_f64() * 1e3,
+        tb.as_secs_f64() * 1e3
+    );
+    traversal_vs_obvhs(&s, &bvh, reps);
+    let (cx, cy) = (s.camera.width / 2, s.camera.height / 2);
+    let t = median_time(reps.max(21), || {
+        std::hint::black_box(tracer.record(cx, cy, 0));
+    });
+    let steps = tracer.record(cx, cy, 0).timeline().len();
+    println!("- trace and record pixel ({cx}, {cy}): {:.3} ms ({steps} steps)", t.as_secs_f64() * 1e3);
+}
+
+/// Closest-hit traversal of the primary rays: raystep's observed loop with the silent observer
+/// against obvhs's `ray_traverse`, both calling raystep's kernels.
+pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize) {
+    let tracer = Tracer::new(scene, bvh);
+    let rays: Vec<Ray<f32>> = (0..scene.camera.height)
+        .flat_map(|y| (0..scene.camera.width).map(move |x| (x, y)))
+        .map(|(x, y)| tracer.camera.ray(x, y, [0.5, 0.5]).0)
+        .collect();
+    let finite: Vec<u32> = (0..scene.objects.len() as u32).filter(|id| !bvh.planes.contains(id)).collect();
+    let leaf_objects: Vec<u32> = bvh.obvhs.primitive_indices.iter().map(|&i| finite[i as usize]).collect();
+    let ours = median_time(reps, || {
+        for r in &rays {
+            std::hint::black_box(crate::accel::Accelerator::closest(bvh, scene, r, &mut Silent));
+        }
+    });
+    let theirs = median_time(reps, || {
+        for r in &rays {
+            let mut hit = obvhs::ray::RayHit::none();
+            let oray = obvhs::ray::Ray::new(Vec3A::from(r.origin), Vec3A::from(r.dir), 0.0, f32::INFINITY);
+            bvh.obvhs.ray_traverse(oray, &mut hit, |rr, slot| {
+                let ray = Ray { origin: Vec3::from(rr.origin), dir: Vec3::from(rr.direction), t_min: rr.tmin, t_max: rr.tmax };
+                test_object(scene, leaf_objects[slot], &ray, &mut Silent).map_or(f32::INFINITY, |h| h.t)
+            });
+            std::hint::black_box(hit);
+        }
+    });
+    println!(
+        "- closest-hit traversal of {} primary rays: raystep (silent observer) {:.1} ms, obvhs ray_traverse {:.1} ms → raystep takes {:.2}× obvhs's time",
+        rays.len(),
+        ours.as_secs_f64() * 1e3,
+        theirs.as_secs_f64() * 1e3,
+        ours.as_secs_f64() / theirs.as_secs_f64()
+    );
+}

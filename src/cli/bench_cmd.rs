@@ -1,0 +1,67 @@
+//! `raystep bench`.
+
+use std::path::PathBuf;
+
+/// Arguments of `raystep bench`.
+#[derive(Debug, clap::Args)]
+pub struct BenchArgs {
+    /// Scene files (default: every scenes/*.toml in the current directory, else the built-in scene).
+    pub scenes: Vec<PathBuf>,
+    /// Which figures.
+    #[arg(long, value_enum, default_value_t = Section::All)]
+    pub section: Section,
+    /// Timed repetitions per figure (the median is printed).
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=100))]
+    pub reps: u32,
+    /// For `scene`: time brute force on every k-th row only, and scale up.
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub brute_rows: u32,
+}
+
+/// Benchmark sections.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Section {
+    /// Tracer throughput: silent vs recorder, specialized vs all stages.
+    Tracer,
+    /// Brute force vs BVH by primitive count.
+    Accel,
+    /// Per-scene figures: build, threads, BVH vs brute force, traversal vs obvhs, one pixel.
+    Scene,
+    /// Everything.
+    All,
+}
+
+/// Runs `raystep bench`.
+pub fn run(args: &BenchArgs) -> Result<(), String> {
+    let mut paths = args.scenes.clone();
+    if paths.is_empty()
+        && let Ok(rd) = std::fs::read_dir("scenes")
+    {
+        paths = rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+        paths.sort();
+    }
+    let mut scenes = vec![];
+    for p in &paths {
+        scenes.push(crate::scene::load_file(p).map_err(|e| e.to_string())?);
+    }
+    if scenes.is_empty() {
+        scenes.push(crate::scene::default_scene());
+    }
+    let reps = args.reps as usize;
+    println!("raystep {} bench, {} logical CPUs\n", env!("CARGO_PKG_VERSION"), std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if matches!(args.section, Section::Tracer | Section::All) {
+        crate::bench::tracer(&scenes, reps);
+        println!();
+    }
+    if matches!(args.section, Section::Accel | Section::All) {
+        crate::bench::accel_threshold(reps);
+        println!();
+    }
+    if matches!(args.section, Section::Scene | Section::All) {
+        for s in &scenes {
+            crate::bench::scene_figures(s, reps, args.brute_rows);
+            println!();
+        }
+    }
+    Ok(())
+}
