@@ -161,6 +161,18 @@ pub fn vec_from_f64<T: Real>(v: [f64; 3]) -> T::V {
     T::V::new(T::from_f64(v[0]), T::from_f64(v[1]), T::from_f64(v[2]))
 }
 
+/// Normalizes an f64 vector without overflow or underflow (scaling by its largest component
+/// first); None for the zero vector or a non-finite one.
+pub fn unit_f64(v: [f64; 3]) -> Option<[f64; 3]> {
+    let m = v.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+    if m == 0.0 || !m.is_finite() {
+        return None;
+    }
+    let s = [v[0] / m, v[1] / m, v[2] / m];
+    let len = (s[0] * s[0] + s[1] * s[1] + s[2] * s[2]).sqrt();
+    Some([s[0] / len, s[1] / len, s[2] / len])
+}
+
 /// Why a ray could not be made.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RayError {
@@ -173,6 +185,9 @@ pub enum RayError {
     /// The direction is the zero vector (or so small that d·d underflows to zero).
     #[error("ray direction {0:?} is zero (or so small that d·d underflows)")]
     ZeroDirection([f64; 3]),
+    /// The direction is so large that d·d overflows.
+    #[error("ray direction {0:?} is too large (d·d overflows): scale it down")]
+    HugeDirection([f64; 3]),
     /// t_min is NaN or negative, or t_max < t_min.
     #[error("bad ray interval [{0}, {1}]")]
     BadInterval(f64, f64),
@@ -205,8 +220,11 @@ impl<T: Real> Ray<T> {
             return Err(RayError::NonFiniteDirection(to_f64x3::<T>(dir)));
         }
         let dd = dir.dot(dir);
-        if dd == T::zero() || !dd.is_finite() {
+        if dd == T::zero() {
             return Err(RayError::ZeroDirection(to_f64x3::<T>(dir)));
+        }
+        if !dd.is_finite() {
+            return Err(RayError::HugeDirection(to_f64x3::<T>(dir)));
         }
         if t_min.is_nan() || t_max.is_nan() || t_min < T::zero() || t_max < t_min {
             return Err(RayError::BadInterval(t_min.to_f64(), t_max.to_f64()));

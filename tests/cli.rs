@@ -1234,7 +1234,7 @@ fn help_and_no_arguments_succeed() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Known bugs in src/ (ignored until fixed; each names the command that shows it)
+// Bugs found in src/ and fixed: each test names the command that showed it
 // ---------------------------------------------------------------------------------------------
 
 /// A saved trace must load back (DESIGN: "loading a trace needs no scene"). The first
@@ -1243,7 +1243,6 @@ fn help_and_no_arguments_succeed() {
 /// `raystep trace scenes/three-spheres.toml --pixel 160,120 --save t.json`, then
 /// `Trace::load("t.json")` → "not a raystep trace: invalid type: null, expected f32".
 #[test]
-#[ignore = "bug in src/trace/record.rs: Step::Accept.previous = ∞ is saved as null and cannot be loaded"]
 fn saved_trace_loads_back() {
     let dir = tempfile::tempdir().unwrap();
     let saved = dir.path().join("t.json");
@@ -1258,7 +1257,6 @@ fn saved_trace_loads_back() {
 /// arguments reject them: `raystep intersect plane --axis x --offset nan --origin 0,0,-5
 /// --dir 1,0,1 --json` exits 0 with `"numerator": null`.
 #[test]
-#[ignore = "bug in src/cli/intersect.rs: --offset is not checked for finiteness"]
 fn non_finite_plane_offset_is_rejected() {
     for c in ["nan", "inf"] {
         fails(
@@ -1275,7 +1273,6 @@ fn non_finite_plane_offset_is_rejected() {
 /// `raystep intersect sphere --center 1e300,0,0 --radius 1 --origin 0,0,-5 --dir 0,0,1 --json`
 /// → `"b": null, "discriminant": null`. The ray's origin is rejected in the same situation.
 #[test]
-#[ignore = "bug in src/cli/intersect.rs: shape vectors are not checked after conversion to f32"]
 fn shape_parameters_overflowing_f32_are_rejected() {
     fails(&sphere("1e300,0,0", "1", "0,0,-5", "0,0,1"), &["--center"]);
     fails(
@@ -1289,7 +1286,6 @@ fn shape_parameters_overflowing_f32_are_rejected() {
 /// `--accel bvh` is accepted by `trace` and recorded in the trace's settings, but the trace is
 /// made by brute force (src/cli/trace_cmd.rs always passes `&BruteForce`): no BVH node steps.
 #[test]
-#[ignore = "bug in src/cli/trace_cmd.rs: trace ignores --accel (always brute force)"]
 fn trace_with_bvh_records_node_visits() {
     let v = json_of(&Cli::with(
         "trace @ --pixel 160,120 --accel bvh --json",

@@ -67,10 +67,7 @@ pub fn test_object<O: Observer>(scene: &Scene, id: u32, ray: &Ray<f32>, obs: &mu
                 vertices: p.map(|v| v.to_array()),
                 test,
             });
-            match test.t {
-                Some(t) => Some(Hit { object: id, t, u: test.u.unwrap_or(0.0), v: test.v.unwrap_or(0.0) }),
-                None => None,
-            }
+            test.t.map(|t| Hit { object: id, t, u: test.u.unwrap_or(0.0), v: test.v.unwrap_or(0.0) })
         }
     }
 }

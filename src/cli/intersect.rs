@@ -131,11 +131,10 @@ pub fn run(shape: &Shape) -> Result<(), String> {
         Precision::F64 => compute::<f64>(shape, ray)?,
     };
     if ray.json {
-        println!("{}", serde_json::to_string_pretty(&value).expect("json"));
+        super::emit(&(serde_json::to_string_pretty(&value).expect("json") + "\n"))
     } else {
-        print!("{text}");
+        super::emit(&text)
     }
-    Ok(())
 }
 
 fn v<T: Real>(x: T::V) -> String {
@@ -143,13 +142,12 @@ fn v<T: Real>(x: T::V) -> String {
 }
 
 fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), String> {
-    let ray = Ray::<T>::new(
-        vec_from_f64::<T>(args.origin),
-        vec_from_f64::<T>(args.dir),
-        T::from_f64(args.tmin),
-        T::infinity(),
-    )
-    .map_err(|e| format!("--origin/--dir/--tmin: {e}"))?;
+    let tmin = scalar::<T>("--tmin", args.tmin)?;
+    if tmin < T::zero() {
+        return Err(format!("--tmin must not be negative, got {}", args.tmin));
+    }
+    let ray = Ray::<T>::new(vector::<T>("--origin", args.origin)?, vector::<T>("--dir", args.dir)?, tmin, T::infinity())
+        .map_err(|e| format!("--origin/--dir: {e}"))?;
     let mut s = String::new();
     let head = |s: &mut String, what: &str| {
         let _ = writeln!(s, "{what} ({})", T::NAME);
@@ -157,11 +155,11 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
     };
     let value = match shape {
         Shape::Sphere { center, radius, method, .. } => {
-            let r = T::from_f64(*radius);
-            if !(r > T::zero()) || !r.is_finite() {
-                return Err(format!("--radius must be a positive finite number, got {radius}"));
+            let r = scalar::<T>("--radius", *radius)?;
+            if r <= T::zero() {
+                return Err(format!("--radius must be positive, got {radius}"));
             }
-            let g = vec_from_f64::<T>(*center);
+            let g = vector::<T>("--center", *center)?;
             let t = sphere::intersect(&ray, g, r, *method);
             let name = match method {
                 SphereMethod::Textbook => "textbook",
@@ -232,7 +230,7 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
         Shape::Plane { point, normal, axis, offset, .. } => {
             let t = if let Some(ax) = axis {
                 let axis = *ax as usize;
-                let c = T::from_f64(offset.unwrap_or(0.0));
+                let c = scalar::<T>("--offset", offset.unwrap_or(0.0))?;
                 let t = plane::axis(&ray, axis, c);
                 let n = ["x", "y", "z"][axis];
                 head(&mut s, "Ray–plane intersection (axis-aligned shortcut)");
@@ -242,12 +240,9 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 t
             } else {
                 let n = normal.expect("clap requires --normal with --point");
-                let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                if len == 0.0 {
-                    return Err("--normal must not be the zero vector".into());
-                }
-                let nn = vec_from_f64::<T>([n[0] / len, n[1] / len, n[2] / len]);
-                let p = vec_from_f64::<T>(point.expect("clap requires --point"));
+                let unit = crate::math::unit_f64(n).ok_or("--normal must not be the zero vector")?;
+                let nn = vec_from_f64::<T>(unit);
+                let p = vector::<T>("--point", point.expect("clap requires --point"))?;
                 let c = p.dot(nn);
                 let t = plane::general(&ray, nn, c);
                 head(&mut s, "Ray–plane intersection (general plane X·n = c)");
@@ -284,7 +279,7 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             finish(m, t.t)
         }
         Shape::Triangle { p0, p1, p2, method, .. } => {
-            let p = [vec_from_f64::<T>(*p0), vec_from_f64::<T>(*p1), vec_from_f64::<T>(*p2)];
+            let p = [vector::<T>("--p0", *p0)?, vector::<T>("--p1", *p1)?, vector::<T>("--p2", *p2)?];
             let t = triangle::intersect(&ray, p, *method);
             match method {
                 TriangleMethod::MollerTrumbore => {
@@ -353,8 +348,8 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             finish(m, t.t)
         }
         Shape::Box { min, max, method, .. } => {
-            let lo = vec_from_f64::<T>(*min);
-            let hi = vec_from_f64::<T>(*max);
+            let lo = vector::<T>("--min", *min)?;
+            let hi = vector::<T>("--max", *max)?;
             if (0..3).any(|i| lo.at(i) > hi.at(i)) {
                 return Err(format!("--min {min:?} must not exceed --max {max:?} on any axis"));
             }
@@ -397,11 +392,33 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             m.insert("t_near".into(), jv(t.t_near));
             m.insert("t_far".into(), jv(t.t_far));
             m.insert("hit".into(), json!(t.hit));
-            m.insert("t".into(), if t.hit { json!(t.t_near) } else { Value::Null });
+            // The first surface met after t_min: the entry, or the exit when the origin is inside.
+            let first = if t.t_near > ray.t_min { t.t_near } else { t.t_far };
+            m.insert("t".into(), if t.hit { jv(first) } else { Value::Null });
             return Ok((s, Value::Object(m)));
         }
     };
     Ok((s, value))
+}
+
+/// A command-line number in precision `T`, rejected if it is not finite there.
+fn scalar<T: Real>(flag: &str, x: f64) -> Result<T, String> {
+    let v = T::from_f64(x);
+    if !x.is_finite() {
+        return Err(format!("{flag} must be a finite number, got {x}"));
+    }
+    if !v.is_finite() {
+        return Err(format!("{flag} {x:e} is too large for {} (at most {:e})", T::NAME, T::max_value().to_f64()));
+    }
+    Ok(v)
+}
+
+/// A command-line vector in precision `T`, rejected if a component is not finite there.
+fn vector<T: Real>(flag: &str, a: [f64; 3]) -> Result<T::V, String> {
+    for c in a {
+        scalar::<T>(flag, c)?;
+    }
+    Ok(vec_from_f64::<T>(a))
 }
 
 /// A number, with infinities written as ∞.

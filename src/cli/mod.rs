@@ -132,6 +132,18 @@ pub fn load_scene(path: Option<&PathBuf>, overrides: &SettingsArgs) -> Result<Sc
     Ok(scene)
 }
 
+/// Writes command output to stdout. A closed pipe (`raystep trace … | head`) ends the output
+/// quietly instead of panicking as `println!` would.
+pub fn emit(text: &str) -> Result<(), String> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(format!("cannot write to standard output: {e}")),
+    }
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();

@@ -2,6 +2,7 @@
 
 use super::{SettingsArgs, load_scene};
 use clap::Subcommand;
+use std::fmt::Write;
 use std::path::PathBuf;
 
 /// Scene commands.
@@ -27,14 +28,14 @@ pub fn run(cmd: &SceneCmd) -> Result<(), String> {
 fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     let scene = load_scene(Some(path), &SettingsArgs::default())?;
     let f = &scene.features;
+    let mut o = String::new();
     if json {
-        println!("{}", serde_json::to_string_pretty(f).expect("features serialize"));
-        return Ok(());
+        return super::emit(&(serde_json::to_string_pretty(f).expect("features serialize") + "\n"));
     }
     let c = &scene.camera;
     let s = &scene.settings;
-    println!("{}: ok — \"{}\"", path.display(), scene.name);
-    println!(
+    let _ = writeln!(o, "{}: ok — \"{}\"", path.display(), scene.name);
+    let _ = writeln!(o, 
         "  camera     {}×{}, vertical fov {}°, from {:?} looking at {:?}",
         c.width,
         c.height,
@@ -51,15 +52,23 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     if f.meshes > 0 {
         kinds.push(format!("from {} mesh{}", f.meshes, if f.meshes == 1 { "" } else { "es" }));
     }
-    println!("  primitives {} ({})", f.primitives, kinds.join(", "));
-    println!("  lights     {}", f.lights);
-    println!(
+    let _ = writeln!(o, "  primitives {} ({})", f.primitives, kinds.join(", "));
+    let degenerate = scene
+        .objects
+        .iter()
+        .filter(|ob| matches!(ob.shape, crate::scene::Shape::Triangle { p } if (p[1] - p[0]).cross(p[2] - p[0]) == glam::Vec3::ZERO))
+        .count();
+    if degenerate > 0 {
+        let _ = writeln!(o, "  warning    {degenerate} degenerate triangle{} (zero area) can never be hit", if degenerate == 1 { "" } else { "s" });
+    }
+    let _ = writeln!(o, "  lights     {}", f.lights);
+    let _ = writeln!(o, 
         "  materials  {} (reflective: {}, transparent: {})",
         scene.materials.len(),
         if f.reflective { "yes" } else { "no" },
         if f.transparent { "yes" } else { "no" }
     );
-    println!(
+    let _ = writeln!(o, 
         "  settings   sphere {}, triangle {}, offset {}, accel {}, max depth {}, {} sample{} per pixel",
         value_name(&s.sphere_method),
         value_name(&s.triangle_method),
@@ -89,9 +98,9 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
         out.push("refraction");
     }
     if !out.is_empty() {
-        println!("  leaves out {}", out.join(", "));
+        let _ = writeln!(o, "  leaves out {}", out.join(", "));
     }
-    Ok(())
+    super::emit(&o)
 }
 
 /// The command-line spelling of a setting's value.

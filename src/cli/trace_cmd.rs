@@ -1,7 +1,7 @@
 //! `raystep trace`.
 
 use super::{SettingsArgs, load_scene, parse_pixel};
-use crate::accel::BruteForce;
+use crate::accel::SceneAccel;
 use crate::trace::{Tracer, describe};
 use std::path::PathBuf;
 
@@ -47,16 +47,17 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
             scene.settings.spp - 1
         ));
     }
-    let tracer = Tracer::new(&scene, &BruteForce);
+    // The same accelerator the render would use, so BVH node visits appear in the trace.
+    let (accel, _) = SceneAccel::build(&scene);
+    let tracer = Tracer::new(&scene, &accel);
     let trace = tracer.record(x, y, args.sample);
     let json = trace.to_json();
     if let Some(path) = &args.save {
         crate::io::write_atomic(path, json.as_bytes())?;
     }
     if args.json {
-        println!("{json}");
+        super::emit(&(json + "\n"))
     } else {
-        print!("{}", describe::tree(&trace));
+        super::emit(&describe::tree(&trace))
     }
-    Ok(())
 }

@@ -67,8 +67,8 @@ pub fn draw_text(img: &mut RgbImage, x: f32, y: f32, size: f32, text: &str, colo
                 let py = b.min.y as i32 + gy as i32;
                 if px >= 0 && py >= 0 && (px as u32) < img.width() && (py as u32) < img.height() {
                     let p = img.get_pixel_mut(px as u32, py as u32);
-                    for c in 0..3 {
-                        p.0[c] = (p.0[c] as f32 * (1.0 - cov) + color[c] as f32 * cov).round() as u8;
+                    for (ch, &target) in p.0.iter_mut().zip(&color) {
+                        *ch = (*ch as f32 * (1.0 - cov) + target as f32 * cov).round() as u8;
                     }
                 }
             });

@@ -103,8 +103,11 @@ impl Loc<'_> {
 
     fn num(&self, field: &str, x: f64) -> Result<f32, SceneError> {
         let v = x as f32;
-        if !v.is_finite() {
+        if !x.is_finite() {
             return Err(self.err(field, format!("must be a finite number, got {x}")));
+        }
+        if !v.is_finite() {
+            return Err(self.err(field, format!("{x:e} is too large for single precision (at most {:e})", f32::MAX)));
         }
         Ok(v)
     }
@@ -127,8 +130,11 @@ impl Loc<'_> {
 
     fn vec3(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
         let v = Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
-        if !v.is_finite() {
+        if a.iter().any(|c| !c.is_finite()) {
             return Err(self.err(field, format!("must be three finite numbers, got {a:?}")));
+        }
+        if !v.is_finite() {
+            return Err(self.err(field, format!("{a:?} has a component too large for single precision (at most {:e})", f32::MAX)));
         }
         Ok(v)
     }
@@ -305,11 +311,10 @@ impl<'a> Ctx<'a> {
                 let point = loc.vec3("point", d.point.unwrap_or([0.0; 3]))?;
                 let n = d.normal.unwrap_or([0.0, 1.0, 0.0]);
                 loc.vec3("normal", n)?;
-                let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
-                if !(len > 0.0) || !len.is_finite() {
+                let Some(unit) = crate::math::unit_f64(n) else {
                     return Err(loc.err("normal", format!("must be a non-zero vector, got {n:?}")));
-                }
-                let normal = Vec3::new((n[0] / len) as f32, (n[1] / len) as f32, (n[2] / len) as f32);
+                };
+                let normal = Vec3::new(unit[0] as f32, unit[1] as f32, unit[2] as f32);
                 let offset = loc.num("point", point.as_dvec3().dot(normal.as_dvec3()))?;
                 Shape::Plane { normal, offset }
             };

@@ -124,8 +124,8 @@ pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T>
         t: None,
         inside: c < T::zero(),
     };
-    // `!(disc >= 0)` also catches a NaN discriminant (only possible from overflow to ∞ − ∞).
-    if !(disc >= T::zero()) {
+    // A NaN discriminant (only possible from overflow to ∞ − ∞) is a miss.
+    if disc.is_nan() || disc < T::zero() {
         return test;
     }
     let sq = disc.sqrt();
@@ -163,7 +163,7 @@ pub fn stable<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
         t: None,
         inside: c < T::zero(),
     };
-    if !(delta_prime >= T::zero()) {
+    if delta_prime.is_nan() || delta_prime < T::zero() {
         return test;
     }
     let sign = if b_half >= T::zero() { T::one() } else { -T::one() };
