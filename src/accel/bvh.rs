@@ -11,6 +11,7 @@ use super::{Accelerator, Hit, accept, test_object};
 use crate::math::Ray;
 use crate::scene::{Scene, Shape};
 use crate::shapes::aabb::slab_robust;
+use crate::trace::record::OutlineNode;
 use crate::trace::{NodeAction, NodeVisit, Observer};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
@@ -255,6 +256,40 @@ impl Accelerator for Bvh {
 
     fn name(&self) -> &'static str {
         "BVH"
+    }
+
+    fn outline(&self, depth: u32) -> Option<Vec<OutlineNode>> {
+        let mut out = vec![];
+        // Primitive counts bottom-up, by an explicit post-order walk (no assumption about
+        // obvhs's node order).
+        let mut counts = vec![0u32; self.nodes.len()];
+        let mut todo = vec![(0usize, false)];
+        while let Some((i, children_done)) = todo.pop() {
+            let Some(n) = self.nodes.get(i) else { continue };
+            if n.is_leaf() {
+                counts[i] = n.count;
+            } else if children_done {
+                counts[i] = counts[n.first as usize] + counts[n.first as usize + 1];
+            } else {
+                todo.push((i, true));
+                todo.push((n.first as usize, false));
+                todo.push((n.first as usize + 1, false));
+            }
+        }
+        let mut stack = vec![(0u32, 0u32)];
+        while let Some((i, d)) = stack.pop() {
+            let Some(n) = self.nodes.get(i as usize) else { continue };
+            let children = (!n.is_leaf()).then_some([n.first, n.first + 1]);
+            out.push(OutlineNode { node: i, depth: d, children, primitives: counts[i as usize], min: n.min.to_array(), max: n.max.to_array() });
+            if let Some([a, b]) = children
+                && d < depth
+            {
+                stack.push((b, d + 1));
+                stack.push((a, d + 1));
+            }
+        }
+        out.sort_by_key(|n| n.node);
+        Some(out)
     }
 }
 

@@ -37,6 +37,10 @@ pub trait Accelerator: Sync {
     fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit>;
     /// A short name for reports.
     fn name(&self) -> &'static str;
+    /// The top `depth` levels of the hierarchy, for diagrams (None: no hierarchy).
+    fn outline(&self, _depth: u32) -> Option<Vec<crate::trace::record::OutlineNode>> {
+        None
+    }
 }
 
 /// Tests object `id` with the scene's chosen method and reports the test to `obs`.
@@ -134,6 +138,12 @@ impl Accelerator for SceneAccel {
         match self {
             SceneAccel::Brute(b) => b.name(),
             SceneAccel::Bvh(b) => b.name(),
+        }
+    }
+    fn outline(&self, depth: u32) -> Option<Vec<crate::trace::record::OutlineNode>> {
+        match self {
+            SceneAccel::Brute(_) => None,
+            SceneAccel::Bvh(b) => b.outline(depth),
         }
     }
 }

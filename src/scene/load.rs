@@ -59,13 +59,14 @@ pub fn load_str(text: &str, file: &str, base: Option<&Path>) -> Result<Scene, Sc
     let ctx = Ctx { text, file };
     let parsed: SceneFile = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map(|s| ctx.line_col(s.start)).unzip();
-        SceneError {
-            file: file.into(),
-            line,
-            column,
-            field: None,
-            message: e.message().trim().to_string(),
-        }
+        // Name the table and key the error sits in (serde reports only the position).
+        let field = e.span().and_then(|s| match ctx.describe_position(s.start) {
+            (Some(table), Some(key)) => Some(format!("{table} → {key}")),
+            (Some(table), None) => Some(table),
+            (None, Some(key)) => Some(key),
+            (None, None) => None,
+        });
+        SceneError { file: file.into(), line, column, field, message: e.message().trim().to_string() }
     })?;
     ctx.build(parsed, base)
 }
@@ -176,16 +177,14 @@ impl<'a> Ctx<'a> {
             return None;
         }
         // A `[[table]]`'s span covers only its header: its body runs to the next header.
-        let end = self.text[span.end..]
-            .find("\n[")
-            .map_or(self.text.len(), |i| span.end + i)
-            .max(span.end);
+        let end = self.next_header(span.end);
         let span = span.start..end;
         let body = self.text.get(span.clone())?;
         let mut offset = 0;
         for line in body.split_inclusive('\n') {
             let trimmed = line.trim_start();
-            if let Some(rest) = trimmed.strip_prefix(field)
+            let quoted = format!("\"{field}\"");
+            if let Some(rest) = trimmed.strip_prefix(field).or_else(|| trimmed.strip_prefix(quoted.as_str()))
                 && rest.trim_start().starts_with('=')
             {
                 return Some(span.start + offset + (line.len() - trimmed.len()));
@@ -193,6 +192,52 @@ impl<'a> Ctx<'a> {
             offset += line.len();
         }
         None
+    }
+
+    /// The byte offset where the table header after `pos` starts (or the end of the text).
+    fn next_header(&self, pos: usize) -> usize {
+        let mut offset = pos;
+        for line in self.text[pos..].split_inclusive('\n') {
+            if offset > pos && is_header(line) {
+                return offset;
+            }
+            offset += line.len();
+        }
+        self.text.len()
+    }
+
+    /// For a position inside a table: the table's description (`sphere "ball"`, `camera`) and the
+    /// key written at the start of the position's line, if any.
+    fn describe_position(&self, pos: usize) -> (Option<String>, Option<String>) {
+        let before = &self.text[..pos.min(self.text.len())];
+        let mut header = None;
+        let mut header_at = 0;
+        let mut offset = 0;
+        for line in before.split_inclusive('\n') {
+            if is_header(line) {
+                header = Some(line.trim().to_string());
+                header_at = offset;
+            }
+            offset += line.len();
+        }
+        let key = {
+            let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+            let line = self.text[line_start..].lines().next().unwrap_or("");
+            line.split_once('=').map(|(k, _)| k.trim().trim_matches('"').to_string()).filter(|k| !k.is_empty())
+        };
+        let Some(h) = header else { return (None, key) };
+        let kind = h.trim_matches(|c| c == '[' || c == ']').to_string();
+        if !h.starts_with("[[") {
+            return (Some(kind), key);
+        }
+        // Which entry of that kind, and its name if the body gives one.
+        let index = before[..header_at].lines().filter(|l| l.trim() == h).count();
+        let body_end = self.next_header(header_at + 1);
+        let name = self.text[header_at..body_end].lines().find_map(|l| {
+            let (k, v) = l.split_once('=')?;
+            (k.trim() == "name").then(|| v.trim().trim_matches('"').to_string())
+        });
+        (Some(format!("{kind} \"{}\"", name.unwrap_or_else(|| format!("{kind} {index}")))), key)
     }
 
     fn loc<T>(&'a self, what: String, s: &Spanned<T>) -> Loc<'a> {
@@ -266,88 +311,111 @@ impl<'a> Ctx<'a> {
 
         let mut objects: Vec<Object> = vec![];
         let mut groups: Vec<Group> = vec![];
-        let mut names: HashMap<String, ()> = HashMap::new();
+        let mut names: HashMap<String, usize> = HashMap::new();
         let mut add_group = |loc: &Loc, name: String, shapes: Vec<Shape>, mat: u32| -> Result<(), SceneError> {
-            if names.insert(name.clone(), ()).is_some() {
-                return Err(loc.err("name", format!("another object is already named \"{name}\"")));
+            let line = loc.span.as_ref().map_or(0, |s| self.line_col(s.start).0);
+            if let Some(first) = names.get(&name) {
+                return Err(loc.err("name", format!("an object defined at line {first} is already named \"{name}\"")));
             }
+            names.insert(name.clone(), line);
             let g = groups.len() as u32;
             groups.push(Group { name, first: objects.len() as u32, count: shapes.len() as u32 });
             objects.extend(shapes.into_iter().map(|shape| Object { shape, material: mat, group: g }));
             Ok(())
         };
 
-        for (i, s) in f.sphere.iter().enumerate() {
-            let d = s.get_ref();
-            let name = d.name.clone().unwrap_or_else(|| format!("sphere {i}"));
-            let loc = self.loc(format!("sphere \"{name}\""), s);
-            let center = loc.vec3("center", d.center)?;
-            let radius = loc.num("radius", d.radius)?;
-            if radius <= 0.0 {
-                return Err(loc.err("radius", format!("must be positive, got {}", d.radius)));
-            }
-            let m = material(&loc, &d.material)?;
-            add_group(&loc, name, vec![Shape::Sphere { center, radius }], m)?;
+        // Objects are processed in file order (whatever their kind), so ids follow the file and a
+        // duplicate name is reported where it repeats.
+        enum Def<'d> {
+            Sphere(&'d Spanned<SphereDef>),
+            Plane(&'d Spanned<PlaneDef>),
+            Triangle(&'d Spanned<TriangleDef>),
+            Mesh(&'d Spanned<MeshDef>),
         }
-        for (i, p) in f.plane.iter().enumerate() {
-            let d = p.get_ref();
-            let name = d.name.clone().unwrap_or_else(|| format!("plane {i}"));
-            let loc = self.loc(format!("plane \"{name}\""), p);
-            let shape = if let Some(axis) = &d.axis {
-                if d.point.is_some() || d.normal.is_some() {
-                    return Err(loc.err("axis", "give either `point` and `normal`, or `axis` and `offset`, not both"));
+        let mut defs: Vec<(usize, usize, Def)> = vec![];
+        defs.extend(f.sphere.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Sphere(d))));
+        defs.extend(f.plane.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Plane(d))));
+        defs.extend(f.triangle.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Triangle(d))));
+        defs.extend(f.mesh.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Mesh(d))));
+        defs.sort_by_key(|(start, _, _)| *start);
+        for (_, i, def) in defs {
+            match def {
+                Def::Sphere(s) => {
+                    let d = s.get_ref();
+                    let name = d.name.clone().unwrap_or_else(|| format!("sphere {i}"));
+                    let loc = self.loc(format!("sphere \"{name}\""), s);
+                    let center = loc.vec3("center", d.center)?;
+                    let radius = loc.num("radius", d.radius)?;
+                    if radius <= 0.0 {
+                        return Err(loc.err("radius", format!("must be positive, got {}", d.radius)));
+                    }
+                    let m = material(&loc, &d.material)?;
+                    add_group(&loc, name, vec![Shape::Sphere { center, radius }], m)?;
+        
                 }
-                let axis = match axis.as_str() {
-                    "x" => 0,
-                    "y" => 1,
-                    "z" => 2,
-                    other => return Err(loc.err("axis", format!("must be \"x\", \"y\" or \"z\", got \"{other}\""))),
-                };
-                Shape::AxisPlane { axis, offset: loc.num("offset", d.offset.unwrap_or(0.0))? }
-            } else {
-                if d.offset.is_some() {
-                    return Err(loc.err("offset", "`offset` goes with `axis`; a general plane takes `point` and `normal`"));
+                Def::Plane(p) => {
+                    let d = p.get_ref();
+                    let name = d.name.clone().unwrap_or_else(|| format!("plane {i}"));
+                    let loc = self.loc(format!("plane \"{name}\""), p);
+                    let shape = if let Some(axis) = &d.axis {
+                        if d.point.is_some() || d.normal.is_some() {
+                            return Err(loc.err("axis", "give either `point` and `normal`, or `axis` and `offset`, not both"));
+                        }
+                        let axis = match axis.as_str() {
+                            "x" => 0,
+                            "y" => 1,
+                            "z" => 2,
+                            other => return Err(loc.err("axis", format!("must be \"x\", \"y\" or \"z\", got \"{other}\""))),
+                        };
+                        Shape::AxisPlane { axis, offset: loc.num("offset", d.offset.unwrap_or(0.0))? }
+                    } else {
+                        if d.offset.is_some() {
+                            return Err(loc.err("offset", "`offset` goes with `axis`; a general plane takes `point` and `normal`"));
+                        }
+                        let point = loc.vec3("point", d.point.unwrap_or([0.0; 3]))?;
+                        let n = d.normal.unwrap_or([0.0, 1.0, 0.0]);
+                        loc.vec3("normal", n)?;
+                        let Some(unit) = crate::math::unit_f64(n) else {
+                            return Err(loc.err("normal", format!("must be a non-zero vector, got {n:?}")));
+                        };
+                        let normal = Vec3::new(unit[0] as f32, unit[1] as f32, unit[2] as f32);
+                        let offset = loc.num("point", point.as_dvec3().dot(normal.as_dvec3()))?;
+                        Shape::Plane { normal, offset }
+                    };
+                    let m = material(&loc, &d.material)?;
+                    add_group(&loc, name, vec![shape], m)?;
+        
                 }
-                let point = loc.vec3("point", d.point.unwrap_or([0.0; 3]))?;
-                let n = d.normal.unwrap_or([0.0, 1.0, 0.0]);
-                loc.vec3("normal", n)?;
-                let Some(unit) = crate::math::unit_f64(n) else {
-                    return Err(loc.err("normal", format!("must be a non-zero vector, got {n:?}")));
-                };
-                let normal = Vec3::new(unit[0] as f32, unit[1] as f32, unit[2] as f32);
-                let offset = loc.num("point", point.as_dvec3().dot(normal.as_dvec3()))?;
-                Shape::Plane { normal, offset }
-            };
-            let m = material(&loc, &d.material)?;
-            add_group(&loc, name, vec![shape], m)?;
-        }
-        for (i, t) in f.triangle.iter().enumerate() {
-            let d = t.get_ref();
-            let name = d.name.clone().unwrap_or_else(|| format!("triangle {i}"));
-            let loc = self.loc(format!("triangle \"{name}\""), t);
-            let p = [
-                loc.vec3("vertices", d.vertices[0])?,
-                loc.vec3("vertices", d.vertices[1])?,
-                loc.vec3("vertices", d.vertices[2])?,
-            ];
-            let m = material(&loc, &d.material)?;
-            add_group(&loc, name, vec![Shape::Triangle { p }], m)?;
-        }
-        for (i, mesh) in f.mesh.iter().enumerate() {
-            let d = mesh.get_ref();
-            let name = d.name.clone().unwrap_or_else(|| format!("mesh {i}"));
-            let loc = self.loc(format!("mesh \"{name}\""), mesh);
-            let translate = loc.vec3("translate", d.translate)?;
-            let scale = loc.num("scale", d.scale)?;
-            if scale <= 0.0 {
-                return Err(loc.err("scale", format!("must be positive, got {}", d.scale)));
+                Def::Triangle(t) => {
+                    let d = t.get_ref();
+                    let name = d.name.clone().unwrap_or_else(|| format!("triangle {i}"));
+                    let loc = self.loc(format!("triangle \"{name}\""), t);
+                    let p = [
+                        loc.vec3("vertices", d.vertices[0])?,
+                        loc.vec3("vertices", d.vertices[1])?,
+                        loc.vec3("vertices", d.vertices[2])?,
+                    ];
+                    let m = material(&loc, &d.material)?;
+                    add_group(&loc, name, vec![Shape::Triangle { p }], m)?;
+        
+                }
+                Def::Mesh(mesh) => {
+                    let d = mesh.get_ref();
+                    let name = d.name.clone().unwrap_or_else(|| format!("mesh {i}"));
+                    let loc = self.loc(format!("mesh \"{name}\""), mesh);
+                    let translate = loc.vec3("translate", d.translate)?;
+                    let scale = loc.num("scale", d.scale)?;
+                    if scale <= 0.0 {
+                        return Err(loc.err("scale", format!("must be positive, got {}", d.scale)));
+                    }
+                    let path = base.map_or_else(|| Path::new(&d.obj).to_path_buf(), |b| b.join(&d.obj));
+                    let tris = load_obj(&path, translate, scale).map_err(|m| loc.err("obj", m))?;
+                    let m = material(&loc, &d.material)?;
+                    add_group(&loc, name, tris, m)?;
+        
+                }
             }
-            let path = base.map_or_else(|| Path::new(&d.obj).to_path_buf(), |b| b.join(&d.obj));
-            let tris = load_obj(&path, translate, scale).map_err(|m| loc.err("obj", m))?;
-            let m = material(&loc, &d.material)?;
-            add_group(&loc, name, tris, m)?;
         }
-
         let features = Features::compute(&objects, &materials, lights.len(), f.mesh.len());
         let name = f.title.clone().unwrap_or_else(|| {
             Path::new(self.file).file_name().map_or(self.file.to_string(), |n| n.to_string_lossy().into_owned())
@@ -435,13 +503,61 @@ impl<'a> Ctx<'a> {
     }
 }
 
+/// Whether a line is a TOML table header (`[camera]`, `[[sphere]]`), not an array row.
+fn is_header(line: &str) -> bool {
+    let t = line.split('#').next().unwrap_or("").trim();
+    let inner = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")).or_else(|| t.strip_prefix('[').and_then(|r| r.strip_suffix(']')));
+    inner.is_some_and(|i| !i.is_empty() && i.chars().all(|c| c.is_ascii_alphanumeric() || "_-. ".contains(c)))
+}
+
+/// tobj reports what is wrong with an OBJ file but not where; find the first line it would
+/// reject (a vertex that does not parse, a face index out of range) to say so.
+fn locate_obj_problem(path: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let mut vertices: i64 = 0;
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let coords: Vec<&str> = words.collect();
+                if coords.len() < 3 || coords.iter().take(3).any(|c| c.parse::<f32>().is_err()) {
+                    return Some(format!("{}:{}: `{}` is not a vertex (v X Y Z)", path.display(), n + 1, line.trim()));
+                }
+                vertices += 1;
+            }
+            Some("f") => {
+                for w in words {
+                    let idx = w.split('/').next().unwrap_or("");
+                    let ok = match idx.parse::<i64>() {
+                        Ok(i) if i > 0 => i <= vertices,
+                        Ok(i) if i < 0 => -i <= vertices,
+                        _ => false,
+                    };
+                    if !ok {
+                        return Some(format!(
+                            "{}:{}: face refers to vertex {idx}, but only {vertices} vertices are defined above it",
+                            path.display(),
+                            n + 1
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
 /// Loads an OBJ file's faces (triangulated) as triangles, scaled then translated.
 fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, String> {
     if !path.is_file() {
         return Err(format!("OBJ file {} does not exist", path.display()));
     }
     let opts = tobj::LoadOptions { triangulate: true, single_index: false, ignore_points: true, ignore_lines: true };
-    let (models, _) = tobj::load_obj(path, &opts).map_err(|e| format!("cannot load OBJ file {}: {e}", path.display()))?;
+    let (models, _) = tobj::load_obj(path, &opts).map_err(|e| match locate_obj_problem(path) {
+        Some(at) => format!("cannot load OBJ file: {at} ({e})"),
+        None => format!("cannot load OBJ file {}: {e}", path.display()),
+    })?;
     let mut tris = vec![];
     for model in &models {
         let m = &model.mesh;

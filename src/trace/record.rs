@@ -321,6 +321,44 @@ pub struct RayRecord {
     pub color: [f32; 3],
 }
 
+/// An object a trace refers to: what diagrams need to draw it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TraceObject {
+    /// Object id.
+    pub id: u32,
+    /// Name.
+    pub name: String,
+    /// Geometry.
+    pub shape: crate::scene::Shape,
+    /// Material name.
+    pub material: String,
+    /// Surface colour (linear RGB).
+    pub color: [f32; 3],
+    /// Reflectivity.
+    pub reflective: f32,
+    /// Transparency.
+    pub transparency: f32,
+    /// Index of refraction.
+    pub refractive_index: f32,
+}
+
+/// One node of the top of a BVH.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OutlineNode {
+    /// Node index.
+    pub node: u32,
+    /// Depth (root = 0).
+    pub depth: u32,
+    /// Children's node indices (inner nodes), or None for a leaf.
+    pub children: Option<[u32; 2]>,
+    /// Number of primitives below the node.
+    pub primitives: u32,
+    /// Box minimum.
+    pub min: [f32; 3],
+    /// Box maximum.
+    pub max: [f32; 3],
+}
+
 /// A whole recorded trace of one sample of one pixel.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Trace {
@@ -340,6 +378,15 @@ pub struct Trace {
     pub settings: crate::scene::Settings,
     /// The primary ray and everything below it.
     pub root: RayRecord,
+    /// The camera (so diagrams can draw the eye and the image plane without the scene).
+    pub camera: crate::scene::Camera,
+    /// The scene's lights.
+    pub lights: Vec<crate::scene::Light>,
+    /// Every object the trace tested or hit, with its geometry and material.
+    pub objects: Vec<TraceObject>,
+    /// The top levels of the BVH, when one was used (for the tree diagram).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bvh: Option<Vec<OutlineNode>>,
     /// The sample's final colour (linear RGB), bit-identical to the render's.
     #[serde(with = "crate::jsonf")]
     pub color: [f32; 3],

@@ -3,7 +3,7 @@
 
 use super::camera::CameraRays;
 use super::observer::{Observer, Recorder};
-use super::record::{HitRecord, RayKind, Step, TRACE_VERSION, Trace};
+use super::record::{HitRecord, RayKind, RayRecord, Step, TRACE_VERSION, Trace, TraceObject};
 use super::sampling::sample_offset;
 use super::shading::{critical_angle_deg, phong, reflect, refract, schlick};
 use crate::accel::{Accelerator, Hit};
@@ -13,6 +13,8 @@ use glam::Vec3;
 
 /// pbrt-v4's `ShadowEpsilon`: shadow rays stop at 1 − 1e-4 of the segment to the light.
 const SHADOW_EPSILON: f32 = 1e-4;
+/// How many levels of the BVH a trace carries for the tree diagram.
+const BVH_OUTLINE_DEPTH: u32 = 6;
 /// Nesting depth of transparent media a ray can be inside (deeper nesting is ignored).
 const MAX_MEDIA: usize = 8;
 
@@ -249,6 +251,8 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
     pub fn record(&self, x: u32, y: u32, sample: u32) -> Trace {
         let mut rec = Recorder::new();
         let color = self.trace_sample(x, y, sample, &mut rec);
+        let root = rec.finish().expect("the primary ray ends");
+        let objects = self.referenced_objects(&root);
         Trace {
             version: TRACE_VERSION,
             raystep: env!("CARGO_PKG_VERSION").into(),
@@ -257,9 +261,50 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             pixel: [x, y],
             sample,
             settings: self.scene.settings.clone(),
-            root: rec.finish().expect("the primary ray ends"),
+            root,
+            camera: self.scene.camera.clone(),
+            lights: self.scene.lights.clone(),
+            objects,
+            bvh: self.accel.outline(BVH_OUTLINE_DEPTH),
             color: color.to_array(),
         }
+    }
+
+    /// The geometry and material of every object the trace's steps mention, in id order.
+    fn referenced_objects(&self, root: &RayRecord) -> Vec<TraceObject> {
+        let mut ids = std::collections::BTreeSet::new();
+        fn walk(r: &RayRecord, ids: &mut std::collections::BTreeSet<u32>) {
+            for s in &r.steps {
+                match &s.step {
+                    Step::Sphere { object, .. } | Step::Plane { object, .. } | Step::Triangle { object, .. } => {
+                        ids.insert(*object);
+                    }
+                    _ => {}
+                }
+            }
+            if let Some(h) = &r.hit {
+                ids.insert(h.object);
+            }
+            for c in &r.children {
+                walk(c, ids);
+            }
+        }
+        walk(root, &mut ids);
+        ids.into_iter()
+            .map(|id| {
+                let m = self.scene.material_of(id);
+                TraceObject {
+                    id,
+                    name: self.scene.object_name(id),
+                    shape: self.scene.objects[id as usize].shape,
+                    material: m.name.clone(),
+                    color: m.color.to_array(),
+                    reflective: m.reflective,
+                    transparency: m.transparency,
+                    refractive_index: m.refractive_index,
+                }
+            })
+            .collect()
     }
 
     fn hit_record(&self, hit: Option<Hit>) -> Option<HitRecord> {
