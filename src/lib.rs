@@ -22,6 +22,7 @@
 pub mod accel;
 pub mod bench;
 pub mod cli;
+pub mod diagram;
 pub mod io;
 pub mod jsonf;
 pub mod math;

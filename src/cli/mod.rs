@@ -2,6 +2,7 @@
 //! prints it and exits non-zero. No command panics on bad input.
 
 mod bench_cmd;
+mod diagram_cmd;
 mod intersect;
 mod render_cmd;
 mod scene_cmd;
@@ -35,6 +36,8 @@ pub enum Command {
     Render(render_cmd::RenderArgs),
     /// Print performance figures (medians of timed repetitions).
     Bench(bench_cmd::BenchArgs),
+    /// Draw a traced pixel's diagrams (PNG), or every step as an animated GIF or PNG frames.
+    Diagram(diagram_cmd::DiagramArgs),
     /// Work with scene files.
     #[command(subcommand)]
     Scene(scene_cmd::SceneCmd),
@@ -154,6 +157,7 @@ pub fn main() -> ExitCode {
         Some(Command::Scene(cmd)) => scene_cmd::run(&cmd),
         Some(Command::Render(args)) => render_cmd::run(&args),
         Some(Command::Bench(args)) => bench_cmd::run(&args),
+        Some(Command::Diagram(args)) => diagram_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

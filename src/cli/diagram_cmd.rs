@@ -1,0 +1,164 @@
+//! `raystep diagram`: draw a traced pixel's diagrams to PNG, or every step as an animated GIF or
+//! numbered PNG frames. Works from a scene (tracing the pixel) or from a saved trace.
+
+use super::{SettingsArgs, parse_pixel};
+use crate::accel::SceneAccel;
+use crate::diagram::{self, DiagramKind, Theme, ViewOptions};
+use crate::trace::{Trace, Tracer};
+use std::path::{Path, PathBuf};
+
+/// Arguments of `raystep diagram`.
+#[derive(Debug, clap::Args)]
+pub struct DiagramArgs {
+    /// A scene file (.toml) or a saved trace (.json).
+    pub input: PathBuf,
+    /// The pixel X,Y to trace (scenes only).
+    #[arg(long, value_parser = parse_pixel)]
+    pub pixel: Option<[u32; 2]>,
+    /// Which sample of the pixel (scenes only).
+    #[arg(long, default_value_t = 0)]
+    pub sample: u32,
+    /// Highlight timeline step K (0-based; see `raystep trace`); default: the whole trace.
+    #[arg(long)]
+    pub step: Option<usize>,
+    /// The diagram kind (default: the one that best explains the step, else the slice).
+    #[arg(long, value_enum)]
+    pub kind: Option<DiagramKind>,
+    /// Output file: .png, or .gif with --animate.
+    #[arg(short, long)]
+    pub output: Option<PathBuf>,
+    /// Image size WxH.
+    #[arg(long, default_value = "800x600", value_parser = parse_size)]
+    pub size: [u32; 2],
+    /// Colour theme.
+    #[arg(long, value_enum, default_value_t = ThemeArg::Light)]
+    pub theme: ThemeArg,
+    /// Slice: rotate the cutting plane about the ray by this many degrees.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub angle: f32,
+    /// Slice: view from above.
+    #[arg(long)]
+    pub top_down: bool,
+    /// Every step in order as an animated GIF (-o OUT.gif).
+    #[arg(long)]
+    pub animate: bool,
+    /// Every step as numbered PNGs in this directory.
+    #[arg(long)]
+    pub frames: Option<PathBuf>,
+    /// Setting overrides (scenes only).
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+}
+
+/// Colour themes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ThemeArg {
+    /// Dark on white.
+    Light,
+    /// Light on dark.
+    Dark,
+}
+
+fn parse_size(s: &str) -> Result<[u32; 2], String> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got \"{s}\""))?;
+    let w: u32 = w.trim().parse().map_err(|_| format!("\"{w}\" is not a width"))?;
+    let h: u32 = h.trim().parse().map_err(|_| format!("\"{h}\" is not a height"))?;
+    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
+        return Err(format!("{w}x{h}: each side must be between 64 and 8192 pixels"));
+    }
+    Ok([w, h])
+}
+
+/// Loads or makes the trace the command draws.
+pub fn input_trace(input: &Path, pixel: Option<[u32; 2]>, sample: u32, settings: &SettingsArgs) -> Result<Trace, String> {
+    if input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+        return Trace::load(input).map_err(|e| e.to_string());
+    }
+    let scene = super::load_scene(Some(&input.to_path_buf()), settings)?;
+    let [x, y] = pixel.ok_or("--pixel X,Y is needed to trace a scene")?;
+    let c = &scene.camera;
+    if x >= c.width || y >= c.height {
+        return Err(format!("--pixel {x},{y} is outside the {}×{} image", c.width, c.height));
+    }
+    if sample >= scene.settings.spp {
+        return Err(format!("--sample {sample} does not exist: the scene takes {} samples per pixel", scene.settings.spp));
+    }
+    let (accel, _) = SceneAccel::build(&scene);
+    Ok(Tracer::new(&scene, &accel).record(x, y, sample))
+}
+
+/// Runs `raystep diagram`.
+pub fn run(args: &DiagramArgs) -> Result<(), String> {
+    let trace = input_trace(&args.input, args.pixel, args.sample, &args.settings)?;
+    let steps = trace.timeline().len();
+    if let Some(k) = args.step
+        && k >= steps
+    {
+        return Err(format!("--step {k} does not exist: this trace has {steps} steps (0 … {})", steps - 1));
+    }
+    let base = ViewOptions {
+        width: args.size[0],
+        height: args.size[1],
+        theme: if args.theme == ThemeArg::Dark { Theme::DARK } else { Theme::LIGHT },
+        focus: args.step,
+        slice_angle: args.angle,
+        top_down: args.top_down,
+    };
+    let kind_for = |k: Option<usize>| -> DiagramKind {
+        args.kind.unwrap_or_else(|| match k {
+            Some(k) => diagram::kinds_for_step(&trace, k)[0],
+            None => DiagramKind::Slice,
+        })
+    };
+    if let Some(kind) = args.kind
+        && !diagram::available(&trace).contains(&kind)
+    {
+        return diagram::draw(&trace, kind, &base).map(|_| ());
+    }
+    if args.animate || args.frames.is_some() {
+        let frames: Vec<diagram::Canvas> = (0..steps)
+            .map(|k| diagram::draw(&trace, kind_for(Some(k)), &ViewOptions { focus: Some(k), ..base.clone() }))
+            .collect::<Result<_, _>>()?;
+        if let Some(dir) = &args.frames {
+            if !dir.is_dir() {
+                return Err(format!("--frames {}: not an existing directory", dir.display()));
+            }
+            for (k, f) in frames.iter().enumerate() {
+                crate::io::write_atomic(&dir.join(format!("step-{k:04}.png")), &f.png())?;
+            }
+            super::emit(&format!("wrote {steps} frames to {}\n", dir.display()))?;
+        }
+        if args.animate {
+            let out = args.output.as_ref().ok_or("--animate needs -o OUT.gif")?;
+            if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif")) {
+                return Err(format!("{}: an animation is written as a .gif file", out.display()));
+            }
+            crate::io::write_atomic(out, &gif(&frames)?)?;
+            super::emit(&format!("wrote {} ({steps} frames)\n", out.display()))?;
+        }
+        return Ok(());
+    }
+    let out = args.output.as_ref().ok_or("-o OUT.png is needed")?;
+    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+        return Err(format!("{}: a diagram is written as a .png file (use --animate for .gif)", out.display()));
+    }
+    let canvas = diagram::draw(&trace, kind_for(args.step), &base)?;
+    crate::io::write_atomic(out, &canvas.png())?;
+    super::emit(&format!("wrote {}\n", out.display()))
+}
+
+/// Encodes frames as an endlessly looping GIF, 0.8 s per step (the last held for 3 s).
+pub fn gif(frames: &[diagram::Canvas]) -> Result<Vec<u8>, String> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let mut bytes = vec![];
+    {
+        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
+        enc.set_repeat(Repeat::Infinite).map_err(|e| format!("cannot encode GIF: {e}"))?;
+        for (k, f) in frames.iter().enumerate() {
+            let delay = if k + 1 == frames.len() { 3000 } else { 800 };
+            let frame = image::Frame::from_parts(f.to_rgba_image(), 0, 0, image::Delay::from_numer_denom_ms(delay, 1));
+            enc.encode_frame(frame).map_err(|e| format!("cannot encode GIF: {e}"))?;
+        }
+    }
+    Ok(bytes)
+}
