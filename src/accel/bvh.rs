@@ -141,7 +141,14 @@ impl Bvh {
             (true, true) => NodeAction::TestPrimitives,
             (true, false) => NodeAction::Descend,
         };
-        obs.node_visit(|| NodeVisit { node: 0, depth: 0, test, leaf: root.is_leaf(), action: root_action });
+        obs.node_visit(|| NodeVisit {
+            node: 0,
+            depth: 0,
+            test,
+            leaf: root.is_leaf(),
+            children: (!root.is_leaf()).then_some([root.first, root.first + 1]),
+            action: root_action,
+        });
         match root_action {
             NodeAction::Culled => return,
             NodeAction::TestPrimitives => {
@@ -181,7 +188,14 @@ impl Bvh {
                     (true, false) if is_near || next.is_none() => NodeAction::Descend,
                     (true, false) => NodeAction::Pushed,
                 };
-                obs.node_visit(|| NodeVisit { node: id, depth, test: t, leaf: node.is_leaf(), action });
+                obs.node_visit(|| NodeVisit {
+                    node: id,
+                    depth,
+                    test: t,
+                    leaf: node.is_leaf(),
+                    children: (!node.is_leaf()).then_some([node.first, node.first + 1]),
+                    action,
+                });
                 match action {
                     NodeAction::Culled => {}
                     NodeAction::TestPrimitives => {

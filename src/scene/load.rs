@@ -313,11 +313,13 @@ impl<'a> Ctx<'a> {
         let mut groups: Vec<Group> = vec![];
         let mut names: HashMap<String, usize> = HashMap::new();
         let mut add_group = |loc: &Loc, name: String, shapes: Vec<Shape>, mat: u32| -> Result<(), SceneError> {
-            let line = loc.span.as_ref().map_or(0, |s| self.line_col(s.start).0);
+            // Keep the byte offset; the line is counted only when a duplicate is reported (counting
+            // lines for every object made loading quadratic in the file's size).
             if let Some(first) = names.get(&name) {
-                return Err(loc.err("name", format!("an object defined at line {first} is already named \"{name}\"")));
+                let line = self.line_col(*first).0;
+                return Err(loc.err("name", format!("an object defined at line {line} is already named \"{name}\"")));
             }
-            names.insert(name.clone(), line);
+            names.insert(name.clone(), loc.span.as_ref().map_or(0, |s| s.start));
             let g = groups.len() as u32;
             groups.push(Group { name, first: objects.len() as u32, count: shapes.len() as u32 });
             objects.extend(shapes.into_iter().map(|shape| Object { shape, material: mat, group: g }));

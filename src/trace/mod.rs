@@ -10,5 +10,7 @@ pub mod shading;
 pub mod whitted;
 
 pub use observer::{Counter, Observer, Recorder, Silent};
-pub use record::{HitRecord, NodeAction, NodeVisit, RayKind, RayRecord, Stage, Step, StepRecord, Trace, TraceError};
+pub use record::{
+    HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step, StepRecord, Trace, TraceError, TraceObject,
+};
 pub use whitted::Tracer;

@@ -51,6 +51,9 @@ pub struct NodeVisit {
     pub test: BoxTest<f32>,
     /// Whether the node is a leaf.
     pub leaf: bool,
+    /// An inner node's two children (node indices).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub children: Option<[u32; 2]>,
     /// What the traversal did with the node.
     pub action: NodeAction,
 }
