@@ -123,7 +123,8 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let small = (ts * 0.72).min(col_w / 11.0).min(row_h / 5.2).max(6.0);
     let bw = (col_w * 0.92).min(small * 17.0);
     let max_lights = rays.iter().map(|r| r.children.iter().filter(|c| c.kind == RayKind::Shadow).count()).max().unwrap_or(0);
-    let bh = small * (3.3 + 1.1 * max_lights.min(3) as f32);
+    // Header 1.45, hit line 1.2, a line per light 1.1, the colour swatch 1.3 (in text heights).
+    let bh = small * (4.3 + 1.1 * max_lights.min(3) as f32);
     let top_of = |b: &RayBox| b.pos[1] - small * 0.2;
     for b in &boxes {
         if let Some(p) = b.parent
@@ -149,7 +150,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         let head = fit(&c, &format!("{} · depth {}", kind_name(r.kind), r.depth), small, bw - 4.0);
         c.text(b.pos[0], y0 + small * 0.18, small, &head, th.background, Anchor::TopCenter);
         let what = match &r.hit {
-            Some(h) => format!("hit {} at t = {}", h.name, short(h.t)),
+            Some(h) => format!("{} t={}", h.name, short(h.t)),
             None => "miss: background".into(),
         };
         let line = fit(&c, &what, small, bw - 6.0);
@@ -157,8 +158,8 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         let mut y = y0 + small * 2.85;
         for sh in r.children.iter().filter(|c| c.kind == RayKind::Shadow).take(3) {
             let (mark, mc) = match &sh.hit {
-                Some(h) => (format!("✗ shadow: blocked by {}", h.name), th.blocked),
-                None => ("✓ shadow: light visible".to_string(), th.shadow),
+                Some(h) => (format!("light blocked by {}", h.name), th.blocked),
+                None => ("light visible".to_string(), th.shadow),
             };
             let t = fit(&c, &mark, small * 0.9, bw - 6.0);
             c.text(b.pos[0], y, small * 0.9, &t, mc, Anchor::TopCenter);

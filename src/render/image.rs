@@ -83,11 +83,16 @@ pub fn text_width(size: f32, text: &str) -> f32 {
     text.chars().map(|c| scaled.h_advance(scaled.glyph_id(c))).sum()
 }
 
-/// The heatmap of BVH node visits per pixel (viridis, 0 = dark purple, the maximum = yellow), with
-/// a legend strip underneath: the colour bar, its scale, and the mean.
+/// The heatmap of BVH node visits per pixel (viridis, 0 = dark purple, the 99th percentile and
+/// above = yellow), with a legend strip underneath: the colour bar, its scale, the mean and max.
 pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
     let visits = out.node_visits.as_ref()?;
-    let max = visits.iter().copied().max().unwrap_or(0).max(1);
+    // The colour scale tops out at the 99th percentile so a few very busy pixels do not flatten
+    // everything else; pixels above it show in the top colour.
+    let mut sorted = visits.clone();
+    sorted.sort_unstable();
+    let true_max = sorted.last().copied().unwrap_or(0);
+    let max = sorted.get(sorted.len().saturating_sub(1) * 99 / 100).copied().unwrap_or(0).max(1);
     let mean = visits.iter().map(|&v| v as f64).sum::<f64>() / visits.len().max(1) as f64;
     let (w, h) = (out.width, out.height);
     let size = (w as f32 / 40.0).clamp(11.0, 22.0);
@@ -104,12 +109,12 @@ pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
     }
     // Legend: title, then a bar from 0 to max with end labels.
     let pad = size * 0.5;
-    let title = format!("BVH node visits per pixel (mean {mean:.1})");
+    let title = format!("BVH node visits per pixel (mean {mean:.1}, max {true_max})");
     draw_text(&mut img, pad, h as f32 + pad * 0.4, size, &title, [0, 0, 0]);
     let bar_y0 = h + (size * 1.6) as u32;
     let bar_h = (size * 0.7) as u32;
     let lo_label = "0";
-    let hi_label = format!("{max}");
+    let hi_label = if true_max > max { format!("≥{max} (p99)") } else { format!("{max}") };
     let bx0 = (pad + text_width(size, lo_label) + pad) as u32;
     let bx1 = (w as f32 - pad - text_width(size, &hi_label) - pad).max(bx0 as f32 + 2.0) as u32;
     for x in bx0..bx1.min(w) {
