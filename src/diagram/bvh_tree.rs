@@ -148,7 +148,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let ts = c.text_size;
     let shown = shown_ray(trace, opts.focus);
     let heading = match shown {
-        Some((r, _)) => format!("BVH traversal of the {} ray (depth {}); numbers: visit order", kind_name(r.kind), r.depth),
+        Some((r, _)) => format!("BVH visits in order, {} ray (depth {})", kind_name(r.kind), r.depth),
         None => "BVH".to_string(),
     };
     let top = title(&mut c, &heading) + ts * 1.2;
