@@ -252,6 +252,10 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         out.stopped_at = 2;
         return out;
     }
+    // The shear's rounding depends on the *unscaled* z (x′ = x + Sx·z with |Sx| ≤ 1): keep it for
+    // the error bound before z is rescaled into units of t. (pbrt-v4 uses the scaled z here, which
+    // overstates the bound by 1/|Q_z| and rejects valid hits along short directions.)
+    let max_z_unscaled = q[0][2].abs().max(q[1][2].abs()).max(q[2][2].abs());
     // Scaled distance, compared against the interval without dividing.
     for v in q.iter_mut() {
         v[2] = v[2] * sz;
@@ -275,8 +279,8 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     let delta_z = gamma::<T>(3) * max_zt;
     let max_xt = q[0][0].abs().max(q[1][0].abs()).max(q[2][0].abs());
     let max_yt = q[0][1].abs().max(q[1][1].abs()).max(q[2][1].abs());
-    let delta_x = gamma::<T>(5) * (max_xt + max_zt);
-    let delta_y = gamma::<T>(5) * (max_yt + max_zt);
+    let delta_x = gamma::<T>(5) * (max_xt + max_z_unscaled);
+    let delta_y = gamma::<T>(5) * (max_yt + max_z_unscaled);
     let delta_e = T::lit(2.0) * (gamma::<T>(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
     let max_e = e0.abs().max(e1.abs()).max(e2.abs());
     let delta_t = T::lit(3.0)
