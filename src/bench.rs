@@ -209,3 +209,31 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize) {
         ours.as_secs_f64() / theirs.as_secs_f64()
     );
 }
+
+/// Issue-4 figure: drawing every diagram the trace offers for one step at 800×600.
+pub fn diagrams(scenes: &[Scene], reps: usize) {
+    use crate::diagram::{ViewOptions, available, draw};
+    println!("## Diagrams: all kinds for one step at 800×600 (one thread)");
+    println!("| scene | pixel | kinds | steps in trace | all kinds (ms) |");
+    println!("|---|---|---|---|---|");
+    for scene in scenes {
+        let (accel, _) = SceneAccel::build(scene);
+        let tracer = Tracer::new(scene, &accel);
+        let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
+        let trace = tracer.record(x, y, 0);
+        let steps = trace.timeline().len();
+        let opts = ViewOptions { focus: Some(steps / 2), ..ViewOptions::default() };
+        let kinds = available(&trace);
+        let t = median_time(reps.max(11), || {
+            for k in &kinds {
+                std::hint::black_box(draw(&trace, *k, &opts).expect("offered kinds draw"));
+            }
+        });
+        println!(
+            "| {} | ({x}, {y}) | {} | {steps} | {:.2} |",
+            scene.name,
+            kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", "),
+            t.as_secs_f64() * 1e3
+        );
+    }
+}

@@ -27,6 +27,8 @@ pub enum Section {
     Accel,
     /// Per-scene figures: build, threads, BVH vs brute force, traversal vs obvhs, one pixel.
     Scene,
+    /// Drawing every diagram of one step.
+    Diagram,
     /// Everything.
     All,
 }
@@ -55,6 +57,10 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     }
     if matches!(args.section, Section::Accel | Section::All) {
         crate::bench::accel_threshold(reps);
+        println!();
+    }
+    if matches!(args.section, Section::Diagram | Section::All) {
+        crate::bench::diagrams(&scenes, reps);
         println!();
     }
     if matches!(args.section, Section::Scene | Section::All) {

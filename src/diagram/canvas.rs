@@ -256,16 +256,21 @@ impl Canvas {
         let (pw, ph) = (self.pixmap.width() as i32, self.pixmap.height() as i32);
         for ch in text.chars() {
             let id = scaled.glyph_id(ch);
-            let glyph = id.with_scale_and_position(PxScale::from(size), point(caret, baseline));
-            caret += scaled.h_advance(id);
-            let Some(outline) = self.font.outline_glyph(glyph) else { continue };
-            let b = outline.px_bounds();
+            let advance = scaled.h_advance(id);
+            let Some(g) = self.glyph(ch, size, caret, baseline) else {
+                caret += advance;
+                continue;
+            };
+            caret += advance;
             let pixels = self.pixmap.pixels_mut();
-            outline.draw(|gx, gy, cov| {
-                let px = b.min.x as i32 + gx as i32;
-                let py = b.min.y as i32 + gy as i32;
+            for (k, &cov) in g.cached.coverage.iter().enumerate() {
+                if cov <= 0.0 {
+                    continue;
+                }
+                let px = g.x + (k as u32 % g.w) as i32;
+                let py = g.y + (k as u32 / g.w) as i32;
                 if px < 0 || py < 0 || px >= pw || py >= ph {
-                    return;
+                    continue;
                 }
                 let i = (py * pw + px) as usize;
                 let dst = pixels[i];
@@ -282,9 +287,43 @@ impl Canvas {
                 ) {
                     pixels[i] = p;
                 }
-            });
+            }
         }
         w
+    }
+
+    /// The coverage of `ch` at `size` with its origin at (x, y), from a per-thread cache keyed by
+    /// the character, the size and the origin's eighth-of-a-pixel fraction (so placement is within
+    /// 1/16 px of exact). Rasterizing each glyph once makes text several times cheaper.
+    fn glyph(&self, ch: char, size: f32, x: f32, y: f32) -> Option<PlacedGlyph> {
+        let (ix, iy) = (x.floor(), y.floor());
+        let (fx, fy) = (((x - ix) * 8.0).round(), ((y - iy) * 8.0).round());
+        let key = (ch, size.to_bits(), fx as u8, fy as u8);
+        let cached = GLYPHS.with(|cache| {
+            let mut cache = cache.borrow_mut();
+            if cache.len() > 8192 {
+                cache.clear();
+            }
+            cache
+                .entry(key)
+                .or_insert_with(|| {
+                    let scaled = self.font.as_scaled(PxScale::from(size));
+                    let glyph = scaled.glyph_id(ch).with_scale_and_position(PxScale::from(size), point(fx / 8.0, fy / 8.0));
+                    self.font.outline_glyph(glyph).map(|outline| {
+                        let b = outline.px_bounds();
+                        let (w, h) = (b.width() as u32, b.height() as u32);
+                        let mut coverage = vec![0.0; (w * h) as usize];
+                        outline.draw(|gx, gy, c| {
+                            if gx < w && gy < h {
+                                coverage[(gy * w + gx) as usize] = c;
+                            }
+                        });
+                        std::rc::Rc::new(CachedGlyph { dx: b.min.x as i32, dy: b.min.y as i32, w, coverage })
+                    })
+                })
+                .clone()
+        })?;
+        Some(PlacedGlyph { x: ix as i32 + cached.dx, y: iy as i32 + cached.dy, w: cached.w.max(1), cached })
     }
 
     /// Draws text on a rounded-ish label box so it stays readable over lines.
@@ -323,6 +362,27 @@ impl Canvas {
         let data = self.pixmap.clone().take_demultiplied();
         image::RgbaImage::from_raw(self.pixmap.width(), self.pixmap.height(), data).expect("sizes match")
     }
+}
+
+struct CachedGlyph {
+    dx: i32,
+    dy: i32,
+    w: u32,
+    coverage: Vec<f32>,
+}
+
+struct PlacedGlyph {
+    x: i32,
+    y: i32,
+    w: u32,
+    cached: std::rc::Rc<CachedGlyph>,
+}
+
+type GlyphKey = (char, u32, u8, u8);
+
+thread_local! {
+    static GLYPHS: std::cell::RefCell<std::collections::HashMap<GlyphKey, Option<std::rc::Rc<CachedGlyph>>>> =
+        std::cell::RefCell::new(std::collections::HashMap::new());
 }
 
 /// A colour with its alpha replaced.
