@@ -47,7 +47,9 @@ fn all_pixels<A: Accelerator>(tracer: &Tracer<'_, A>) {
 /// every stage compiled in) and with the recorder (a full step trace per pixel).
 pub fn tracer(scenes: &[Scene], reps: usize) {
     println!("## Tracer throughput, one thread (Mrays/s, all ray kinds)");
-    println!("| scene | rays/frame | silent, specialized | silent, all stages | recorder (trace per pixel) | recorder cost |");
+    println!(
+        "| scene | rays/frame | silent, specialized | silent, all stages | recorder (trace per pixel) | recorder cost |"
+    );
     println!("|---|---|---|---|---|---|");
     for scene in scenes {
         let (accel, _) = SceneAccel::build(scene);
@@ -90,7 +92,11 @@ fn spheres_scene(n: usize) -> Scene {
         let s = 16.0 / side as f32;
         let x = (gx - side as f32 / 2.0 + 0.5) * s;
         let y = (gy - side as f32 / 2.0 + 0.5) * s;
-        t += &format!("[[sphere]]\ncenter = [{x}, {y}, {}]\nradius = {}\n", (i % 3) as f32, s * 0.4);
+        t += &format!(
+            "[[sphere]]\ncenter = [{x}, {y}, {}]\nradius = {}\n",
+            (i % 3) as f32,
+            s * 0.4
+        );
     }
     load_str(&t, "spheres.toml", None).expect("generated scene is valid")
 }
@@ -121,27 +127,62 @@ pub fn accel_threshold(reps: usize) {
 /// BVH vs brute force (brute force timed on every k-th row and scaled up), traversal vs obvhs's
 /// own, and tracing + recording one pixel.
 pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
-    println!("## {} ({} primitives, {}×{})", scene.name, scene.features.primitives, scene.camera.width, scene.camera.height);
+    println!(
+        "## {} ({} primitives, {}×{})",
+        scene.name, scene.features.primitives, scene.camera.width, scene.camera.height
+    );
     let mut s = scene.clone();
     s.settings.accel = AccelChoice::Bvh;
     let t0 = Instant::now();
     let bvh = Bvh::build(&s);
     let build = t0.elapsed();
-    println!("- BVH build: {:.1} ms ({} nodes, depth {})", build.as_secs_f64() * 1e3, bvh.nodes.len(), bvh.max_depth);
+    println!(
+        "- BVH build: {:.1} ms ({} nodes, depth {})",
+        build.as_secs_f64() * 1e3,
+        bvh.nodes.len(),
+        bvh.max_depth
+    );
     let tracer = Tracer::new(&s, &bvh);
-    let counted = render(&tracer, &RenderOptions { threads: Some(1), progress: false, count: true }).expect("render");
+    let counted = render(
+        &tracer,
+        &RenderOptions {
+            threads: Some(1),
+            progress: false,
+            count: true,
+        },
+    )
+    .expect("render");
     let rays = counted.stats.counts.rays() as f64;
     let mut per_threads = vec![];
     for threads in [1usize, 2] {
         let t = median_time(reps, || {
-            std::hint::black_box(render(&tracer, &RenderOptions { threads: Some(threads), ..Default::default() }).expect("render"));
+            std::hint::black_box(
+                render(
+                    &tracer,
+                    &RenderOptions {
+                        threads: Some(threads),
+                        ..Default::default()
+                    },
+                )
+                .expect("render"),
+            );
         });
         per_threads.push(t);
-        println!("- render, {threads} thread{}: {:.1} ms, {:.2} Mrays/s", if threads == 1 { "" } else { "s" }, t.as_secs_f64() * 1e3, rays / t.as_secs_f64() / 1e6);
+        println!(
+            "- render, {threads} thread{}: {:.1} ms, {:.2} Mrays/s",
+            if threads == 1 { "" } else { "s" },
+            t.as_secs_f64() * 1e3,
+            rays / t.as_secs_f64() / 1e6
+        );
     }
-    println!("- two threads vs one: {:.2}×", per_threads[0].as_secs_f64() / per_threads[1].as_secs_f64());
+    println!(
+        "- two threads vs one: {:.2}×",
+        per_threads[0].as_secs_f64() / per_threads[1].as_secs_f64()
+    );
     // Brute force on every `brute_rows`-th row, scaled to the whole image.
-    let rows: Vec<u32> = (0..s.camera.height).step_by(brute_rows.max(1) as usize).collect();
+    let rows: Vec<u32> = (0..s.camera.height)
+        .step_by(brute_rows.max(1) as usize)
+        .collect();
     let time_rows = |a: &dyn Fn(u32, u32)| {
         let st = Instant::now();
         for &y in &rows {
@@ -172,7 +213,10 @@ pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
         std::hint::black_box(tracer.record(cx, cy, 0));
     });
     let steps = tracer.record(cx, cy, 0).timeline().len();
-    println!("- trace and record pixel ({cx}, {cy}): {:.3} ms ({steps} steps)", t.as_secs_f64() * 1e3);
+    println!(
+        "- trace and record pixel ({cx}, {cy}): {:.3} ms ({steps} steps)",
+        t.as_secs_f64() * 1e3
+    );
 }
 
 /// Closest-hit traversal of the primary rays: raystep's observed loop with the silent observer
@@ -183,20 +227,43 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize) {
         .flat_map(|y| (0..scene.camera.width).map(move |x| (x, y)))
         .map(|(x, y)| tracer.camera.ray(x, y, [0.5, 0.5]).0)
         .collect();
-    let finite: Vec<u32> = (0..scene.objects.len() as u32).filter(|id| !bvh.planes.contains(id)).collect();
-    let leaf_objects: Vec<u32> = bvh.obvhs.primitive_indices.iter().map(|&i| finite[i as usize]).collect();
+    let finite: Vec<u32> = (0..scene.objects.len() as u32)
+        .filter(|id| !bvh.planes.contains(id))
+        .collect();
+    let leaf_objects: Vec<u32> = bvh
+        .obvhs
+        .primitive_indices
+        .iter()
+        .map(|&i| finite[i as usize])
+        .collect();
     let ours = median_time(reps, || {
         for r in &rays {
-            std::hint::black_box(crate::accel::Accelerator::closest(bvh, scene, r, &mut Silent));
+            std::hint::black_box(crate::accel::Accelerator::closest(
+                bvh,
+                scene,
+                r,
+                &mut Silent,
+            ));
         }
     });
     let theirs = median_time(reps, || {
         for r in &rays {
             let mut hit = obvhs::ray::RayHit::none();
-            let oray = obvhs::ray::Ray::new(Vec3A::from(r.origin), Vec3A::from(r.dir), 0.0, f32::INFINITY);
+            let oray = obvhs::ray::Ray::new(
+                Vec3A::from(r.origin),
+                Vec3A::from(r.dir),
+                0.0,
+                f32::INFINITY,
+            );
             bvh.obvhs.ray_traverse(oray, &mut hit, |rr, slot| {
-                let ray = Ray { origin: Vec3::from(rr.origin), dir: Vec3::from(rr.direction), t_min: rr.tmin, t_max: rr.tmax };
-                test_object(scene, leaf_objects[slot], &ray, &mut Silent).map_or(f32::INFINITY, |h| h.t)
+                let ray = Ray {
+                    origin: Vec3::from(rr.origin),
+                    dir: Vec3::from(rr.direction),
+                    t_min: rr.tmin,
+                    t_max: rr.tmax,
+                };
+                test_object(scene, leaf_objects[slot], &ray, &mut Silent)
+                    .map_or(f32::INFINITY, |h| h.t)
             });
             std::hint::black_box(hit);
         }
@@ -222,7 +289,10 @@ pub fn diagrams(scenes: &[Scene], reps: usize) {
         let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
         let trace = tracer.record(x, y, 0);
         let steps = trace.timeline().len();
-        let opts = ViewOptions { focus: Some(steps / 2), ..ViewOptions::default() };
+        let opts = ViewOptions {
+            focus: Some(steps / 2),
+            ..ViewOptions::default()
+        };
         let kinds = available(&trace);
         let t = median_time(reps.max(11), || {
             for k in &kinds {
@@ -232,7 +302,11 @@ pub fn diagrams(scenes: &[Scene], reps: usize) {
         println!(
             "| {} | ({x}, {y}) | {} | {steps} | {:.2} |",
             scene.name,
-            kinds.iter().map(|k| k.name()).collect::<Vec<_>>().join(", "),
+            kinds
+                .iter()
+                .map(|k| k.name())
+                .collect::<Vec<_>>()
+                .join(", "),
             t.as_secs_f64() * 1e3
         );
     }

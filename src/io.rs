@@ -11,15 +11,31 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
         _ => Path::new("."),
     };
     if path.is_dir() {
-        return Err(format!("{}: is a directory, not a file name", path.display()));
+        return Err(format!(
+            "{}: is a directory, not a file name",
+            path.display()
+        ));
     }
     if !dir.is_dir() {
-        return Err(format!("{}: the directory {} does not exist", path.display(), dir.display()));
+        return Err(format!(
+            "{}: the directory {} does not exist",
+            path.display(),
+            dir.display()
+        ));
     }
-    let mut tmp = tempfile::NamedTempFile::new_in(dir)
-        .map_err(|e| format!("{}: cannot create a file in {}: {e}", path.display(), dir.display()))?;
-    tmp.write_all(bytes).map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
-    tmp.as_file().sync_all().map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
-    tmp.persist(path).map_err(|e| format!("{}: cannot write: {}", path.display(), e.error))?;
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+        format!(
+            "{}: cannot create a file in {}: {e}",
+            path.display(),
+            dir.display()
+        )
+    })?;
+    tmp.write_all(bytes)
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    tmp.as_file()
+        .sync_all()
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    tmp.persist(path)
+        .map_err(|e| format!("{}: cannot write: {}", path.display(), e.error))?;
     Ok(())
 }

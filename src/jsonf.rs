@@ -56,7 +56,11 @@ fn ser_f64<S: Serializer>(x: f64, s: S) -> Result<S::Ok, S::Error> {
 
 impl JsonFloat for f32 {
     fn ser<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        if self.is_finite() { s.serialize_f32(*self) } else { ser_f64(*self as f64, s) }
+        if self.is_finite() {
+            s.serialize_f32(*self)
+        } else {
+            ser_f64(*self as f64, s)
+        }
     }
     fn de<'de, D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         // Finite values were written in f32's shortest form, so parsing them as f64 and rounding
@@ -113,7 +117,9 @@ impl<T: JsonFloat, const N: usize> JsonFloat for [T; N] {
         let v = <Vec<W<T>> as serde::Deserialize>::deserialize(d)?;
         let n = v.len();
         let items: Vec<T> = v.into_iter().map(|w| w.0).collect();
-        items.try_into().map_err(|_| de::Error::invalid_length(n, &format!("{N} numbers").as_str()))
+        items
+            .try_into()
+            .map_err(|_| de::Error::invalid_length(n, &format!("{N} numbers").as_str()))
     }
 }
 
@@ -143,14 +149,22 @@ mod tests {
 
     #[test]
     fn non_finite_round_trip() {
-        let s = S { a: f32::INFINITY, b: [f32::NEG_INFINITY, 0.1, -0.0], c: Some(f32::INFINITY), d: None };
+        let s = S {
+            a: f32::INFINITY,
+            b: [f32::NEG_INFINITY, 0.1, -0.0],
+            c: Some(f32::INFINITY),
+            d: None,
+        };
         let j = serde_json::to_string(&s).unwrap();
         assert_eq!(j, r#"{"a":"inf","b":["-inf",0.1,-0.0],"c":"inf","d":null}"#);
         let back: S = serde_json::from_str(&j).unwrap();
         assert_eq!(back, s);
         assert!(back.b[2].is_sign_negative());
-        let nan: S = serde_json::from_str(r#"{"a":"nan","b":[1,2,3],"c":null,"d":[1,"inf"]}"#).unwrap();
+        let nan: S =
+            serde_json::from_str(r#"{"a":"nan","b":[1,2,3],"c":null,"d":[1,"inf"]}"#).unwrap();
         assert!(nan.a.is_nan());
-        assert!(serde_json::from_str::<S>(r#"{"a":"lots","b":[1,2,3],"c":null,"d":null}"#).is_err());
+        assert!(
+            serde_json::from_str::<S>(r#"{"a":"lots","b":[1,2,3],"c":null,"d":null}"#).is_err()
+        );
     }
 }

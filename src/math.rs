@@ -40,7 +40,15 @@ pub trait Vector<T>:
 
 /// A floating-point precision the kernels can run in: `f32` or `f64`.
 pub trait Real:
-    num_traits::Float + Debug + Default + Send + Sync + serde::Serialize + crate::jsonf::JsonFloat + std::fmt::Display + 'static
+    num_traits::Float
+    + Debug
+    + Default
+    + Send
+    + Sync
+    + serde::Serialize
+    + crate::jsonf::JsonFloat
+    + std::fmt::Display
+    + 'static
 {
     /// The matching glam vector type.
     type V: Vector<Self>;
@@ -229,7 +237,12 @@ impl<T: Real> Ray<T> {
         if t_min.is_nan() || t_max.is_nan() || t_min < T::zero() || t_max < t_min {
             return Err(RayError::BadInterval(t_min.to_f64(), t_max.to_f64()));
         }
-        Ok(Ray { origin, dir, t_min, t_max })
+        Ok(Ray {
+            origin,
+            dir,
+            t_min,
+            t_max,
+        })
     }
 
     /// A ray over (0, ∞).

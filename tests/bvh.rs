@@ -32,7 +32,8 @@ fn fmt(v: Vec3) -> String {
 /// A scene of random spheres and triangles (and a plane), as TOML.
 fn random_scene(seed: u64, spheres: usize, triangles: usize, scale: f32) -> Scene {
     let mut r = Rng(seed);
-    let mut t = String::from("[[plane]]\naxis = \"y\"\noffset = ") + &format!("{:e}\n", -12.0 * scale);
+    let mut t =
+        String::from("[[plane]]\naxis = \"y\"\noffset = ") + &format!("{:e}\n", -12.0 * scale);
     for _ in 0..spheres {
         t += &format!(
             "[[sphere]]\ncenter = {}\nradius = {:e}\n",
@@ -43,7 +44,12 @@ fn random_scene(seed: u64, spheres: usize, triangles: usize, scale: f32) -> Scen
     for _ in 0..triangles {
         let c = r.vec(-10.0, 10.0);
         let p: Vec<Vec3> = (0..3).map(|_| (c + r.vec(-2.0, 2.0)) * scale).collect();
-        t += &format!("[[triangle]]\nvertices = [{}, {}, {}]\n", fmt(p[0]), fmt(p[1]), fmt(p[2]));
+        t += &format!(
+            "[[triangle]]\nvertices = [{}, {}, {}]\n",
+            fmt(p[0]),
+            fmt(p[1]),
+            fmt(p[2])
+        );
     }
     load_str(&t, "random.toml", None).unwrap()
 }
@@ -76,12 +82,21 @@ fn assert_same(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>]) {
         let sb = bvh.any(scene, ray, &mut Silent).is_some();
         assert_eq!(sa, sb, "any-hit differs for ray {k}");
     }
-    assert!(hits > rays.len() / 10, "too few hits ({hits}) for the test to mean much");
+    assert!(
+        hits > rays.len() / 10,
+        "too few hits ({hits}) for the test to mean much"
+    );
 }
 
 #[test]
 fn bvh_equals_brute_force_on_random_rays() {
-    for (seed, spheres, tris) in [(1, 200, 0), (2, 0, 300), (3, 150, 150), (4, 1, 0), (5, 0, 2)] {
+    for (seed, spheres, tris) in [
+        (1, 200, 0),
+        (2, 0, 300),
+        (3, 150, 150),
+        (4, 1, 0),
+        (5, 0, 2),
+    ] {
         let scene = random_scene(seed, spheres, tris, 1.0);
         let bvh = Bvh::build(&scene);
         assert_same(&scene, &bvh, &random_rays(seed + 100, 3000, 1.0));
@@ -95,14 +110,27 @@ fn bvh_matches_obvhs_own_traversal() {
     // obvhs's clamped reciprocals do not matter.)
     let scene = random_scene(7, 100, 200, 1.0);
     let bvh = Bvh::build(&scene);
-    let finite: Vec<u32> = (0..scene.objects.len() as u32).filter(|id| !bvh.planes.contains(id)).collect();
+    let finite: Vec<u32> = (0..scene.objects.len() as u32)
+        .filter(|id| !bvh.planes.contains(id))
+        .collect();
     for ray in random_rays(8, 3000, 1.0) {
         let mut theirs = obvhs::ray::RayHit::none();
-        let oray = obvhs::ray::Ray::new(Vec3A::from(ray.origin), Vec3A::from(ray.dir), 0.0, f32::INFINITY);
+        let oray = obvhs::ray::Ray::new(
+            Vec3A::from(ray.origin),
+            Vec3A::from(ray.dir),
+            0.0,
+            f32::INFINITY,
+        );
         bvh.obvhs.ray_traverse(oray, &mut theirs, |r, slot| {
             let id = finite[bvh.obvhs.primitive_indices[slot] as usize];
-            let ray = Ray { origin: Vec3::from(r.origin), dir: Vec3::from(r.direction), t_min: r.tmin, t_max: r.tmax };
-            raystep::accel::test_object(&scene, id, &ray, &mut Silent).map_or(f32::INFINITY, |h| h.t)
+            let ray = Ray {
+                origin: Vec3::from(r.origin),
+                dir: Vec3::from(r.direction),
+                t_min: r.tmin,
+                t_max: r.tmax,
+            };
+            raystep::accel::test_object(&scene, id, &ray, &mut Silent)
+                .map_or(f32::INFINITY, |h| h.t)
         });
         // Compare without the plane (obvhs's tree holds only finite primitives).
         let mut ours = None;
@@ -124,18 +152,34 @@ fn s21_near_parallel_rays_never_miss() {
     let mut t = String::new();
     for i in 0..20 {
         let x = i as f32;
-        t += &format!("[[triangle]]\nvertices = [[{x}, 0, 5], [{}, 0, 5], [{x}, 1, 5]]\n", x + 1.0);
-        t += &format!("[[triangle]]\nvertices = [[{}, 0, 5], [{}, 1, 5], [{x}, 1, 5]]\n", x + 1.0, x + 1.0);
+        t += &format!(
+            "[[triangle]]\nvertices = [[{x}, 0, 5], [{}, 0, 5], [{x}, 1, 5]]\n",
+            x + 1.0
+        );
+        t += &format!(
+            "[[triangle]]\nvertices = [[{}, 0, 5], [{}, 1, 5], [{x}, 1, 5]]\n",
+            x + 1.0,
+            x + 1.0
+        );
     }
     let scene = load_str(&t, "s21.toml", None).unwrap();
     let bvh = Bvh::build(&scene);
     let rays: Vec<Ray<f32>> = (0..400)
-        .map(|k| Ray::infinite(Vec3::new(0.025 + k as f32 * 0.05, 0.5, 0.0), Vec3::new(1e-9, 0.0, 1.0)).unwrap())
+        .map(|k| {
+            Ray::infinite(
+                Vec3::new(0.025 + k as f32 * 0.05, 0.5, 0.0),
+                Vec3::new(1e-9, 0.0, 1.0),
+            )
+            .unwrap()
+        })
         .collect();
     for ray in &rays {
         let a = BruteForce.closest(&scene, ray, &mut Silent);
         assert!(a.is_some());
-        assert_eq!(a.map(|h| h.t), bvh.closest(&scene, ray, &mut Silent).map(|h| h.t));
+        assert_eq!(
+            a.map(|h| h.t),
+            bvh.closest(&scene, ray, &mut Silent).map(|h| h.t)
+        );
     }
 }
 
@@ -147,7 +191,11 @@ fn s22_zero_thickness_boxes_are_hit() {
     let mut t = String::new();
     for i in 0..16 {
         let (x, y) = ((i % 4) as f32 * 2.0, (i / 4) as f32 * 2.0);
-        t += &format!("[[triangle]]\nvertices = [[{x}, {y}, 3], [{}, {y}, 3], [{x}, {}, 3]]\n", x + 2.0, y + 2.0);
+        t += &format!(
+            "[[triangle]]\nvertices = [[{x}, {y}, 3], [{}, {y}, 3], [{x}, {}, 3]]\n",
+            x + 2.0,
+            y + 2.0
+        );
     }
     let scene = load_str(&t, "s22.toml", None).unwrap();
     let bvh = Bvh::build(&scene);
@@ -192,7 +240,13 @@ fn recorded_traversal_shows_nodes_and_leaf_tests() {
     let nodes: Vec<_> = root
         .steps
         .iter()
-        .filter_map(|s| if let Step::Node(n) = &s.step { Some(n.clone()) } else { None })
+        .filter_map(|s| {
+            if let Step::Node(n) = &s.step {
+                Some(n.clone())
+            } else {
+                None
+            }
+        })
         .collect();
     assert_eq!(nodes[0].node, 0, "the root is visited first");
     assert_eq!(nodes[0].depth, 0);
@@ -206,7 +260,11 @@ fn recorded_traversal_shows_nodes_and_leaf_tests() {
         }
     }
     // Fewer sphere tests than spheres: the BVH culled some.
-    let tests = root.steps.iter().filter(|s| matches!(s.step, Step::Sphere { .. })).count();
+    let tests = root
+        .steps
+        .iter()
+        .filter(|s| matches!(s.step, Step::Sphere { .. }))
+        .count();
     assert!(tests < 60, "{tests} tests");
 }
 
@@ -220,7 +278,11 @@ fn rec_closest(scene: &Scene, bvh: &Bvh, ray: &Ray<f32>, rec: &mut Recorder) {
 
 #[test]
 fn traced_pixel_equals_rendered_pixel_with_and_without_bvh() {
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/three-spheres.toml")).unwrap();
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/three-spheres.toml"
+    ))
+    .unwrap();
     for accel in ["none", "bvh"] {
         for spp in [1, 4] {
             let mut scene = load_str(&text, "three-spheres.toml", None).unwrap();
@@ -235,7 +297,14 @@ fn traced_pixel_equals_rendered_pixel_with_and_without_bvh() {
             let (a, _) = SceneAccel::build(&scene);
             let tracer = Tracer::new(&scene, &a);
             for threads in [1, 2] {
-                let out = render(&tracer, &RenderOptions { threads: Some(threads), ..Default::default() }).unwrap();
+                let out = render(
+                    &tracer,
+                    &RenderOptions {
+                        threads: Some(threads),
+                        ..Default::default()
+                    },
+                )
+                .unwrap();
                 for y in (0..36).step_by(5) {
                     for x in (0..48).step_by(5) {
                         let mut sum = Vec3::ZERO;
@@ -243,7 +312,11 @@ fn traced_pixel_equals_rendered_pixel_with_and_without_bvh() {
                             sum += Vec3::from(tracer.record(x, y, k).color);
                         }
                         let traced = sum / spp as f32;
-                        assert_eq!(traced.to_array(), out.pixels[(y * 48 + x) as usize].to_array(), "({x}, {y})");
+                        assert_eq!(
+                            traced.to_array(),
+                            out.pixels[(y * 48 + x) as usize].to_array(),
+                            "({x}, {y})"
+                        );
                     }
                 }
             }
@@ -260,8 +333,27 @@ fn render_is_identical_whatever_the_thread_count() {
     scene.camera.from = Vec3::new(0.0, 2.0, -40.0);
     let (a, _) = SceneAccel::build(&scene);
     let tracer = Tracer::new(&scene, &a);
-    let one = render(&tracer, &RenderOptions { threads: Some(1), ..Default::default() }).unwrap();
-    let two = render(&tracer, &RenderOptions { threads: Some(2), ..Default::default() }).unwrap();
-    let bits = |o: &raystep::render::RenderOutput| o.pixels.iter().map(|p| p.to_array().map(f32::to_bits)).collect::<Vec<_>>();
+    let one = render(
+        &tracer,
+        &RenderOptions {
+            threads: Some(1),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let two = render(
+        &tracer,
+        &RenderOptions {
+            threads: Some(2),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let bits = |o: &raystep::render::RenderOutput| {
+        o.pixels
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect::<Vec<_>>()
+    };
     assert_eq!(bits(&one), bits(&two));
 }

@@ -15,7 +15,11 @@ impl Rng {
         (self.0 >> 40) as f32 / (1u64 << 24) as f32
     }
     fn vec(&mut self) -> Vec3 {
-        Vec3::new(self.next() * 2.0 - 1.0, self.next() * 2.0 - 1.0, self.next() * 2.0 - 1.0)
+        Vec3::new(
+            self.next() * 2.0 - 1.0,
+            self.next() * 2.0 - 1.0,
+            self.next() * 2.0 - 1.0,
+        )
     }
 }
 
@@ -60,7 +64,11 @@ fn vertex_leaks(method: TriangleMethod, scale: f32, rays: usize, seed: u64) -> u
             .collect();
         let origin = v + (n * 2.0 + r.vec() * 0.5) * scale;
         let ray = Ray::<f32>::infinite(origin, v - origin).unwrap();
-        let hit = (0..6).any(|k| intersect(&ray, [v, rim[k], rim[(k + 1) % 6]], method).t.is_some());
+        let hit = (0..6).any(|k| {
+            intersect(&ray, [v, rim[k], rim[(k + 1) % 6]], method)
+                .t
+                .is_some()
+        });
         if !hit {
             leaks += 1;
         }
@@ -71,7 +79,11 @@ fn vertex_leaks(method: TriangleMethod, scale: f32, rays: usize, seed: u64) -> u
 #[test]
 fn s12_watertight_never_leaks_at_shared_edges() {
     for (i, scale) in [1e-3f32, 1.0, 1e3, 1e5].into_iter().enumerate() {
-        assert_eq!(edge_leaks(TriangleMethod::Watertight, scale, 20_000, 1 + i as u64), 0, "scale {scale}");
+        assert_eq!(
+            edge_leaks(TriangleMethod::Watertight, scale, 20_000, 1 + i as u64),
+            0,
+            "scale {scale}"
+        );
     }
 }
 

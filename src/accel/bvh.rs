@@ -16,7 +16,7 @@ use crate::trace::{NodeAction, NodeVisit, Observer};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{Bvh2, builder::build_bvh2};
-use obvhs::{BvhBuildParams, Boundable};
+use obvhs::{Boundable, BvhBuildParams};
 use smallvec::SmallVec;
 use std::time::{Duration, Instant};
 
@@ -32,7 +32,9 @@ impl Boundable for PrimBox {
 /// as the kernels compute them.
 pub fn shape_bounds(shape: &Shape) -> Option<(Vec3, Vec3)> {
     let (lo, hi) = match *shape {
-        Shape::Sphere { center, radius } => (center - Vec3::splat(radius), center + Vec3::splat(radius)),
+        Shape::Sphere { center, radius } => {
+            (center - Vec3::splat(radius), center + Vec3::splat(radius))
+        }
         Shape::Triangle { p } => (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2])),
         Shape::Plane { .. } | Shape::AxisPlane { .. } => return None,
     };
@@ -110,13 +112,29 @@ impl Bvh {
             .iter()
             .map(|n| {
                 let b = n.aabb();
-                Node { min: Vec3::from(b.min), max: Vec3::from(b.max), first: n.first_index, count: n.prim_count }
+                Node {
+                    min: Vec3::from(b.min),
+                    max: Vec3::from(b.max),
+                    first: n.first_index,
+                    count: n.prim_count,
+                }
             })
             .collect();
-        let leaf_objects = bvh2.primitive_indices.iter().map(|&i| finite[i as usize]).collect();
+        let leaf_objects = bvh2
+            .primitive_indices
+            .iter()
+            .map(|&i| finite[i as usize])
+            .collect();
         let max_depth = tree_depth(&nodes);
         let _ = core;
-        Bvh { nodes, leaf_objects, planes, max_depth, build_time: start.elapsed(), obvhs: bvh2 }
+        Bvh {
+            nodes,
+            leaf_objects,
+            planes,
+            max_depth,
+            build_time: start.elapsed(),
+            obvhs: bvh2,
+        }
     }
 
     /// Walks the tree for `ray`, calling `leaf(object, ray)` for each primitive in the leaves the
@@ -257,13 +275,15 @@ impl Accelerator for Bvh {
         }
         let mut found = None;
         let mut r = *ray;
-        self.traverse(&mut r, obs, |id, r, obs| match test_object(scene, id, r, obs) {
-            Some(h) => {
-                accept(scene, &h, r.t_max, obs);
-                found = Some(h);
-                false
+        self.traverse(&mut r, obs, |id, r, obs| {
+            match test_object(scene, id, r, obs) {
+                Some(h) => {
+                    accept(scene, &h, r.t_max, obs);
+                    found = Some(h);
+                    false
+                }
+                None => true,
             }
-            None => true,
         });
         found
     }
@@ -292,9 +312,18 @@ impl Accelerator for Bvh {
         }
         let mut stack = vec![(0u32, 0u32)];
         while let Some((i, d)) = stack.pop() {
-            let Some(n) = self.nodes.get(i as usize) else { continue };
+            let Some(n) = self.nodes.get(i as usize) else {
+                continue;
+            };
             let children = (!n.is_leaf()).then_some([n.first, n.first + 1]);
-            out.push(OutlineNode { node: i, depth: d, children, primitives: counts[i as usize], min: n.min.to_array(), max: n.max.to_array() });
+            out.push(OutlineNode {
+                node: i,
+                depth: d,
+                children,
+                primitives: counts[i as usize],
+                min: n.min.to_array(),
+                max: n.max.to_array(),
+            });
             if let Some([a, b]) = children
                 && d < depth
             {

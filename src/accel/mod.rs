@@ -12,9 +12,9 @@ pub use bvh::Bvh;
 
 use crate::math::Ray;
 use crate::scene::{AccelChoice, Scene, Shape};
-use std::time::{Duration, Instant};
 use crate::shapes::{plane, sphere, triangle};
 use crate::trace::{Observer, Step};
+use std::time::{Duration, Instant};
 
 /// A hit: which object, where along the ray, and a triangle's barycentrics.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -45,23 +45,55 @@ pub trait Accelerator: Sync {
 
 /// Tests object `id` with the scene's chosen method and reports the test to `obs`.
 #[inline(always)]
-pub fn test_object<O: Observer>(scene: &Scene, id: u32, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+pub fn test_object<O: Observer>(
+    scene: &Scene,
+    id: u32,
+    ray: &Ray<f32>,
+    obs: &mut O,
+) -> Option<Hit> {
     let s = &scene.settings;
     match scene.objects[id as usize].shape {
         Shape::Sphere { center, radius } => {
             let test = sphere::intersect(ray, center, radius, s.sphere_method);
-            obs.prim_test(|| Step::Sphere { object: id, name: scene.object_name(id), test });
-            test.t.map(|t| Hit { object: id, t, u: 0.0, v: 0.0 })
+            obs.prim_test(|| Step::Sphere {
+                object: id,
+                name: scene.object_name(id),
+                test,
+            });
+            test.t.map(|t| Hit {
+                object: id,
+                t,
+                u: 0.0,
+                v: 0.0,
+            })
         }
         Shape::Plane { normal, offset } => {
             let test = plane::general(ray, normal, offset);
-            obs.prim_test(|| Step::Plane { object: id, name: scene.object_name(id), test });
-            test.t.map(|t| Hit { object: id, t, u: 0.0, v: 0.0 })
+            obs.prim_test(|| Step::Plane {
+                object: id,
+                name: scene.object_name(id),
+                test,
+            });
+            test.t.map(|t| Hit {
+                object: id,
+                t,
+                u: 0.0,
+                v: 0.0,
+            })
         }
         Shape::AxisPlane { axis, offset } => {
             let test = plane::axis(ray, axis, offset);
-            obs.prim_test(|| Step::Plane { object: id, name: scene.object_name(id), test });
-            test.t.map(|t| Hit { object: id, t, u: 0.0, v: 0.0 })
+            obs.prim_test(|| Step::Plane {
+                object: id,
+                name: scene.object_name(id),
+                test,
+            });
+            test.t.map(|t| Hit {
+                object: id,
+                t,
+                u: 0.0,
+                v: 0.0,
+            })
         }
         Shape::Triangle { p } => {
             let test = triangle::intersect(ray, p, s.triangle_method);
@@ -71,7 +103,12 @@ pub fn test_object<O: Observer>(scene: &Scene, id: u32, ray: &Ray<f32>, obs: &mu
                 vertices: p.map(|v| v.to_array()),
                 test,
             });
-            test.t.map(|t| Hit { object: id, t, u: test.u.unwrap_or(0.0), v: test.v.unwrap_or(0.0) })
+            test.t.map(|t| Hit {
+                object: id,
+                t,
+                u: test.u.unwrap_or(0.0),
+                v: test.v.unwrap_or(0.0),
+            })
         }
     }
 }
@@ -79,7 +116,12 @@ pub fn test_object<O: Observer>(scene: &Scene, id: u32, ray: &Ray<f32>, obs: &mu
 /// Records that `hit` became the closest so far.
 #[inline(always)]
 pub fn accept<O: Observer>(scene: &Scene, hit: &Hit, previous: f32, obs: &mut O) {
-    obs.step(|| Step::Accept { object: hit.object, name: scene.object_name(hit.object), t: hit.t, previous });
+    obs.step(|| Step::Accept {
+        object: hit.object,
+        name: scene.object_name(hit.object),
+        t: hit.t,
+        previous,
+    });
 }
 
 /// Below this many finite primitives the naive loop beats the BVH (a per-ray traversal set-up
@@ -102,7 +144,11 @@ impl SceneAccel {
         match scene.settings.accel {
             AccelChoice::Auto => {
                 let finite = scene.features.primitives - scene.features.planes;
-                if finite >= AUTO_BVH_THRESHOLD { AccelChoice::Bvh } else { AccelChoice::None }
+                if finite >= AUTO_BVH_THRESHOLD {
+                    AccelChoice::Bvh
+                } else {
+                    AccelChoice::None
+                }
             }
             other => other,
         }

@@ -39,7 +39,10 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     if paths.is_empty()
         && let Ok(rd) = std::fs::read_dir("scenes")
     {
-        paths = rd.filter_map(|e| e.ok().map(|e| e.path())).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+        paths = rd
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+            .collect();
         paths.sort();
     }
     let mut scenes = vec![];
@@ -50,7 +53,11 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         scenes.push(crate::scene::default_scene());
     }
     let reps = args.reps as usize;
-    println!("raystep {} bench, {} logical CPUs\n", env!("CARGO_PKG_VERSION"), std::thread::available_parallelism().map_or(1, |n| n.get()));
+    println!(
+        "raystep {} bench, {} logical CPUs\n",
+        env!("CARGO_PKG_VERSION"),
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
     if matches!(args.section, Section::Tracer | Section::All) {
         crate::bench::tracer(&scenes, reps);
         println!();

@@ -60,28 +60,52 @@ pub enum ThemeArg {
 }
 
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
-    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| format!("expected WxH, got \"{s}\""))?;
-    let w: u32 = w.trim().parse().map_err(|_| format!("\"{w}\" is not a width"))?;
-    let h: u32 = h.trim().parse().map_err(|_| format!("\"{h}\" is not a height"))?;
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, got \"{s}\""))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{w}\" is not a width"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{h}\" is not a height"))?;
     if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
-        return Err(format!("{w}x{h}: each side must be between 64 and 8192 pixels"));
+        return Err(format!(
+            "{w}x{h}: each side must be between 64 and 8192 pixels"
+        ));
     }
     Ok([w, h])
 }
 
 /// Loads or makes the trace the command draws.
-pub fn input_trace(input: &Path, pixel: Option<[u32; 2]>, sample: u32, settings: &SettingsArgs) -> Result<Trace, String> {
-    if input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json")) {
+pub fn input_trace(
+    input: &Path,
+    pixel: Option<[u32; 2]>,
+    sample: u32,
+    settings: &SettingsArgs,
+) -> Result<Trace, String> {
+    if input
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+    {
         return Trace::load(input).map_err(|e| e.to_string());
     }
     let scene = super::load_scene(Some(&input.to_path_buf()), settings)?;
     let [x, y] = pixel.ok_or("--pixel X,Y is needed to trace a scene")?;
     let c = &scene.camera;
     if x >= c.width || y >= c.height {
-        return Err(format!("--pixel {x},{y} is outside the {}×{} image", c.width, c.height));
+        return Err(format!(
+            "--pixel {x},{y} is outside the {}×{} image",
+            c.width, c.height
+        ));
     }
     if sample >= scene.settings.spp {
-        return Err(format!("--sample {sample} does not exist: the scene takes {} samples per pixel", scene.settings.spp));
+        return Err(format!(
+            "--sample {sample} does not exist: the scene takes {} samples per pixel",
+            scene.settings.spp
+        ));
     }
     let (accel, _) = SceneAccel::build(&scene);
     Ok(Tracer::new(&scene, &accel).record(x, y, sample))
@@ -94,12 +118,19 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
     if let Some(k) = args.step
         && k >= steps
     {
-        return Err(format!("--step {k} does not exist: this trace has {steps} steps (0 … {})", steps - 1));
+        return Err(format!(
+            "--step {k} does not exist: this trace has {steps} steps (0 … {})",
+            steps - 1
+        ));
     }
     let base = ViewOptions {
         width: args.size[0],
         height: args.size[1],
-        theme: if args.theme == ThemeArg::Dark { Theme::DARK } else { Theme::LIGHT },
+        theme: if args.theme == ThemeArg::Dark {
+            Theme::DARK
+        } else {
+            Theme::LIGHT
+        },
         focus: args.step,
         slice_angle: args.angle,
         top_down: args.top_down,
@@ -117,11 +148,23 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
     }
     if args.animate || args.frames.is_some() {
         let frames: Vec<diagram::Canvas> = (0..steps)
-            .map(|k| diagram::draw(&trace, kind_for(Some(k)), &ViewOptions { focus: Some(k), ..base.clone() }))
+            .map(|k| {
+                diagram::draw(
+                    &trace,
+                    kind_for(Some(k)),
+                    &ViewOptions {
+                        focus: Some(k),
+                        ..base.clone()
+                    },
+                )
+            })
             .collect::<Result<_, _>>()?;
         if let Some(dir) = &args.frames {
             if !dir.is_dir() {
-                return Err(format!("--frames {}: not an existing directory", dir.display()));
+                return Err(format!(
+                    "--frames {}: not an existing directory",
+                    dir.display()
+                ));
             }
             for (k, f) in frames.iter().enumerate() {
                 crate::io::write_atomic(&dir.join(format!("step-{k:04}.png")), &f.png())?;
@@ -130,8 +173,14 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         }
         if args.animate {
             let out = args.output.as_ref().ok_or("--animate needs -o OUT.gif")?;
-            if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("gif")) {
-                return Err(format!("{}: an animation is written as a .gif file", out.display()));
+            if !out
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
+            {
+                return Err(format!(
+                    "{}: an animation is written as a .gif file",
+                    out.display()
+                ));
             }
             crate::io::write_atomic(out, &gif(&frames)?)?;
             super::emit(&format!("wrote {} ({steps} frames)\n", out.display()))?;
@@ -139,8 +188,14 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         return Ok(());
     }
     let out = args.output.as_ref().ok_or("-o OUT.png is needed")?;
-    if !out.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
-        return Err(format!("{}: a diagram is written as a .png file (use --animate for .gif)", out.display()));
+    if !out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        return Err(format!(
+            "{}: a diagram is written as a .png file (use --animate for .gif)",
+            out.display()
+        ));
     }
     let canvas = diagram::draw(&trace, kind_for(args.step), &base)?;
     crate::io::write_atomic(out, &canvas.png())?;
@@ -153,11 +208,18 @@ pub fn gif(frames: &[diagram::Canvas]) -> Result<Vec<u8>, String> {
     let mut bytes = vec![];
     {
         let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
-        enc.set_repeat(Repeat::Infinite).map_err(|e| format!("cannot encode GIF: {e}"))?;
+        enc.set_repeat(Repeat::Infinite)
+            .map_err(|e| format!("cannot encode GIF: {e}"))?;
         for (k, f) in frames.iter().enumerate() {
             let delay = if k + 1 == frames.len() { 3000 } else { 800 };
-            let frame = image::Frame::from_parts(f.to_rgba_image(), 0, 0, image::Delay::from_numer_denom_ms(delay, 1));
-            enc.encode_frame(frame).map_err(|e| format!("cannot encode GIF: {e}"))?;
+            let frame = image::Frame::from_parts(
+                f.to_rgba_image(),
+                0,
+                0,
+                image::Delay::from_numer_denom_ms(delay, 1),
+            );
+            enc.encode_frame(frame)
+                .map_err(|e| format!("cannot encode GIF: {e}"))?;
         }
     }
     Ok(bytes)

@@ -4,7 +4,8 @@
 use super::parse_vec3;
 use crate::math::{Ray, Real, Vector, vec_from_f64};
 use crate::shapes::{
-    BoxMethod, PlaneForm, RootChoice, SphereCase, SphereMethod, TriangleMethod, aabb, plane, sphere, triangle,
+    BoxMethod, PlaneForm, RootChoice, SphereCase, SphereMethod, TriangleMethod, aabb, plane,
+    sphere, triangle,
 };
 use clap::{Args, Subcommand, ValueEnum};
 use serde_json::{Map, Value, json};
@@ -124,7 +125,10 @@ pub enum Axis {
 /// Runs `raystep intersect`.
 pub fn run(shape: &Shape) -> Result<(), String> {
     let ray = match shape {
-        Shape::Sphere { ray, .. } | Shape::Plane { ray, .. } | Shape::Triangle { ray, .. } | Shape::Box { ray, .. } => ray,
+        Shape::Sphere { ray, .. }
+        | Shape::Plane { ray, .. }
+        | Shape::Triangle { ray, .. }
+        | Shape::Box { ray, .. } => ray,
     };
     let (text, value) = match ray.precision {
         Precision::F32 => compute::<f32>(shape, ray)?,
@@ -146,15 +150,31 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
     if tmin < T::zero() {
         return Err(format!("--tmin must not be negative, got {}", args.tmin));
     }
-    let ray = Ray::<T>::new(vector::<T>("--origin", args.origin)?, vector::<T>("--dir", args.dir)?, tmin, T::infinity())
-        .map_err(|e| format!("--origin/--dir: {e}"))?;
+    let ray = Ray::<T>::new(
+        vector::<T>("--origin", args.origin)?,
+        vector::<T>("--dir", args.dir)?,
+        tmin,
+        T::infinity(),
+    )
+    .map_err(|e| format!("--origin/--dir: {e}"))?;
     let mut s = String::new();
     let head = |s: &mut String, what: &str| {
         let _ = writeln!(s, "{what} ({})", T::NAME);
-        let _ = writeln!(s, "  ray        S = {}, Q = {}, t in ({}, ∞)", v::<T>(ray.origin), v::<T>(ray.dir), ray.t_min);
+        let _ = writeln!(
+            s,
+            "  ray        S = {}, Q = {}, t in ({}, ∞)",
+            v::<T>(ray.origin),
+            v::<T>(ray.dir),
+            ray.t_min
+        );
     };
     let value = match shape {
-        Shape::Sphere { center, radius, method, .. } => {
+        Shape::Sphere {
+            center,
+            radius,
+            method,
+            ..
+        } => {
             let r = scalar::<T>("--radius", *radius)?;
             if r <= T::zero() {
                 return Err(format!("--radius must be positive, got {radius}"));
@@ -174,7 +194,10 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             let _ = writeln!(s, "  c = f·f − r²           = {}", t.c);
             if let (Some(dp), SphereMethod::Stable) = (t.delta_prime, method) {
                 let _ = writeln!(s, "  b′ = −f·Q              = {}", -t.b / T::lit(2.0));
-                let _ = writeln!(s, "  Δ′ = r² − ‖f + (b′/a)Q‖² = {dp}   (distance² margin of the ray's line)");
+                let _ = writeln!(
+                    s,
+                    "  Δ′ = r² − ‖f + (b′/a)Q‖² = {dp}   (distance² margin of the ray's line)"
+                );
                 let _ = writeln!(s, "  Δ = b² − 4ac = 4aΔ′    = {}", t.discriminant);
             } else {
                 let _ = writeln!(s, "  Δ = b² − 4ac           = {}", t.discriminant);
@@ -185,7 +208,8 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 match t.case {
                     SphereCase::Miss => "Δ < 0 — no real roots: the ray's line misses the sphere",
                     SphereCase::Tangent => "Δ = 0 — one double root: the line touches the sphere",
-                    SphereCase::EnterExit => "Δ > 0 — two roots: the line enters and leaves the sphere",
+                    SphereCase::EnterExit =>
+                        "Δ > 0 — two roots: the line enters and leaves the sphere",
                 }
             );
             if let Some([t0, t1]) = t.roots {
@@ -201,16 +225,23 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 "  choice: {}",
                 match t.choice {
                     RootChoice::NoRoots => "none",
-                    RootChoice::NearRoot => "the smaller root lies in (t_min, ∞): the near side of the sphere",
-                    RootChoice::FarRoot => "the smaller root is behind the origin (the origin is inside): the larger root",
-                    RootChoice::Behind => "both roots are behind the origin: the sphere is behind the ray",
+                    RootChoice::NearRoot =>
+                        "the smaller root lies in (t_min, ∞): the near side of the sphere",
+                    RootChoice::FarRoot =>
+                        "the smaller root is behind the origin (the origin is inside): the larger root",
+                    RootChoice::Behind =>
+                        "both roots are behind the origin: the sphere is behind the ray",
                     RootChoice::BeyondTMax => "the usable root is beyond t_max",
                 }
             );
             if let Some(th) = t.t {
                 let x = ray.at(th);
                 let _ = writeln!(s, "  hit        t = {th}, X = S + tQ = {}", v::<T>(x));
-                let _ = writeln!(s, "  normal     (X − G)/r = {}", v::<T>(sphere::normal::<T>(x, g, r)));
+                let _ = writeln!(
+                    s,
+                    "  normal     (X − G)/r = {}",
+                    v::<T>(sphere::normal::<T>(x, g, r))
+                );
             } else {
                 let _ = writeln!(s, "  no hit");
             }
@@ -219,7 +250,10 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             m.insert("b".into(), json!(t.b));
             m.insert("c".into(), json!(t.c));
             m.insert("discriminant".into(), json!(t.discriminant));
-            m.insert("roots".into(), json!(t.roots.map_or(vec![], |r| r.to_vec())));
+            m.insert(
+                "roots".into(),
+                json!(t.roots.map_or(vec![], |r| r.to_vec())),
+            );
             m.insert("case".into(), json!(t.case));
             m.insert("choice".into(), json!(t.choice));
             if let Some(dp) = t.delta_prime {
@@ -227,7 +261,13 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             }
             finish(m, t.t)
         }
-        Shape::Plane { point, normal, axis, offset, .. } => {
+        Shape::Plane {
+            point,
+            normal,
+            axis,
+            offset,
+            ..
+        } => {
             let t = if let Some(ax) = axis {
                 let axis = *ax as usize;
                 let c = scalar::<T>("--offset", offset.unwrap_or(0.0))?;
@@ -240,7 +280,8 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 t
             } else {
                 let n = normal.expect("clap requires --normal with --point");
-                let unit = crate::math::unit_f64(n).ok_or("--normal must not be the zero vector")?;
+                let unit =
+                    crate::math::unit_f64(n).ok_or("--normal must not be the zero vector")?;
                 let nn = vec_from_f64::<T>(unit);
                 let p = vector::<T>("--point", point.expect("clap requires --point"))?;
                 let c = p.dot(nn);
@@ -252,7 +293,10 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 t
             };
             if t.parallel {
-                let _ = writeln!(s, "  the denominator is zero: the ray is parallel to the plane — no hit");
+                let _ = writeln!(
+                    s,
+                    "  the denominator is zero: the ray is parallel to the plane — no hit"
+                );
             } else {
                 let raw = t.t_raw.expect("not parallel");
                 let _ = writeln!(s, "  t = numerator / denominator = {raw}");
@@ -278,53 +322,143 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             m.insert("parallel".into(), json!(t.parallel));
             finish(m, t.t)
         }
-        Shape::Triangle { p0, p1, p2, method, .. } => {
-            let p = [vector::<T>("--p0", *p0)?, vector::<T>("--p1", *p1)?, vector::<T>("--p2", *p2)?];
+        Shape::Triangle {
+            p0, p1, p2, method, ..
+        } => {
+            let p = [
+                vector::<T>("--p0", *p0)?,
+                vector::<T>("--p1", *p1)?,
+                vector::<T>("--p2", *p2)?,
+            ];
             let t = triangle::intersect(&ray, p, *method);
             match method {
                 TriangleMethod::MollerTrumbore => {
-                    head(&mut s, "Ray–triangle intersection (Möller–Trumbore, Cramer's rule)");
-                    let _ = writeln!(s, "  triangle   P0 = {}, P1 = {}, P2 = {}", v::<T>(p[0]), v::<T>(p[1]), v::<T>(p[2]));
-                    let _ = writeln!(s, "  solve S + tQ = P0 + u(P1 − P0) + v(P2 − P0), i.e. [−Q, E1, E2]·(t, u, v) = T");
+                    head(
+                        &mut s,
+                        "Ray–triangle intersection (Möller–Trumbore, Cramer's rule)",
+                    );
+                    let _ = writeln!(
+                        s,
+                        "  triangle   P0 = {}, P1 = {}, P2 = {}",
+                        v::<T>(p[0]),
+                        v::<T>(p[1]),
+                        v::<T>(p[2])
+                    );
+                    let _ = writeln!(
+                        s,
+                        "  solve S + tQ = P0 + u(P1 − P0) + v(P2 − P0), i.e. [−Q, E1, E2]·(t, u, v) = T"
+                    );
                     let e1 = p[1] - p[0];
                     let e2 = p[2] - p[0];
-                    let _ = writeln!(s, "   1. E1 = P1 − P0 = {}, E2 = P2 − P0 = {}", v::<T>(e1), v::<T>(e2));
-                    let _ = writeln!(s, "   2. D0 = det(−Q, E1, E2) = {}{}", t.det, stop(&t, 2, "zero: parallel to the plane"));
+                    let _ = writeln!(
+                        s,
+                        "   1. E1 = P1 − P0 = {}, E2 = P2 − P0 = {}",
+                        v::<T>(e1),
+                        v::<T>(e2)
+                    );
+                    let _ = writeln!(
+                        s,
+                        "   2. D0 = det(−Q, E1, E2) = {}{}",
+                        t.det,
+                        stop(&t, 2, "zero: parallel to the plane")
+                    );
                     if let Some(dt) = t.dt {
                         let _ = writeln!(s, "   3. T = S − P0 = {}", v::<T>(ray.origin - p[0]));
                         let _ = writeln!(s, "   4. Dt = det(T, E1, E2) = {dt}");
-                        let _ = writeln!(s, "   5. t* = Dt/D0 = {}{}", t.t_star.expect("t*"), stop(&t, 5, "not in (t_min, t_max): behind the origin"));
+                        let _ = writeln!(
+                            s,
+                            "   5. t* = Dt/D0 = {}{}",
+                            t.t_star.expect("t*"),
+                            stop(&t, 5, "not in (t_min, t_max): behind the origin")
+                        );
                     }
                     if let Some(du) = t.du {
                         let _ = writeln!(s, "   6. Du = det(−Q, T, E2) = {du}");
                         let _ = writeln!(s, "   7. u* = Du/D0 = {}", t.u.expect("u"));
-                        let _ = writeln!(s, "   8. 0 ≤ u* ≤ 1?{}", if t.stopped_at == 8 { " no — stop: outside the triangle" } else { " yes" });
+                        let _ = writeln!(
+                            s,
+                            "   8. 0 ≤ u* ≤ 1?{}",
+                            if t.stopped_at == 8 {
+                                " no — stop: outside the triangle"
+                            } else {
+                                " yes"
+                            }
+                        );
                     }
                     if let Some(dv) = t.dv {
                         let _ = writeln!(s, "   9. Dv = det(−Q, E1, T) = {dv}");
                         let _ = writeln!(s, "  10. v* = Dv/D0 = {}", t.v.expect("v"));
-                        let _ = writeln!(s, "  11. v* ≥ 0 and u* + v* ≤ 1?{}", if t.stopped_at == 11 { " no — stop: outside the triangle" } else { " yes" });
+                        let _ = writeln!(
+                            s,
+                            "  11. v* ≥ 0 and u* + v* ≤ 1?{}",
+                            if t.stopped_at == 11 {
+                                " no — stop: outside the triangle"
+                            } else {
+                                " yes"
+                            }
+                        );
                     }
                     if t.stopped_at == 12 {
-                        let _ = writeln!(s, "  12. hit at t = {}, barycentrics (1 − u − v, u, v)", t.t.expect("t"));
+                        let _ = writeln!(
+                            s,
+                            "  12. hit at t = {}, barycentrics (1 − u − v, u, v)",
+                            t.t.expect("t")
+                        );
                     }
                 }
                 TriangleMethod::Watertight => {
-                    head(&mut s, "Ray–triangle intersection (watertight, Woop–Benthin–Wald 2013)");
-                    let _ = writeln!(s, "  triangle   P0 = {}, P1 = {}, P2 = {}", v::<T>(p[0]), v::<T>(p[1]), v::<T>(p[2]));
+                    head(
+                        &mut s,
+                        "Ray–triangle intersection (watertight, Woop–Benthin–Wald 2013)",
+                    );
+                    let _ = writeln!(
+                        s,
+                        "  triangle   P0 = {}, P1 = {}, P2 = {}",
+                        v::<T>(p[0]),
+                        v::<T>(p[1]),
+                        v::<T>(p[2])
+                    );
                     if let Some([kx, ky, kz]) = t.permutation {
-                        let _ = writeln!(s, "  translate the vertices by −S; permute axes ({kx}, {ky}, {kz}) so z is Q's largest component; shear so Q = (0, 0, 1)");
+                        let _ = writeln!(
+                            s,
+                            "  translate the vertices by −S; permute axes ({kx}, {ky}, {kz}) so z is Q's largest component; shear so Q = (0, 0, 1)"
+                        );
                     }
                     if let Some([e0, e1, e2]) = t.edges {
                         let _ = writeln!(s, "  2D edge functions e0, e1, e2 = {e0}, {e1}, {e2}");
                     }
                     if t.stopped_at == 8 {
-                        let _ = writeln!(s, "  the edge functions differ in sign: the ray passes outside — no hit");
+                        let _ = writeln!(
+                            s,
+                            "  the edge functions differ in sign: the ray passes outside — no hit"
+                        );
                     } else {
-                        let _ = writeln!(s, "  det = e0 + e1 + e2 = {}{}", t.det, stop(&t, 2, "zero: the ray is parallel (or the triangle degenerate)"));
+                        let _ = writeln!(
+                            s,
+                            "  det = e0 + e1 + e2 = {}{}",
+                            t.det,
+                            stop(
+                                &t,
+                                2,
+                                "zero: the ray is parallel (or the triangle degenerate)"
+                            )
+                        );
                         if let Some(ts) = t.t_star {
-                            let _ = writeln!(s, "  t = Σ eᵢ zᵢ / det = {ts}{}", stop(&t, 5, "not in (t_min, t_max) (or within its own error bound)"));
-                            let _ = writeln!(s, "  u = e1/det = {}, v = e2/det = {}", t.u.expect("u"), t.v.expect("v"));
+                            let _ = writeln!(
+                                s,
+                                "  t = Σ eᵢ zᵢ / det = {ts}{}",
+                                stop(
+                                    &t,
+                                    5,
+                                    "not in (t_min, t_max) (or within its own error bound)"
+                                )
+                            );
+                            let _ = writeln!(
+                                s,
+                                "  u = e1/det = {}, v = e2/det = {}",
+                                t.u.expect("u"),
+                                t.v.expect("v")
+                            );
                         }
                     }
                     if t.stopped_at == 12 {
@@ -333,7 +467,12 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 }
             }
             if t.t.is_none() {
-                let _ = writeln!(s, "  no hit (stopped at step {}: {})", t.stopped_at, t.stop_reason());
+                let _ = writeln!(
+                    s,
+                    "  no hit (stopped at step {}: {})",
+                    t.stopped_at,
+                    t.stop_reason()
+                );
             }
             let mut m = Map::new();
             m.insert("det".into(), json!(t.det));
@@ -347,11 +486,15 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             }
             finish(m, t.t)
         }
-        Shape::Box { min, max, method, .. } => {
+        Shape::Box {
+            min, max, method, ..
+        } => {
             let lo = vector::<T>("--min", *min)?;
             let hi = vector::<T>("--max", *max)?;
             if (0..3).any(|i| lo.at(i) > hi.at(i)) {
-                return Err(format!("--min {min:?} must not exceed --max {max:?} on any axis"));
+                return Err(format!(
+                    "--min {min:?} must not exceed --max {max:?} on any axis"
+                ));
             }
             let t = aabb::intersect(&ray, lo, hi, *method);
             head(
@@ -376,14 +519,25 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             let _ = writeln!(
                 s,
                 "  t_far  = min(t_max, exits){} = {}",
-                if *method == BoxMethod::Robust { " × (1 + 2γ₃)" } else { "" },
+                if *method == BoxMethod::Robust {
+                    " × (1 + 2γ₃)"
+                } else {
+                    ""
+                },
                 inf(t.t_far)
             );
             let _ = writeln!(
                 s,
                 "  {}",
                 if t.hit {
-                    format!("t_near {} t_far: the ray passes through the box", if *method == BoxMethod::Robust { "≤" } else { "<" })
+                    format!(
+                        "t_near {} t_far: the ray passes through the box",
+                        if *method == BoxMethod::Robust {
+                            "≤"
+                        } else {
+                            "<"
+                        }
+                    )
                 } else {
                     "t_near > t_far: the slabs do not overlap — the ray misses the box".into()
                 }
@@ -393,7 +547,11 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
             m.insert("t_far".into(), jv(t.t_far));
             m.insert("hit".into(), json!(t.hit));
             // The first surface met after t_min: the entry, or the exit when the origin is inside.
-            let first = if t.t_near > ray.t_min { t.t_near } else { t.t_far };
+            let first = if t.t_near > ray.t_min {
+                t.t_near
+            } else {
+                t.t_far
+            };
             m.insert("t".into(), if t.hit { jv(first) } else { Value::Null });
             return Ok((s, Value::Object(m)));
         }
@@ -408,7 +566,11 @@ fn scalar<T: Real>(flag: &str, x: f64) -> Result<T, String> {
         return Err(format!("{flag} must be a finite number, got {x}"));
     }
     if !v.is_finite() {
-        return Err(format!("{flag} {x:e} is too large for {} (at most {:e})", T::NAME, T::max_value().to_f64()));
+        return Err(format!(
+            "{flag} {x:e} is too large for {} (at most {:e})",
+            T::NAME,
+            T::max_value().to_f64()
+        ));
     }
     Ok(v)
 }
@@ -424,14 +586,22 @@ fn vector<T: Real>(flag: &str, a: [f64; 3]) -> Result<T::V, String> {
 /// A number, with infinities written as ∞.
 fn inf<T: Real>(x: T) -> String {
     if x.is_infinite() {
-        if x > T::zero() { "∞".into() } else { "-∞".into() }
+        if x > T::zero() {
+            "∞".into()
+        } else {
+            "-∞".into()
+        }
     } else {
         format!("{x}")
     }
 }
 
 fn stop<T: Real>(t: &triangle::TriangleTest<T>, step: u8, why: &str) -> String {
-    if t.stopped_at == step { format!(" — {why}: stop") } else { String::new() }
+    if t.stopped_at == step {
+        format!(" — {why}: stop")
+    } else {
+        String::new()
+    }
 }
 
 /// A number as JSON; infinities and NaN as the strings "inf", "-inf", "nan" (as in traces).

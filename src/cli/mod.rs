@@ -120,8 +120,12 @@ pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
     if parts.len() != 2 {
         return Err(format!("expected a pixel X,Y, got \"{s}\""));
     }
-    let x = parts[0].parse().map_err(|_| format!("\"{}\" is not a pixel coordinate", parts[0]))?;
-    let y = parts[1].parse().map_err(|_| format!("\"{}\" is not a pixel coordinate", parts[1]))?;
+    let x = parts[0]
+        .parse()
+        .map_err(|_| format!("\"{}\" is not a pixel coordinate", parts[0]))?;
+    let y = parts[1]
+        .parse()
+        .map_err(|_| format!("\"{}\" is not a pixel coordinate", parts[1]))?;
     Ok([x, y])
 }
 

@@ -33,12 +33,24 @@ pub struct RenderArgs {
 pub fn run(args: &RenderArgs) -> Result<(), String> {
     // Check the output paths before spending time on the render.
     for p in std::iter::once(&args.output).chain(args.heatmap.as_ref()) {
-        if p.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() != Some("png") {
+        if p.extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+            != Some("png")
+        {
             return Err(format!("{}: the output must be a .png file", p.display()));
         }
-        let dir = p.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
         if !dir.is_dir() {
-            return Err(format!("{}: the directory {} does not exist", p.display(), dir.display()));
+            return Err(format!(
+                "{}: the directory {} does not exist",
+                p.display(),
+                dir.display()
+            ));
         }
     }
     let t0 = Instant::now();
@@ -46,7 +58,11 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let load = t0.elapsed();
     let (accel, build) = SceneAccel::build(&scene);
     let tracer = Tracer::new(&scene, &accel);
-    let opts = RenderOptions { threads: args.threads.map(|t| t as usize), progress: true, count: true };
+    let opts = RenderOptions {
+        threads: args.threads.map(|t| t as usize),
+        progress: true,
+        count: true,
+    };
     let out = render(&tracer, &opts)?;
     let img = image::to_rgb8(out.width, out.height, &out.pixels, args.linear);
     image::write_png(&args.output, &img)?;

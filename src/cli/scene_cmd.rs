@@ -40,14 +40,27 @@ pub fn run(cmd: &SceneCmd) -> Result<(), String> {
     }
 }
 
-fn spd(name: crate::scene::spd::SpdScene, size: u32, output: &std::path::Path) -> Result<(), String> {
-    if !output.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
-        return Err(format!("{}: the scene must be written to a .toml file", output.display()));
+fn spd(
+    name: crate::scene::spd::SpdScene,
+    size: u32,
+    output: &std::path::Path,
+) -> Result<(), String> {
+    if !output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+    {
+        return Err(format!(
+            "{}: the scene must be written to a .toml file",
+            output.display()
+        ));
     }
     let start = std::time::Instant::now();
     let out = crate::scene::spd::generate(name, size)?;
     if let Some((file, text)) = &out.obj {
-        let dir = output.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(std::path::Path::new("."));
+        let dir = output
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
         crate::io::write_atomic(&dir.join(file), text.as_bytes())?;
     }
     crate::io::write_atomic(output, out.toml.as_bytes())?;
@@ -55,7 +68,9 @@ fn spd(name: crate::scene::spd::SpdScene, size: u32, output: &std::path::Path) -
         "wrote {} ({} primitives{}) in {:.2} s\n",
         output.display(),
         out.primitives,
-        out.obj.as_ref().map_or(String::new(), |(f, _)| format!(", mesh {f}")),
+        out.obj
+            .as_ref()
+            .map_or(String::new(), |(f, _)| format!(", mesh {f}")),
         start.elapsed().as_secs_f64()
     ))
 }
@@ -70,7 +85,8 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     let c = &scene.camera;
     let s = &scene.settings;
     let _ = writeln!(o, "{}: ok — \"{}\"", path.display(), scene.name);
-    let _ = writeln!(o, 
+    let _ = writeln!(
+        o,
         "  camera     {}×{}, vertical fov {}°, from {:?} looking at {:?}",
         c.width,
         c.height,
@@ -79,13 +95,21 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
         c.at.to_array()
     );
     let mut kinds = vec![];
-    for (n, what) in [(f.spheres, "sphere"), (f.planes, "plane"), (f.triangles, "triangle")] {
+    for (n, what) in [
+        (f.spheres, "sphere"),
+        (f.planes, "plane"),
+        (f.triangles, "triangle"),
+    ] {
         if n > 0 {
             kinds.push(format!("{n} {what}{}", if n == 1 { "" } else { "s" }));
         }
     }
     if f.meshes > 0 {
-        kinds.push(format!("from {} mesh{}", f.meshes, if f.meshes == 1 { "" } else { "es" }));
+        kinds.push(format!(
+            "from {} mesh{}",
+            f.meshes,
+            if f.meshes == 1 { "" } else { "es" }
+        ));
     }
     let _ = writeln!(o, "  primitives {} ({})", f.primitives, kinds.join(", "));
     let degenerate = scene
@@ -94,16 +118,22 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
         .filter(|ob| matches!(ob.shape, crate::scene::Shape::Triangle { p } if (p[1] - p[0]).cross(p[2] - p[0]) == glam::Vec3::ZERO))
         .count();
     if degenerate > 0 {
-        let _ = writeln!(o, "  warning    {degenerate} degenerate triangle{} (zero area) can never be hit", if degenerate == 1 { "" } else { "s" });
+        let _ = writeln!(
+            o,
+            "  warning    {degenerate} degenerate triangle{} (zero area) can never be hit",
+            if degenerate == 1 { "" } else { "s" }
+        );
     }
     let _ = writeln!(o, "  lights     {}", f.lights);
-    let _ = writeln!(o, 
+    let _ = writeln!(
+        o,
         "  materials  {} (reflective: {}, transparent: {})",
         scene.materials.len(),
         if f.reflective { "yes" } else { "no" },
         if f.transparent { "yes" } else { "no" }
     );
-    let _ = writeln!(o, 
+    let _ = writeln!(
+        o,
         "  settings   sphere {}, triangle {}, offset {}, accel {}, max depth {}, {} sample{} per pixel",
         value_name(&s.sphere_method),
         value_name(&s.triangle_method),
@@ -140,5 +170,6 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
 
 /// The command-line spelling of a setting's value.
 pub fn value_name<T: clap::ValueEnum>(v: &T) -> String {
-    v.to_possible_value().map_or_else(String::new, |p| p.get_name().to_string())
+    v.to_possible_value()
+        .map_or_else(String::new, |p| p.get_name().to_string())
 }

@@ -34,17 +34,24 @@ pub struct TreeLayout {
 
 /// The ray whose traversal the diagram shows: the one owning the focused step, else the first
 /// ray with node visits.
-fn shown_ray<'t>(trace: &'t Trace, focus: Option<usize>) -> Option<(&'t RayRecord, Option<usize>)> {
+fn shown_ray(trace: &Trace, focus: Option<usize>) -> Option<(&RayRecord, Option<usize>)> {
     let tl = trace.timeline();
     if let Some(k) = focus
         && let Some((r, _)) = tl.get(k)
         && r.steps.iter().any(|s| matches!(s.step, Step::Node(_)))
     {
         // Visits of this ray up to and including the focused step.
-        let upto = tl[..=k].iter().filter(|(rr, _)| std::ptr::eq(*rr, *r)).count();
+        let upto = tl[..=k]
+            .iter()
+            .filter(|(rr, _)| std::ptr::eq(*rr, *r))
+            .count();
         return Some((r, Some(upto)));
     }
-    trace.rays().into_iter().find(|r| r.steps.iter().any(|s| matches!(s.step, Step::Node(_)))).map(|r| (r, None))
+    trace
+        .rays()
+        .into_iter()
+        .find(|r| r.steps.iter().any(|s| matches!(s.step, Step::Node(_))))
+        .map(|r| (r, None))
 }
 
 /// Lays the tree out in a `width`×`height` area below `top`.
@@ -81,7 +88,11 @@ pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> TreeLayout {
     // Which nodes to draw: the outline down to a depth that fits, plus every visited node and its
     // sibling (so the choice at each level is visible).
     let fit_depth = ((opts.width as f32 / 26.0).log2().floor() as u32).clamp(1, 6);
-    let mut drawn: BTreeSet<u32> = depth.iter().filter(|(_, d)| **d <= fit_depth).map(|(n, _)| *n).collect();
+    let mut drawn: BTreeSet<u32> = depth
+        .iter()
+        .filter(|(_, d)| **d <= fit_depth)
+        .map(|(n, _)| *n)
+        .collect();
     drawn.extend(visits.keys().copied());
     drawn.insert(0);
     // Keep only nodes whose parent is drawn (the tree stays connected).
@@ -100,18 +111,39 @@ pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> TreeLayout {
         }
         cur == 0
     };
-    let drawn: BTreeSet<u32> = drawn.iter().copied().filter(|n| connected(*n, &drawn)).collect();
+    let drawn: BTreeSet<u32> = drawn
+        .iter()
+        .copied()
+        .filter(|n| connected(*n, &drawn))
+        .collect();
     // Leaf order by depth-first walk; inner nodes centred over their drawn children.
-    let max_depth = drawn.iter().filter_map(|n| depth.get(n)).max().copied().unwrap_or(0);
+    let max_depth = drawn
+        .iter()
+        .filter_map(|n| depth.get(n))
+        .max()
+        .copied()
+        .unwrap_or(0);
     let mut order = 0usize;
     let mut xs: BTreeMap<u32, f32> = BTreeMap::new();
-    fn place(n: u32, children: &BTreeMap<u32, [u32; 2]>, drawn: &BTreeSet<u32>, order: &mut usize, xs: &mut BTreeMap<u32, f32>) -> f32 {
-        let kids: Vec<u32> = children.get(&n).map(|c| c.iter().copied().filter(|k| drawn.contains(k)).collect()).unwrap_or_default();
+    fn place(
+        n: u32,
+        children: &BTreeMap<u32, [u32; 2]>,
+        drawn: &BTreeSet<u32>,
+        order: &mut usize,
+        xs: &mut BTreeMap<u32, f32>,
+    ) -> f32 {
+        let kids: Vec<u32> = children
+            .get(&n)
+            .map(|c| c.iter().copied().filter(|k| drawn.contains(k)).collect())
+            .unwrap_or_default();
         let x = if kids.is_empty() {
             *order += 1;
             *order as f32 - 1.0
         } else {
-            let v: Vec<f32> = kids.iter().map(|k| place(*k, children, drawn, order, xs)).collect();
+            let v: Vec<f32> = kids
+                .iter()
+                .map(|k| place(*k, children, drawn, order, xs))
+                .collect();
             v.iter().sum::<f32>() / v.len() as f32
         };
         xs.insert(n, x);
@@ -123,14 +155,23 @@ pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> TreeLayout {
     let usable_w = opts.width as f32 - 2.0 * margin;
     let bottom = opts.height as f32 * 0.86;
     let level_h = (bottom - top) / (max_depth.max(1) as f32);
-    let mut out = TreeLayout { ray: shown.map(|(r, _)| (r.kind, r.depth)), ..Default::default() };
+    let mut out = TreeLayout {
+        ray: shown.map(|(r, _)| (r.kind, r.depth)),
+        ..Default::default()
+    };
     for n in &drawn {
         let d = depth.get(n).copied().unwrap_or(0);
         let x = margin + (xs.get(n).copied().unwrap_or(0.0) + 0.5) / slots * usable_w;
         let y = top + d as f32 * level_h;
         out.nodes.insert(
             *n,
-            DrawnNode { node: *n, depth: d, pos: [x, y], visit: visits.get(n).copied(), leaf: leaf.get(n).copied().unwrap_or(false) },
+            DrawnNode {
+                node: *n,
+                depth: d,
+                pos: [x, y],
+                visit: visits.get(n).copied(),
+                leaf: leaf.get(n).copied().unwrap_or(false),
+            },
         );
         if let Some(p) = parent.get(n)
             && drawn.contains(p)
@@ -148,18 +189,37 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let ts = c.text_size;
     let shown = shown_ray(trace, opts.focus);
     let heading = match shown {
-        Some((r, _)) => format!("BVH visits in order, {} ray (depth {})", kind_name(r.kind), r.depth),
+        Some((r, _)) => format!(
+            "BVH visits in order, {} ray (depth {})",
+            kind_name(r.kind),
+            r.depth
+        ),
         None => "BVH".to_string(),
     };
     let top = title(&mut c, &heading) + ts * 1.2;
     let lay = layout(trace, opts, top);
-    let leaves = lay.nodes.values().filter(|n| !lay.edges.iter().any(|(p, _)| *p == n.node)).count().max(1);
-    let radius = (ts * 0.85).min(opts.width as f32 * 0.9 / (leaves as f32 * 2.6)).max(4.0);
-    let last_visit = lay.nodes.values().filter_map(|n| n.visit.map(|v| v.0)).max();
+    let leaves = lay
+        .nodes
+        .values()
+        .filter(|n| !lay.edges.iter().any(|(p, _)| *p == n.node))
+        .count()
+        .max(1);
+    let radius = (ts * 0.85)
+        .min(opts.width as f32 * 0.9 / (leaves as f32 * 2.6))
+        .max(4.0);
+    let last_visit = lay
+        .nodes
+        .values()
+        .filter_map(|n| n.visit.map(|v| v.0))
+        .max();
     for (p, ch) in &lay.edges {
         let (a, b) = (lay.nodes[p].pos, lay.nodes[ch].pos);
         let on_path = lay.nodes[ch].visit.is_some();
-        let (col, w) = if on_path { (th.ink, 2.0) } else { (th.faded, 1.0) };
+        let (col, w) = if on_path {
+            (th.ink, 2.0)
+        } else {
+            (th.faded, 1.0)
+        };
         c.line(a, b, col, w);
     }
     for n in lay.nodes.values() {
@@ -172,16 +232,46 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         };
         if n.leaf {
             let r = radius * 0.9;
-            let pts = [[n.pos[0] - r, n.pos[1] - r], [n.pos[0] + r, n.pos[1] - r], [n.pos[0] + r, n.pos[1] + r], [n.pos[0] - r, n.pos[1] + r]];
-            c.polygon(&pts, fill.or(Some(th.background)), Some(ring), if current { 3.5 } else { 1.5 });
+            let pts = [
+                [n.pos[0] - r, n.pos[1] - r],
+                [n.pos[0] + r, n.pos[1] - r],
+                [n.pos[0] + r, n.pos[1] + r],
+                [n.pos[0] - r, n.pos[1] + r],
+            ];
+            c.polygon(
+                &pts,
+                fill.or(Some(th.background)),
+                Some(ring),
+                if current { 3.5 } else { 1.5 },
+            );
         } else {
-            c.circle(n.pos, radius, fill.or(Some(th.background)), Some(ring), if current { 3.5 } else { 1.5 });
+            c.circle(
+                n.pos,
+                radius,
+                fill.or(Some(th.background)),
+                Some(ring),
+                if current { 3.5 } else { 1.5 },
+            );
         }
         if let Some((k, _)) = n.visit {
-            c.text(n.pos[0], n.pos[1], (radius * 1.05).max(9.0), &k.to_string(), th.background, Anchor::Center);
+            c.text(
+                n.pos[0],
+                n.pos[1],
+                (radius * 1.05).max(9.0),
+                &k.to_string(),
+                th.background,
+                Anchor::Center,
+            );
         }
         if lay.nodes.len() <= 40 {
-            c.text(n.pos[0] + radius * 1.25, n.pos[1] - radius * 0.9, ts * 0.6, &format!("#{}", n.node), th.muted, Anchor::TopLeft);
+            c.text(
+                n.pos[0] + radius * 1.25,
+                n.pos[1] - radius * 0.9,
+                ts * 0.6,
+                &format!("#{}", n.node),
+                th.muted,
+                Anchor::TopLeft,
+            );
         }
     }
     // Leaf notes: what the focused ray found there.
@@ -193,25 +283,51 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                 break;
             }
             match &s.step {
-                Step::Node(v) => current_leaf = (v.action == NodeAction::TestPrimitives).then_some(v.node),
+                Step::Node(v) => {
+                    current_leaf = (v.action == NodeAction::TestPrimitives).then_some(v.node)
+                }
                 Step::Sphere { test, .. } => bump(&mut leaf_tests, current_leaf, test.t.is_some()),
-                Step::Triangle { test, .. } => bump(&mut leaf_tests, current_leaf, test.t.is_some()),
+                Step::Triangle { test, .. } => {
+                    bump(&mut leaf_tests, current_leaf, test.t.is_some())
+                }
                 Step::Plane { test, .. } => bump(&mut leaf_tests, current_leaf, test.t.is_some()),
                 _ => {}
             }
         }
         for (node, (tests, hits)) in leaf_tests {
             if let Some(n) = lay.nodes.get(&node) {
-                let txt = format!("{tests} test{}, {hits} hit{}", if tests == 1 { "" } else { "s" }, if hits == 1 { "" } else { "s" });
-                c.label(n.pos[0], n.pos[1] + radius * 1.3, ts * 0.7, &txt, th.muted, Anchor::TopCenter);
+                let txt = format!(
+                    "{tests} test{}, {hits} hit{}",
+                    if tests == 1 { "" } else { "s" },
+                    if hits == 1 { "" } else { "s" }
+                );
+                c.label(
+                    n.pos[0],
+                    n.pos[1] + radius * 1.3,
+                    ts * 0.7,
+                    &txt,
+                    th.muted,
+                    Anchor::TopCenter,
+                );
             }
         }
     }
     // Legend.
     let y = opts.height as f32 - ts * 1.6;
     let mut x = ts;
-    for (col, name) in [(th.ray, "hit: descend / push"), (th.hit, "leaf: test primitives"), (th.faded, "culled"), (with_alpha(th.faded, 90), "not visited")] {
-        c.circle([x + ts * 0.4, y + ts * 0.5], ts * 0.4, Some(col), Some(th.muted), 1.0);
+    for (col, name) in [
+        (th.ray, "hit: descend / push"),
+        (th.hit, "leaf: test primitives"),
+        (th.faded, "culled"),
+        (with_alpha(th.faded, 90), "not visited"),
+    ] {
+        c.circle(
+            [x + ts * 0.4, y + ts * 0.5],
+            ts * 0.4,
+            Some(col),
+            Some(th.muted),
+            1.0,
+        );
         x += ts * 1.1;
         x += c.text(x, y, ts * 0.8, name, th.ink, Anchor::TopLeft) + ts * 1.2;
     }

@@ -2,7 +2,9 @@
 //! (ab_glyph with the Hack font shipped inside the `epaint_default_fonts` crate; no system fonts).
 
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
-use tiny_skia::{Color, FillRule, LineCap, Paint, PathBuilder, Pixmap, Rect, Stroke, StrokeDash, Transform};
+use tiny_skia::{
+    Color, FillRule, LineCap, Paint, PathBuilder, Pixmap, Rect, Stroke, StrokeDash, Transform,
+};
 
 /// An RGBA colour (straight alpha).
 pub type Rgba = [u8; 4];
@@ -122,8 +124,14 @@ impl Canvas {
         let (w, h) = (width.max(16), height.max(16));
         let mut pixmap = Pixmap::new(w, h).expect("non-zero size");
         pixmap.fill(color(theme.background));
-        let font = FontRef::try_from_slice(epaint_default_fonts::HACK_REGULAR).expect("the bundled font parses");
-        Canvas { pixmap, theme, text_size: (w.min(h * 4 / 3) as f32 / 42.0).clamp(11.0, 40.0), font }
+        let font = FontRef::try_from_slice(epaint_default_fonts::HACK_REGULAR)
+            .expect("the bundled font parses");
+        Canvas {
+            pixmap,
+            theme,
+            text_size: (w.min(h * 4 / 3) as f32 / 42.0).clamp(11.0, 40.0),
+            font,
+        }
     }
 
     /// Width in pixels.
@@ -157,11 +165,16 @@ impl Canvas {
             pb.line_to(p[0], p[1]);
         }
         let Some(path) = pb.finish() else { return };
-        let mut stroke = Stroke { width, line_cap: LineCap::Round, ..Default::default() };
+        let mut stroke = Stroke {
+            width,
+            line_cap: LineCap::Round,
+            ..Default::default()
+        };
         if dashed {
             stroke.dash = StrokeDash::new(vec![width * 3.0, width * 2.5], 0.0);
         }
-        self.pixmap.stroke_path(&path, &paint(c), &stroke, Transform::identity(), None);
+        self.pixmap
+            .stroke_path(&path, &paint(c), &stroke, Transform::identity(), None);
     }
 
     /// A line from `a` to `b` with an arrowhead at `b`.
@@ -169,7 +182,7 @@ impl Canvas {
         self.line(a, b, c, width);
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let len = (dx * dx + dy * dy).sqrt();
-        if !(len > 1e-3) {
+        if len.is_nan() || len <= 1e-3 {
             return;
         }
         let (ux, uy) = (dx / len, dy / len);
@@ -177,7 +190,11 @@ impl Canvas {
         let base = [b[0] - ux * head, b[1] - uy * head];
         let half = head * 0.45;
         self.polygon(
-            &[b, [base[0] - uy * half, base[1] + ux * half], [base[0] + uy * half, base[1] - ux * half]],
+            &[
+                b,
+                [base[0] - uy * half, base[1] + ux * half],
+                [base[0] + uy * half, base[1] - ux * half],
+            ],
             Some(c),
             None,
             0.0,
@@ -185,7 +202,13 @@ impl Canvas {
     }
 
     /// A closed polygon, filled and/or outlined.
-    pub fn polygon(&mut self, pts: &[[f32; 2]], fill: Option<Rgba>, stroke: Option<Rgba>, width: f32) {
+    pub fn polygon(
+        &mut self,
+        pts: &[[f32; 2]],
+        fill: Option<Rgba>,
+        stroke: Option<Rgba>,
+        width: f32,
+    ) {
         if pts.len() < 3 || pts.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
             return;
         }
@@ -197,39 +220,84 @@ impl Canvas {
         pb.close();
         let Some(path) = pb.finish() else { return };
         if let Some(f) = fill {
-            self.pixmap.fill_path(&path, &paint(f), FillRule::Winding, Transform::identity(), None);
+            self.pixmap.fill_path(
+                &path,
+                &paint(f),
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
         }
         if let Some(s) = stroke {
-            let st = Stroke { width, ..Default::default() };
-            self.pixmap.stroke_path(&path, &paint(s), &st, Transform::identity(), None);
+            let st = Stroke {
+                width,
+                ..Default::default()
+            };
+            self.pixmap
+                .stroke_path(&path, &paint(s), &st, Transform::identity(), None);
         }
     }
 
     /// A circle, filled and/or outlined.
-    pub fn circle(&mut self, c: [f32; 2], r: f32, fill: Option<Rgba>, stroke: Option<Rgba>, width: f32) {
-        if !(r > 0.0) || !c[0].is_finite() || !c[1].is_finite() || !r.is_finite() {
+    pub fn circle(
+        &mut self,
+        c: [f32; 2],
+        r: f32,
+        fill: Option<Rgba>,
+        stroke: Option<Rgba>,
+        width: f32,
+    ) {
+        if r.is_nan() || r <= 0.0 || !c[0].is_finite() || !c[1].is_finite() || !r.is_finite() {
             return;
         }
-        let Some(path) = PathBuilder::from_circle(c[0], c[1], r) else { return };
+        let Some(path) = PathBuilder::from_circle(c[0], c[1], r) else {
+            return;
+        };
         if let Some(f) = fill {
-            self.pixmap.fill_path(&path, &paint(f), FillRule::Winding, Transform::identity(), None);
+            self.pixmap.fill_path(
+                &path,
+                &paint(f),
+                FillRule::Winding,
+                Transform::identity(),
+                None,
+            );
         }
         if let Some(s) = stroke {
-            let st = Stroke { width, ..Default::default() };
-            self.pixmap.stroke_path(&path, &paint(s), &st, Transform::identity(), None);
+            let st = Stroke {
+                width,
+                ..Default::default()
+            };
+            self.pixmap
+                .stroke_path(&path, &paint(s), &st, Transform::identity(), None);
         }
     }
 
     /// A filled axis-aligned rectangle.
     pub fn rect(&mut self, x: f32, y: f32, w: f32, h: f32, fill: Rgba) {
         if let Some(r) = Rect::from_xywh(x, y, w.max(0.01), h.max(0.01)) {
-            self.pixmap.fill_rect(r, &paint(fill), Transform::identity(), None);
+            self.pixmap
+                .fill_rect(r, &paint(fill), Transform::identity(), None);
         }
     }
 
     /// An outlined axis-aligned rectangle (optionally dashed).
-    pub fn rect_outline(&mut self, x: f32, y: f32, w: f32, h: f32, c: Rgba, width: f32, dashed: bool) {
-        self.polyline(&[[x, y], [x + w, y], [x + w, y + h], [x, y + h], [x, y]], c, width, dashed);
+    #[allow(clippy::too_many_arguments)] // a drawing primitive: position, size, colour, width, style
+    pub fn rect_outline(
+        &mut self,
+        x: f32,
+        y: f32,
+        w: f32,
+        h: f32,
+        c: Rgba,
+        width: f32,
+        dashed: bool,
+    ) {
+        self.polyline(
+            &[[x, y], [x + w, y], [x + w, y + h], [x, y + h], [x, y]],
+            c,
+            width,
+            dashed,
+        );
     }
 
     /// The width of `text` at `size` pixels.
@@ -308,7 +376,9 @@ impl Canvas {
                 .entry(key)
                 .or_insert_with(|| {
                     let scaled = self.font.as_scaled(PxScale::from(size));
-                    let glyph = scaled.glyph_id(ch).with_scale_and_position(PxScale::from(size), point(fx / 8.0, fy / 8.0));
+                    let glyph = scaled
+                        .glyph_id(ch)
+                        .with_scale_and_position(PxScale::from(size), point(fx / 8.0, fy / 8.0));
                     self.font.outline_glyph(glyph).map(|outline| {
                         let b = outline.px_bounds();
                         let (w, h) = (b.width() as u32, b.height() as u32);
@@ -318,12 +388,22 @@ impl Canvas {
                                 coverage[(gy * w + gx) as usize] = c;
                             }
                         });
-                        std::rc::Rc::new(CachedGlyph { dx: b.min.x as i32, dy: b.min.y as i32, w, coverage })
+                        std::rc::Rc::new(CachedGlyph {
+                            dx: b.min.x as i32,
+                            dy: b.min.y as i32,
+                            w,
+                            coverage,
+                        })
                     })
                 })
                 .clone()
         })?;
-        Some(PlacedGlyph { x: ix as i32 + cached.dx, y: iy as i32 + cached.dy, w: cached.w.max(1), cached })
+        Some(PlacedGlyph {
+            x: ix as i32 + cached.dx,
+            y: iy as i32 + cached.dy,
+            w: cached.w.max(1),
+            cached,
+        })
     }
 
     /// Draws text on a rounded-ish label box so it stays readable over lines.
@@ -360,7 +440,8 @@ impl Canvas {
     /// Converts to an RGBA image (for animated GIFs and comparisons).
     pub fn to_rgba_image(&self) -> image::RgbaImage {
         let data = self.pixmap.clone().take_demultiplied();
-        image::RgbaImage::from_raw(self.pixmap.width(), self.pixmap.height(), data).expect("sizes match")
+        image::RgbaImage::from_raw(self.pixmap.width(), self.pixmap.height(), data)
+            .expect("sizes match")
     }
 }
 

@@ -36,8 +36,13 @@ pub enum DiagramKind {
 
 impl DiagramKind {
     /// All kinds, in menu order.
-    pub const ALL: [DiagramKind; 5] =
-        [DiagramKind::Slice, DiagramKind::Quadratic, DiagramKind::Barycentric, DiagramKind::Bvh, DiagramKind::Raytree];
+    pub const ALL: [DiagramKind; 5] = [
+        DiagramKind::Slice,
+        DiagramKind::Quadratic,
+        DiagramKind::Barycentric,
+        DiagramKind::Bvh,
+        DiagramKind::Raytree,
+    ];
 
     /// The kind's name as the command line spells it.
     pub fn name(self) -> &'static str {
@@ -103,12 +108,18 @@ pub fn available(trace: &Trace) -> Vec<DiagramKind> {
 /// The diagrams that explain timeline step `k`, the most specific first.
 pub fn kinds_for_step(trace: &Trace, k: usize) -> Vec<DiagramKind> {
     let tl = trace.timeline();
-    let Some((_, s)) = tl.get(k) else { return vec![DiagramKind::Slice] };
+    let Some((_, s)) = tl.get(k) else {
+        return vec![DiagramKind::Slice];
+    };
     match s.step {
         Step::Sphere { .. } => vec![DiagramKind::Quadratic, DiagramKind::Slice],
         Step::Triangle { .. } => vec![DiagramKind::Barycentric, DiagramKind::Slice],
         Step::Node(_) => vec![DiagramKind::Bvh, DiagramKind::Slice],
-        Step::Light { .. } | Step::ShadowRay { .. } | Step::Reflect { .. } | Step::Refract { .. } | Step::Schlick { .. } => {
+        Step::Light { .. }
+        | Step::ShadowRay { .. }
+        | Step::Reflect { .. }
+        | Step::Refract { .. }
+        | Step::Schlick { .. } => {
             vec![DiagramKind::Slice, DiagramKind::Raytree]
         }
         _ => vec![DiagramKind::Slice],
@@ -122,7 +133,11 @@ pub fn draw(trace: &Trace, kind: DiagramKind, opts: &ViewOptions) -> Result<Canv
         return Err(format!(
             "this trace has no {} diagram (it has: {})",
             kind.name(),
-            available(trace).iter().map(|k| k.name()).collect::<Vec<_>>().join(", ")
+            available(trace)
+                .iter()
+                .map(|k| k.name())
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
     }
     Ok(match kind {
@@ -137,12 +152,26 @@ pub fn draw(trace: &Trace, kind: DiagramKind, opts: &ViewOptions) -> Result<Canv
 /// The step of `trace` a focused diagram of some kind should explain: the step at `focus` if
 /// `pick` accepts it, else the last accepted step before it, else the first accepted step of the
 /// trace (for an unfocused view, the first).
-pub fn pick_step<'t>(trace: &'t Trace, focus: Option<usize>, pick: impl Fn(&Step) -> bool) -> Option<(usize, &'t Step)> {
+pub fn pick_step(
+    trace: &Trace,
+    focus: Option<usize>,
+    pick: impl Fn(&Step) -> bool,
+) -> Option<(usize, &Step)> {
     let tl = trace.timeline();
-    let accepted: Vec<(usize, &Step)> = tl.iter().enumerate().filter(|(_, (_, s))| pick(&s.step)).map(|(i, (_, s))| (i, &s.step)).collect();
+    let accepted: Vec<(usize, &Step)> = tl
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, s))| pick(&s.step))
+        .map(|(i, (_, s))| (i, &s.step))
+        .collect();
     match focus {
         None => accepted.first().copied(),
-        Some(k) => accepted.iter().rev().find(|(i, _)| *i <= k).or(accepted.first()).copied(),
+        Some(k) => accepted
+            .iter()
+            .rev()
+            .find(|(i, _)| *i <= k)
+            .or(accepted.first())
+            .copied(),
     }
 }
 
@@ -150,6 +179,13 @@ pub fn pick_step<'t>(trace: &'t Trace, focus: Option<usize>, pick: impl Fn(&Step
 pub fn title(c: &mut Canvas, text: &str) -> f32 {
     let size = c.text_size * 1.15;
     let ink = c.theme.ink;
-    c.text(c.text_size * 0.8, c.text_size * 0.6, size, text, ink, Anchor::TopLeft);
+    c.text(
+        c.text_size * 0.8,
+        c.text_size * 0.6,
+        size,
+        text,
+        ink,
+        Anchor::TopLeft,
+    );
     c.text_size * 0.6 + size * 1.5
 }

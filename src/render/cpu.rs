@@ -63,12 +63,20 @@ struct Tile {
 }
 
 /// Renders the tracer's scene.
-pub fn render<A: Accelerator>(tracer: &Tracer<'_, A>, opts: &RenderOptions) -> Result<RenderOutput, String> {
+pub fn render<A: Accelerator>(
+    tracer: &Tracer<'_, A>,
+    opts: &RenderOptions,
+) -> Result<RenderOutput, String> {
     let (width, height) = (tracer.camera.width, tracer.camera.height);
     let mut tiles = vec![];
     for y0 in (0..height).step_by(TILE as usize) {
         for x0 in (0..width).step_by(TILE as usize) {
-            tiles.push(Tile { x0, y0, w: TILE.min(width - x0), h: TILE.min(height - y0) });
+            tiles.push(Tile {
+                x0,
+                y0,
+                w: TILE.min(width - x0),
+                h: TILE.min(height - y0),
+            });
         }
     }
     let pool = rayon::ThreadPoolBuilder::new()
@@ -78,9 +86,11 @@ pub fn render<A: Accelerator>(tracer: &Tracer<'_, A>, opts: &RenderOptions) -> R
     let bar = if opts.progress && std::io::stderr().is_terminal() && tiles.len() > 64 {
         let b = indicatif::ProgressBar::new(tiles.len() as u64);
         b.set_style(
-            indicatif::ProgressStyle::with_template("{spinner} tracing [{bar:40}] {percent}% {elapsed} (eta {eta})")
-                .expect("valid template")
-                .progress_chars("=> "),
+            indicatif::ProgressStyle::with_template(
+                "{spinner} tracing [{bar:40}] {percent}% {elapsed} (eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
         );
         Some(b)
     } else {
@@ -136,7 +146,11 @@ pub fn render<A: Accelerator>(tracer: &Tracer<'_, A>, opts: &RenderOptions) -> R
         height,
         pixels,
         node_visits,
-        stats: RenderStats { trace, counts, threads: pool.current_num_threads() },
+        stats: RenderStats {
+            trace,
+            counts,
+            threads: pool.current_num_threads(),
+        },
     })
 }
 
@@ -146,4 +160,3 @@ pub fn count_pixel<A: Accelerator>(tracer: &Tracer<'_, A>, x: u32, y: u32) -> (V
     let color = tracer.trace_pixel(x, y, &mut c);
     (color, c)
 }
-

@@ -11,7 +11,11 @@ use std::path::Path;
 pub fn srgb8(c: f32) -> u8 {
     // NaN never reaches an image: it maps to 0 (and the tracer never produces one).
     let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-    let s = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+    let s = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
     (s * 255.0 + 0.5) as u8
 }
 
@@ -33,13 +37,24 @@ pub fn to_rgb8(width: u32, height: u32, pixels: &[Vec3], linear: bool) -> RgbIma
 
 /// Encodes an image as PNG and writes it atomically. The path must end in `.png`.
 pub fn write_png(path: &Path, img: &RgbImage) -> Result<(), String> {
-    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
     if ext.as_deref() != Some("png") {
-        return Err(format!("{}: the output must be a .png file", path.display()));
+        return Err(format!(
+            "{}: the output must be a .png file",
+            path.display()
+        ));
     }
     let mut bytes = vec![];
     image::codecs::png::PngEncoder::new(&mut bytes)
-        .write_image(img.as_raw(), img.width(), img.height(), image::ExtendedColorType::Rgb8)
+        .write_image(
+            img.as_raw(),
+            img.width(),
+            img.height(),
+            image::ExtendedColorType::Rgb8,
+        )
         .map_err(|e| format!("{}: cannot encode PNG: {e}", path.display()))?;
     crate::io::write_atomic(path, &bytes)
 }
@@ -80,7 +95,9 @@ pub fn draw_text(img: &mut RgbImage, x: f32, y: f32, size: f32, text: &str, colo
 pub fn text_width(size: f32, text: &str) -> f32 {
     let font = label_font();
     let scaled = font.as_scaled(PxScale::from(size));
-    text.chars().map(|c| scaled.h_advance(scaled.glyph_id(c))).sum()
+    text.chars()
+        .map(|c| scaled.h_advance(scaled.glyph_id(c)))
+        .sum()
 }
 
 /// The heatmap of BVH node visits per pixel (viridis, 0 = dark purple, the 99th percentile and
@@ -92,7 +109,11 @@ pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
     let mut sorted = visits.clone();
     sorted.sort_unstable();
     let true_max = sorted.last().copied().unwrap_or(0);
-    let max = sorted.get(sorted.len().saturating_sub(1) * 99 / 100).copied().unwrap_or(0).max(1);
+    let max = sorted
+        .get(sorted.len().saturating_sub(1) * 99 / 100)
+        .copied()
+        .unwrap_or(0)
+        .max(1);
     let mean = visits.iter().map(|&v| v as f64).sum::<f64>() / visits.len().max(1) as f64;
     let (w, h) = (out.width, out.height);
     let size = (w as f32 / 40.0).clamp(11.0, 22.0);
@@ -114,7 +135,11 @@ pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
     let bar_y0 = h + (size * 1.6) as u32;
     let bar_h = (size * 0.7) as u32;
     let lo_label = "0";
-    let hi_label = if true_max > max { format!("≥{max} (p99)") } else { format!("{max}") };
+    let hi_label = if true_max > max {
+        format!("≥{max} (p99)")
+    } else {
+        format!("{max}")
+    };
     let bx0 = (pad + text_width(size, lo_label) + pad) as u32;
     let bx1 = (w as f32 - pad - text_width(size, &hi_label) - pad).max(bx0 as f32 + 2.0) as u32;
     for x in bx0..bx1.min(w) {

@@ -26,8 +26,18 @@ pub struct Features {
 
 impl Features {
     /// Computes the features of a set of objects with their materials.
-    pub fn compute(objects: &[Object], materials: &[Material], lights: usize, meshes: usize) -> Self {
-        let mut f = Features { lights, meshes, primitives: objects.len(), ..Default::default() };
+    pub fn compute(
+        objects: &[Object],
+        materials: &[Material],
+        lights: usize,
+        meshes: usize,
+    ) -> Self {
+        let mut f = Features {
+            lights,
+            meshes,
+            primitives: objects.len(),
+            ..Default::default()
+        };
         let mut used = vec![false; materials.len()];
         for o in objects {
             match o.shape {

@@ -66,7 +66,13 @@ pub fn load_str(text: &str, file: &str, base: Option<&Path>) -> Result<Scene, Sc
             (None, Some(key)) => Some(key),
             (None, None) => None,
         });
-        SceneError { file: file.into(), line, column, field, message: e.message().trim().to_string() }
+        SceneError {
+            file: file.into(),
+            line,
+            column,
+            field,
+            message: e.message().trim().to_string(),
+        }
     })?;
     ctx.build(parsed, base)
 }
@@ -87,7 +93,10 @@ impl Loc<'_> {
     fn err(&self, field: &str, message: impl Into<String>) -> SceneError {
         let (line, column) = match &self.span {
             Some(span) => {
-                let pos = self.ctx.find_field(span.clone(), field).unwrap_or(span.start);
+                let pos = self
+                    .ctx
+                    .find_field(span.clone(), field)
+                    .unwrap_or(span.start);
                 let (l, c) = self.ctx.line_col(pos);
                 (Some(l), Some(c))
             }
@@ -97,7 +106,11 @@ impl Loc<'_> {
             file: self.ctx.file.into(),
             line,
             column,
-            field: Some(if field.is_empty() { self.what.clone() } else { format!("{} → {field}", self.what) }),
+            field: Some(if field.is_empty() {
+                self.what.clone()
+            } else {
+                format!("{} → {field}", self.what)
+            }),
             message: message.into(),
         }
     }
@@ -108,7 +121,13 @@ impl Loc<'_> {
             return Err(self.err(field, format!("must be a finite number, got {x}")));
         }
         if !v.is_finite() {
-            return Err(self.err(field, format!("{x:e} is too large for single precision (at most {:e})", f32::MAX)));
+            return Err(self.err(
+                field,
+                format!(
+                    "{x:e} is too large for single precision (at most {:e})",
+                    f32::MAX
+                ),
+            ));
         }
         Ok(v)
     }
@@ -135,7 +154,13 @@ impl Loc<'_> {
             return Err(self.err(field, format!("must be three finite numbers, got {a:?}")));
         }
         if !v.is_finite() {
-            return Err(self.err(field, format!("{a:?} has a component too large for single precision (at most {:e})", f32::MAX)));
+            return Err(self.err(
+                field,
+                format!(
+                    "{a:?} has a component too large for single precision (at most {:e})",
+                    f32::MAX
+                ),
+            ));
         }
         Ok(v)
     }
@@ -143,7 +168,10 @@ impl Loc<'_> {
     fn color(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
         let v = self.vec3(field, a)?;
         if v.min_element() < 0.0 {
-            return Err(self.err(field, format!("colour components must not be negative, got {a:?}")));
+            return Err(self.err(
+                field,
+                format!("colour components must not be negative, got {a:?}"),
+            ));
         }
         Ok(v)
     }
@@ -152,9 +180,18 @@ impl Loc<'_> {
         T::from_str(s, true).map_err(|_| {
             let names: Vec<String> = T::value_variants()
                 .iter()
-                .filter_map(|v| v.to_possible_value().map(|p| format!("\"{}\"", p.get_name())))
+                .filter_map(|v| {
+                    v.to_possible_value()
+                        .map(|p| format!("\"{}\"", p.get_name()))
+                })
                 .collect();
-            self.err(field, format!("unknown value \"{s}\"; expected one of {}", names.join(", ")))
+            self.err(
+                field,
+                format!(
+                    "unknown value \"{s}\"; expected one of {}",
+                    names.join(", ")
+                ),
+            )
         })
     }
 }
@@ -184,7 +221,9 @@ impl<'a> Ctx<'a> {
         for line in body.split_inclusive('\n') {
             let trimmed = line.trim_start();
             let quoted = format!("\"{field}\"");
-            if let Some(rest) = trimmed.strip_prefix(field).or_else(|| trimmed.strip_prefix(quoted.as_str()))
+            if let Some(rest) = trimmed
+                .strip_prefix(field)
+                .or_else(|| trimmed.strip_prefix(quoted.as_str()))
                 && rest.trim_start().starts_with('=')
             {
                 return Some(span.start + offset + (line.len() - trimmed.len()));
@@ -223,7 +262,9 @@ impl<'a> Ctx<'a> {
         let key = {
             let line_start = before.rfind('\n').map_or(0, |i| i + 1);
             let line = self.text[line_start..].lines().next().unwrap_or("");
-            line.split_once('=').map(|(k, _)| k.trim().trim_matches('"').to_string()).filter(|k| !k.is_empty())
+            line.split_once('=')
+                .map(|(k, _)| k.trim().trim_matches('"').to_string())
+                .filter(|k| !k.is_empty())
         };
         let Some(h) = header else { return (None, key) };
         let kind = h.trim_matches(|c| c == '[' || c == ']').to_string();
@@ -231,17 +272,30 @@ impl<'a> Ctx<'a> {
             return (Some(kind), key);
         }
         // Which entry of that kind, and its name if the body gives one.
-        let index = before[..header_at].lines().filter(|l| l.trim() == h).count();
+        let index = before[..header_at]
+            .lines()
+            .filter(|l| l.trim() == h)
+            .count();
         let body_end = self.next_header(header_at + 1);
         let name = self.text[header_at..body_end].lines().find_map(|l| {
             let (k, v) = l.split_once('=')?;
             (k.trim() == "name").then(|| v.trim().trim_matches('"').to_string())
         });
-        (Some(format!("{kind} \"{}\"", name.unwrap_or_else(|| format!("{kind} {index}")))), key)
+        (
+            Some(format!(
+                "{kind} \"{}\"",
+                name.unwrap_or_else(|| format!("{kind} {index}"))
+            )),
+            key,
+        )
     }
 
     fn loc<T>(&'a self, what: String, s: &Spanned<T>) -> Loc<'a> {
-        Loc { what, span: Some(s.span()), ctx: self }
+        Loc {
+            what,
+            span: Some(s.span()),
+            ctx: self,
+        }
     }
 
     fn build(&self, f: SceneFile, base: Option<&Path>) -> Result<Scene, SceneError> {
@@ -266,15 +320,24 @@ impl<'a> Ctx<'a> {
             let name = d.name.clone().unwrap_or_else(|| format!("material {i}"));
             let loc = self.loc(format!("material \"{name}\""), m);
             if by_name.contains_key(&name) {
-                return Err(loc.err("name", format!("a material named \"{name}\" is already defined")));
+                return Err(loc.err(
+                    "name",
+                    format!("a material named \"{name}\" is already defined"),
+                ));
             }
             let shininess = loc.num("shininess", d.shininess)?;
             if shininess <= 0.0 {
-                return Err(loc.err("shininess", format!("must be positive, got {}", d.shininess)));
+                return Err(loc.err(
+                    "shininess",
+                    format!("must be positive, got {}", d.shininess),
+                ));
             }
             let refractive_index = loc.num("refractive_index", d.refractive_index)?;
             if refractive_index <= 0.0 {
-                return Err(loc.err("refractive_index", format!("must be positive, got {}", d.refractive_index)));
+                return Err(loc.err(
+                    "refractive_index",
+                    format!("must be positive, got {}", d.refractive_index),
+                ));
             }
             by_name.insert(name.clone(), materials.len() as u32);
             materials.push(Material {
@@ -298,7 +361,14 @@ impl<'a> Ctx<'a> {
                     let known = if known.is_empty() {
                         "no materials are defined".to_string()
                     } else {
-                        format!("known: {}", known.iter().map(|k| format!("\"{k}\"")).collect::<Vec<_>>().join(", "))
+                        format!(
+                            "known: {}",
+                            known
+                                .iter()
+                                .map(|k| format!("\"{k}\""))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )
                     };
                     loc.err("material", format!("unknown material \"{n}\" ({known})"))
                 }),
@@ -312,19 +382,31 @@ impl<'a> Ctx<'a> {
         let mut objects: Vec<Object> = vec![];
         let mut groups: Vec<Group> = vec![];
         let mut names: HashMap<String, usize> = HashMap::new();
-        let mut add_group = |loc: &Loc, name: String, shapes: Vec<Shape>, mat: u32| -> Result<(), SceneError> {
-            // Keep the byte offset; the line is counted only when a duplicate is reported (counting
-            // lines for every object made loading quadratic in the file's size).
-            if let Some(first) = names.get(&name) {
-                let line = self.line_col(*first).0;
-                return Err(loc.err("name", format!("an object defined at line {line} is already named \"{name}\"")));
-            }
-            names.insert(name.clone(), loc.span.as_ref().map_or(0, |s| s.start));
-            let g = groups.len() as u32;
-            groups.push(Group { name, first: objects.len() as u32, count: shapes.len() as u32 });
-            objects.extend(shapes.into_iter().map(|shape| Object { shape, material: mat, group: g }));
-            Ok(())
-        };
+        let mut add_group =
+            |loc: &Loc, name: String, shapes: Vec<Shape>, mat: u32| -> Result<(), SceneError> {
+                // Keep the byte offset; the line is counted only when a duplicate is reported (counting
+                // lines for every object made loading quadratic in the file's size).
+                if let Some(first) = names.get(&name) {
+                    let line = self.line_col(*first).0;
+                    return Err(loc.err(
+                        "name",
+                        format!("an object defined at line {line} is already named \"{name}\""),
+                    ));
+                }
+                names.insert(name.clone(), loc.span.as_ref().map_or(0, |s| s.start));
+                let g = groups.len() as u32;
+                groups.push(Group {
+                    name,
+                    first: objects.len() as u32,
+                    count: shapes.len() as u32,
+                });
+                objects.extend(shapes.into_iter().map(|shape| Object {
+                    shape,
+                    material: mat,
+                    group: g,
+                }));
+                Ok(())
+            };
 
         // Objects are processed in file order (whatever their kind), so ids follow the file and a
         // duplicate name is reported where it repeats.
@@ -335,10 +417,30 @@ impl<'a> Ctx<'a> {
             Mesh(&'d Spanned<MeshDef>),
         }
         let mut defs: Vec<(usize, usize, Def)> = vec![];
-        defs.extend(f.sphere.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Sphere(d))));
-        defs.extend(f.plane.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Plane(d))));
-        defs.extend(f.triangle.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Triangle(d))));
-        defs.extend(f.mesh.iter().enumerate().map(|(i, d)| (d.span().start, i, Def::Mesh(d))));
+        defs.extend(
+            f.sphere
+                .iter()
+                .enumerate()
+                .map(|(i, d)| (d.span().start, i, Def::Sphere(d))),
+        );
+        defs.extend(
+            f.plane
+                .iter()
+                .enumerate()
+                .map(|(i, d)| (d.span().start, i, Def::Plane(d))),
+        );
+        defs.extend(
+            f.triangle
+                .iter()
+                .enumerate()
+                .map(|(i, d)| (d.span().start, i, Def::Triangle(d))),
+        );
+        defs.extend(
+            f.mesh
+                .iter()
+                .enumerate()
+                .map(|(i, d)| (d.span().start, i, Def::Mesh(d))),
+        );
         defs.sort_by_key(|(start, _, _)| *start);
         for (_, i, def) in defs {
             match def {
@@ -349,11 +451,12 @@ impl<'a> Ctx<'a> {
                     let center = loc.vec3("center", d.center)?;
                     let radius = loc.num("radius", d.radius)?;
                     if radius <= 0.0 {
-                        return Err(loc.err("radius", format!("must be positive, got {}", d.radius)));
+                        return Err(
+                            loc.err("radius", format!("must be positive, got {}", d.radius))
+                        );
                     }
                     let m = material(&loc, &d.material)?;
                     add_group(&loc, name, vec![Shape::Sphere { center, radius }], m)?;
-        
                 }
                 Def::Plane(p) => {
                     let d = p.get_ref();
@@ -367,9 +470,17 @@ impl<'a> Ctx<'a> {
                             "x" => 0,
                             "y" => 1,
                             "z" => 2,
-                            other => return Err(loc.err("axis", format!("must be \"x\", \"y\" or \"z\", got \"{other}\""))),
+                            other => {
+                                return Err(loc.err(
+                                    "axis",
+                                    format!("must be \"x\", \"y\" or \"z\", got \"{other}\""),
+                                ));
+                            }
                         };
-                        Shape::AxisPlane { axis, offset: loc.num("offset", d.offset.unwrap_or(0.0))? }
+                        Shape::AxisPlane {
+                            axis,
+                            offset: loc.num("offset", d.offset.unwrap_or(0.0))?,
+                        }
                     } else {
                         if d.offset.is_some() {
                             return Err(loc.err("offset", "`offset` goes with `axis`; a general plane takes `point` and `normal`"));
@@ -378,7 +489,9 @@ impl<'a> Ctx<'a> {
                         let n = d.normal.unwrap_or([0.0, 1.0, 0.0]);
                         loc.vec3("normal", n)?;
                         let Some(unit) = crate::math::unit_f64(n) else {
-                            return Err(loc.err("normal", format!("must be a non-zero vector, got {n:?}")));
+                            return Err(
+                                loc.err("normal", format!("must be a non-zero vector, got {n:?}"))
+                            );
                         };
                         let normal = Vec3::new(unit[0] as f32, unit[1] as f32, unit[2] as f32);
                         let offset = loc.num("point", point.as_dvec3().dot(normal.as_dvec3()))?;
@@ -386,7 +499,6 @@ impl<'a> Ctx<'a> {
                     };
                     let m = material(&loc, &d.material)?;
                     add_group(&loc, name, vec![shape], m)?;
-        
                 }
                 Def::Triangle(t) => {
                     let d = t.get_ref();
@@ -399,7 +511,6 @@ impl<'a> Ctx<'a> {
                     ];
                     let m = material(&loc, &d.material)?;
                     add_group(&loc, name, vec![Shape::Triangle { p }], m)?;
-        
                 }
                 Def::Mesh(mesh) => {
                     let d = mesh.get_ref();
@@ -410,17 +521,19 @@ impl<'a> Ctx<'a> {
                     if scale <= 0.0 {
                         return Err(loc.err("scale", format!("must be positive, got {}", d.scale)));
                     }
-                    let path = base.map_or_else(|| Path::new(&d.obj).to_path_buf(), |b| b.join(&d.obj));
+                    let path =
+                        base.map_or_else(|| Path::new(&d.obj).to_path_buf(), |b| b.join(&d.obj));
                     let tris = load_obj(&path, translate, scale).map_err(|m| loc.err("obj", m))?;
                     let m = material(&loc, &d.material)?;
                     add_group(&loc, name, tris, m)?;
-        
                 }
             }
         }
         let features = Features::compute(&objects, &materials, lights.len(), f.mesh.len());
         let name = f.title.clone().unwrap_or_else(|| {
-            Path::new(self.file).file_name().map_or(self.file.to_string(), |n| n.to_string_lossy().into_owned())
+            Path::new(self.file)
+                .file_name()
+                .map_or(self.file.to_string(), |n| n.to_string_lossy().into_owned())
         });
         let hash = Sha256::digest(self.text.as_bytes());
         Ok(Scene {
@@ -441,45 +554,83 @@ impl<'a> Ctx<'a> {
         let default = CameraDef::default();
         let (loc, d) = match c {
             Some(c) => (self.loc("camera".into(), c), c.get_ref()),
-            None => (Loc { what: "camera".into(), span: None, ctx: self }, &default),
+            None => (
+                Loc {
+                    what: "camera".into(),
+                    span: None,
+                    ctx: self,
+                },
+                &default,
+            ),
         };
         let from = loc.vec3("from", d.from)?;
         let at = loc.vec3("at", d.at)?;
         let up = loc.vec3("up", d.up)?;
         let fov = loc.num("fov", d.fov)?;
         if !(fov > 0.0 && fov < 180.0) {
-            return Err(loc.err("fov", format!("must lie strictly between 0 and 180 degrees, got {}", d.fov)));
+            return Err(loc.err(
+                "fov",
+                format!("must lie strictly between 0 and 180 degrees, got {}", d.fov),
+            ));
         }
         for (field, v) in [("width", d.width), ("height", d.height)] {
             if !(1..=MAX_DIMENSION).contains(&v) {
-                return Err(loc.err(field, format!("must be between 1 and {MAX_DIMENSION} pixels, got {v}")));
+                return Err(loc.err(
+                    field,
+                    format!("must be between 1 and {MAX_DIMENSION} pixels, got {v}"),
+                ));
             }
         }
         if d.width * d.height > MAX_PIXELS {
             return Err(loc.err(
                 "width",
-                format!("{}×{} is {} pixels, more than the limit of {MAX_PIXELS}", d.width, d.height, d.width * d.height),
+                format!(
+                    "{}×{} is {} pixels, more than the limit of {MAX_PIXELS}",
+                    d.width,
+                    d.height,
+                    d.width * d.height
+                ),
             ));
         }
         let view = (from - at).as_dvec3();
         if view.length() == 0.0 {
-            return Err(loc.err("at", "`from` and `at` are the same point: the camera looks nowhere"));
+            return Err(loc.err(
+                "at",
+                "`from` and `at` are the same point: the camera looks nowhere",
+            ));
         }
         let w = view.normalize();
         if up.as_dvec3().length() == 0.0 || up.as_dvec3().normalize().cross(w).length() < 1e-6 {
             return Err(loc.err("up", format!("{:?} is parallel to the view direction (or zero): the camera's roll is undefined", d.up)));
         }
-        Ok(Camera { from, at, up, fov, width: d.width as u32, height: d.height as u32 })
+        Ok(Camera {
+            from,
+            at,
+            up,
+            fov,
+            width: d.width as u32,
+            height: d.height as u32,
+        })
     }
 
     fn settings(&self, r: Option<&Spanned<RenderDef>>) -> Result<Settings, SceneError> {
         let default = RenderDef::default();
         let (loc, d) = match r {
             Some(r) => (self.loc("render".into(), r), r.get_ref()),
-            None => (Loc { what: "render".into(), span: None, ctx: self }, &default),
+            None => (
+                Loc {
+                    what: "render".into(),
+                    span: None,
+                    ctx: self,
+                },
+                &default,
+            ),
         };
         if !(0..=64).contains(&d.max_depth) {
-            return Err(loc.err("max_depth", format!("must be between 0 and 64, got {}", d.max_depth)));
+            return Err(loc.err(
+                "max_depth",
+                format!("must be between 0 and 64, got {}", d.max_depth),
+            ));
         }
         if !(1..=65536).contains(&d.spp) {
             return Err(loc.err("spp", format!("must be between 1 and 65536, got {}", d.spp)));
@@ -489,7 +640,10 @@ impl<'a> Ctx<'a> {
             return Err(loc.err("epsilon", format!("must be positive, got {}", d.epsilon)));
         }
         if !(0..=u32::MAX as i64).contains(&d.seed) {
-            return Err(loc.err("seed", format!("must be between 0 and {}, got {}", u32::MAX, d.seed)));
+            return Err(loc.err(
+                "seed",
+                format!("must be between 0 and {}, got {}", u32::MAX, d.seed),
+            ));
         }
         Ok(Settings {
             max_depth: d.max_depth as u32,
@@ -508,8 +662,15 @@ impl<'a> Ctx<'a> {
 /// Whether a line is a TOML table header (`[camera]`, `[[sphere]]`), not an array row.
 fn is_header(line: &str) -> bool {
     let t = line.split('#').next().unwrap_or("").trim();
-    let inner = t.strip_prefix("[[").and_then(|r| r.strip_suffix("]]")).or_else(|| t.strip_prefix('[').and_then(|r| r.strip_suffix(']')));
-    inner.is_some_and(|i| !i.is_empty() && i.chars().all(|c| c.is_ascii_alphanumeric() || "_-. ".contains(c)))
+    let inner = t
+        .strip_prefix("[[")
+        .and_then(|r| r.strip_suffix("]]"))
+        .or_else(|| t.strip_prefix('[').and_then(|r| r.strip_suffix(']')));
+    inner.is_some_and(|i| {
+        !i.is_empty()
+            && i.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "_-. ".contains(c))
+    })
 }
 
 /// tobj reports what is wrong with an OBJ file but not where; find the first line it would
@@ -523,7 +684,12 @@ fn locate_obj_problem(path: &Path) -> Option<String> {
             Some("v") => {
                 let coords: Vec<&str> = words.collect();
                 if coords.len() < 3 || coords.iter().take(3).any(|c| c.parse::<f32>().is_err()) {
-                    return Some(format!("{}:{}: `{}` is not a vertex (v X Y Z)", path.display(), n + 1, line.trim()));
+                    return Some(format!(
+                        "{}:{}: `{}` is not a vertex (v X Y Z)",
+                        path.display(),
+                        n + 1,
+                        line.trim()
+                    ));
                 }
                 vertices += 1;
             }
@@ -555,7 +721,12 @@ fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, Stri
     if !path.is_file() {
         return Err(format!("OBJ file {} does not exist", path.display()));
     }
-    let opts = tobj::LoadOptions { triangulate: true, single_index: false, ignore_points: true, ignore_lines: true };
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
     let (models, _) = tobj::load_obj(path, &opts).map_err(|e| match locate_obj_problem(path) {
         Some(at) => format!("cannot load OBJ file: {at} ({e})"),
         None => format!("cannot load OBJ file {}: {e}", path.display()),
@@ -566,16 +737,27 @@ fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, Stri
         let pos = |i: u32| -> Result<Vec3, String> {
             let i = i as usize * 3;
             let p = m.positions.get(i..i + 3).ok_or_else(|| {
-                format!("{}: object \"{}\" refers to vertex {} which does not exist", path.display(), model.name, i / 3 + 1)
+                format!(
+                    "{}: object \"{}\" refers to vertex {} which does not exist",
+                    path.display(),
+                    model.name,
+                    i / 3 + 1
+                )
             })?;
             let v = Vec3::new(p[0], p[1], p[2]) * scale + translate;
             if !v.is_finite() {
-                return Err(format!("{}: vertex {} is not finite: {p:?}", path.display(), i / 3 + 1));
+                return Err(format!(
+                    "{}: vertex {} is not finite: {p:?}",
+                    path.display(),
+                    i / 3 + 1
+                ));
             }
             Ok(v)
         };
         for f in m.indices.chunks_exact(3) {
-            tris.push(Shape::Triangle { p: [pos(f[0])?, pos(f[1])?, pos(f[2])?] });
+            tris.push(Shape::Triangle {
+                p: [pos(f[0])?, pos(f[1])?, pos(f[2])?],
+            });
         }
     }
     if tris.is_empty() {

@@ -260,7 +260,11 @@ impl Scene {
     pub fn object_name(&self, id: u32) -> String {
         let obj = &self.objects[id as usize];
         let g = &self.groups[obj.group as usize];
-        if g.count == 1 { g.name.clone() } else { format!("{}[{}]", g.name, id - g.first) }
+        if g.count == 1 {
+            g.name.clone()
+        } else {
+            format!("{}[{}]", g.name, id - g.first)
+        }
     }
     /// The material of object `id`.
     #[inline(always)]

@@ -51,7 +51,14 @@ pub struct CameraDef {
 
 impl Default for CameraDef {
     fn default() -> Self {
-        CameraDef { from: [0., 0., -5.], at: [0.; 3], up: [0., 1., 0.], fov: 60.0, width: 320, height: 240 }
+        CameraDef {
+            from: [0., 0., -5.],
+            at: [0.; 3],
+            up: [0., 1., 0.],
+            fov: 60.0,
+            width: 320,
+            height: 240,
+        }
     }
 }
 
@@ -99,7 +106,11 @@ pub struct LightDef {
 
 impl Default for LightDef {
     fn default() -> Self {
-        LightDef { name: None, position: [-10., 10., -10.], color: [1.; 3] }
+        LightDef {
+            name: None,
+            position: [-10., 10., -10.],
+            color: [1.; 3],
+        }
     }
 }
 
@@ -148,7 +159,12 @@ pub struct SphereDef {
 
 impl Default for SphereDef {
     fn default() -> Self {
-        SphereDef { name: None, center: [0.; 3], radius: 1.0, material: None }
+        SphereDef {
+            name: None,
+            center: [0.; 3],
+            radius: 1.0,
+            material: None,
+        }
     }
 }
 

@@ -17,7 +17,10 @@ pub enum BoxMethod {
 
 /// One axis of the slab test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
+#[serde(bound(
+    serialize = "T: crate::jsonf::JsonFloat",
+    deserialize = "T: crate::jsonf::JsonFloat"
+))]
 pub struct SlabAxis<T> {
     /// 1/Q_axis (±∞ for a zero component: the sign of zero decides the sign of ∞).
     #[serde(with = "crate::jsonf")]
@@ -32,7 +35,10 @@ pub struct SlabAxis<T> {
 
 /// Every intermediate of one slab test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
+#[serde(bound(
+    serialize = "T: crate::jsonf::JsonFloat",
+    deserialize = "T: crate::jsonf::JsonFloat"
+))]
 pub struct BoxTest<T> {
     /// The method used.
     pub method: BoxMethod,
@@ -61,7 +67,11 @@ pub struct BoxTest<T> {
 /// a ray in a face plane is inside that slab, whatever the sign of the zero. One answer for ±0.
 #[inline(always)]
 pub fn slab_robust<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -> BoxTest<T> {
-    let mut axes = [SlabAxis { inv_dir: T::zero(), t_entry: T::zero(), t_exit: T::zero() }; 3];
+    let mut axes = [SlabAxis {
+        inv_dir: T::zero(),
+        t_entry: T::zero(),
+        t_exit: T::zero(),
+    }; 3];
     let mut t_near = ray.t_min;
     let mut t_far = ray.t_max;
     let enlarge = T::one() + T::lit(2.0) * gamma::<T>(3);
@@ -74,7 +84,11 @@ pub fn slab_robust<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -
             std::mem::swap(&mut t0, &mut t1);
         }
         t1 = t1 * enlarge;
-        *axis = SlabAxis { inv_dir: inv, t_entry: t0, t_exit: t1 };
+        *axis = SlabAxis {
+            inv_dir: inv,
+            t_entry: t0,
+            t_exit: t1,
+        };
         // `Float::max` returns the non-NaN operand: a NaN slab distance imposes no limit.
         t_near = t_near.max(t0);
         t_far = t_far.min(t1);
@@ -94,7 +108,11 @@ pub fn slab_robust<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -
 /// and require t_near < t_far. Fails on zero-thickness boxes and lets NaN decide edge cases.
 #[inline(always)]
 pub fn slab_plain<T: Real>(ray: &Ray<T>, min: T::V, max: T::V) -> BoxTest<T> {
-    let mut axes = [SlabAxis { inv_dir: T::zero(), t_entry: T::zero(), t_exit: T::zero() }; 3];
+    let mut axes = [SlabAxis {
+        inv_dir: T::zero(),
+        t_entry: T::zero(),
+        t_exit: T::zero(),
+    }; 3];
     let mut t_near = ray.t_min;
     let mut t_far = ray.t_max;
     for (i, axis) in axes.iter_mut().enumerate() {
@@ -104,7 +122,11 @@ pub fn slab_plain<T: Real>(ray: &Ray<T>, min: T::V, max: T::V) -> BoxTest<T> {
         if t0 > t1 {
             std::mem::swap(&mut t0, &mut t1);
         }
-        *axis = SlabAxis { inv_dir: T::one() / d, t_entry: t0, t_exit: t1 };
+        *axis = SlabAxis {
+            inv_dir: T::one() / d,
+            t_entry: t0,
+            t_exit: t1,
+        };
         if t0 > t_near {
             t_near = t0;
         }
@@ -198,7 +220,8 @@ mod tests {
         // S20: origin exactly on the face x = -1 with Q_x = ±0.
         let mut answers = vec![];
         for dx in [0.0f32, -0.0] {
-            let r = Ray::<f32>::infinite(Vec3::new(-1.0, 0.0, -5.0), Vec3::new(dx, 0.0, 1.0)).unwrap();
+            let r =
+                Ray::<f32>::infinite(Vec3::new(-1.0, 0.0, -5.0), Vec3::new(dx, 0.0, 1.0)).unwrap();
             let b = intersect(&r, Vec3::splat(-1.0), Vec3::splat(1.0), BoxMethod::Robust);
             assert!(!b.t_near.is_nan() && !b.t_far.is_nan());
             answers.push((b.hit, b.t_near, b.t_far));

@@ -6,7 +6,10 @@ use serde::{Deserialize, Serialize};
 /// How the plane is given.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "form")]
-#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
+#[serde(bound(
+    serialize = "T: crate::jsonf::JsonFloat",
+    deserialize = "T: crate::jsonf::JsonFloat"
+))]
 pub enum PlaneForm<T> {
     /// X·n = c with unit normal n.
     General {
@@ -29,7 +32,10 @@ pub enum PlaneForm<T> {
 
 /// Every intermediate of one ray–plane test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
+#[serde(bound(
+    serialize = "T: crate::jsonf::JsonFloat",
+    deserialize = "T: crate::jsonf::JsonFloat"
+))]
 pub struct PlaneTest<T> {
     /// Which form was tested.
     pub form: PlaneForm<T>,
@@ -64,7 +70,10 @@ pub fn general<T: Real>(ray: &Ray<T>, normal: T::V, offset: T) -> PlaneTest<T> {
     let numerator = offset - ray.origin.dot(normal);
     finish(
         ray,
-        PlaneForm::General { normal: [normal.at(0), normal.at(1), normal.at(2)], offset },
+        PlaneForm::General {
+            normal: [normal.at(0), normal.at(1), normal.at(2)],
+            offset,
+        },
         numerator,
         denominator,
     )
@@ -75,19 +84,42 @@ pub fn general<T: Real>(ray: &Ray<T>, normal: T::V, offset: T) -> PlaneTest<T> {
 pub fn axis<T: Real>(ray: &Ray<T>, axis: usize, offset: T) -> PlaneTest<T> {
     let denominator = ray.dir.at(axis);
     let numerator = offset - ray.origin.at(axis);
-    finish(ray, PlaneForm::Axis { axis, offset }, numerator, denominator)
+    finish(
+        ray,
+        PlaneForm::Axis { axis, offset },
+        numerator,
+        denominator,
+    )
 }
 
 #[inline(always)]
 fn finish<T: Real>(ray: &Ray<T>, form: PlaneForm<T>, numerator: T, denominator: T) -> PlaneTest<T> {
     // −0 == +0 in IEEE comparison, so both signs of zero are "parallel" (NUMERICS.md S9).
     if denominator == T::zero() {
-        return PlaneTest { form, denominator, numerator, parallel: true, t_raw: None, t: None };
+        return PlaneTest {
+            form,
+            denominator,
+            numerator,
+            parallel: true,
+            t_raw: None,
+            t: None,
+        };
     }
     let t_raw = numerator / denominator;
     // An overflowing t (grazing slope, S10) is ±∞ and fails `< t_max` or `> t_min`: a clean miss.
-    let t = if ray.accepts(t_raw) { Some(t_raw) } else { None };
-    PlaneTest { form, denominator, numerator, parallel: false, t_raw: Some(t_raw), t }
+    let t = if ray.accepts(t_raw) {
+        Some(t_raw)
+    } else {
+        None
+    };
+    PlaneTest {
+        form,
+        denominator,
+        numerator,
+        parallel: false,
+        t_raw: Some(t_raw),
+        t,
+    }
 }
 
 #[cfg(test)]

@@ -48,7 +48,10 @@ pub enum RootChoice {
 
 /// Every intermediate of one ray–sphere test.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
+#[serde(bound(
+    serialize = "T: crate::jsonf::JsonFloat",
+    deserialize = "T: crate::jsonf::JsonFloat"
+))]
 pub struct SphereTest<T> {
     /// The method used.
     pub method: SphereMethod,
@@ -65,10 +68,18 @@ pub struct SphereTest<T> {
     #[serde(with = "crate::jsonf")]
     pub discriminant: T,
     /// `stable` only: Δ′ = r² − ‖f − (f·d / a)·d‖², the squared distance margin of the ray's line.
-    #[serde(with = "crate::jsonf", skip_serializing_if = "Option::is_none", default)]
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
     pub delta_prime: Option<T>,
     /// `stable` only: q = b′ + sign(b′)·√(a·Δ′) with b′ = −f·d.
-    #[serde(with = "crate::jsonf", skip_serializing_if = "Option::is_none", default)]
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
     pub q: Option<T>,
     /// The two roots in ascending order (equal when tangent), or none.
     #[serde(with = "crate::jsonf")]
@@ -94,7 +105,12 @@ impl<T: Real> SphereTest<T> {
 
 /// Intersects `ray` with the sphere of centre `center` and radius `radius` by `method`.
 #[inline(always)]
-pub fn intersect<T: Real>(ray: &Ray<T>, center: T::V, radius: T, method: SphereMethod) -> SphereTest<T> {
+pub fn intersect<T: Real>(
+    ray: &Ray<T>,
+    center: T::V,
+    radius: T,
+    method: SphereMethod,
+) -> SphereTest<T> {
     match method {
         SphereMethod::Textbook => textbook(ray, center, radius),
         SphereMethod::Stable => stable(ray, center, radius),
@@ -166,7 +182,11 @@ pub fn stable<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
     if delta_prime.is_nan() || delta_prime < T::zero() {
         return test;
     }
-    let sign = if b_half >= T::zero() { T::one() } else { -T::one() };
+    let sign = if b_half >= T::zero() {
+        T::one()
+    } else {
+        -T::one()
+    };
     let q = b_half + sign * (a * delta_prime).sqrt();
     test.q = Some(q);
     let (t0, t1) = if q == T::zero() {

@@ -38,7 +38,10 @@ pub enum TriangleMethod {
 /// 11. if v* < 0 or u* + v* > 1: **stop**
 /// 12. hit at t*, with barycentrics (1 − u* − v*, u*, v*)
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(bound(serialize = "T: crate::jsonf::JsonFloat", deserialize = "T: crate::jsonf::JsonFloat"))]
+#[serde(bound(
+    serialize = "T: crate::jsonf::JsonFloat",
+    deserialize = "T: crate::jsonf::JsonFloat"
+))]
 pub struct TriangleTest<T> {
     /// The method used.
     pub method: TriangleMethod,
@@ -55,7 +58,11 @@ pub struct TriangleTest<T> {
     #[serde(with = "crate::jsonf")]
     pub dv: Option<T>,
     /// Watertight: the three edge functions e0, e1, e2 (barycentric weights of P0, P1, P2 times det).
-    #[serde(with = "crate::jsonf", skip_serializing_if = "Option::is_none", default)]
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
     pub edges: Option<[T; 3]>,
     /// Watertight: the ray-space permutation (kx, ky, kz), kz the largest |Q| component.
     #[serde(skip_serializing_if = "Option::is_none", default)]
@@ -89,7 +96,9 @@ impl<T: Real> TriangleTest<T> {
         match self.stopped_at {
             2 => "parallel: the determinant is zero",
             5 => "t out of range: behind the origin or beyond the closest hit so far",
-            8 if self.method == TriangleMethod::Watertight => "outside: the edge functions differ in sign",
+            8 if self.method == TriangleMethod::Watertight => {
+                "outside: the edge functions differ in sign"
+            }
             8 => "u out of [0, 1]: outside the triangle",
             11 => "v < 0 or u + v > 1: outside the triangle",
             12 => "hit",
@@ -281,7 +290,8 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     let max_yt = q[0][1].abs().max(q[1][1].abs()).max(q[2][1].abs());
     let delta_x = gamma::<T>(5) * (max_xt + max_z_unscaled);
     let delta_y = gamma::<T>(5) * (max_yt + max_z_unscaled);
-    let delta_e = T::lit(2.0) * (gamma::<T>(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let delta_e =
+        T::lit(2.0) * (gamma::<T>(2) * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
     let max_e = e0.abs().max(e1.abs()).max(e2.abs());
     let delta_t = T::lit(3.0)
         * (gamma::<T>(3) * max_e * max_zt + delta_e * max_zt + delta_z * max_e)
@@ -308,7 +318,11 @@ mod tests {
 
     // The Ray Tracer Challenge, ch. 15 ("Triangles"): p1 (0,1,0), p2 (−1,0,0), p3 (1,0,0).
     fn tri() -> [Vec3; 3] {
-        [Vec3::new(0., 1., 0.), Vec3::new(-1., 0., 0.), Vec3::new(1., 0., 0.)]
+        [
+            Vec3::new(0., 1., 0.),
+            Vec3::new(-1., 0., 0.),
+            Vec3::new(1., 0., 0.),
+        ]
     }
     fn ray(o: [f32; 3], d: [f32; 3]) -> Ray<f32> {
         Ray::infinite(Vec3::from(o), Vec3::from(d)).unwrap()
@@ -320,7 +334,10 @@ mod tests {
             let parallel = intersect(&ray([0., -1., -2.], [0., 1., 0.]), tri(), m);
             assert!(parallel.t.is_none(), "{m:?}");
             for o in [[1., 1., -2.], [-1., 1., -2.], [0., -1., -2.]] {
-                assert!(intersect(&ray(o, [0., 0., 1.]), tri(), m).t.is_none(), "{o:?} {m:?}");
+                assert!(
+                    intersect(&ray(o, [0., 0., 1.]), tri(), m).t.is_none(),
+                    "{o:?} {m:?}"
+                );
             }
             let hit = intersect(&ray([0., 0.5, -2.], [0., 0., 1.]), tri(), m);
             assert_eq!(hit.t, Some(2.0));

@@ -60,9 +60,19 @@ impl CameraRays {
     #[inline(always)]
     pub fn ray(&self, x: u32, y: u32, offset: [f32; 2]) -> (Ray<f32>, [f32; 2]) {
         let s = self.screen(x, y, offset);
-        let d = normalize(self.u * (s[0] * self.half_width) + self.v * (s[1] * self.half_height) - self.w);
+        let d = normalize(
+            self.u * (s[0] * self.half_width) + self.v * (s[1] * self.half_height) - self.w,
+        );
         // The direction is a unit vector built from a validated camera: never zero or NaN.
-        (Ray { origin: self.origin, dir: d, t_min: 0.0, t_max: f32::INFINITY }, s)
+        (
+            Ray {
+                origin: self.origin,
+                dir: d,
+                t_min: 0.0,
+                t_max: f32::INFINITY,
+            },
+            s,
+        )
     }
 }
 
@@ -95,7 +105,11 @@ mod tests {
         assert!((centre.dir - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6);
         let (corner, _) = c.ray(0, 0, [0.5, 0.5]);
         let rtc = Vec3::new(0.66519, 0.33259, -0.66851);
-        assert!((corner.dir - Vec3::new(-rtc.x, rtc.y, rtc.z)).length() < 1e-5, "{:?}", corner.dir);
+        assert!(
+            (corner.dir - Vec3::new(-rtc.x, rtc.y, rtc.z)).length() < 1e-5,
+            "{:?}",
+            corner.dir
+        );
     }
 
     #[test]

@@ -39,7 +39,13 @@ pub fn stage_name(s: Stage) -> &'static str {
 /// Describes one step in a line of words and numbers.
 pub fn describe(step: &Step) -> String {
     match step {
-        Step::Camera { pixel, sample, offset, screen, direction } => format!(
+        Step::Camera {
+            pixel,
+            sample,
+            offset,
+            screen,
+            direction,
+        } => format!(
             "camera: pixel ({}, {}) sample {sample}, at ({}, {}) in the pixel → screen ({}, {}) → direction {}",
             pixel[0],
             pixel[1],
@@ -98,7 +104,10 @@ pub fn describe(step: &Step) -> String {
                 PlaneForm::Axis { axis, .. } => ["x = c", "y = c", "z = c"][axis],
             };
             if test.parallel {
-                format!("plane \"{name}\" ({form}): denominator = {} → parallel: miss", num(test.denominator))
+                format!(
+                    "plane \"{name}\" ({form}): denominator = {} → parallel: miss",
+                    num(test.denominator)
+                )
             } else {
                 format!(
                     "plane \"{name}\" ({form}): t = {} / {} = {}{}",
@@ -136,23 +145,55 @@ pub fn describe(step: &Step) -> String {
                 test.stop_reason()
             ),
         },
-        Step::Accept { name, t, previous, .. } => {
-            format!("closest so far: \"{name}\" at t = {} (was {}); t_max shrinks", num(*t), num(*previous))
+        Step::Accept {
+            name, t, previous, ..
+        } => {
+            format!(
+                "closest so far: \"{name}\" at t = {} (was {}); t_max shrinks",
+                num(*t),
+                num(*previous)
+            )
         }
         Step::Miss { background } => format!("no hit: background {}", v3(*background)),
-        Step::Surface { point, normal, inside, over_point, .. } => format!(
+        Step::Surface {
+            point,
+            normal,
+            inside,
+            over_point,
+            ..
+        } => format!(
             "surface at {} with normal {}{}; spawned rays start at {}",
             v3(*point),
             v3(*normal),
-            if *inside { " (hit from inside: normal flipped)" } else { "" },
+            if *inside {
+                " (hit from inside: normal flipped)"
+            } else {
+                ""
+            },
             v3(*over_point)
         ),
         Step::ShadowRay { name, distance, .. } => {
-            format!("shadow ray towards light \"{name}\" ({} away)", num(*distance))
+            format!(
+                "shadow ray towards light \"{name}\" ({} away)",
+                num(*distance)
+            )
         }
-        Step::Light { name, blocked, blocker, l_dot_n, r_dot_e, ambient, diffuse, specular, .. } => {
+        Step::Light {
+            name,
+            blocked,
+            blocker,
+            l_dot_n,
+            r_dot_e,
+            ambient,
+            diffuse,
+            specular,
+            ..
+        } => {
             let vis = if *blocked {
-                format!("blocked by \"{}\": ambient only", blocker.as_deref().unwrap_or("?"))
+                format!(
+                    "blocked by \"{}\": ambient only",
+                    blocker.as_deref().unwrap_or("?")
+                )
             } else if *l_dot_n <= 0.0 {
                 "behind the surface: ambient only".into()
             } else {
@@ -167,10 +208,25 @@ pub fn describe(step: &Step) -> String {
                 v3(*specular)
             )
         }
-        Step::Reflect { reflective, direction } => {
-            format!("reflect (reflective = {}): r = d − 2(d·n)n = {}", num(*reflective), v3(*direction))
+        Step::Reflect {
+            reflective,
+            direction,
+        } => {
+            format!(
+                "reflect (reflective = {}): r = d − 2(d·n)n = {}",
+                num(*reflective),
+                v3(*direction)
+            )
         }
-        Step::Refract { n1, n2, cos_i, sin2_t, critical_angle_deg, total_internal_reflection, direction } => {
+        Step::Refract {
+            n1,
+            n2,
+            cos_i,
+            sin2_t,
+            critical_angle_deg,
+            total_internal_reflection,
+            direction,
+        } => {
             let mut s = format!(
                 "refract n1 = {} → n2 = {}: cos θi = {}, sin² θt = {}",
                 num(*n1),
@@ -192,7 +248,9 @@ pub fn describe(step: &Step) -> String {
             "Schlick: reflectance R = {}, so reflection × R + refraction × (1 − R)",
             num(*reflectance)
         ),
-        Step::DepthLimit { max_depth } => format!("recursion limit {max_depth} reached: no secondary ray"),
+        Step::DepthLimit { max_depth } => {
+            format!("recursion limit {max_depth} reached: no secondary ray")
+        }
         Step::Spawn { child } => format!("→ child ray {child}"),
         Step::Color { color } => format!("colour {}", v3(*color)),
     }
@@ -220,7 +278,11 @@ pub fn tree(trace: &Trace) -> String {
             v3(r.direction),
             num(r.t_min),
             r.t_max.map_or("∞".into(), num),
-            if r.weight != 1.0 && r.weight != 0.0 { format!(", weight {}", num(r.weight)) } else { String::new() }
+            if r.weight != 1.0 && r.weight != 0.0 {
+                format!(", weight {}", num(r.weight))
+            } else {
+                String::new()
+            }
         );
         for s in &r.steps {
             if let Step::Spawn { child } = s.step {
@@ -229,11 +291,21 @@ pub fn tree(trace: &Trace) -> String {
                 }
                 continue;
             }
-            let _ = writeln!(out, "{pad}  [{}] {}", stage_name(s.stage), describe(&s.step));
+            let _ = writeln!(
+                out,
+                "{pad}  [{}] {}",
+                stage_name(s.stage),
+                describe(&s.step)
+            );
         }
         match (&r.hit, r.kind) {
             (Some(h), super::RayKind::Shadow) => {
-                let _ = writeln!(out, "{pad}  ⇒ blocked by \"{}\" at t = {}", h.name, num(h.t));
+                let _ = writeln!(
+                    out,
+                    "{pad}  ⇒ blocked by \"{}\" at t = {}",
+                    h.name,
+                    num(h.t)
+                );
             }
             (None, super::RayKind::Shadow) => {
                 let _ = writeln!(out, "{pad}  ⇒ nothing in the way");

@@ -11,6 +11,7 @@ pub mod whitted;
 
 pub use observer::{Counter, Observer, Recorder, Silent};
 pub use record::{
-    HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step, StepRecord, Trace, TraceError, TraceObject,
+    HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step, StepRecord,
+    Trace, TraceError, TraceObject,
 };
 pub use whitted::Tracer;

@@ -110,7 +110,10 @@ impl Recorder {
     }
     fn push(&mut self, step: Step) {
         if let Some(r) = self.stack.last_mut() {
-            r.steps.push(StepRecord { stage: step.stage(), step });
+            r.steps.push(StepRecord {
+                stage: step.stage(),
+                step,
+            });
         }
     }
 }
@@ -124,7 +127,10 @@ impl Observer for Recorder {
     fn begin_ray(&mut self, kind: RayKind, depth: u32, ray: &Ray<f32>, weight: f32) {
         if let Some(parent) = self.stack.last_mut() {
             let child = parent.children.len() as u32;
-            parent.steps.push(StepRecord { stage: Step::Spawn { child }.stage(), step: Step::Spawn { child } });
+            parent.steps.push(StepRecord {
+                stage: Step::Spawn { child }.stage(),
+                step: Step::Spawn { child },
+            });
         }
         self.stack.push(RayRecord {
             kind,
@@ -150,7 +156,9 @@ impl Observer for Recorder {
         self.push(step());
     }
     fn end_ray(&mut self, hit: impl FnOnce() -> Option<HitRecord>, color: Vec3) {
-        let Some(mut r) = self.stack.pop() else { return };
+        let Some(mut r) = self.stack.pop() else {
+            return;
+        };
         r.hit = hit();
         r.color = arr(color);
         match self.stack.last_mut() {

@@ -419,7 +419,9 @@ pub enum TraceError {
         message: String,
     },
     /// A trace of a version this raystep does not read.
-    #[error("{file}: field `version`: trace format version {found} is not supported (this raystep reads version {TRACE_VERSION})")]
+    #[error(
+        "{file}: field `version`: trace format version {found} is not supported (this raystep reads version {TRACE_VERSION})"
+    )]
     Version {
         /// The file.
         file: String,
@@ -447,7 +449,12 @@ impl Trace {
         let value: serde_json::Value = serde_json::from_str(text).map_err(corrupt)?;
         match value.get("version").and_then(|v| v.as_u64()) {
             Some(v) if v == TRACE_VERSION as u64 => {}
-            Some(found) => return Err(TraceError::Version { file: file.into(), found }),
+            Some(found) => {
+                return Err(TraceError::Version {
+                    file: file.into(),
+                    found,
+                });
+            }
             None => {
                 return Err(TraceError::Corrupt {
                     file: file.into(),
@@ -463,7 +470,10 @@ impl Trace {
     /// Reads a trace file.
     pub fn load(path: &Path) -> Result<Trace, TraceError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| TraceError::Io { file: file.clone(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| TraceError::Io {
+            file: file.clone(),
+            source,
+        })?;
         Self::from_json(&text, &file)
     }
 

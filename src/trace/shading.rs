@@ -30,7 +30,15 @@ impl PhongTerms {
 /// Phong lighting at `point` (RTC's `lighting`): `eye` and `normal` are unit vectors, `normal`
 /// faces the eye. In shadow only the ambient term remains.
 #[inline(always)]
-pub fn phong(m: &Material, light_pos: Vec3, light_color: Vec3, point: Vec3, eye: Vec3, normal: Vec3, in_shadow: bool) -> PhongTerms {
+pub fn phong(
+    m: &Material,
+    light_pos: Vec3,
+    light_color: Vec3,
+    point: Vec3,
+    eye: Vec3,
+    normal: Vec3,
+    in_shadow: bool,
+) -> PhongTerms {
     let effective = m.color * light_color;
     let to_light = light_pos - point;
     let lightv = to_light / to_light.length();
@@ -45,7 +53,13 @@ pub fn phong(m: &Material, light_pos: Vec3, light_color: Vec3, point: Vec3, eye:
             specular = light_color * (m.specular * r_dot_e.powf(m.shininess));
         }
     }
-    PhongTerms { ambient, diffuse, specular, l_dot_n, r_dot_e }
+    PhongTerms {
+        ambient,
+        diffuse,
+        specular,
+        l_dot_n,
+        r_dot_e,
+    }
 }
 
 /// Mirror reflection of `v` about the unit normal `n`: v − 2(v·n)n.
@@ -73,11 +87,19 @@ pub fn refract(eye: Vec3, n: Vec3, n1: f32, n2: f32) -> Refraction {
     let cos_i = eye.dot(n);
     let sin2_t = ratio * ratio * (1.0 - cos_i * cos_i);
     if sin2_t > 1.0 {
-        return Refraction { cos_i, sin2_t, direction: None };
+        return Refraction {
+            cos_i,
+            sin2_t,
+            direction: None,
+        };
     }
     let cos_t = (1.0 - sin2_t).sqrt();
     let d = n * (ratio * cos_i - cos_t) - eye * ratio;
-    Refraction { cos_i, sin2_t, direction: Some(d) }
+    Refraction {
+        cos_i,
+        sin2_t,
+        direction: Some(d),
+    }
 }
 
 /// Schlick's approximation of the Fresnel reflectance (RTC ch. 11), 1 under total internal
@@ -118,26 +140,60 @@ mod tests {
         let s2 = 2f32.sqrt() / 2.0;
         let white = Vec3::ONE;
         let cases = [
-            (Vec3::new(0., 0., -1.), Vec3::new(0., 0., -10.), Vec3::splat(1.9)),
-            (Vec3::new(0., s2, -s2), Vec3::new(0., 0., -10.), Vec3::splat(1.0)),
-            (Vec3::new(0., 0., -1.), Vec3::new(0., 10., -10.), Vec3::splat(0.7364)),
-            (Vec3::new(0., -s2, -s2), Vec3::new(0., 10., -10.), Vec3::splat(1.6364)),
-            (Vec3::new(0., 0., -1.), Vec3::new(0., 0., 10.), Vec3::splat(0.1)),
+            (
+                Vec3::new(0., 0., -1.),
+                Vec3::new(0., 0., -10.),
+                Vec3::splat(1.9),
+            ),
+            (
+                Vec3::new(0., s2, -s2),
+                Vec3::new(0., 0., -10.),
+                Vec3::splat(1.0),
+            ),
+            (
+                Vec3::new(0., 0., -1.),
+                Vec3::new(0., 10., -10.),
+                Vec3::splat(0.7364),
+            ),
+            (
+                Vec3::new(0., -s2, -s2),
+                Vec3::new(0., 10., -10.),
+                Vec3::splat(1.6364),
+            ),
+            (
+                Vec3::new(0., 0., -1.),
+                Vec3::new(0., 0., 10.),
+                Vec3::splat(0.1),
+            ),
         ];
         for (eye, light, expect) in cases {
             let got = phong(&m, light, white, Vec3::ZERO, eye, n, false).sum();
             assert!(approx(got, expect), "{got:?} vs {expect:?}");
         }
         // In shadow: ambient only.
-        let shadowed = phong(&m, Vec3::new(0., 0., -10.), white, Vec3::ZERO, Vec3::new(0., 0., -1.), n, true);
+        let shadowed = phong(
+            &m,
+            Vec3::new(0., 0., -10.),
+            white,
+            Vec3::ZERO,
+            Vec3::new(0., 0., -1.),
+            n,
+            true,
+        );
         assert!(approx(shadowed.sum(), Vec3::splat(0.1)));
     }
 
     #[test]
     fn rtc_reflect_vectors() {
-        assert_eq!(reflect(Vec3::new(1., -1., 0.), Vec3::Y), Vec3::new(1., 1., 0.));
+        assert_eq!(
+            reflect(Vec3::new(1., -1., 0.), Vec3::Y),
+            Vec3::new(1., 1., 0.)
+        );
         let s2 = 2f32.sqrt() / 2.0;
-        assert!(approx(reflect(Vec3::new(0., -1., 0.), Vec3::new(s2, s2, 0.)), Vec3::X));
+        assert!(approx(
+            reflect(Vec3::new(0., -1., 0.), Vec3::new(s2, s2, 0.)),
+            Vec3::X
+        ));
     }
 
     #[test]

@@ -30,7 +30,11 @@ pub struct Media {
 
 impl Media {
     fn top_ior(&self) -> f32 {
-        if self.len == 0 { 1.0 } else { self.iors[self.len - 1] }
+        if self.len == 0 {
+            1.0
+        } else {
+            self.iors[self.len - 1]
+        }
     }
     fn position(&self, id: u32) -> Option<usize> {
         self.ids[..self.len].iter().position(|&i| i == id)
@@ -98,11 +102,16 @@ pub fn interact(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
             let len = rel.length();
             let rel = if len > 0.0 { rel * (radius / len) } else { rel };
             let p = center + rel;
-            (p, rel / radius, gamma::<f32>(5) * rel.abs() + gamma::<f32>(2) * p.abs())
+            (
+                p,
+                rel / radius,
+                gamma::<f32>(5) * rel.abs() + gamma::<f32>(2) * p.abs(),
+            )
         }
         Shape::Plane { normal, offset } => {
             let p = raw - normal * (raw.dot(normal) - offset);
-            let e = gamma::<f32>(7) * (p.abs() + normal.abs() * (p.abs().dot(normal.abs()) + offset.abs()));
+            let e = gamma::<f32>(7)
+                * (p.abs() + normal.abs() * (p.abs().dot(normal.abs()) + offset.abs()));
             (p, normal, e)
         }
         Shape::AxisPlane { axis, offset } => {
@@ -117,14 +126,21 @@ pub fn interact(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
         Shape::Triangle { p } => {
             let b0 = 1.0 - hit.u - hit.v;
             let point = p[0] * b0 + p[1] * hit.u + p[2] * hit.v;
-            let e = gamma::<f32>(7) * ((p[0] * b0).abs() + (p[1] * hit.u).abs() + (p[2] * hit.v).abs());
+            let e =
+                gamma::<f32>(7) * ((p[0] * b0).abs() + (p[1] * hit.u).abs() + (p[2] * hit.v).abs());
             let n = (p[1] - p[0]).cross(p[2] - p[0]);
             (point, n / n.length(), e)
         }
     };
     let eye = -ray.dir / ray.dir.length();
     let inside = outward.dot(eye) < 0.0;
-    Interaction { point, normal: if inside { -outward } else { outward }, eye, inside, error }
+    Interaction {
+        point,
+        normal: if inside { -outward } else { outward },
+        eye,
+        inside,
+        error,
+    }
 }
 
 /// The origin and t_min of a ray leaving `it` in direction `w`, by the scene's offset policy.
@@ -187,7 +203,12 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
     /// A tracer over `scene` using `accel`.
     pub fn new(scene: &'s Scene, accel: &'s A) -> Self {
         let f = &scene.features;
-        Tracer { scene, accel, camera: CameraRays::new(&scene.camera), stages: (f.lights > 0, f.reflective, f.transparent) }
+        Tracer {
+            scene,
+            accel,
+            camera: CameraRays::new(&scene.camera),
+            stages: (f.lights > 0, f.reflective, f.transparent),
+        }
     }
 
     /// Turns the per-scene specialization off (every stage compiled in and checked at run time),
@@ -243,7 +264,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         specialized!(self.primary_spec::<O>(ray, obs))
     }
 
-    fn primary_spec<O: Observer, const L: bool, const R: bool, const T: bool>(&self, ray: &Ray<f32>, obs: &mut O) -> Vec3 {
+    fn primary_spec<O: Observer, const L: bool, const R: bool, const T: bool>(
+        &self,
+        ray: &Ray<f32>,
+        obs: &mut O,
+    ) -> Vec3 {
         self.trace_child::<O, L, R, T>(ray, RayKind::Primary, 0, 1.0, Media::default(), obs)
     }
 
@@ -276,7 +301,9 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         fn walk(r: &RayRecord, ids: &mut std::collections::BTreeSet<u32>) {
             for s in &r.steps {
                 match &s.step {
-                    Step::Sphere { object, .. } | Step::Plane { object, .. } | Step::Triangle { object, .. } => {
+                    Step::Sphere { object, .. }
+                    | Step::Plane { object, .. }
+                    | Step::Triangle { object, .. } => {
                         ids.insert(*object);
                     }
                     _ => {}
@@ -309,8 +336,16 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
 
     fn hit_record(&self, hit: Option<Hit>) -> Option<HitRecord> {
         hit.map(|h| {
-            let tri = matches!(self.scene.objects[h.object as usize].shape, Shape::Triangle { .. });
-            HitRecord { object: h.object, name: self.scene.object_name(h.object), t: h.t, uv: tri.then_some([h.u, h.v]) }
+            let tri = matches!(
+                self.scene.objects[h.object as usize].shape,
+                Shape::Triangle { .. }
+            );
+            HitRecord {
+                object: h.object,
+                name: self.scene.object_name(h.object),
+                t: h.t,
+                uv: tri.then_some([h.u, h.v]),
+            }
         })
     }
 
@@ -341,12 +376,18 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         let scene = self.scene;
         let Some(hit) = self.accel.closest(scene, ray, obs) else {
             let bg = scene.settings.background;
-            obs.step(|| Step::Miss { background: bg.to_array() });
-            obs.step(|| Step::Color { color: bg.to_array() });
+            obs.step(|| Step::Miss {
+                background: bg.to_array(),
+            });
+            obs.step(|| Step::Color {
+                color: bg.to_array(),
+            });
             return (bg, None);
         };
         let color = self.shade::<O, L, R, T>(&hit, ray, depth, media, obs);
-        obs.step(|| Step::Color { color: color.to_array() });
+        obs.step(|| Step::Color {
+            color: color.to_array(),
+        });
         (color, Some(hit))
     }
 
@@ -378,13 +419,22 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             // shows its shapes).
             surface = m.color * m.ambient;
         }
-        for (li, light) in scene.lights.iter().enumerate().take(if L { usize::MAX } else { 0 }) {
+        for (li, light) in scene
+            .lights
+            .iter()
+            .enumerate()
+            .take(if L { usize::MAX } else { 0 })
+        {
             let to_light = light.position - it.point;
             // A light behind the surface contributes only ambient, shadowed or not: no shadow ray.
             let facing = to_light.dot(it.normal) > 0.0;
             let mut blocker = None;
             if facing {
-                obs.step(|| Step::ShadowRay { light: li as u32, name: light.name.clone(), distance: to_light.length() });
+                obs.step(|| Step::ShadowRay {
+                    light: li as u32,
+                    name: light.name.clone(),
+                    distance: to_light.length(),
+                });
                 let o = spawn_origin(s.offset, s.epsilon, &it, to_light);
                 if let Ok(shadow) = Ray::new(o, light.position - o, 0.0, 1.0 - SHADOW_EPSILON) {
                     obs.begin_ray(RayKind::Shadow, depth + 1, &shadow, 0.0);
@@ -392,7 +442,15 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     obs.end_ray(|| self.hit_record(blocker), Vec3::ZERO);
                 }
             }
-            let terms = phong(m, light.position, light.color, it.point, it.eye, it.normal, blocker.is_some());
+            let terms = phong(
+                m,
+                light.position,
+                light.color,
+                it.point,
+                it.eye,
+                it.normal,
+                blocker.is_some(),
+            );
             obs.step(|| Step::Light {
                 light: li as u32,
                 name: light.name.clone(),
@@ -413,13 +471,30 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         if R && m.reflective > 0.0 {
             if can_recurse {
                 let dir = reflect(ray.dir, it.normal);
-                obs.step(|| Step::Reflect { reflective: m.reflective, direction: dir.to_array() });
+                obs.step(|| Step::Reflect {
+                    reflective: m.reflective,
+                    direction: dir.to_array(),
+                });
                 let o = spawn_origin(s.offset, s.epsilon, &it, dir);
                 // dir is a reflection of a valid direction: finite and non-zero.
-                let r = Ray { origin: o, dir, t_min: 0.0, t_max: f32::INFINITY };
-                reflected = self.trace_child::<O, L, R, T>(&r, RayKind::Reflection, depth + 1, m.reflective, media, obs) * m.reflective;
+                let r = Ray {
+                    origin: o,
+                    dir,
+                    t_min: 0.0,
+                    t_max: f32::INFINITY,
+                };
+                reflected = self.trace_child::<O, L, R, T>(
+                    &r,
+                    RayKind::Reflection,
+                    depth + 1,
+                    m.reflective,
+                    media,
+                    obs,
+                ) * m.reflective;
             } else {
-                obs.step(|| Step::DepthLimit { max_depth: s.max_depth });
+                obs.step(|| Step::DepthLimit {
+                    max_depth: s.max_depth,
+                });
             }
         }
         // Refraction.
@@ -438,13 +513,27 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     direction: refr.direction.map(|d| d.to_array()),
                 });
                 if let Some(dir) = refr.direction
-                    && let Ok(r) = Ray::new(spawn_origin(s.offset, s.epsilon, &it, dir), dir, 0.0, f32::INFINITY)
+                    && let Ok(r) = Ray::new(
+                        spawn_origin(s.offset, s.epsilon, &it, dir),
+                        dir,
+                        0.0,
+                        f32::INFINITY,
+                    )
                 {
                     let inner = media.crossed(hit.object, m.refractive_index);
-                    refracted = self.trace_child::<O, L, R, T>(&r, RayKind::Refraction, depth + 1, m.transparency, inner, obs) * m.transparency;
+                    refracted = self.trace_child::<O, L, R, T>(
+                        &r,
+                        RayKind::Refraction,
+                        depth + 1,
+                        m.transparency,
+                        inner,
+                        obs,
+                    ) * m.transparency;
                 }
             } else if m.reflective == 0.0 {
-                obs.step(|| Step::DepthLimit { max_depth: s.max_depth });
+                obs.step(|| Step::DepthLimit {
+                    max_depth: s.max_depth,
+                });
             }
             if R && m.reflective > 0.0 {
                 let reflectance = schlick(refr.cos_i, n1, n2);
