@@ -1,11 +1,1089 @@
-//! Placeholder: being written.
+//! The ray–sphere quadratic: f(t) = a t² + b t + c of one recorded sphere test, plotted over a t
+//! range that shows t = 0 (the ray's origin) and both roots, with the allowed interval of the ray
+//! shaded, the roots marked and the chosen root highlighted, next to a panel of the test's
+//! numbers and the reason for its decision.
+//!
+//! Everything is read from the [`SphereTest`] record: the curve is f evaluated from the recorded
+//! a, b, c (drawing, not intersecting), the roots and the choice are the kernel's own.
+//!
+//! This file also holds the small text helpers the barycentric diagram shares (subscripts, word
+//! wrapping, label placement, compact numbers).
 
-use super::{Canvas, ViewOptions, title};
-use crate::trace::Trace;
+use super::canvas::{Rgba, with_alpha};
+use super::{Anchor, Canvas, ViewOptions, pick_step, title};
+use crate::shapes::{RootChoice, SphereCase, SphereMethod, SphereTest};
+use crate::trace::describe::num;
+use crate::trace::{RayKind, RayRecord, Step, StepRecord, Trace};
+
+// ---------------------------------------------------------------------------------------------
+// Shared text helpers.
+
+/// A line of text with subscripts: `'_'` followed by one character, or by `{…}`, is a subscript
+/// (`t_0`, `t_{min}`); names are appended with [`Rich::plain`] so that their underscores stay.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Rich(Vec<(String, bool)>);
+
+impl Rich {
+    /// Parses markup.
+    pub(super) fn new(markup: &str) -> Rich {
+        Rich::default().push(markup)
+    }
+
+    /// Appends markup.
+    pub(super) fn push(mut self, markup: &str) -> Rich {
+        let mut chars = markup.chars().peekable();
+        let mut run = String::new();
+        while let Some(ch) = chars.next() {
+            if ch == '_' && chars.peek().is_some() {
+                if !run.is_empty() {
+                    self.0.push((std::mem::take(&mut run), false));
+                }
+                let mut sub = String::new();
+                if chars.peek() == Some(&'{') {
+                    chars.next();
+                    for c in chars.by_ref() {
+                        if c == '}' {
+                            break;
+                        }
+                        sub.push(c);
+                    }
+                } else if let Some(c) = chars.next() {
+                    sub.push(c);
+                }
+                self.0.push((sub, true));
+            } else {
+                run.push(ch);
+            }
+        }
+        if !run.is_empty() {
+            self.0.push((run, false));
+        }
+        self
+    }
+
+    /// Appends literal text (no markup).
+    pub(super) fn plain(mut self, text: &str) -> Rich {
+        self.0.push((text.to_string(), false));
+        self
+    }
+}
+
+/// Subscripts are this fraction of the text size.
+const SUB: f32 = 0.72;
+/// The bundled Hack font's ascent + descent, in ems.
+const LINE_EMS: f32 = 1.164;
+
+/// The width of `r` at `size` pixels.
+pub(super) fn rich_width(c: &Canvas, r: &Rich, size: f32) -> f32 {
+    r.0.iter()
+        .map(|(s, sub)| c.text_width(s, if *sub { size * SUB } else { size }))
+        .sum()
+}
+
+/// The top-left corner of a `w`×`h` box anchored at (x, y).
+fn anchored(x: f32, y: f32, w: f32, h: f32, anchor: Anchor) -> (f32, f32) {
+    match anchor {
+        Anchor::TopLeft => (x, y),
+        Anchor::TopCenter => (x - w / 2.0, y),
+        Anchor::TopRight => (x - w, y),
+        Anchor::Center => (x - w / 2.0, y - h / 2.0),
+        Anchor::MiddleLeft => (x, y - h / 2.0),
+        Anchor::MiddleRight => (x - w, y - h / 2.0),
+    }
+}
+
+/// Draws `r` at `size` pixels anchored at (x, y); returns its width.
+pub(super) fn rich(
+    c: &mut Canvas,
+    x: f32,
+    y: f32,
+    size: f32,
+    r: &Rich,
+    color: Rgba,
+    anchor: Anchor,
+) -> f32 {
+    let w = rich_width(c, r, size);
+    let (mut cx, y0) = anchored(x, y, w, size * LINE_EMS, anchor);
+    for (s, sub) in &r.0 {
+        cx += if *sub {
+            c.text(cx, y0 + size * 0.47, size * SUB, s, color, Anchor::TopLeft)
+        } else {
+            c.text(cx, y0, size, s, color, Anchor::TopLeft)
+        };
+    }
+    w
+}
+
+/// The box `[x0, y0, x1, y1]` a label of `r` anchored at (x, y) covers.
+fn label_box(c: &Canvas, x: f32, y: f32, size: f32, r: &Rich, anchor: Anchor) -> [f32; 4] {
+    let w = rich_width(c, r, size);
+    let h = size * 1.25;
+    let (x0, y0) = anchored(x, y, w, h, anchor);
+    [x0 - 3.0, y0 - 1.0, x0 + w + 3.0, y0 + h + 1.0]
+}
+
+/// Draws `r` on a box of the background colour, so it reads over lines.
+pub(super) fn rich_label(
+    c: &mut Canvas,
+    x: f32,
+    y: f32,
+    size: f32,
+    r: &Rich,
+    color: Rgba,
+    anchor: Anchor,
+) {
+    let b = label_box(c, x, y, size, r, anchor);
+    let bg = with_alpha(c.theme.background, 225);
+    c.rect(b[0], b[1], b[2] - b[0], b[3] - b[1], bg);
+    rich(
+        c,
+        b[0] + 3.0,
+        b[1] + 1.0 + size * 0.05,
+        size,
+        r,
+        color,
+        Anchor::TopLeft,
+    );
+}
+
+/// Places labels so that they stay inside a region and do not cover each other.
+pub(super) struct Placer {
+    bounds: [f32; 4],
+    taken: Vec<[f32; 4]>,
+}
+
+impl Placer {
+    /// Labels must stay inside `bounds` = [x0, y0, x1, y1].
+    pub(super) fn new(bounds: [f32; 4]) -> Placer {
+        Placer {
+            bounds,
+            taken: vec![],
+        }
+    }
+
+    /// Marks a box as taken (a marker, a legend).
+    pub(super) fn block(&mut self, b: [f32; 4]) {
+        self.taken.push(b);
+    }
+
+    /// Like [`Placer::place`], but draws nothing when no candidate is free (for optional labels).
+    pub(super) fn place_if_free(
+        &mut self,
+        c: &mut Canvas,
+        candidates: &[(f32, f32, Anchor)],
+        size: f32,
+        r: &Rich,
+        color: Rgba,
+    ) -> Option<[f32; 4]> {
+        let free = candidates.iter().position(|&(x, y, a)| {
+            let b = label_box(c, x, y, size, r, a);
+            self.inside(&b) && self.free(&b)
+        })?;
+        Some(self.place(c, &candidates[free..=free], size, r, color))
+    }
+
+    fn inside(&self, b: &[f32; 4]) -> bool {
+        b[0] >= self.bounds[0]
+            && b[1] >= self.bounds[1]
+            && b[2] <= self.bounds[2]
+            && b[3] <= self.bounds[3]
+    }
+
+    fn free(&self, b: &[f32; 4]) -> bool {
+        self.taken
+            .iter()
+            .all(|t| b[2] <= t[0] || b[0] >= t[2] || b[3] <= t[1] || b[1] >= t[3])
+    }
+
+    /// Draws `r` as a label at the first candidate position that fits (else the first); returns
+    /// the box it took.
+    pub(super) fn place(
+        &mut self,
+        c: &mut Canvas,
+        candidates: &[(f32, f32, Anchor)],
+        size: f32,
+        r: &Rich,
+        color: Rgba,
+    ) -> [f32; 4] {
+        let fits = |b: &[f32; 4]| self.inside(b);
+        let free = |b: &[f32; 4]| self.free(b);
+        let boxes: Vec<[f32; 4]> = candidates
+            .iter()
+            .map(|&(x, y, a)| label_box(c, x, y, size, r, a))
+            .collect();
+        let pick = (0..boxes.len())
+            .find(|&i| fits(&boxes[i]) && free(&boxes[i]))
+            .or_else(|| (0..boxes.len()).find(|&i| fits(&boxes[i])))
+            .unwrap_or(0);
+        let (x, y, a) = candidates[pick];
+        rich_label(c, x, y, size, r, color, a);
+        self.taken.push(boxes[pick]);
+        boxes[pick]
+    }
+}
+
+/// Splits `markup` into lines no wider than `width` at `size` (breaking at spaces).
+pub(super) fn wrap(c: &Canvas, markup: &str, size: f32, width: f32) -> Vec<String> {
+    let mut lines = vec![];
+    let mut line = String::new();
+    for word in markup.split(' ') {
+        let candidate = if line.is_empty() {
+            word.to_string()
+        } else {
+            format!("{line} {word}")
+        };
+        if !line.is_empty() && rich_width(c, &Rich::new(&candidate), size) > width {
+            lines.push(std::mem::replace(&mut line, word.to_string()));
+        } else {
+            line = candidate;
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// A number shortened to 4 significant digits for labels on a drawing (the panel shows the
+/// exact value with [`num`]).
+pub(super) fn short(x: f64) -> String {
+    if !x.is_finite() {
+        return num(x as f32);
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let a = x.abs();
+    let s = if (1e-3..1e5).contains(&a) {
+        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        format!("{x:.decimals$}")
+    } else {
+        format!("{x:.3e}")
+    };
+    let (mantissa, exp) = match s.split_once('e') {
+        Some((m, e)) => (m.to_string(), format!("e{e}")),
+        None => (s.clone(), String::new()),
+    };
+    // Trailing zeros go only when what is left is the exact value (so "4" means 4, "4.000"
+    // means about 4).
+    let trimmed = if mantissa.contains('.') {
+        mantissa
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    } else {
+        mantissa.clone()
+    };
+    let exact = format!("{trimmed}{exp}");
+    if exact.parse::<f64>() == Ok(x) || exact.parse::<f32>().is_ok_and(|p| p as f64 == x) {
+        exact
+    } else {
+        format!("{mantissa}{exp}")
+    }
+}
+
+/// `name = value` for a drawing: `=` when the short form is exact, `≈` when it was rounded.
+pub(super) fn short_eq(name: &str, x: f32) -> Rich {
+    let s = short(x as f64);
+    let exact = s.parse::<f32>().is_ok_and(|p| p == x) || s.parse::<f64>() == Ok(x as f64);
+    Rich::new(&format!("{name} {} {s}", if exact { "=" } else { "≈" }))
+}
+
+/// "primary ray", "shadow ray (depth 1)", …
+pub(super) fn ray_name(r: &RayRecord) -> String {
+    let kind = match r.kind {
+        RayKind::Primary => "primary",
+        RayKind::Shadow => "shadow",
+        RayKind::Reflection => "reflection",
+        RayKind::Refraction => "refraction",
+    };
+    if r.depth == 0 && r.kind == RayKind::Primary {
+        format!("{kind} ray")
+    } else {
+        format!("{kind} ray (depth {})", r.depth)
+    }
+}
+
+/// Draws the title, shrinking it to fit the width; returns the y below it.
+pub(super) fn fit_title(c: &mut Canvas, text: &str) -> f32 {
+    let size = c.text_size;
+    let avail = c.width() - size * 1.6;
+    let w = c.text_width(text, size * 1.15);
+    if w > avail {
+        c.text_size = (size * avail / w).max(8.0);
+    }
+    let y = title(c, text);
+    c.text_size = size;
+    y
+}
+
+/// The ray's interval when a step ran: (t_min, t_max) with t_max shrunk by every closest-hit
+/// update recorded on that ray before the step (∞ when none).
+pub(super) fn interval_at(ray: &RayRecord, step: &StepRecord) -> (f32, f32) {
+    let mut t_max = ray.t_max.unwrap_or(f32::INFINITY);
+    for s in &ray.steps {
+        if std::ptr::eq(s, step) {
+            break;
+        }
+        if let Step::Accept { t, .. } = s.step {
+            t_max = t;
+        }
+    }
+    (ray.t_min, t_max)
+}
+
+/// Chooses "nice" tick positions (1, 2, 5 × 10ᵏ) covering [lo, hi]; returns them with the number
+/// of decimals their labels need.
+fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
+    let span = hi - lo;
+    if !span.is_finite() || span <= 0.0 {
+        return (vec![], 0);
+    }
+    let raw = span / target.max(1) as f64;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
+    let decimals = (-(step.log10().floor())).max(0.0) as usize;
+    let first = (lo / step).ceil() as i64;
+    let last = (hi / step).floor() as i64;
+    let out = (first..=last).map(|k| k as f64 * step).collect();
+    (out, decimals.min(9))
+}
+
+fn tick_label(v: f64, decimals: usize) -> String {
+    let v = if v.abs() < 1e-12 { 0.0 } else { v };
+    if v != 0.0 && (v.abs() >= 1e6 || v.abs() < 1e-4) {
+        short(v)
+    } else {
+        format!("{v:.decimals$}")
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The quadratic diagram.
+
+/// Maps the plot's data coordinates (t, f(t)) to canvas pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlotFrame {
+    /// Left edge of the plot area, pixels.
+    pub left: f32,
+    /// Top edge of the plot area, pixels.
+    pub top: f32,
+    /// Right edge of the plot area, pixels.
+    pub right: f32,
+    /// Bottom edge of the plot area, pixels.
+    pub bottom: f32,
+    /// The t range shown, left to right.
+    pub t_range: [f64; 2],
+    /// The f range shown, bottom to top.
+    pub f_range: [f64; 2],
+}
+
+impl PlotFrame {
+    /// The x pixel of parameter t.
+    pub fn x(&self, t: f64) -> f32 {
+        let [a, b] = self.t_range;
+        self.left + ((t - a) / (b - a)) as f32 * (self.right - self.left)
+    }
+
+    /// The y pixel of the value f.
+    pub fn y(&self, f: f64) -> f32 {
+        let [a, b] = self.f_range;
+        self.bottom - ((f - a) / (b - a)) as f32 * (self.bottom - self.top)
+    }
+
+    /// The parameter t at pixel column x.
+    pub fn t_at(&self, x: f32) -> f64 {
+        let [a, b] = self.t_range;
+        a + ((x - self.left) / (self.right - self.left)) as f64 * (b - a)
+    }
+}
+
+/// What the quadratic diagram draws, and where: the test it explains and the positions of its
+/// markers (so tests can check the drawing against the record).
+#[derive(Debug, Clone, PartialEq)]
+pub struct QuadraticLayout {
+    /// Index of the explained step in [`Trace::timeline`].
+    pub step: usize,
+    /// The sphere's name.
+    pub name: String,
+    /// The ray that ran the test (e.g. "shadow ray (depth 1)").
+    pub ray: String,
+    /// The recorded test.
+    pub test: SphereTest<f32>,
+    /// The ray's interval (t_min, t_max) when the test ran.
+    pub interval: (f32, f32),
+    /// The plot area and its mapping; None when the coefficients cannot be plotted (not finite).
+    pub frame: Option<PlotFrame>,
+    /// Pixel positions of the roots t₀, t₁ on the t axis (f = 0), when there are roots.
+    pub roots: Option<[[f32; 2]; 2]>,
+    /// Pixel position of the chosen root (the hit), when the test hit.
+    pub chosen: Option<[f32; 2]>,
+    /// The right-hand text panel: [x0, y0, x1, y1].
+    pub panel: [f32; 4],
+}
+
+/// f(t) = a t² + b t + c from the recorded coefficients, in f64 for a smooth curve.
+pub fn f_of(test: &SphereTest<f32>, t: f64) -> f64 {
+    let (a, b, c) = (test.a as f64, test.b as f64, test.c as f64);
+    (a * t + b) * t + c
+}
+
+/// The t and f ranges shown: t = 0, both roots (or the vertex −b/2a when there are none) and,
+/// when a root was refused for lying beyond it, t_max, with a margin; f from just below the
+/// lowest point to a top that keeps the dip below the axis visible.
+fn ranges(test: &SphereTest<f32>, interval: (f32, f32)) -> Option<([f64; 2], [f64; 2])> {
+    let (a, b) = (test.a as f64, test.b as f64);
+    if !a.is_finite() || a <= 0.0 || !b.is_finite() || !test.c.is_finite() {
+        return None;
+    }
+    let vertex = -b / (2.0 * a);
+    let fv = f_of(test, vertex);
+    let mut pts = vec![0.0, vertex];
+    match test.roots {
+        Some([r0, r1]) if r0.is_finite() && r1.is_finite() => pts.extend([r0 as f64, r1 as f64]),
+        _ => {
+            // No roots: show the parabola symmetrically about its vertex.
+            pts.push(2.0 * vertex);
+            let w = (fv.abs() / a).sqrt();
+            pts.extend([vertex - w, vertex + w]);
+        }
+    }
+    if test.choice == RootChoice::BeyondTMax && interval.1.is_finite() {
+        pts.push(interval.1 as f64);
+    }
+    let lo = pts.iter().cloned().fold(f64::INFINITY, f64::min);
+    let hi = pts.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    let span = if hi - lo > 0.0 {
+        hi - lo
+    } else {
+        lo.abs().max(1.0)
+    };
+    let t_range = [lo - 0.12 * span, hi + 0.12 * span];
+    if !t_range[0].is_finite() || !t_range[1].is_finite() || t_range[1] <= t_range[0] {
+        return None;
+    }
+    // f over the range: the ends and (if inside) the vertex.
+    let ends = [f_of(test, t_range[0]), f_of(test, t_range[1])];
+    let f_lo = if vertex > t_range[0] && vertex < t_range[1] {
+        fv
+    } else {
+        ends[0].min(ends[1])
+    };
+    let mut f_hi = ends[0].max(ends[1]);
+    let mut f_lo = f_lo.min(0.0);
+    if f_lo < 0.0 {
+        // A dip of depth |f_v| next to a c of thousands would be a hairline: keep the dip at
+        // least a ninth of the height; the curve leaves through the top.
+        f_hi = f_hi.min(-f_lo * 8.0).max(-f_lo * 0.5);
+    }
+    f_hi = f_hi.max(0.0);
+    if f_hi - f_lo <= 0.0 {
+        f_hi = f_lo + 1.0;
+    }
+    let pad = 0.08 * (f_hi - f_lo);
+    // With no roots the curve stays above the axis: leave room below it to say so.
+    f_lo -= if test.roots.is_none() { 2.0 * pad } else { pad };
+    f_hi += pad;
+    (f_lo.is_finite() && f_hi.is_finite()).then_some((t_range, [f_lo, f_hi]))
+}
+
+/// Where everything goes, from the trace alone.
+pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<QuadraticLayout> {
+    let (k, step) = pick_step(trace, opts.focus, |s| matches!(s, Step::Sphere { .. }))?;
+    let Step::Sphere { name, test, .. } = step else {
+        return None;
+    };
+    let tl = trace.timeline();
+    let (ray, record) = tl[k];
+    let interval = interval_at(ray, record);
+    let c = Canvas::new(opts.width, opts.height, opts.theme);
+    let (w, h, s) = (c.width(), c.height(), c.text_size);
+    let top = s * 0.6 + s * 1.15 * 1.5;
+    let panel_w = (w * 0.37).max(150.0).min(w * 0.5);
+    let panel = [w - panel_w, top, w - s * 0.5, h - s * 0.5];
+    let small = (s * 0.85).max(10.5);
+    let ytick_w = c.text_width("-0000.0", small);
+    let left = s * 0.6 + ytick_w + s * 0.3;
+    let right = panel[0] - s * 1.2;
+    let plot_top = top + small * 1.6;
+    let bottom = h - small * 2.6;
+    let frame = ranges(test, interval).map(|(t_range, f_range)| PlotFrame {
+        left,
+        top: plot_top,
+        right,
+        bottom,
+        t_range,
+        f_range,
+    });
+    let roots = frame.and_then(|f| {
+        let [r0, r1] = test.roots?;
+        Some([[f.x(r0 as f64), f.y(0.0)], [f.x(r1 as f64), f.y(0.0)]])
+    });
+    let chosen = frame.and_then(|f| test.t.map(|t| [f.x(t as f64), f.y(0.0)]));
+    Some(QuadraticLayout {
+        step: k,
+        name: name.clone(),
+        ray: ray_name(ray),
+        test: *test,
+        interval,
+        frame,
+        roots,
+        chosen,
+        panel,
+    })
+}
+
+/// The visible runs of the curve: f sampled across the frame, clipped to the f range.
+fn curve_runs(test: &SphereTest<f32>, f: &PlotFrame) -> Vec<Vec<[f32; 2]>> {
+    let n = ((f.right - f.left) as usize).clamp(64, 1200);
+    let [lo, hi] = f.f_range;
+    let mut runs: Vec<Vec<[f32; 2]>> = vec![];
+    let mut cur: Vec<[f32; 2]> = vec![];
+    let mut prev: Option<(f64, f64)> = None;
+    for i in 0..=n {
+        let t = f.t_range[0] + (f.t_range[1] - f.t_range[0]) * i as f64 / n as f64;
+        let v = f_of(test, t);
+        let inside = v >= lo && v <= hi;
+        if let Some((pt, pv)) = prev {
+            let was_inside = pv >= lo && pv <= hi;
+            if was_inside != inside {
+                // Where the segment crosses the band's edge.
+                let edge = if inside {
+                    if pv > hi { hi } else { lo }
+                } else if v > hi {
+                    hi
+                } else {
+                    lo
+                };
+                let s = (edge - pv) / (v - pv);
+                let tc = pt + s * (t - pt);
+                cur.push([f.x(tc), f.y(edge)]);
+                if !inside {
+                    runs.push(std::mem::take(&mut cur));
+                }
+            }
+        }
+        if inside {
+            cur.push([f.x(t), f.y(v)]);
+        }
+        prev = Some((t, v));
+    }
+    if cur.len() > 1 {
+        runs.push(cur);
+    }
+    runs
+}
+
+/// Words for the choice of root.
+fn choice_words(test: &SphereTest<f32>) -> (&'static str, &'static str) {
+    match test.choice {
+        RootChoice::NoRoots => ("none: miss", "Δ < 0: the ray's line passes the sphere by."),
+        RootChoice::NearRoot => (
+            "t_0, the near root",
+            "t_0 lies in (t_{min}, t_{max}): the ray enters the sphere there.",
+        ),
+        RootChoice::FarRoot => (
+            "t_1, the far root",
+            "t_0 ≤ t_{min} (the origin is inside the sphere), so the ray leaves it at t_1.",
+        ),
+        RootChoice::Behind => (
+            "none: miss",
+            "both roots ≤ t_{min}: the sphere is behind the ray.",
+        ),
+        RootChoice::BeyondTMax => (
+            "none: miss",
+            "the nearest usable root is ≥ t_{max}: something closer was already hit.",
+        ),
+    }
+}
 
 /// Draws the diagram.
-pub fn draw(_trace: &Trace, opts: &ViewOptions) -> Canvas {
+pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let mut c = Canvas::new(opts.width, opts.height, opts.theme);
-    title(&mut c, "quadratic (not drawn yet)");
+    let Some(l) = layout(trace, opts) else {
+        title(&mut c, "quadratic: this trace has no ray–sphere test");
+        return c;
+    };
+    let th = c.theme;
+    let s = c.text_size;
+    let small = (s * 0.85).max(10.5);
+    let tests = trace
+        .timeline()
+        .iter()
+        .filter(|(_, s)| matches!(s.step, Step::Sphere { .. }))
+        .count();
+    let heading = if tests > 1 {
+        format!(
+            "Ray–sphere quadratic: \"{}\", {} (test {} of {tests})",
+            l.name,
+            l.ray,
+            {
+                let tl = trace.timeline();
+                tl[..=l.step]
+                    .iter()
+                    .filter(|(_, s)| matches!(s.step, Step::Sphere { .. }))
+                    .count()
+            }
+        )
+    } else {
+        format!("Ray–sphere quadratic: \"{}\", {}", l.name, l.ray)
+    };
+    fit_title(&mut c, &heading);
+    let test = &l.test;
+
+    if let Some(f) = l.frame {
+        draw_plot(&mut c, &l, &f, small);
+    } else {
+        let r = Rich::new("cannot plot: the coefficients are not finite");
+        let y = c.height() / 2.0;
+        rich(&mut c, l.panel[0] / 2.0, y, s, &r, th.ray, Anchor::Center);
+    }
+
+    // The panel: exact values (the renderer's f32s), the case and the decision.
+    let mut rows: Vec<(String, Rgba)> = vec![];
+    let method = match test.method {
+        SphereMethod::Textbook => "method: textbook",
+        SphereMethod::Stable => "method: stable (RTG ch. 7)",
+    };
+    rows.push((method.into(), th.muted));
+    rows.push(("f(t) = at² + bt + c".into(), th.muted));
+    for (n, v) in [("a", test.a), ("b", test.b), ("c", test.c)] {
+        rows.push((format!("{n} = {}", num(v)), th.ink));
+    }
+    match test.method {
+        SphereMethod::Textbook => {
+            rows.push((format!("Δ = b² − 4ac = {}", num(test.discriminant)), th.ink))
+        }
+        SphereMethod::Stable => {
+            if let Some(dp) = test.delta_prime {
+                rows.push((format!("Δ′ = {}", num(dp)), th.ink));
+            }
+            rows.push((format!("Δ = 4aΔ′ = {}", num(test.discriminant)), th.ink));
+            if let Some(q) = test.q {
+                rows.push((format!("q = {}", num(q)), th.ink));
+            }
+        }
+    }
+    rows.push((String::new(), th.ink));
+    let case = match test.case {
+        SphereCase::Miss => "Δ < 0: no real roots",
+        SphereCase::Tangent => "Δ = 0: tangent, one double root",
+        SphereCase::EnterExit => "Δ > 0: the line enters and exits",
+    };
+    rows.push((case.into(), th.ink));
+    if let Some([r0, r1]) = test.roots {
+        let col = |r: f32| if test.t == Some(r) { th.hit } else { th.ink };
+        if test.case == SphereCase::Tangent || r0 == r1 {
+            rows.push((format!("t_0 = t_1 = {}", num(r0)), col(r0)));
+        } else {
+            rows.push((format!("t_0 = {}", num(r0)), col(r0)));
+            rows.push((format!("t_1 = {}", num(r1)), col(r1)));
+        }
+    }
+    let (t_min, t_max) = l.interval;
+    rows.push((
+        format!("ray: t in ({}, {})", num(t_min), num(t_max)),
+        th.muted,
+    ));
+    rows.push((String::new(), th.ink));
+    let (chosen, why) = choice_words(test);
+    rows.push((
+        format!("chosen: {chosen}"),
+        if test.t.is_some() { th.hit } else { th.ray },
+    ));
+    rows.push((why.into(), th.muted));
+    if test.inside {
+        rows.push(("c < 0: the origin is inside the sphere".into(), th.muted));
+    }
+    let heading = Rich::new("sphere ").plain(&format!("\"{}\"", l.name));
+    draw_panel(&mut c, l.panel, small, heading, &rows);
     c
+}
+
+/// Draws a text panel: a heading, then rows of markup, each wrapped to the panel's width (a row
+/// that is one unbreakable value is squeezed instead); the text shrinks if the rows would run
+/// off the bottom.
+pub(super) fn draw_panel(
+    c: &mut Canvas,
+    panel: [f32; 4],
+    size: f32,
+    heading: Rich,
+    rows: &[(String, Rgba)],
+) {
+    let [x0, y0, x1, y1] = panel;
+    let width = x1 - x0;
+    let ink = c.theme.ink;
+    let layout = |c: &Canvas, size: f32| -> Vec<(Rich, Rgba, bool)> {
+        let mut out = vec![(heading.clone(), ink, false)];
+        for (markup, col) in rows {
+            if markup.is_empty() {
+                out.push((Rich::default(), *col, true));
+                continue;
+            }
+            for line in wrap(c, markup, size, width) {
+                out.push((Rich::new(&line), *col, false));
+            }
+        }
+        out
+    };
+    let height = |n: &[(Rich, Rgba, bool)], size: f32| {
+        n.iter()
+            .map(|(_, _, gap)| if *gap { size * 0.6 } else { size * 1.32 })
+            .sum::<f32>()
+    };
+    let mut size = size;
+    let mut lines = layout(c, size);
+    for _ in 0..6 {
+        let need = height(&lines, size);
+        if need <= y1 - y0 || size <= 8.0 {
+            break;
+        }
+        size = (size * ((y1 - y0) / need).max(0.85)).max(8.0);
+        lines = layout(c, size);
+    }
+    let mut y = y0;
+    for (r, col, gap) in &lines {
+        if *gap {
+            y += size * 0.6;
+            continue;
+        }
+        let w = rich_width(c, r, size);
+        let sz = if w > width { size * width / w } else { size };
+        rich(c, x0, y + (size - sz) * 0.5, sz, r, *col, Anchor::TopLeft);
+        y += size * 1.32;
+    }
+}
+
+/// The plot: shaded interval, grid and ticks, axes, curve, roots, vertex, chosen root.
+fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) {
+    let th = c.theme;
+    let s = c.text_size;
+    let test = &l.test;
+    let (t_min, t_max) = l.interval;
+    let line_w = (s / 9.0).max(1.5);
+
+    // The allowed interval (t_min, t_max): in front of the origin, before the closest hit so far.
+    let xa = f.x(t_min as f64).clamp(f.left, f.right);
+    let xb = if t_max.is_finite() {
+        f.x(t_max as f64).clamp(f.left, f.right)
+    } else {
+        f.right
+    };
+    if xb > xa {
+        c.rect(xa, f.top, xb - xa, f.bottom - f.top, th.region);
+    }
+
+    // Grid and ticks.
+    let target_x = ((f.right - f.left) / (s * 3.2)).max(2.0) as usize;
+    let (tx, tdec) = ticks(f.t_range[0], f.t_range[1], target_x);
+    let target_y = ((f.bottom - f.top) / (s * 3.0)).max(2.0) as usize;
+    let (fy, fdec) = ticks(f.f_range[0], f.f_range[1], target_y);
+    let grid = with_alpha(th.muted, 50);
+    for &t in &tx {
+        let x = f.x(t);
+        c.line([x, f.top], [x, f.bottom], grid, 1.0);
+        c.line([x, f.bottom], [x, f.bottom + s * 0.3], th.muted, 1.0);
+        c.text(
+            x,
+            f.bottom + s * 0.4,
+            small,
+            &tick_label(t, tdec),
+            th.muted,
+            Anchor::TopCenter,
+        );
+    }
+    for &v in &fy {
+        let y = f.y(v);
+        c.line([f.left, y], [f.right, y], grid, 1.0);
+        c.line([f.left - s * 0.3, y], [f.left, y], th.muted, 1.0);
+        c.text(
+            f.left - s * 0.4,
+            y,
+            small,
+            &tick_label(v, fdec),
+            th.muted,
+            Anchor::MiddleRight,
+        );
+    }
+    c.rect_outline(
+        f.left,
+        f.top,
+        f.right - f.left,
+        f.bottom - f.top,
+        th.muted,
+        1.0,
+        false,
+    );
+    rich(
+        c,
+        f.right,
+        f.bottom + s * 0.4 + small * 1.2,
+        small,
+        &Rich::new("t"),
+        th.ink,
+        Anchor::TopRight,
+    );
+    rich(
+        c,
+        f.left,
+        f.top - small * 0.8,
+        small,
+        &Rich::new("f(t)"),
+        th.ink,
+        Anchor::MiddleLeft,
+    );
+
+    // The t axis (f = 0) and the origin (t = 0).
+    let y0 = f.y(0.0);
+    c.line([f.left, y0], [f.right, y0], th.ink, line_w);
+    let x0 = f.x(0.0);
+    c.line([x0, f.top], [x0, f.bottom], th.muted, line_w);
+
+    let mut placer = Placer::new([f.left + 2.0, f.top + 2.0, f.right - 2.0, f.bottom - 2.0]);
+
+    // Interval edges other than t = 0.
+    if t_min != 0.0 && t_min.is_finite() && (f.left..=f.right).contains(&f.x(t_min as f64)) {
+        c.dashed(
+            [f.x(t_min as f64), f.top],
+            [f.x(t_min as f64), f.bottom],
+            th.muted,
+            1.0,
+        );
+    }
+    let mut t_max_x = None;
+    if t_max.is_finite() && (f.left..=f.right).contains(&f.x(t_max as f64)) {
+        let x = f.x(t_max as f64);
+        c.dashed([x, f.top], [x, f.bottom], th.ink, line_w * 0.8);
+        t_max_x = Some(x);
+    }
+
+    // The curve.
+
+    for run in curve_runs(test, f) {
+        c.polyline(&run, th.reflect, line_w * 1.6, false);
+        // Labels keep off the curve where they can.
+        for p in &run {
+            placer.block([p[0] - line_w, p[1] - line_w, p[0] + line_w, p[1] + line_w]);
+        }
+    }
+
+    // Chosen root: a vertical line through the whole plot.
+    if let Some(p) = l.chosen {
+        c.dashed([p[0], f.top], [p[0], f.bottom], th.hit, line_w);
+    }
+
+    // Labels, the most important first (later ones give way): hit, roots, c, t = 0, t_max,
+    // the interval.
+    let top_row = f.top + small * 0.9;
+    if let Some(p) = l.chosen {
+        placer.place(
+            c,
+            &[
+                (p[0], top_row, Anchor::Center),
+                (p[0] + 4.0, top_row, Anchor::MiddleLeft),
+                (p[0] - 4.0, top_row, Anchor::MiddleRight),
+            ],
+            small,
+            &Rich::new("hit"),
+            th.hit,
+        );
+    }
+
+    // Roots, or the vertex when there are none.
+    let r = (s * 0.32).max(4.0);
+    match (test.roots, l.roots) {
+        (Some([t0, t1]), Some([p0, p1])) => {
+            let below = y0 + small * 1.0;
+            let above = y0 - small * 1.0;
+            let gap = r + 4.0;
+            let tangent = test.case == SphereCase::Tangent || t0 == t1;
+            let names: &[(f32, [f32; 2], &str)] = if tangent {
+                &[(t0, p0, "t_0 = t_1")]
+            } else {
+                &[(t0, p0, "t_0"), (t1, p1, "t_1")]
+            };
+            for (i, &(t, p, name)) in names.iter().enumerate() {
+                let chosen = test.t == Some(t);
+                let col = if chosen { th.hit } else { th.ink };
+                let label = short_eq(name, t);
+                // t₀ prefers the left, t₁ the right: outside the dip, where the curve is above.
+                let left = [
+                    (p[0] - gap, below, Anchor::MiddleRight),
+                    (p[0] - gap, above, Anchor::MiddleRight),
+                ];
+                let right = [
+                    (p[0] + gap, below, Anchor::MiddleLeft),
+                    (p[0] + gap, above, Anchor::MiddleLeft),
+                ];
+                let lower = [
+                    (p[0], below + small * 1.4, Anchor::Center),
+                    (p[0], below + small * 2.8, Anchor::Center),
+                ];
+                let (near, far) = if i == 0 && !tangent {
+                    (left, right)
+                } else {
+                    (right, left)
+                };
+                // Near side first; then above the axis between the roots (the curve is below it
+                // there); then lower down; the far side below the axis last.
+                let cands: Vec<_> = near
+                    .iter()
+                    .chain([&far[1]])
+                    .chain(lower.iter())
+                    .chain([&far[0]])
+                    .cloned()
+                    .collect();
+                placer.place(c, &cands, small, &label, col);
+            }
+            // Dots last so they sit on top.
+            let dots: Vec<(f32, [f32; 2])> = if tangent {
+                vec![(t0, p0)]
+            } else {
+                vec![(t0, p0), (t1, p1)]
+            };
+            for (t, p) in dots {
+                if test.t == Some(t) {
+                    c.circle(p, r * 1.9, Some(with_alpha(th.hit, 70)), None, 0.0);
+                    c.circle(p, r * 1.25, Some(th.hit), Some(th.background), 2.0);
+                } else {
+                    c.circle(p, r, Some(th.ink), Some(th.background), 1.5);
+                }
+            }
+        }
+        _ => {
+            let (a, b) = (test.a as f64, test.b as f64);
+            let tv = -b / (2.0 * a);
+            let fv = f_of(test, tv);
+            let (xv, yv) = (f.x(tv), f.y(fv));
+            c.dashed([xv, yv], [xv, y0], th.muted, line_w);
+            c.circle([xv, yv], r * 0.8, Some(th.muted), None, 0.0);
+            placer.block([xv - r, yv - r, xv + r, yv + r]);
+            let mut vl = Rich::new("vertex −b/2a, ");
+            vl = vl.push(&format!(
+                "f {} {} > 0",
+                if short(fv).parse::<f64>() == Ok(fv) {
+                    "="
+                } else {
+                    "≈"
+                },
+                short(fv)
+            ));
+            let g = small * 1.1;
+            placer.place(
+                c,
+                &[
+                    (xv, yv - g, Anchor::Center),
+                    (xv + r + 6.0, yv - g * 0.6, Anchor::MiddleLeft),
+                    (xv - r - 6.0, yv - g * 0.6, Anchor::MiddleRight),
+                    (xv + r + 6.0, yv, Anchor::MiddleLeft),
+                    (xv - r - 6.0, yv, Anchor::MiddleRight),
+                    (xv, yv - g * 2.0, Anchor::Center),
+                ],
+                small,
+                &vl,
+                th.muted,
+            );
+            // Below the axis, where the curve never goes.
+            placer.place(
+                c,
+                &[
+                    (xv, y0 + small * 0.95, Anchor::Center),
+                    (xv, (yv + y0) / 2.0, Anchor::Center),
+                    (xv + 6.0, (yv + y0) / 2.0, Anchor::MiddleLeft),
+                    (xv - 6.0, (yv + y0) / 2.0, Anchor::MiddleRight),
+                    (
+                        (f.left + f.right) / 2.0,
+                        f.top + small * 0.9,
+                        Anchor::Center,
+                    ),
+                ],
+                small,
+                &Rich::new("no real roots"),
+                th.ray,
+            );
+        }
+    }
+
+    // c = f(0): where the curve crosses the origin's line.
+    let cv = test.c as f64;
+    let clear_of_axis = (f.y(cv) - y0).abs() > small * 1.5;
+    if (f.left..=f.right).contains(&x0) && cv >= f.f_range[0] && cv <= f.f_range[1] && clear_of_axis
+    {
+        let p = [x0, f.y(cv)];
+        c.circle(p, r * 0.75, Some(th.reflect), Some(th.background), 1.5);
+        placer.place(
+            c,
+            &[
+                (x0 + r + 4.0, p[1], Anchor::MiddleLeft),
+                (x0 - r - 4.0, p[1], Anchor::MiddleRight),
+            ],
+            small,
+            &short_eq("f(0) = c", test.c),
+            th.reflect,
+        );
+    }
+
+    // The origin, t_max and the allowed interval.
+    let origin_label = Rich::new("t = 0");
+    if (f.left..=f.right).contains(&x0) {
+        let row2 = top_row + small * 1.5;
+        placer.place(
+            c,
+            &[
+                (x0 - 4.0, f.bottom - small, Anchor::MiddleRight),
+                (x0 + 4.0, f.bottom - small, Anchor::MiddleLeft),
+                (x0 - 4.0, row2, Anchor::MiddleRight),
+                (x0 + 4.0, row2, Anchor::MiddleLeft),
+            ],
+            small,
+            &origin_label,
+            th.muted,
+        );
+    }
+    if let Some(x) = t_max_x {
+        let row2 = top_row + small * 1.5;
+        placer.place(
+            c,
+            &[
+                (x + 4.0, row2, Anchor::MiddleLeft),
+                (x - 4.0, row2, Anchor::MiddleRight),
+                (x + 4.0, f.bottom - small, Anchor::MiddleLeft),
+            ],
+            small,
+            &Rich::new("t_{max}"),
+            th.ink,
+        );
+    }
+    let legend = if t_max.is_finite() {
+        Rich::new("allowed: t_{min} < t < t_{max}")
+    } else if t_min == 0.0 {
+        Rich::new("t > 0: in front of the origin")
+    } else {
+        Rich::new("allowed: t > t_{min}")
+    };
+    if xb > xa {
+        let mid = (xa + xb) / 2.0;
+        let bottom_row = f.bottom - small * 0.9;
+        let top_row = f.top + small * 0.9;
+        placer.place_if_free(
+            c,
+            &[
+                (xb - 4.0, bottom_row, Anchor::MiddleRight),
+                (xa + 4.0, bottom_row, Anchor::MiddleLeft),
+                (mid, bottom_row, Anchor::Center),
+                (xb - 4.0, top_row, Anchor::MiddleRight),
+                (xa + 4.0, top_row, Anchor::MiddleLeft),
+                (mid, top_row, Anchor::Center),
+                (xb - 4.0, bottom_row - small * 1.5, Anchor::MiddleRight),
+                (xa + 4.0, bottom_row - small * 1.5, Anchor::MiddleLeft),
+            ],
+            small * 0.95,
+            &legend,
+            th.reflect,
+        );
+    }
 }
