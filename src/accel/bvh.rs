@@ -9,10 +9,12 @@
 
 use super::{Accelerator, Hit, accept, test_object};
 use crate::math::Ray;
+use crate::math::gamma;
 use crate::scene::{Scene, Shape};
 use crate::shapes::aabb::slab_robust;
 use crate::trace::record::OutlineNode;
 use crate::trace::{NodeAction, NodeVisit, Observer};
+use glam::BVec3A;
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{Bvh2, builder::build_bvh2};
@@ -47,13 +49,56 @@ pub fn shape_bounds(shape: &Shape) -> Option<(Vec3, Vec3)> {
     }
 }
 
+/// The ray, prepared for SIMD slab tests: lane for lane the same IEEE operations as
+/// [`crate::shapes::aabb::slab_robust`] (difference, product by the reciprocal, selection of entry
+/// and exit by the reciprocal's sign bit, exit × (1 + 2γ₃), NaN-ignoring max/min), so every
+/// traversal decision agrees with the recorded scalar test.
+struct FastRay {
+    origin: Vec3A,
+    inv: Vec3A,
+    negative: BVec3A,
+    enlarge: Vec3A,
+}
+
+impl FastRay {
+    #[inline(always)]
+    fn new(ray: &Ray<f32>, inv: Vec3) -> FastRay {
+        let bits = Vec3A::from(inv).is_negative_bitmask();
+        FastRay {
+            origin: Vec3A::from(ray.origin),
+            inv: Vec3A::from(inv),
+            negative: BVec3A::new(bits & 1 != 0, bits & 2 != 0, bits & 4 != 0),
+            enlarge: Vec3A::splat(1.0 + 2.0 * gamma::<f32>(3)),
+        }
+    }
+
+    /// (t_near, t_far) of the node's box.
+    #[inline(always)]
+    fn interval(&self, node: &Node, t_min: f32, t_max: f32) -> (f32, f32) {
+        let t0 = (node.min - self.origin) * self.inv;
+        let t1 = (node.max - self.origin) * self.inv;
+        let entry = Vec3A::select(self.negative, t1, t0);
+        let exit = Vec3A::select(self.negative, t0, t1) * self.enlarge;
+        // A NaN slab distance (a ray lying in a face plane, 0·∞) imposes no limit — the scalar
+        // test gets this from f32::max ignoring NaN; here NaN lanes become ∓∞ so the plain SIMD
+        // horizontal max/min give the same values.
+        let entry = Vec3A::select(entry.is_nan_mask(), Vec3A::NEG_INFINITY, entry);
+        let exit = Vec3A::select(exit.is_nan_mask(), Vec3A::INFINITY, exit);
+        let (e, x) = (entry.max_element(), exit.min_element());
+        (
+            if e > t_min { e } else { t_min },
+            if x < t_max { x } else { t_max },
+        )
+    }
+}
+
 /// One node of the tree in raystep's own layout (box, and either two children or a leaf range).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Node {
-    /// Box minimum.
-    pub min: Vec3,
+    /// Box minimum (16-byte aligned for the SIMD slab test).
+    pub min: Vec3A,
     /// Box maximum.
-    pub max: Vec3,
+    pub max: Vec3A,
     /// Leaf: index of its first object in [`Bvh::leaf_objects`]; inner: index of its first child
     /// (the second is `first + 1`).
     pub first: u32,
@@ -113,8 +158,8 @@ impl Bvh {
             .map(|n| {
                 let b = n.aabb();
                 Node {
-                    min: Vec3::from(b.min),
-                    max: Vec3::from(b.max),
+                    min: b.min,
+                    max: b.max,
                     first: n.first_index,
                     count: n.prim_count,
                 }
@@ -152,8 +197,9 @@ impl Bvh {
         }
         // True IEEE reciprocals: ±∞ for zero components, the sign of zero kept.
         let inv = Vec3::ONE / ray.dir;
+        let fast = FastRay::new(ray, inv);
         let root = &self.nodes[0];
-        let test = slab_robust(ray, inv, root.min, root.max);
+        let test = slab_robust(ray, inv, Vec3::from(root.min), Vec3::from(root.max));
         let root_action = match (test.hit, root.is_leaf()) {
             (false, _) => NodeAction::Culled,
             (true, true) => NodeAction::TestPrimitives,
@@ -184,59 +230,80 @@ impl Bvh {
         let mut current = (root.first, 1u32);
         loop {
             let (first, depth) = current;
-            let ids = [first, first + 1];
+            // t_max as the boxes were tested, so a record shows the values the decision used
+            // even after a leaf shrinks it (origin, direction and t_min never change).
+            let t_max_tested = ray.t_max;
             let a = &self.nodes[first as usize];
             let b = &self.nodes[first as usize + 1];
-            let ta = slab_robust(ray, inv, a.min, a.max);
-            let tb = slab_robust(ray, inv, b.min, b.max);
+            let ia = fast.interval(a, ray.t_min, ray.t_max);
+            let ib = fast.interval(b, ray.t_min, ray.t_max);
             // Nearer first.
-            let (near, far, tn, tf, in_, if_) = if ta.t_near <= tb.t_near {
-                (a, b, ta, tb, ids[0], ids[1])
+            let a_first = ia.0 <= ib.0;
+            let (near, near_id, near_t) = if a_first {
+                (a, first, ia)
             } else {
-                (b, a, tb, ta, ids[1], ids[0])
+                (b, first + 1, ib)
+            };
+            let (far, far_id, far_t) = if a_first {
+                (b, first + 1, ib)
+            } else {
+                (a, first, ia)
             };
             let mut next: Option<(u32, u32)> = None;
-            let mut stopped = false;
-            for (node, t, id, is_near) in [(near, tn, in_, true), (far, tf, if_, false)] {
-                // The far box is re-checked against t_max, which the near leaf may have shrunk.
-                let hit = t.hit && t.t_near <= ray.t_max;
-                let action = match (hit, node.is_leaf()) {
-                    (false, _) => NodeAction::Culled,
-                    (true, true) => NodeAction::TestPrimitives,
-                    (true, false) if is_near || next.is_none() => NodeAction::Descend,
-                    (true, false) => NodeAction::Pushed,
-                };
-                obs.node_visit(|| NodeVisit {
-                    node: id,
-                    depth,
-                    test: t,
-                    leaf: node.is_leaf(),
-                    children: (!node.is_leaf()).then_some([node.first, node.first + 1]),
-                    action,
-                });
-                match action {
-                    NodeAction::Culled => {}
-                    NodeAction::TestPrimitives => {
-                        for k in node.first..node.first + node.count {
-                            if !leaf(self.leaf_objects[k as usize], ray, obs) {
-                                stopped = true;
-                                break;
+            // Visits one child: decide, report, then test its primitives or schedule it.
+            macro_rules! visit {
+                ($node:expr, $id:expr, $t:expr, $is_near:expr) => {{
+                    let node: &Node = $node;
+                    let (t_near, t_far) = $t;
+                    // The far box is re-checked against t_max, which the near leaf may have shrunk.
+                    let hit = t_near <= t_far && t_near <= ray.t_max;
+                    let descend = $is_near || next.is_none();
+                    obs.node_visit(|| {
+                        let tested = Ray::<f32> {
+                            origin: ray.origin,
+                            dir: ray.dir,
+                            t_min: ray.t_min,
+                            t_max: t_max_tested,
+                        };
+                        NodeVisit {
+                            node: $id,
+                            depth,
+                            test: slab_robust(
+                                &tested,
+                                inv,
+                                Vec3::from(node.min),
+                                Vec3::from(node.max),
+                            ),
+                            leaf: node.is_leaf(),
+                            children: (!node.is_leaf()).then_some([node.first, node.first + 1]),
+                            action: match (hit, node.is_leaf()) {
+                                (false, _) => NodeAction::Culled,
+                                (true, true) => NodeAction::TestPrimitives,
+                                (true, false) if descend => NodeAction::Descend,
+                                (true, false) => NodeAction::Pushed,
+                            },
+                        }
+                    });
+                    if hit {
+                        if node.is_leaf() {
+                            for k in node.first..node.first + node.count {
+                                if !leaf(self.leaf_objects[k as usize], ray, obs) {
+                                    return;
+                                }
                             }
+                        } else if descend {
+                            next = Some((node.first, depth + 1));
+                        } else {
+                            stack.push((node.first, depth + 1));
                         }
                     }
-                    NodeAction::Descend => next = Some((node.first, depth + 1)),
-                    NodeAction::Pushed => stack.push((node.first, depth + 1)),
-                }
-                if stopped {
-                    return;
-                }
+                }};
             }
-            current = match next {
+            visit!(near, near_id, near_t, true);
+            visit!(far, far_id, far_t, false);
+            current = match next.or_else(|| stack.pop()) {
                 Some(n) => n,
-                None => match stack.pop() {
-                    Some(n) => n,
-                    None => return,
-                },
+                None => return,
             };
         }
     }

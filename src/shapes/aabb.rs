@@ -74,18 +74,10 @@ pub fn slab_robust<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -
     }; 3];
     let mut t_near = ray.t_min;
     let mut t_far = ray.t_max;
-    let enlarge = T::one() + T::lit(2.0) * gamma::<T>(3);
     for (i, axis) in axes.iter_mut().enumerate() {
-        let inv = inv_dir.at(i);
-        let mut t0 = (min.at(i) - ray.origin.at(i)) * inv;
-        let mut t1 = (max.at(i) - ray.origin.at(i)) * inv;
-        // Order by the reciprocal's sign, not by comparing t0 and t1 (which fails on NaN).
-        if inv < T::zero() || (inv == T::zero() && inv.is_sign_negative()) {
-            std::mem::swap(&mut t0, &mut t1);
-        }
-        t1 = t1 * enlarge;
+        let (t0, t1) = slab_axis(ray.origin.at(i), inv_dir.at(i), min.at(i), max.at(i));
         *axis = SlabAxis {
-            inv_dir: inv,
+            inv_dir: inv_dir.at(i),
             t_entry: t0,
             t_exit: t1,
         };
@@ -102,6 +94,35 @@ pub fn slab_robust<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -
         t_far,
         hit: t_near <= t_far,
     }
+}
+
+/// One axis of the robust slab test: (entry, exit × (1 + 2γ₃)). The order comes from the
+/// reciprocal's sign bit (so −0 → −∞ swaps like any negative), not from comparing the two
+/// distances (which fails on NaN).
+#[inline(always)]
+fn slab_axis<T: Real>(o: T, inv: T, lo: T, hi: T) -> (T, T) {
+    let t0 = (lo - o) * inv;
+    let t1 = (hi - o) * inv;
+    let (entry, exit) = if inv.is_sign_negative() {
+        (t1, t0)
+    } else {
+        (t0, t1)
+    };
+    (entry, exit * (T::one() + T::lit(2.0) * gamma::<T>(3)))
+}
+
+/// The robust slab test's interval only: exactly the (t_near, t_far) of [`slab_robust`] (the same
+/// operations in the same order), without building the record — the BVH's hot path.
+#[inline(always)]
+pub fn slab_interval<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -> (T, T) {
+    let mut t_near = ray.t_min;
+    let mut t_far = ray.t_max;
+    for i in 0..3 {
+        let (t0, t1) = slab_axis(ray.origin.at(i), inv_dir.at(i), min.at(i), max.at(i));
+        t_near = t_near.max(t0);
+        t_far = t_far.min(t1);
+    }
+    (t_near, t_far)
 }
 
 /// The textbook slab test, as in most course notes: divide per axis, order each pair by value,
