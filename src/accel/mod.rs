@@ -126,9 +126,10 @@ pub fn accept<O: Observer>(scene: &Scene, hit: &Hit, previous: f32, obs: &mut O)
 
 /// Below this many finite primitives the naive loop beats the BVH (a per-ray traversal set-up
 /// and two box tests per level cost more than testing a handful of primitives directly).
-/// Measured with `raystep bench accel` (see the README): at 8 spheres the two are within a few
-/// percent; the BVH pulls ahead from about 12 and is 2× faster by 30.
-pub const AUTO_BVH_THRESHOLD: usize = 12;
+/// Measured with `raystep bench --section accel` (160×120, one light, one thread, medians of 7):
+/// at 1–2 spheres the two are even, at 4 brute force is 1.2× faster, from 8 the BVH wins
+/// (1.21× at 8, 2.0× at 32, 6.5× at 256).
+pub const AUTO_BVH_THRESHOLD: usize = 8;
 
 /// The accelerator chosen for a scene.
 pub enum SceneAccel {

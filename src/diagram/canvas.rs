@@ -331,10 +331,11 @@ impl Canvas {
             };
             caret += advance;
             let pixels = self.pixmap.pixels_mut();
-            for (k, &cov) in g.cached.coverage.iter().enumerate() {
-                if cov <= 0.0 {
+            for (k, &cov8) in g.cached.coverage.iter().enumerate() {
+                if cov8 == 0 {
                     continue;
                 }
+                let cov = cov8 as f32 / 255.0;
                 let px = g.x + (k as u32 % g.w) as i32;
                 let py = g.y + (k as u32 / g.w) as i32;
                 if px < 0 || py < 0 || px >= pw || py >= ph {
@@ -369,7 +370,8 @@ impl Canvas {
         let key = (ch, size.to_bits(), fx as u8, fy as u8);
         let cached = GLYPHS.with(|cache| {
             let mut cache = cache.borrow_mut();
-            if cache.len() > 8192 {
+            // A few hundred bytes a glyph: at most ~30 MB before the cache starts over.
+            if cache.len() > 100_000 {
                 cache.clear();
             }
             cache
@@ -382,10 +384,11 @@ impl Canvas {
                     self.font.outline_glyph(glyph).map(|outline| {
                         let b = outline.px_bounds();
                         let (w, h) = (b.width() as u32, b.height() as u32);
-                        let mut coverage = vec![0.0; (w * h) as usize];
+                        let mut coverage = vec![0u8; (w * h) as usize];
                         outline.draw(|gx, gy, c| {
                             if gx < w && gy < h {
-                                coverage[(gy * w + gx) as usize] = c;
+                                coverage[(gy * w + gx) as usize] =
+                                    (c.clamp(0.0, 1.0) * 255.0).round() as u8;
                             }
                         });
                         std::rc::Rc::new(CachedGlyph {
@@ -449,7 +452,7 @@ struct CachedGlyph {
     dx: i32,
     dy: i32,
     w: u32,
-    coverage: Vec<f32>,
+    coverage: Vec<u8>,
 }
 
 struct PlacedGlyph {
