@@ -206,8 +206,8 @@ impl Bvh {
         let inv = Vec3::ONE / ray.dir;
         let fast = FastRay::new(ray, inv);
         let root = &self.nodes[0];
-        let test = slab_robust(ray, inv, Vec3::from(root.min), Vec3::from(root.max));
-        let root_action = match (test.hit, root.is_leaf()) {
+        let (t_near, t_far) = fast.interval(root, ray.t_min, ray.t_max);
+        let root_action = match (t_near <= t_far, root.is_leaf()) {
             (false, _) => NodeAction::Culled,
             (true, true) => NodeAction::TestPrimitives,
             (true, false) => NodeAction::Descend,
@@ -215,7 +215,7 @@ impl Bvh {
         obs.node_visit(|| NodeVisit {
             node: 0,
             depth: 0,
-            test,
+            test: slab_robust(ray, inv, Vec3::from(root.min), Vec3::from(root.max)),
             leaf: root.is_leaf(),
             children: (!root.is_leaf()).then_some([root.first, root.first + 1]),
             action: root_action,
