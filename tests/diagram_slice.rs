@@ -5,9 +5,12 @@
 //! Regenerate the golden images with `UPDATE_GOLDEN=1 cargo test --test diagram_slice` and look
 //! at every one before committing it.
 
+mod common;
+use common::assert_golden;
+
 use raystep::accel::SceneAccel;
 use raystep::diagram::slice::{self, Px, SliceLayout};
-use raystep::diagram::{self, Canvas, DiagramKind, Theme, ViewOptions};
+use raystep::diagram::{self, DiagramKind, Theme, ViewOptions};
 use raystep::scene::{AccelChoice, Scene, load_file};
 use raystep::trace::{RayKind, RayRecord, Step, Trace, Tracer};
 use std::path::PathBuf;
@@ -82,50 +85,6 @@ const BOXES: (u32, u32) = (200, 115); // triangles with a BVH: an icosahedron fa
 
 // ---------------------------------------------------------------------------------------------
 // Golden images.
-
-/// Compares `canvas` with tests/golden/`name`.png: at most 0.5% of the pixels may differ by more
-/// than 16 in some channel (anti-aliasing and font rasterization may drift a little between
-/// platforms; a moved ray or label does not pass). With `UPDATE_GOLDEN=1` the golden is written.
-fn assert_golden(canvas: &Canvas, name: &str) {
-    let path = root().join("tests/golden").join(format!("{name}.png"));
-    if std::env::var_os("UPDATE_GOLDEN").is_some() {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        std::fs::write(&path, canvas.png()).unwrap();
-        return;
-    }
-    let golden = image::open(&path)
-        .unwrap_or_else(|e| {
-            panic!(
-                "{}: {e} (run with UPDATE_GOLDEN=1 to create it)",
-                path.display()
-            )
-        })
-        .to_rgba8();
-    let actual = canvas.to_rgba_image();
-    let keep = || {
-        let out = std::env::temp_dir().join(format!("raystep-{name}-actual.png"));
-        std::fs::write(&out, canvas.png()).unwrap();
-        out
-    };
-    assert_eq!(
-        golden.dimensions(),
-        actual.dimensions(),
-        "{name}: size differs from the golden (actual kept at {})",
-        keep().display()
-    );
-    let differing = golden
-        .pixels()
-        .zip(actual.pixels())
-        .filter(|(g, a)| g.0.iter().zip(a.0.iter()).any(|(x, y)| x.abs_diff(*y) > 16))
-        .count();
-    let total = (golden.width() * golden.height()) as usize;
-    assert!(
-        differing * 200 <= total,
-        "{name}: {differing} of {total} pixels differ from {} by more than 16 (actual kept at {})",
-        path.display(),
-        keep().display()
-    );
-}
 
 #[test]
 fn golden_sphere_hit_with_shadow_ray() {

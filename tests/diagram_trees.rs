@@ -1,6 +1,9 @@
 //! The BVH tree and ray tree diagrams: their layout follows the trace, focus builds the picture
 //! up step by step, only the kinds a trace contains are offered, and golden images guard the look.
 
+mod common;
+use common::assert_golden;
+
 use raystep::accel::SceneAccel;
 use raystep::diagram::{self, DiagramKind, ViewOptions, bvh_tree, ray_tree};
 use raystep::scene::{AccelChoice, Scene, load_file, load_str};
@@ -182,31 +185,6 @@ fn only_kinds_the_trace_contains_are_offered() {
     assert!(diagram::available(&bvh).contains(&DiagramKind::Bvh));
 }
 
-/// Compares a canvas with tests/golden/NAME.png: at most 0.5% of pixels may differ by more than
-/// 16 in a channel (font rasterization and anti-aliasing noise), which still catches a broken
-/// layout. `UPDATE_GOLDEN=1` rewrites the file.
-fn golden(canvas: &diagram::Canvas, name: &str) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/golden")
-        .join(format!("{name}.png"));
-    let img = canvas.to_rgba_image();
-    if std::env::var_os("UPDATE_GOLDEN").is_some() {
-        img.save(&path).unwrap();
-        return;
-    }
-    let want = image::open(&path)
-        .unwrap_or_else(|e| panic!("{}: {e} (run with UPDATE_GOLDEN=1)", path.display()))
-        .to_rgba8();
-    assert_eq!(want.dimensions(), img.dimensions());
-    let bad = want
-        .pixels()
-        .zip(img.pixels())
-        .filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 16))
-        .count();
-    let limit = (img.width() * img.height()) as usize / 200;
-    assert!(bad <= limit, "{name}: {bad} pixels differ (limit {limit})");
-}
-
 #[test]
 fn golden_tree_diagrams() {
     let opts = ViewOptions {
@@ -215,17 +193,17 @@ fn golden_tree_diagrams() {
         ..Default::default()
     };
     let bvh = trace(&grid_scene(), 32, 24);
-    golden(
+    assert_golden(
         &diagram::draw(&bvh, DiagramKind::Bvh, &opts).unwrap(),
         "bvh-grid",
     );
     let three = trace(&scene("three-spheres.toml"), 60, 150);
-    golden(
+    assert_golden(
         &diagram::draw(&three, DiagramKind::Raytree, &opts).unwrap(),
         "raytree-three-spheres",
     );
     let mg = trace(&scene("mirror-glass.toml"), 240, 140);
-    golden(
+    assert_golden(
         &diagram::draw(&mg, DiagramKind::Raytree, &opts).unwrap(),
         "raytree-mirror-glass",
     );
