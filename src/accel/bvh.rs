@@ -189,6 +189,12 @@ impl Bvh {
         }
     }
 
+    /// A leaf's objects (one bounds check for the whole leaf).
+    #[inline(always)]
+    fn leaf(&self, node: &Node) -> &[u32] {
+        &self.leaf_objects[node.first as usize..(node.first + node.count) as usize]
+    }
+
     /// Walks the tree for `ray`, calling `leaf(object, ray)` for each primitive in the leaves the
     /// ray reaches, nearer subtrees first. `leaf` returns false to stop (any-hit). t_max shrinks
     /// as `leaf` finds closer hits (it updates `ray.t_max`).
@@ -223,8 +229,8 @@ impl Bvh {
         match root_action {
             NodeAction::Culled => return,
             NodeAction::TestPrimitives => {
-                for k in root.first..root.first + root.count {
-                    if !leaf(self.leaf_objects[k as usize], ray, obs) {
+                for &id in self.leaf(root) {
+                    if !leaf(id, ray, obs) {
                         return;
                     }
                 }
@@ -293,8 +299,8 @@ impl Bvh {
                     });
                     if hit {
                         if node.is_leaf() {
-                            for k in node.first..node.first + node.count {
-                                if !leaf(self.leaf_objects[k as usize], ray, obs) {
+                            for &id in self.leaf(node) {
+                                if !leaf(id, ray, obs) {
                                     return;
                                 }
                             }
