@@ -219,9 +219,20 @@ impl Canvas {
         }
         pb.close();
         let Some(path) = pb.finish() else { return };
+        self.fill_and_stroke(&path, fill, stroke, width);
+    }
+
+    /// Fills and/or outlines a closed path.
+    fn fill_and_stroke(
+        &mut self,
+        path: &tiny_skia::Path,
+        fill: Option<Rgba>,
+        stroke: Option<Rgba>,
+        width: f32,
+    ) {
         if let Some(f) = fill {
             self.pixmap.fill_path(
-                &path,
+                path,
                 &paint(f),
                 FillRule::Winding,
                 Transform::identity(),
@@ -234,7 +245,7 @@ impl Canvas {
                 ..Default::default()
             };
             self.pixmap
-                .stroke_path(&path, &paint(s), &st, Transform::identity(), None);
+                .stroke_path(path, &paint(s), &st, Transform::identity(), None);
         }
     }
 
@@ -253,23 +264,7 @@ impl Canvas {
         let Some(path) = PathBuilder::from_circle(c[0], c[1], r) else {
             return;
         };
-        if let Some(f) = fill {
-            self.pixmap.fill_path(
-                &path,
-                &paint(f),
-                FillRule::Winding,
-                Transform::identity(),
-                None,
-            );
-        }
-        if let Some(s) = stroke {
-            let st = Stroke {
-                width,
-                ..Default::default()
-            };
-            self.pixmap
-                .stroke_path(&path, &paint(s), &st, Transform::identity(), None);
-        }
+        self.fill_and_stroke(&path, fill, stroke, width);
     }
 
     /// A filled axis-aligned rectangle.
