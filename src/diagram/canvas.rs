@@ -96,6 +96,20 @@ pub enum Anchor {
     MiddleRight,
 }
 
+impl Anchor {
+    /// The top-left corner of a `w`×`h` box anchored at (x, y) this way.
+    pub fn top_left(self, x: f32, y: f32, w: f32, h: f32) -> (f32, f32) {
+        match self {
+            Anchor::TopLeft => (x, y),
+            Anchor::TopCenter => (x - w / 2.0, y),
+            Anchor::TopRight => (x - w, y),
+            Anchor::Center => (x - w / 2.0, y - h / 2.0),
+            Anchor::MiddleLeft => (x, y - h / 2.0),
+            Anchor::MiddleRight => (x - w, y - h / 2.0),
+        }
+    }
+}
+
 /// A pixmap with drawing helpers.
 pub struct Canvas {
     /// The pixels.
@@ -159,12 +173,9 @@ impl Canvas {
         if pts.len() < 2 || pts.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
             return;
         }
-        let mut pb = PathBuilder::new();
-        pb.move_to(pts[0][0], pts[0][1]);
-        for p in &pts[1..] {
-            pb.line_to(p[0], p[1]);
-        }
-        let Some(path) = pb.finish() else { return };
+        let Some(path) = path_through(pts, false) else {
+            return;
+        };
         let mut stroke = Stroke {
             width,
             line_cap: LineCap::Round,
@@ -212,13 +223,9 @@ impl Canvas {
         if pts.len() < 3 || pts.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
             return;
         }
-        let mut pb = PathBuilder::new();
-        pb.move_to(pts[0][0], pts[0][1]);
-        for p in &pts[1..] {
-            pb.line_to(p[0], p[1]);
-        }
-        pb.close();
-        let Some(path) = pb.finish() else { return };
+        let Some(path) = path_through(pts, true) else {
+            return;
+        };
         self.fill_and_stroke(&path, fill, stroke, width);
     }
 
@@ -306,14 +313,7 @@ impl Canvas {
         let w = self.text_width(text, size);
         let scaled = self.font.as_scaled(PxScale::from(size));
         let h = scaled.ascent() - scaled.descent();
-        let (x0, y0) = match anchor {
-            Anchor::TopLeft => (x, y),
-            Anchor::TopCenter => (x - w / 2.0, y),
-            Anchor::TopRight => (x - w, y),
-            Anchor::Center => (x - w / 2.0, y - h / 2.0),
-            Anchor::MiddleLeft => (x, y - h / 2.0),
-            Anchor::MiddleRight => (x - w, y - h / 2.0),
-        };
+        let (x0, y0) = anchor.top_left(x, y, w, h);
         let baseline = y0 + scaled.ascent();
         let mut caret = x0;
         let (pw, ph) = (self.pixmap.width() as i32, self.pixmap.height() as i32);
@@ -408,14 +408,7 @@ impl Canvas {
     pub fn label(&mut self, x: f32, y: f32, size: f32, text: &str, c: Rgba, anchor: Anchor) {
         let w = self.text_width(text, size);
         let h = size * 1.2;
-        let (x0, y0) = match anchor {
-            Anchor::TopLeft => (x, y),
-            Anchor::TopCenter => (x - w / 2.0, y),
-            Anchor::TopRight => (x - w, y),
-            Anchor::Center => (x - w / 2.0, y - h / 2.0),
-            Anchor::MiddleLeft => (x, y - h / 2.0),
-            Anchor::MiddleRight => (x - w, y - h / 2.0),
-        };
+        let (x0, y0) = anchor.top_left(x, y, w, h);
         let mut bg = self.theme.background;
         bg[3] = 215;
         self.rect(x0 - 3.0, y0 - 1.0, w + 6.0, h + 2.0, bg);
@@ -462,6 +455,19 @@ type GlyphKey = (char, u32, u8, u8);
 thread_local! {
     static GLYPHS: std::cell::RefCell<std::collections::HashMap<GlyphKey, Option<std::rc::Rc<CachedGlyph>>>> =
         std::cell::RefCell::new(std::collections::HashMap::new());
+}
+
+/// A path through `pts` (closed or open); None when it has no length.
+fn path_through(pts: &[[f32; 2]], close: bool) -> Option<tiny_skia::Path> {
+    let mut pb = PathBuilder::new();
+    pb.move_to(pts[0][0], pts[0][1]);
+    for p in &pts[1..] {
+        pb.line_to(p[0], p[1]);
+    }
+    if close {
+        pb.close();
+    }
+    pb.finish()
 }
 
 /// A colour with its alpha replaced.

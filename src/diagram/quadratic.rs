@@ -82,14 +82,7 @@ pub(super) fn rich_width(c: &Canvas, r: &Rich, size: f32) -> f32 {
 
 /// The top-left corner of a `w`×`h` box anchored at (x, y).
 fn anchored(x: f32, y: f32, w: f32, h: f32, anchor: Anchor) -> (f32, f32) {
-    match anchor {
-        Anchor::TopLeft => (x, y),
-        Anchor::TopCenter => (x - w / 2.0, y),
-        Anchor::TopRight => (x - w, y),
-        Anchor::Center => (x - w / 2.0, y - h / 2.0),
-        Anchor::MiddleLeft => (x, y - h / 2.0),
-        Anchor::MiddleRight => (x - w, y - h / 2.0),
-    }
+    anchor.top_left(x, y, w, h)
 }
 
 /// Draws `r` at `size` pixels anchored at (x, y); returns its width.
