@@ -207,7 +207,7 @@ pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
         tv.as_secs_f64() * 1e3,
         tb.as_secs_f64() * 1e3
     );
-    traversal_vs_obvhs(&s, &bvh, reps);
+    traversal_vs_obvhs(&s, &bvh, reps, Side::Both);
     let (cx, cy) = hit_pixel_near_centre(&tracer);
     let t = median_time(reps.max(21), || {
         std::hint::black_box(tracer.record(cx, cy, 0));
@@ -246,9 +246,24 @@ fn hit_pixel_near_centre<A: Accelerator>(tracer: &Tracer<'_, A>) -> (u32, u32) {
     best
 }
 
+/// Which traversal to run. Running one side alone (one repetition) is for counting instructions:
+/// `valgrind --tool=callgrind raystep bench SCENE --section traversal --reps 1 --side raystep`,
+/// then `--side obvhs`, minus `--side none` (loading and building only).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Side {
+    /// Both, timed against each other.
+    Both,
+    /// raystep's observed traversal only.
+    Raystep,
+    /// obvhs's `ray_traverse` only.
+    Obvhs,
+    /// Neither (the baseline: load, build, make the rays).
+    None,
+}
+
 /// Closest-hit traversal of the primary rays: raystep's observed loop with the silent observer
 /// against obvhs's `ray_traverse`, both calling raystep's kernels.
-pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize) {
+pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize, side: Side) {
     let tracer = Tracer::new(scene, bvh);
     let rays: Vec<Ray<f32>> = (0..scene.camera.height)
         .flat_map(|y| (0..scene.camera.width).map(move |x| (x, y)))
@@ -263,7 +278,12 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize) {
         .iter()
         .map(|&i| finite[i as usize])
         .collect();
-    let ours = median_time(reps, || {
+    let run_ours = matches!(side, Side::Both | Side::Raystep);
+    let run_theirs = matches!(side, Side::Both | Side::Obvhs);
+    let ours = median_time(if run_ours { reps } else { 0 }, || {
+        if !run_ours {
+            return;
+        }
         for r in &rays {
             std::hint::black_box(crate::accel::Accelerator::closest(
                 bvh,
@@ -273,7 +293,10 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize) {
             ));
         }
     });
-    let theirs = median_time(reps, || {
+    let theirs = median_time(if run_theirs { reps } else { 0 }, || {
+        if !run_theirs {
+            return;
+        }
         for r in &rays {
             let mut hit = obvhs::ray::RayHit::none();
             let oray = obvhs::ray::Ray::new(
@@ -295,6 +318,15 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize) {
             std::hint::black_box(hit);
         }
     });
+    if side != Side::Both {
+        let t = if run_ours { ours } else { theirs };
+        println!(
+            "- closest-hit traversal of {} primary rays, {side:?} only: {:.1} ms",
+            rays.len(),
+            t.as_secs_f64() * 1e3
+        );
+        return;
+    }
     println!(
         "- closest-hit traversal of {} primary rays: raystep (silent observer) {:.1} ms, obvhs ray_traverse {:.1} ms → raystep takes {:.2}× obvhs's time",
         rays.len(),

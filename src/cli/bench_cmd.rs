@@ -16,6 +16,9 @@ pub struct BenchArgs {
     /// For `scene`: time brute force on every k-th row only, and scale up.
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub brute_rows: u32,
+    /// For `traversal`: which traversal to run (one side alone is for instruction counting).
+    #[arg(long, value_enum, default_value_t = crate::bench::Side::Both)]
+    pub side: crate::bench::Side,
 }
 
 /// Benchmark sections.
@@ -29,6 +32,8 @@ pub enum Section {
     Scene,
     /// Drawing every diagram of one step.
     Diagram,
+    /// Only raystep's BVH traversal against obvhs's (see --side).
+    Traversal,
     /// Everything.
     All,
 }
@@ -69,6 +74,15 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     if matches!(args.section, Section::Diagram | Section::All) {
         crate::bench::diagrams(&scenes, reps);
         println!();
+    }
+    if args.section == Section::Traversal {
+        for s in &scenes {
+            let mut s = s.clone();
+            s.settings.accel = crate::scene::AccelChoice::Bvh;
+            let bvh = crate::accel::Bvh::build(&s);
+            println!("## {}", s.name);
+            crate::bench::traversal_vs_obvhs(&s, &bvh, reps, args.side);
+        }
     }
     if matches!(args.section, Section::Scene | Section::All) {
         for s in &scenes {
