@@ -149,6 +149,7 @@ pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
             threads: Some(1),
             progress: false,
             count: true,
+            ..Default::default()
         },
     )
     .expect("render");
@@ -369,4 +370,90 @@ pub fn diagrams(scenes: &[Scene], reps: usize) {
             t.as_secs_f64() * 1e3
         );
     }
+}
+
+/// The app's responsiveness on one scene, run headless (egui without a window or GPU, so the
+/// figures are the UI thread's own work: building the frame and tessellating it). Prints the
+/// frame times while the background render runs (one frame every 16 ms, as a 60 Hz display asks
+/// for them), and the time from a click on a pixel to the end of the frame that shows its
+/// trace, math and diagram.
+pub fn app(path: &std::path::Path) {
+    use crate::app::RaystepApp;
+    use crate::app::state::{Command, Prefs};
+    let ctx = egui::Context::default();
+    let mut app = RaystepApp::with_context(&ctx, Prefs::default(), Some(path.to_path_buf()));
+    if let Some(e) = &app.state.load_error {
+        println!("## {}: {e}", path.display());
+        return;
+    }
+    let frame = |app: &mut RaystepApp| {
+        let t = Instant::now();
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(1400.0, 900.0),
+            )),
+            ..Default::default()
+        };
+        let out = ctx.run_ui(input, |ui| app.frame(ui));
+        let _ = ctx.tessellate(out.shapes, out.pixels_per_point);
+        t.elapsed()
+    };
+    let name = app.state.scene().map_or(String::new(), |s| {
+        format!(
+            "{} ({} primitives, {}×{})",
+            s.name, s.features.primitives, s.camera.width, s.camera.height
+        )
+    });
+    println!("## app: {name}");
+    let start = Instant::now();
+    let mut during = vec![];
+    while app.state.job.is_some() && start.elapsed() < Duration::from_secs(300) {
+        let t = frame(&mut app);
+        during.push(t);
+        std::thread::sleep(Duration::from_millis(16).saturating_sub(t));
+    }
+    let render_s = start.elapsed().as_secs_f64();
+    during.sort();
+    let pct = |q: f64| during[((during.len() - 1) as f64 * q) as usize].as_secs_f64() * 1e3;
+    if !during.is_empty() {
+        println!(
+            "  UI frames during the render ({render_s:.1} s, {} frames): median {:.2} ms, p95 {:.2} ms, max {:.2} ms, {} over 16 ms",
+            during.len(),
+            pct(0.5),
+            pct(0.95),
+            pct(1.0),
+            during.iter().filter(|d| d.as_millis() >= 16).count()
+        );
+    }
+    let Some(scene) = app.state.scene().cloned() else {
+        return;
+    };
+    let (w, h) = (scene.camera.width, scene.camera.height);
+    let mut lat = vec![];
+    for (fx, fy) in [(0.5, 0.5), (0.3, 0.6), (0.7, 0.4), (0.45, 0.55), (0.6, 0.7)] {
+        let p = [(w as f32 * fx) as u32, (h as f32 * fy) as u32];
+        let t = Instant::now();
+        app.state.apply(Command::SelectPixel(p));
+        frame(&mut app);
+        let steps = app.state.stepping.as_ref().map_or(0, |s| s.len());
+        lat.push((t.elapsed(), steps));
+    }
+    let ms: Vec<String> = lat
+        .iter()
+        .map(|(d, n)| format!("{:.1} ms ({n} steps)", d.as_secs_f64() * 1e3))
+        .collect();
+    println!(
+        "  click → trace, math and diagram on screen: {}",
+        ms.join(", ")
+    );
+    let mut idle = vec![];
+    for _ in 0..30 {
+        idle.push(frame(&mut app));
+    }
+    idle.sort();
+    println!(
+        "  UI frames idle: median {:.2} ms",
+        idle[idle.len() / 2].as_secs_f64() * 1e3
+    );
 }

@@ -147,18 +147,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         return diagram::draw(&trace, kind, &base).map(|_| ());
     }
     if args.animate || args.frames.is_some() {
-        let frames: Vec<diagram::Canvas> = (0..steps)
-            .map(|k| {
-                diagram::draw(
-                    &trace,
-                    kind_for(Some(k)),
-                    &ViewOptions {
-                        focus: Some(k),
-                        ..base.clone()
-                    },
-                )
-            })
-            .collect::<Result<_, _>>()?;
+        let frames = diagram::frames(&trace, args.kind, &base)?;
         if let Some(dir) = &args.frames {
             if !dir.is_dir() {
                 return Err(format!(
@@ -182,7 +171,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
                     out.display()
                 ));
             }
-            crate::io::write_atomic(out, &gif(&frames)?)?;
+            crate::io::write_atomic(out, &diagram::gif(&frames)?)?;
             super::emit(&format!("wrote {} ({steps} frames)\n", out.display()))?;
         }
         return Ok(());
@@ -200,27 +189,4 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
     let canvas = diagram::draw(&trace, kind_for(args.step), &base)?;
     crate::io::write_atomic(out, &canvas.png())?;
     super::emit(&format!("wrote {}\n", out.display()))
-}
-
-/// Encodes frames as an endlessly looping GIF, 0.8 s per step (the last held for 3 s).
-pub fn gif(frames: &[diagram::Canvas]) -> Result<Vec<u8>, String> {
-    use image::codecs::gif::{GifEncoder, Repeat};
-    let mut bytes = vec![];
-    {
-        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
-        enc.set_repeat(Repeat::Infinite)
-            .map_err(|e| format!("cannot encode GIF: {e}"))?;
-        for (k, f) in frames.iter().enumerate() {
-            let delay = if k + 1 == frames.len() { 3000 } else { 800 };
-            let frame = image::Frame::from_parts(
-                f.to_rgba_image(),
-                0,
-                0,
-                image::Delay::from_numer_denom_ms(delay, 1),
-            );
-            enc.encode_frame(frame)
-                .map_err(|e| format!("cannot encode GIF: {e}"))?;
-        }
-    }
-    Ok(bytes)
 }

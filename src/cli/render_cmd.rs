@@ -62,6 +62,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         threads: args.threads.map(|t| t as usize),
         progress: true,
         count: true,
+        ..Default::default()
     };
     let out = render(&tracer, &opts)?;
     let img = image::to_rgb8(out.width, out.height, &out.pixels, args.linear);

@@ -189,3 +189,48 @@ pub fn title(c: &mut Canvas, text: &str) -> f32 {
     );
     c.text_size * 0.6 + size * 1.5
 }
+
+/// Every step of `trace` drawn in order, one frame per timeline step, each focused on its step:
+/// of `kind` when given, else of the kind that best explains that step ([`kinds_for_step`]).
+pub fn frames(
+    trace: &Trace,
+    kind: Option<DiagramKind>,
+    base: &ViewOptions,
+) -> Result<Vec<Canvas>, String> {
+    (0..trace.timeline().len())
+        .map(|k| {
+            let kind = kind.unwrap_or_else(|| kinds_for_step(trace, k)[0]);
+            draw(
+                trace,
+                kind,
+                &ViewOptions {
+                    focus: Some(k),
+                    ..base.clone()
+                },
+            )
+        })
+        .collect()
+}
+
+/// Encodes frames as an endlessly looping GIF, 0.8 s per step (the last held for 3 s).
+pub fn gif(frames: &[Canvas]) -> Result<Vec<u8>, String> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    let mut bytes = vec![];
+    {
+        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
+        enc.set_repeat(Repeat::Infinite)
+            .map_err(|e| format!("cannot encode GIF: {e}"))?;
+        for (k, f) in frames.iter().enumerate() {
+            let delay = if k + 1 == frames.len() { 3000 } else { 800 };
+            let frame = image::Frame::from_parts(
+                f.to_rgba_image(),
+                0,
+                0,
+                image::Delay::from_numer_denom_ms(delay, 1),
+            );
+            enc.encode_frame(frame)
+                .map_err(|e| format!("cannot encode GIF: {e}"))?;
+        }
+    }
+    Ok(bytes)
+}

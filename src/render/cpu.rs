@@ -7,6 +7,9 @@ use crate::trace::{Counter, Silent, Tracer};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::io::IsTerminal;
+use std::sync::Arc;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 const TILE: u32 = 16;
@@ -20,7 +23,48 @@ pub struct RenderOptions {
     pub progress: bool,
     /// Count rays and tests, and BVH node visits per pixel (for the stats and the heatmap).
     pub count: bool,
+    /// Where a watching UI sees the image build up, and can cancel it.
+    pub live: Option<Arc<LiveRender>>,
 }
+
+/// A render in progress, shared with whoever watches it (the app): finished tiles appear in
+/// `pixels` as they complete, and setting `cancel` stops the render at the next tile.
+#[derive(Debug)]
+pub struct LiveRender {
+    /// Set to stop the render; [`render`] then returns an error saying it was cancelled.
+    pub cancel: AtomicBool,
+    /// Tiles finished so far.
+    pub tiles_done: AtomicUsize,
+    /// Tiles in all.
+    pub tiles_total: AtomicUsize,
+    /// sRGB RGBA8, row-major from the top-left; tiles not yet traced are transparent.
+    pub pixels: Mutex<Vec<[u8; 4]>>,
+}
+
+impl LiveRender {
+    /// A fresh, empty live image of the given size.
+    pub fn new(width: u32, height: u32) -> Self {
+        LiveRender {
+            cancel: AtomicBool::new(false),
+            tiles_done: AtomicUsize::new(0),
+            tiles_total: AtomicUsize::new(0),
+            pixels: Mutex::new(vec![[0; 4]; (width * height) as usize]),
+        }
+    }
+
+    /// The fraction of tiles done, in [0, 1].
+    pub fn progress(&self) -> f32 {
+        let total = self.tiles_total.load(Ordering::Relaxed);
+        if total == 0 {
+            0.0
+        } else {
+            self.tiles_done.load(Ordering::Relaxed) as f32 / total as f32
+        }
+    }
+}
+
+/// The error [`render`] returns when its [`LiveRender`] was cancelled.
+pub const CANCELLED: &str = "the render was cancelled";
 
 /// Figures a teacher wants after a render.
 #[derive(Debug, Clone, Default)]
@@ -96,12 +140,20 @@ pub fn render<A: Accelerator>(
     } else {
         None
     };
+    if let Some(live) = &opts.live {
+        live.tiles_total.store(tiles.len(), Ordering::Relaxed);
+    }
     let start = Instant::now();
     let count = opts.count;
+    let live = opts.live.as_deref();
+    let cancelled = || live.is_some_and(|l| l.cancel.load(Ordering::Relaxed));
     let results: Vec<(Vec<Vec3>, Vec<u32>, Counter)> = pool.install(|| {
         tiles
             .par_iter()
             .map(|t| {
+                if cancelled() {
+                    return (vec![], vec![], Counter::default());
+                }
                 let mut px = Vec::with_capacity((t.w * t.h) as usize);
                 let mut visits = vec![];
                 let mut counter = Counter::default();
@@ -119,6 +171,9 @@ pub fn render<A: Accelerator>(
                 if let Some(b) = &bar {
                     b.inc(1);
                 }
+                if let Some(l) = live {
+                    publish_tile(l, t, width, &px);
+                }
                 (px, visits, counter)
             })
             .collect()
@@ -126,6 +181,9 @@ pub fn render<A: Accelerator>(
     let trace = start.elapsed();
     if let Some(b) = bar {
         b.finish_and_clear();
+    }
+    if cancelled() {
+        return Err(CANCELLED.into());
     }
     let mut pixels = vec![Vec3::ZERO; (width * height) as usize];
     let mut node_visits = count.then(|| vec![0u32; (width * height) as usize]);
@@ -152,6 +210,26 @@ pub fn render<A: Accelerator>(
             threads: pool.current_num_threads(),
         },
     })
+}
+
+/// Copies a finished tile into the live image (sRGB, opaque).
+fn publish_tile(live: &LiveRender, t: &Tile, width: u32, px: &[Vec3]) {
+    // A poisoned lock only means a watcher panicked while reading; the pixels are still valid.
+    let mut pixels = live.pixels.lock().unwrap_or_else(|e| e.into_inner());
+    for (k, p) in px.iter().enumerate() {
+        let (dx, dy) = (k as u32 % t.w, k as u32 / t.w);
+        let i = ((t.y0 + dy) * width + t.x0 + dx) as usize;
+        if let Some(slot) = pixels.get_mut(i) {
+            *slot = [
+                super::image::srgb8(p.x),
+                super::image::srgb8(p.y),
+                super::image::srgb8(p.z),
+                255,
+            ];
+        }
+    }
+    drop(pixels);
+    live.tiles_done.fetch_add(1, Ordering::Relaxed);
 }
 
 /// Traces one pixel with a counting observer (for tests and the app's pixel readout).

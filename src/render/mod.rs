@@ -3,4 +3,4 @@
 pub mod cpu;
 pub mod image;
 
-pub use cpu::{RenderOptions, RenderOutput, RenderStats, render};
+pub use cpu::{CANCELLED, LiveRender, RenderOptions, RenderOutput, RenderStats, render};
