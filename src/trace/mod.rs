@@ -3,6 +3,7 @@
 
 pub mod camera;
 pub mod describe;
+pub mod formula;
 pub mod observer;
 pub mod record;
 pub mod sampling;
