@@ -15,11 +15,15 @@
 //! - [`accel`]: finding the closest hit — the seeds' naive loop, observed.
 //! - [`trace`]: the camera, the observer ([`trace::Silent`] and [`trace::Recorder`]), the step
 //!   trace records, Phong/Snell/Schlick shading and the one recursive Whitted tracer.
+//! - [`render`]: the full parallel render and image output; [`diagram`]: the 2D diagrams drawn
+//!   from a trace.
+//! - [`app`]: the eframe app — the render, the stepping, the math and the diagrams side by side.
 //! - [`cli`]: the `raystep` command line.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod accel;
+pub mod app;
 pub mod bench;
 pub mod cli;
 pub mod diagram;

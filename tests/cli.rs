@@ -1227,10 +1227,19 @@ fn help_and_no_arguments_succeed() {
     }
     ok(&Cli::new("trace --help"));
     ok(&Cli::new("scene check --help"));
+    // With no command raystep opens the app; without a display it says so and fails cleanly.
     raystep()
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
         .assert()
-        .success()
-        .stdout(predicate::str::contains("raystep"));
+        .failure()
+        .stderr(predicate::str::contains("cannot open the app window"))
+        .stderr(predicate::str::contains("panicked").not());
+    raystep()
+        .args(["open", "no-such-scene.toml"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("no-such-scene.toml: no such file"));
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -34,6 +34,8 @@ pub enum Section {
     Diagram,
     /// Only raystep's BVH traversal against obvhs's (see --side).
     Traversal,
+    /// The app, headless: UI frame times during a render and click-to-trace latency.
+    App,
     /// Everything.
     All,
 }
@@ -82,6 +84,12 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             let bvh = crate::accel::Bvh::build(&s);
             println!("## {}", s.name);
             crate::bench::traversal_vs_obvhs(&s, &bvh, reps, args.side);
+        }
+    }
+    if args.section == Section::App {
+        for p in &paths {
+            crate::bench::app(p);
+            println!();
         }
     }
     if matches!(args.section, Section::Scene | Section::All) {

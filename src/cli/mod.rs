@@ -41,6 +41,20 @@ pub enum Command {
     /// Work with scene files.
     #[command(subcommand)]
     Scene(scene_cmd::SceneCmd),
+    /// Open the app on a scene (.toml) or a saved trace (.json).
+    Open {
+        /// The scene or trace file.
+        file: PathBuf,
+        /// Write a screenshot of the window to this PNG once the render is done, then close.
+        #[arg(long)]
+        screenshot: Option<PathBuf>,
+        /// Select this pixel X,Y first (with --screenshot).
+        #[arg(long, value_parser = parse_pixel, requires = "screenshot")]
+        pixel: Option<[u32; 2]>,
+        /// Show this step (with --screenshot).
+        #[arg(long, requires = "screenshot")]
+        step: Option<usize>,
+    },
 }
 
 /// Settings that override the scene's `[render]` table.
@@ -155,7 +169,16 @@ pub fn emit(text: &str) -> Result<(), String> {
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        None => no_command(),
+        None => crate::app::run(None, None),
+        Some(Command::Open {
+            file,
+            screenshot,
+            pixel,
+            step,
+        }) => crate::app::run(
+            Some(file),
+            screenshot.map(|p| crate::app::ScreenshotPlan::new(p, pixel, step)),
+        ),
         Some(Command::Intersect(shape)) => intersect::run(&shape),
         Some(Command::Trace(args)) => trace_cmd::run(&args),
         Some(Command::Scene(cmd)) => scene_cmd::run(&cmd),
@@ -170,15 +193,4 @@ pub fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
-}
-
-fn no_command() -> Result<(), String> {
-    let scene = crate::scene::default_scene();
-    println!(
-        "raystep {} — the built-in scene \"{}\" ({} primitives). Try:\n  raystep trace scenes/three-spheres.toml --pixel 160,120\n  raystep intersect sphere --center 0,0,0 --radius 1 --origin 0,0,-5 --dir 0,0,1\n  raystep --help",
-        env!("CARGO_PKG_VERSION"),
-        scene.name,
-        scene.features.primitives
-    );
-    Ok(())
 }

@@ -1,5 +1,5 @@
 //! The scene as data: the validated [`Scene`] every other module reads, its [`Features`], and the
-//! loader ([`load`]) that turns a TOML file (plus OBJ meshes) into it or into a located
+//! loader ([`load_file`], [`load_str`]) that turns a TOML file (plus OBJ meshes) into it or into a located
 //! [`SceneError`].
 
 mod features;

@@ -1,0 +1,177 @@
+//! The background render: prepare the scene for the current settings (a settings copy, the
+//! acceleration structure), then render it tile by tile into a [`LiveRender`] the UI shows as
+//! it builds up. The UI thread never waits on it; a new job cancels the previous one.
+
+use crate::accel::SceneAccel;
+use crate::render::{CANCELLED, LiveRender, RenderOptions, RenderOutput, render};
+use crate::scene::{AccelChoice, Scene, Settings};
+use crate::trace::Tracer;
+use std::sync::Arc;
+use std::sync::atomic::Ordering;
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::{Duration, Instant};
+
+/// A scene ready to trace: its settings applied and its accelerator built.
+pub struct Prepared {
+    /// The scene with the live settings.
+    pub scene: Arc<Scene>,
+    /// Its accelerator.
+    pub accel: Arc<SceneAccel>,
+    /// The accelerator actually built (auto resolved).
+    pub accel_choice: AccelChoice,
+    /// How long building the accelerator took (zero when it was reused).
+    pub build: Duration,
+}
+
+impl Prepared {
+    /// Prepares `base` with `settings`, reusing `previous`'s accelerator when it was built for
+    /// the same scene with the same resolved choice (changing a method or spp does not rebuild
+    /// the BVH of a million triangles).
+    pub fn new(base: &Arc<Scene>, settings: &Settings, previous: Option<&Prepared>) -> Prepared {
+        let scene = if base.settings == *settings {
+            Arc::clone(base)
+        } else {
+            let mut s = Scene::clone(base);
+            s.settings = settings.clone();
+            Arc::new(s)
+        };
+        let choice = SceneAccel::resolve(&scene);
+        if let Some(p) = previous
+            && p.accel_choice == choice
+            && same_geometry(&p.scene, &scene)
+        {
+            return Prepared {
+                scene,
+                accel: Arc::clone(&p.accel),
+                accel_choice: choice,
+                build: Duration::ZERO,
+            };
+        }
+        let (accel, build) = SceneAccel::build(&scene);
+        Prepared {
+            scene,
+            accel: Arc::new(accel),
+            accel_choice: choice,
+            build,
+        }
+    }
+
+    /// A tracer over this scene.
+    pub fn tracer(&self) -> Tracer<'_, SceneAccel> {
+        Tracer::new(&self.scene, &self.accel)
+    }
+}
+
+impl std::fmt::Debug for Prepared {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Prepared")
+            .field("scene", &self.scene.name)
+            .field("accel_choice", &self.accel_choice)
+            .field("build", &self.build)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Whether two prepared scenes share their geometry (same file text and objects).
+fn same_geometry(a: &Scene, b: &Scene) -> bool {
+    a.source_hash == b.source_hash
+        && a.path == b.path
+        && a.objects.len() == b.objects.len()
+        && a.objects == b.objects
+}
+
+/// What the job reports.
+#[derive(Debug)]
+pub enum JobEvent {
+    /// The scene is prepared: pixels can be traced now, while the render goes on.
+    Prepared(Arc<Prepared>),
+    /// The render finished (or failed).
+    Done(Result<Arc<RenderOutput>, String>),
+}
+
+/// A render running on background threads.
+#[derive(Debug)]
+pub struct RenderJob {
+    /// The image as it builds up.
+    pub live: Arc<LiveRender>,
+    /// When the job started.
+    pub started: Instant,
+    events: Receiver<JobEvent>,
+}
+
+impl RenderJob {
+    /// Starts preparing and rendering `base` with `settings`. `repaint` is called whenever
+    /// there is something new to show.
+    pub fn start(
+        base: Arc<Scene>,
+        settings: Settings,
+        previous: Option<Arc<Prepared>>,
+        repaint: impl Fn() + Send + Sync + 'static,
+    ) -> RenderJob {
+        let live = Arc::new(LiveRender::new(base.camera.width, base.camera.height));
+        let (tx, events) = channel();
+        let job_live = Arc::clone(&live);
+        let repaint = Arc::new(repaint);
+        std::thread::spawn(move || {
+            let prepared = Arc::new(Prepared::new(&base, &settings, previous.as_deref()));
+            drop(previous);
+            // A closed channel means the app dropped this job: nobody is watching.
+            if tx.send(JobEvent::Prepared(Arc::clone(&prepared))).is_err() {
+                return;
+            }
+            repaint();
+            let tiles_repaint = Arc::clone(&repaint);
+            let watcher = Arc::clone(&job_live);
+            // Repaint the UI a few times a second while the tiles come in.
+            let ticker = std::thread::spawn(move || {
+                while watcher.progress() < 1.0 && !watcher.cancel.load(Ordering::Relaxed) {
+                    std::thread::sleep(Duration::from_millis(100));
+                    tiles_repaint();
+                }
+            });
+            let opts = RenderOptions {
+                threads: None,
+                progress: false,
+                count: true,
+                live: Some(Arc::clone(&job_live)),
+            };
+            let result = render(&prepared.tracer(), &opts).map(Arc::new);
+            job_live.cancel.store(true, Ordering::Relaxed);
+            let _ = ticker.join();
+            let _ = tx.send(JobEvent::Done(result));
+            repaint();
+        });
+        RenderJob {
+            live,
+            started: Instant::now(),
+            events,
+        }
+    }
+
+    /// The next event, if one has arrived.
+    pub fn poll(&self) -> Option<JobEvent> {
+        match self.events.try_recv() {
+            Ok(e) => Some(e),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(JobEvent::Done(Err(
+                "the render stopped unexpectedly".into(),
+            ))),
+        }
+    }
+
+    /// Stops the render at its next tile.
+    pub fn cancel(&self) {
+        self.live.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+impl Drop for RenderJob {
+    fn drop(&mut self) {
+        self.cancel();
+    }
+}
+
+/// Whether a render error is only the cancellation of a replaced job.
+pub fn is_cancelled(e: &str) -> bool {
+    e == CANCELLED
+}

@@ -1,0 +1,349 @@
+//! The raystep app (eframe, wgpu renderer): click a pixel of the full render, then step through
+//! everything the tracer did for it — the trace as a tree and a timeline, the formula of the
+//! current step with its numbers, and the diagrams that explain it.
+//!
+//! [`state`] owns the data and is the only place it changes (through [`state::Command`]s);
+//! [`panels`] draw read-only views of it and return commands; [`job`] renders in the
+//! background; [`view`] is the zoomable render view. [`RaystepApp::frame`] draws one whole
+//! frame into any [`egui::Ui`], so tests (egui_kittest) and the benchmark drive the very UI
+//! the window shows.
+
+pub mod job;
+pub mod panels;
+pub mod state;
+pub mod view;
+
+use state::{AppState, Command, Prefs, StepMove, ThemeChoice};
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+/// A screenshot of the window to take once the render has finished (`raystep open
+/// --screenshot`): how the README's picture is made.
+#[derive(Debug, Clone, Default)]
+pub struct ScreenshotPlan {
+    /// Where to write the PNG.
+    pub path: PathBuf,
+    /// The pixel to select first.
+    pub pixel: Option<[u32; 2]>,
+    /// The step to show.
+    pub step: Option<usize>,
+    settled: u32,
+    requested: bool,
+}
+
+impl ScreenshotPlan {
+    /// A plan to write `path` after selecting `pixel` and going to `step`.
+    pub fn new(path: PathBuf, pixel: Option<[u32; 2]>, step: Option<usize>) -> Self {
+        ScreenshotPlan {
+            path,
+            pixel,
+            step,
+            ..Default::default()
+        }
+    }
+}
+
+/// The app.
+pub struct RaystepApp {
+    /// Everything it shows.
+    pub state: AppState,
+    /// Textures and caches of the views (not persisted, rebuilt on demand).
+    pub views: view::Views,
+    applied: Option<(ThemeChoice, f32)>,
+    fullscreen: bool,
+    /// How long the last frames took to build (the UI's own time, without painting), newest last.
+    pub frame_times: Vec<Duration>,
+    /// A screenshot to take, if asked for.
+    pub screenshot: Option<ScreenshotPlan>,
+}
+
+impl std::fmt::Debug for RaystepApp {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RaystepApp")
+            .field("state", &self.state)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The storage key of the preferences.
+const PREFS_KEY: &str = "raystep-prefs";
+
+impl RaystepApp {
+    /// The app on `ctx`, with remembered preferences, opening `file` (a scene or a saved trace),
+    /// else the last file opened (if it still loads), else the built-in scene.
+    pub fn with_context(ctx: &egui::Context, prefs: Prefs, file: Option<PathBuf>) -> RaystepApp {
+        install_fonts(ctx);
+        let repaint_ctx = ctx.clone();
+        let mut state = AppState::new(prefs, move || repaint_ctx.request_repaint());
+        match file {
+            Some(p) => {
+                state.open(&p);
+                if matches!(state.doc, state::Document::Empty) {
+                    // The file did not load: show its error over the built-in scene.
+                    let err = state.load_error.take();
+                    state.apply(Command::OpenBuiltin);
+                    state.load_error = err;
+                }
+            }
+            None => {
+                let last = state.prefs.last_file.clone().filter(|p| p.is_file());
+                if let Some(p) = last {
+                    state.open(&p);
+                }
+                if matches!(state.doc, state::Document::Empty) {
+                    state.load_error = None;
+                    state.apply(Command::OpenBuiltin);
+                }
+            }
+        }
+        RaystepApp {
+            state,
+            views: view::Views::default(),
+            applied: None,
+            fullscreen: false,
+            frame_times: vec![],
+            screenshot: None,
+        }
+    }
+
+    /// The app as eframe creates it.
+    pub fn new(cc: &eframe::CreationContext<'_>, file: Option<PathBuf>) -> RaystepApp {
+        let prefs = cc
+            .storage
+            .and_then(|s| eframe::get_value::<Prefs>(s, PREFS_KEY))
+            .unwrap_or_default();
+        Self::with_context(&cc.egui_ctx, prefs, file)
+    }
+
+    /// Draws one frame into `ui` (the whole window) and applies what the user asked for.
+    pub fn frame(&mut self, ui: &mut egui::Ui) {
+        let start = Instant::now();
+        let ctx = ui.ctx().clone();
+        self.state.tick(start);
+        self.apply_look(&ctx);
+        let mut cmds = vec![];
+        self.keyboard(&ctx, &mut cmds);
+        self.dropped_files(&ctx, &mut cmds);
+        panels::show(ui, &self.state, &mut self.views, &mut cmds);
+        let mut fullscreen_toggle = false;
+        for c in cmds {
+            if let Command::SetPrefs(p) = &c
+                && p.presentation != self.state.prefs.presentation
+            {
+                fullscreen_toggle = p.presentation != self.fullscreen;
+            }
+            self.state.apply(c);
+        }
+        if std::mem::take(&mut self.views.toggle_fullscreen) {
+            fullscreen_toggle = true;
+        }
+        if fullscreen_toggle {
+            self.fullscreen = !self.fullscreen;
+            ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(self.fullscreen));
+        }
+        self.screenshot_step(&ctx);
+        if self.state.job.is_some() || self.state.exporting() {
+            ctx.request_repaint_after(Duration::from_millis(100));
+        } else if let Some(d) = self.state.next_wakeup() {
+            ctx.request_repaint_after(d);
+        }
+        self.frame_times.push(start.elapsed());
+        if self.frame_times.len() > 240 {
+            self.frame_times.remove(0);
+        }
+    }
+
+    /// Takes the planned screenshot once the render is done and the UI has settled, then closes.
+    fn screenshot_step(&mut self, ctx: &egui::Context) {
+        let Some(plan) = &mut self.screenshot else {
+            return;
+        };
+        if plan.requested || self.state.job.is_some() || self.state.prepared.is_none() {
+            return;
+        }
+        if plan.settled == 0 {
+            if let Some(p) = plan.pixel {
+                self.state.apply(Command::SelectPixel(p));
+            }
+            if let Some(k) = plan.step {
+                self.state.apply(Command::Step(StepMove::To(k)));
+            }
+        }
+        plan.settled += 1;
+        ctx.request_repaint();
+        // A few frames for panel sizes and textures to settle.
+        if plan.settled < 10 {
+            return;
+        }
+        plan.requested = true;
+        let path = plan.path.clone();
+        let close = ctx.clone();
+        ctx.request_screenshot(move |img| {
+            let [w, h] = img.size;
+            let bytes: Vec<u8> = img.pixels.iter().flat_map(|c| c.to_array()).collect();
+            let result = image::RgbaImage::from_raw(w as u32, h as u32, bytes)
+                .ok_or_else(|| "the screenshot has the wrong size".to_string())
+                .and_then(|rgba| {
+                    let mut png = vec![];
+                    image::DynamicImage::ImageRgba8(rgba)
+                        .to_rgb8()
+                        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+                        .map_err(|e| format!("cannot encode PNG: {e}"))?;
+                    crate::io::write_atomic(&path, &png)
+                });
+            match result {
+                Ok(()) => eprintln!("wrote {} ({w}×{h})", path.display()),
+                Err(e) => eprintln!("error: {}: {e}", path.display()),
+            }
+            close.send_viewport_cmd(egui::ViewportCommand::Close);
+        });
+    }
+
+    /// Sets the egui theme and scale when the preferences change.
+    fn apply_look(&mut self, ctx: &egui::Context) {
+        let look = (
+            self.state.prefs.effective_theme(),
+            self.state.prefs.effective_scale(),
+        );
+        if self.applied == Some(look) {
+            return;
+        }
+        self.applied = Some(look);
+        let visuals = match look.0 {
+            ThemeChoice::Light => egui::Visuals::light(),
+            ThemeChoice::Dark => egui::Visuals::dark(),
+            ThemeChoice::HighContrast => {
+                let mut v = egui::Visuals::dark();
+                v.override_text_color = Some(egui::Color32::WHITE);
+                v.panel_fill = egui::Color32::BLACK;
+                v.window_fill = egui::Color32::BLACK;
+                v.extreme_bg_color = egui::Color32::BLACK;
+                v.widgets.noninteractive.bg_stroke = egui::Stroke::new(1.5, egui::Color32::WHITE);
+                v.selection.bg_fill = egui::Color32::from_rgb(0, 90, 200);
+                v.selection.stroke = egui::Stroke::new(2.0, egui::Color32::YELLOW);
+                v
+            }
+        };
+        ctx.set_visuals(visuals);
+        ctx.set_zoom_factor(look.1.clamp(0.5, 4.0));
+    }
+
+    /// Step controls on the keyboard (unless a text field has the keyboard).
+    fn keyboard(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
+        if ctx.egui_wants_keyboard_input() {
+            return;
+        }
+        use egui::Key;
+        let pressed: Vec<Key> = ctx.input(|i| {
+            let keys = [
+                Key::ArrowLeft,
+                Key::ArrowRight,
+                Key::ArrowUp,
+                Key::ArrowDown,
+                Key::Home,
+                Key::End,
+                Key::Space,
+                Key::F11,
+                Key::Escape,
+            ];
+            keys.into_iter().filter(|k| i.key_pressed(*k)).collect()
+        });
+        for k in pressed {
+            match k {
+                Key::ArrowLeft | Key::ArrowUp => cmds.push(Command::Step(StepMove::Previous)),
+                Key::ArrowRight | Key::ArrowDown => cmds.push(Command::Step(StepMove::Next)),
+                Key::Home => cmds.push(Command::Step(StepMove::First)),
+                Key::End => cmds.push(Command::Step(StepMove::Last)),
+                Key::Space => cmds.push(Command::TogglePlay),
+                Key::F11 => self.views.toggle_fullscreen = true,
+                Key::Escape if self.state.dialog.is_some() => cmds.push(Command::CloseDialog),
+                Key::Escape if self.state.prefs.presentation => {
+                    let mut p = self.state.prefs.clone();
+                    p.presentation = false;
+                    cmds.push(Command::SetPrefs(p));
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Files dropped on the window open like File → Open.
+    fn dropped_files(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        if let Some(p) = dropped.into_iter().next() {
+            cmds.push(Command::Open(p));
+        }
+    }
+}
+
+/// DejaVu Sans (and Sans Mono) first: they have every symbol the math panel writes — Greek,
+/// sub- and superscripts (θᵢ, t₁, γ₃), arrows, √, ≤, ≫ — which egui's default fonts lack, and they
+/// read well on a projector. egui's own fonts stay as fallbacks (icons).
+fn install_fonts(ctx: &egui::Context) {
+    use egui::{FontData, FontDefinitions, FontFamily};
+    let mut fonts = FontDefinitions::default();
+    fonts.font_data.insert(
+        "dejavu-sans".into(),
+        std::sync::Arc::new(FontData::from_static(dejavu::sans::regular())),
+    );
+    fonts.font_data.insert(
+        "dejavu-sans-mono".into(),
+        std::sync::Arc::new(FontData::from_static(dejavu::sans_mono::regular())),
+    );
+    let prop = fonts.families.entry(FontFamily::Proportional).or_default();
+    prop.insert(0, "dejavu-sans".into());
+    let mono = fonts.families.entry(FontFamily::Monospace).or_default();
+    mono.insert(0, "dejavu-sans-mono".into());
+    mono.insert(1, "dejavu-sans".into());
+    ctx.set_fonts(fonts);
+}
+
+impl eframe::App for RaystepApp {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        self.frame(ui);
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, PREFS_KEY, &self.state.prefs);
+    }
+}
+
+/// Opens the app window on `file` (or the last/built-in scene) and runs until it is closed;
+/// with a `screenshot` plan, writes it and closes.
+pub fn run(file: Option<PathBuf>, screenshot: Option<ScreenshotPlan>) -> Result<(), String> {
+    if let Some(p) = &file
+        && !p.exists()
+    {
+        return Err(format!("{}: no such file", p.display()));
+    }
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("raystep")
+            .with_inner_size([1440.0, 900.0])
+            .with_min_inner_size([800.0, 500.0])
+            .with_drag_and_drop(true),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "raystep",
+        options,
+        Box::new(move |cc| {
+            let mut app = RaystepApp::new(cc, file);
+            app.screenshot = screenshot;
+            Ok(Box::new(app))
+        }),
+    )
+    .map_err(|e| {
+        format!(
+            "cannot open the app window: {e}\n  (the app needs a display; without one, use the command line — `raystep --help` — \
+             or run it under Xvfb: `xvfb-run raystep`)"
+        )
+    })
+}

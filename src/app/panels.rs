@@ -1,0 +1,893 @@
+//! The panels: read-only views of [`AppState`] that return [`Command`]s. Panels and settings
+//! that do not apply to the open scene are left out, not greyed (no triangle method for a
+//! sphere-only scene, no recursion depth without mirrors or glass, no heatmap without a BVH).
+
+use super::state::{AppState, Command, DiagramChoice, Dialog, Document, SaveKind, StepMove};
+use super::view::{self, Views};
+use crate::diagram::DiagramKind;
+use crate::scene::{AccelChoice, OffsetPolicy, Settings};
+use crate::shapes::{SphereMethod, TriangleMethod};
+use crate::trace::describe::{self, num, v3};
+use crate::trace::{RayKind, Stage, Step};
+use egui::{Color32, RichText, Sense, Vec2};
+use std::path::PathBuf;
+
+/// A row of the trace tree: a ray's heading or one of its steps.
+#[derive(Debug, Clone)]
+pub enum Row {
+    /// A ray starts (index into [`crate::trace::Trace::rays`]).
+    Ray {
+        /// Nesting depth.
+        depth: u32,
+        /// The heading.
+        text: String,
+    },
+    /// A step (timeline index).
+    Step {
+        /// Timeline index.
+        k: usize,
+        /// Nesting depth.
+        depth: u32,
+        /// The description.
+        text: String,
+    },
+}
+
+/// Draws the whole window.
+pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    egui::Panel::top("menu").show(ui, |ui| menu_bar(ui, state, views, cmds));
+    if let Some(e) = &state.load_error {
+        egui::Panel::top("load-error").show(ui, |ui| error_banner(ui, e, cmds));
+    }
+    egui::Panel::bottom("status").show(ui, |ui| status_bar(ui, state, views));
+    if state.stepping.is_some() {
+        egui::Panel::bottom("steps").show(ui, |ui| step_controls(ui, state, cmds));
+    }
+    if state.prefs.show_settings {
+        egui::Panel::left("settings")
+            .resizable(true)
+            .default_size(250.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical()
+                    .id_salt("settings-scroll")
+                    .auto_shrink([false, false])
+                    .show(ui, |ui| settings_panel(ui, state, views, cmds));
+            });
+    }
+    let right_width = (ui.available_width() * 0.42).max(320.0);
+    egui::Panel::right("explain")
+        .resizable(true)
+        .default_size(right_width)
+        .show(ui, |ui| {
+            egui::Panel::bottom("math")
+                .resizable(true)
+                .default_size(ui.available_height() * 0.5)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical()
+                        .id_salt("math-scroll")
+                        .auto_shrink([false, false])
+                        .show(ui, |ui| math_panel(ui, state));
+                });
+            egui::CentralPanel::default().show(ui, |ui| diagram_panel(ui, state, views, cmds));
+        });
+    if state.prefs.show_tree {
+        egui::Panel::left("tree")
+            .resizable(true)
+            .default_size(300.0)
+            .show(ui, |ui| tree_panel(ui, state, views, cmds));
+    }
+    egui::CentralPanel::default().show(ui, |ui| match &state.doc {
+        Document::Trace { path } => {
+            ui.vertical_centered(|ui| {
+                ui.add_space(40.0);
+                ui.heading("Replaying a saved trace");
+                ui.label(format!("{}", path.display()));
+                if let Some(s) = &state.stepping {
+                    ui.label(format!(
+                        "scene \"{}\" (sha-256 {}…), pixel ({}, {}), sample {}, raystep {}",
+                        s.trace.scene,
+                        s.trace.scene_hash.get(..12).unwrap_or(&s.trace.scene_hash),
+                        s.trace.pixel[0],
+                        s.trace.pixel[1],
+                        s.trace.sample,
+                        s.trace.raystep
+                    ));
+                }
+                ui.label("There is no render: the trace was opened without its scene.");
+            });
+        }
+        _ => view::render_view(ui, state, views, cmds),
+    });
+    dialogs(ui, state, cmds);
+}
+
+fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| {
+            if ui.button("Open…").clicked() {
+                cmds.push(Command::ShowDialog(Dialog::Open {
+                    path: state
+                        .path()
+                        .map(|p| p.display().to_string())
+                        .unwrap_or_default(),
+                }));
+            }
+            if ui.button("Built-in scene").clicked() {
+                cmds.push(Command::OpenBuiltin);
+            }
+            if !state.prefs.recent.is_empty() {
+                ui.menu_button("Recent", |ui| {
+                    for p in &state.prefs.recent {
+                        if ui.button(p.display().to_string()).clicked() {
+                            cmds.push(Command::Open(p.clone()));
+                        }
+                    }
+                });
+            }
+            if ui.button("Reload").clicked() {
+                cmds.push(Command::Reload);
+            }
+            ui.separator();
+            let has_trace = state.stepping.is_some();
+            for kind in [SaveKind::Trace, SaveKind::DiagramPng, SaveKind::StepsGif] {
+                if ui
+                    .add_enabled(has_trace, egui::Button::new(format!("{}…", kind.title())))
+                    .clicked()
+                {
+                    cmds.push(Command::ShowDialog(Dialog::Save {
+                        kind,
+                        path: state.suggested_name(kind),
+                    }));
+                }
+            }
+            ui.separator();
+            if ui.button("Quit").clicked() {
+                ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+        });
+        ui.menu_button("View", |ui| {
+            let mut p = state.prefs.clone();
+            ui.label("Theme");
+            for t in [
+                super::state::ThemeChoice::Light,
+                super::state::ThemeChoice::Dark,
+                super::state::ThemeChoice::HighContrast,
+            ] {
+                ui.radio_value(&mut p.theme, t, t.label());
+            }
+            ui.separator();
+            ui.horizontal(|ui| {
+                let l = ui.label("Scale");
+                ui.add(egui::Slider::new(&mut p.scale, 0.75..=3.0).step_by(0.05))
+                    .labelled_by(l.id);
+            });
+            ui.checkbox(&mut p.presentation, "Presentation mode (Esc leaves)");
+            ui.horizontal(|ui| {
+                let l = ui.label("Presentation scale");
+                ui.add(egui::Slider::new(&mut p.presentation_scale, 1.0..=3.0).step_by(0.05))
+                    .labelled_by(l.id);
+            });
+            if ui.button("Full screen (F11)").clicked() {
+                views.toggle_fullscreen = true;
+            }
+            ui.separator();
+            ui.checkbox(&mut p.show_settings, "Settings panel");
+            ui.checkbox(&mut p.show_tree, "Trace tree");
+            if Views::has_heatmap(state) {
+                ui.checkbox(&mut p.heatmap, "BVH heatmap over the render");
+            }
+            if ui.button("Reset zoom").clicked() {
+                views.zoom = 1.0;
+                views.pan = Vec2::ZERO;
+            }
+            if p != state.prefs {
+                cmds.push(Command::SetPrefs(p));
+            }
+        });
+        ui.menu_button("Help", |ui| {
+            ui.label("Click a pixel of the render to trace it.");
+            ui.label("← → (or ↑ ↓): previous / next step");
+            ui.label("Home / End: first / last step");
+            ui.label("Space: play / pause");
+            ui.label("F11: full screen · Esc: leave presentation mode");
+            ui.label("Scroll on the render to zoom, drag to pan, double-click to fit.");
+            ui.label("Drop a scene (.toml) or a saved trace (.json) on the window to open it.");
+        });
+        ui.separator();
+        let title = match &state.doc {
+            Document::Scene { scene, path } => format!(
+                "{} — {}",
+                scene.name,
+                path.as_ref()
+                    .map_or("built in".to_string(), |p| p.display().to_string())
+            ),
+            Document::Trace { path } => format!("trace — {}", path.display()),
+            Document::Empty => String::new(),
+        };
+        ui.label(RichText::new(title).strong());
+    });
+}
+
+fn error_banner(ui: &mut egui::Ui, e: &str, cmds: &mut Vec<Command>) {
+    egui::Frame::new()
+        .fill(Color32::from_rgb(120, 20, 20))
+        .inner_margin(8.0)
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label(
+                    RichText::new("The file did not load")
+                        .strong()
+                        .color(Color32::WHITE),
+                );
+                if ui.button("Reload").clicked() {
+                    cmds.push(Command::Reload);
+                }
+            });
+            ui.label(RichText::new(e).monospace().color(Color32::WHITE));
+            ui.label(
+                RichText::new(
+                    "What was open before stays shown; fix the file and it reloads by itself.",
+                )
+                .color(Color32::from_gray(230)),
+            );
+        });
+}
+
+fn status_bar(ui: &mut egui::Ui, state: &AppState, views: &Views) {
+    ui.horizontal(|ui| {
+        if let Some(s) = state.scene() {
+            let f = &s.features;
+            ui.label(format!(
+                "{} primitive{} ({}), {} light{}",
+                f.primitives,
+                if f.primitives == 1 { "" } else { "s" },
+                f.kinds().join(", "),
+                f.lights,
+                if f.lights == 1 { "" } else { "s" }
+            ));
+            ui.separator();
+        }
+        if let Some(job) = &state.job {
+            let p = job.live.progress();
+            let phase = if state.prepared.is_none() {
+                "preparing (building the BVH)".to_string()
+            } else {
+                format!("rendering {:.0}%", p * 100.0)
+            };
+            ui.add(
+                egui::ProgressBar::new(p)
+                    .desired_width(160.0)
+                    .text(phase.clone()),
+            );
+            ui.label(phase);
+        } else if let Some(r) = &state.rendered {
+            ui.label(format!(
+                "rendered in {:.2} s (build {:.0} ms, trace {:.0} ms, {:.2} Mrays/s, {} threads)",
+                r.wall.as_secs_f64(),
+                r.build.as_secs_f64() * 1e3,
+                r.output.stats.trace.as_secs_f64() * 1e3,
+                r.output.stats.mrays_per_s(),
+                r.output.stats.threads
+            ));
+        }
+        if let Some(p) = views.hovered {
+            ui.separator();
+            let colour = view::pixel_colour(state, p).unwrap_or_default();
+            ui.label(format!("pixel ({}, {}) {colour}", p[0], p[1]));
+        }
+        if let Some(m) = &state.message {
+            ui.separator();
+            let t = RichText::new(&m.text);
+            ui.label(if m.error {
+                t.color(Color32::from_rgb(220, 50, 50))
+            } else {
+                t
+            });
+        }
+    });
+}
+
+/// The settings a teacher flips live, each shown only when the scene has something it affects.
+fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut Vec<Command>) {
+    let Some(scene) = state.scene() else {
+        if let Some(s) = &state.stepping {
+            ui.heading("Trace settings");
+            settings_summary(ui, &s.trace.settings);
+        }
+        return;
+    };
+    let f = scene.features;
+    ui.heading("Scene");
+    ui.label(format!(
+        "{} × {} pixels, field of view {}°",
+        scene.camera.width, scene.camera.height, scene.camera.fov
+    ));
+    let mut effects = vec![];
+    if f.reflective {
+        effects.push("mirrors");
+    }
+    if f.transparent {
+        effects.push("glass");
+    }
+    if !effects.is_empty() {
+        ui.label(format!("materials: {}", effects.join(", ")));
+    }
+    ui.separator();
+    ui.heading("Render settings");
+    let mut s: Settings = state.settings.clone();
+    ui.horizontal(|ui| {
+        let l = ui.label("Samples per pixel");
+        ui.add(egui::DragValue::new(&mut s.spp).range(1..=256))
+            .labelled_by(l.id);
+    });
+    if f.reflective || f.transparent {
+        ui.horizontal(|ui| {
+            let l = ui.label("Recursion depth");
+            ui.add(egui::DragValue::new(&mut s.max_depth).range(0..=16))
+                .labelled_by(l.id);
+        });
+    }
+    ui.label(RichText::new("Acceleration").strong());
+    ui.horizontal_wrapped(|ui| {
+        ui.radio_value(&mut s.accel, AccelChoice::Auto, "auto");
+        ui.radio_value(&mut s.accel, AccelChoice::None, "naive loop");
+        ui.radio_value(&mut s.accel, AccelChoice::Bvh, "BVH");
+    });
+    if let Some(p) = &state.prepared {
+        ui.label(match p.accel_choice {
+            AccelChoice::Bvh => "using a BVH",
+            _ => "testing every primitive for every ray",
+        });
+    }
+    if f.spheres > 0 {
+        ui.label(RichText::new("Ray–sphere").strong());
+        ui.horizontal_wrapped(|ui| {
+            ui.radio_value(&mut s.sphere_method, SphereMethod::Textbook, "textbook");
+            ui.radio_value(&mut s.sphere_method, SphereMethod::Stable, "stable");
+        });
+    }
+    if f.triangles > 0 {
+        ui.label(RichText::new("Ray–triangle").strong());
+        ui.horizontal_wrapped(|ui| {
+            ui.radio_value(
+                &mut s.triangle_method,
+                TriangleMethod::MollerTrumbore,
+                "Möller–Trumbore",
+            );
+            ui.radio_value(
+                &mut s.triangle_method,
+                TriangleMethod::Watertight,
+                "watertight",
+            );
+        });
+    }
+    if f.lights > 0 || f.reflective || f.transparent {
+        ui.label(RichText::new("Ray-origin offset").strong());
+        ui.horizontal_wrapped(|ui| {
+            ui.radio_value(&mut s.offset, OffsetPolicy::None, "no offset");
+            ui.radio_value(&mut s.offset, OffsetPolicy::Fixed, "fixed ε");
+            ui.radio_value(&mut s.offset, OffsetPolicy::Robust, "robust");
+        });
+        if s.offset == OffsetPolicy::Fixed {
+            ui.horizontal(|ui| {
+                let l = ui.label("ε");
+                ui.add(
+                    egui::DragValue::new(&mut s.epsilon)
+                        .range(1e-7..=1.0)
+                        .speed(1e-5),
+                )
+                .labelled_by(l.id);
+            });
+        }
+    }
+    if s.spp > 1 {
+        ui.horizontal(|ui| {
+            let l = ui.label("Jitter seed");
+            ui.add(egui::DragValue::new(&mut s.seed)).labelled_by(l.id);
+        });
+    }
+    if scene.settings != s && ui.button("Back to the file's settings").clicked() {
+        s = scene.settings.clone();
+    }
+    if s != state.settings {
+        cmds.push(Command::SetSettings(s));
+    }
+    if state.settings.spp > 1 {
+        let mut sample = state.sample;
+        ui.horizontal(|ui| {
+            let l = ui.label("Traced sample");
+            ui.add(egui::DragValue::new(&mut sample).range(0..=state.settings.spp - 1))
+                .labelled_by(l.id);
+        });
+        if sample != state.sample {
+            cmds.push(Command::SetSample(sample));
+        }
+    }
+    if Views::has_heatmap(state) {
+        ui.separator();
+        let mut p = state.prefs.clone();
+        ui.checkbox(&mut p.heatmap, "BVH heatmap");
+        if p.heatmap {
+            ui.label(format!(
+                "node visits per pixel, dark purple = 0 … yellow ≥ {}",
+                views.heat_max()
+            ));
+        }
+        if p != state.prefs {
+            cmds.push(Command::SetPrefs(p));
+        }
+    }
+}
+
+fn settings_summary(ui: &mut egui::Ui, s: &Settings) {
+    for line in [
+        format!("samples per pixel {}", s.spp),
+        format!("recursion depth {}", s.max_depth),
+        format!("sphere method {:?}", s.sphere_method),
+        format!("triangle method {:?}", s.triangle_method),
+        format!("offset {:?}", s.offset),
+        format!("acceleration {:?}", s.accel),
+    ] {
+        ui.label(line);
+    }
+}
+
+fn kind_label(kind: RayKind) -> &'static str {
+    match kind {
+        RayKind::Primary => "primary ray",
+        RayKind::Shadow => "shadow ray",
+        RayKind::Reflection => "reflection ray",
+        RayKind::Refraction => "refraction ray",
+    }
+}
+
+/// The rows of the trace tree.
+fn tree_rows(state: &AppState) -> Vec<Row> {
+    let Some(s) = &state.stepping else {
+        return vec![];
+    };
+    let rays = s.trace.rays();
+    let mut rows = vec![];
+    let mut last_ray = usize::MAX;
+    for (k, &(ri, si)) in s.index.iter().enumerate() {
+        let ray = rays[ri];
+        if ri != last_ray && si == 0 {
+            let hit = match &ray.hit {
+                Some(h) => format!("hits \"{}\" at t = {}", h.name, num(h.t)),
+                None => "hits nothing".into(),
+            };
+            rows.push(Row::Ray {
+                depth: ray.depth,
+                text: format!(
+                    "{} from {} along {}: {hit}",
+                    kind_label(ray.kind),
+                    v3(ray.origin),
+                    v3(ray.direction)
+                ),
+            });
+        }
+        last_ray = ri;
+        rows.push(Row::Step {
+            k,
+            depth: s.ray_depth[ri],
+            text: format!("{k}. {}", describe::describe(&ray.steps[si].step)),
+        });
+    }
+    rows
+}
+
+fn tree_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    ui.heading("Trace");
+    let Some(s) = &state.stepping else {
+        ui.label("Click a pixel of the render to trace it.");
+        return;
+    };
+    let t = &s.trace;
+    ui.label(format!(
+        "pixel ({}, {}) sample {} → colour {}",
+        t.pixel[0],
+        t.pixel[1],
+        t.sample,
+        v3(t.color)
+    ));
+    if !s.record_time.is_zero() {
+        ui.label(format!(
+            "{} steps, {} rays, recorded in {:.2} ms",
+            s.len(),
+            t.rays().len(),
+            s.record_time.as_secs_f64() * 1e3
+        ));
+    }
+    if views
+        .tree
+        .as_ref()
+        .is_none_or(|(g, _)| *g != state.trace_generation)
+    {
+        views.tree = Some((state.trace_generation, tree_rows(state)));
+    }
+    let rows = &views.tree.as_ref().expect("just built").1;
+    let row_h = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+    let mut area = egui::ScrollArea::both()
+        .id_salt("tree-scroll")
+        .auto_shrink([false, false]);
+    let target = (state.trace_generation, state.step);
+    if views.tree_scrolled != Some(target) {
+        views.tree_scrolled = Some(target);
+        if let Some(i) = rows
+            .iter()
+            .position(|r| matches!(r, Row::Step { k, .. } if *k == state.step))
+        {
+            let h = ui.available_height();
+            area = area.vertical_scroll_offset((i as f32 * row_h - h * 0.4).max(0.0));
+        }
+    }
+    area.show_rows(ui, row_h, rows.len(), |ui, range| {
+        for row in &rows[range] {
+            match row {
+                Row::Ray { depth, text } => {
+                    ui.horizontal(|ui| {
+                        ui.add_space(*depth as f32 * 14.0);
+                        ui.add(egui::Label::new(RichText::new(text).strong()).extend());
+                    });
+                }
+                Row::Step { k, depth, text } => {
+                    ui.horizontal(|ui| {
+                        ui.add_space(*depth as f32 * 14.0 + 10.0);
+                        let sel = *k == state.step;
+                        let r = ui.add(egui::Button::selectable(sel, text.as_str()).truncate());
+                        if r.clicked() {
+                            cmds.push(Command::Step(StepMove::To(*k)));
+                        }
+                    });
+                }
+            }
+        }
+    });
+}
+
+/// The colour of a pipeline stage on the timeline.
+pub fn stage_colour(s: Stage) -> Color32 {
+    match s {
+        Stage::RayGeneration => Color32::from_rgb(86, 180, 233),
+        Stage::Traversal => Color32::from_rgb(150, 150, 150),
+        Stage::Intersection => Color32::from_rgb(230, 159, 0),
+        Stage::AnyHit => Color32::from_rgb(204, 121, 167),
+        Stage::ClosestHit => Color32::from_rgb(0, 158, 115),
+        Stage::Miss => Color32::from_rgb(213, 94, 0),
+    }
+}
+
+fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
+    let Some(s) = &state.stepping else {
+        return;
+    };
+    let n = s.len();
+    ui.horizontal(|ui| {
+        if ui.button("⇤ First").clicked() {
+            cmds.push(Command::Step(StepMove::First));
+        }
+        if ui.button("◀ Previous").clicked() {
+            cmds.push(Command::Step(StepMove::Previous));
+        }
+        let play = if state.playing {
+            "‖ Pause"
+        } else {
+            "▶ Play"
+        };
+        if ui.button(play).clicked() {
+            cmds.push(Command::TogglePlay);
+        }
+        if ui.button("Next ▶").clicked() {
+            cmds.push(Command::Step(StepMove::Next));
+        }
+        if ui.button("Last ⇥").clicked() {
+            cmds.push(Command::Step(StepMove::Last));
+        }
+        ui.separator();
+        let mut p = state.prefs.clone();
+        let l = ui.label("Speed");
+        ui.add(
+            egui::Slider::new(&mut p.speed, 0.25..=30.0)
+                .logarithmic(true)
+                .suffix(" steps/s"),
+        )
+        .labelled_by(l.id);
+        if p != state.prefs {
+            cmds.push(Command::SetPrefs(p));
+        }
+        ui.separator();
+        if let Some((ray, step)) = s.at(state.step) {
+            ui.label(
+                RichText::new(format!(
+                    "step {} of {} · {} · {} (depth {})",
+                    state.step + 1,
+                    n,
+                    describe::stage_name(step.stage),
+                    kind_label(ray.kind),
+                    ray.depth
+                ))
+                .strong(),
+            );
+        }
+    });
+    // The timeline: one cell per step, coloured by pipeline stage; click or drag to jump.
+    let (rect, resp) = ui.allocate_exact_size(
+        Vec2::new(ui.available_width(), 18.0),
+        Sense::click_and_drag(),
+    );
+    let painter = ui.painter_at(rect);
+    let cell = rect.width() / n.max(1) as f32;
+    let stages: Vec<Stage> = (0..n)
+        .filter_map(|k| s.at(k).map(|(_, st)| st.stage))
+        .collect();
+    if cell >= 1.0 {
+        for (k, st) in stages.iter().enumerate() {
+            let x0 = rect.left() + k as f32 * cell;
+            let r = egui::Rect::from_min_max(
+                egui::pos2(x0, rect.top()),
+                egui::pos2(x0 + cell.max(1.0), rect.bottom()),
+            );
+            painter.rect_filled(
+                r.shrink2(Vec2::new((cell * 0.08).min(1.0), 0.0)),
+                1.0,
+                stage_colour(*st),
+            );
+        }
+    } else {
+        // More steps than pixels: each pixel column shows the first step it covers.
+        let cols = rect.width() as usize;
+        for c in 0..cols {
+            let k = c * n / cols.max(1);
+            let x0 = rect.left() + c as f32;
+            painter.rect_filled(
+                egui::Rect::from_min_max(
+                    egui::pos2(x0, rect.top()),
+                    egui::pos2(x0 + 1.0, rect.bottom()),
+                ),
+                0.0,
+                stage_colour(stages[k]),
+            );
+        }
+    }
+    let xk = rect.left() + (state.step as f32 + 0.5) * rect.width() / n.max(1) as f32;
+    painter.line_segment(
+        [
+            egui::pos2(xk, rect.top() - 2.0),
+            egui::pos2(xk, rect.bottom() + 2.0),
+        ],
+        egui::Stroke::new(3.0, ui.visuals().strong_text_color()),
+    );
+    if (resp.clicked() || resp.dragged())
+        && let Some(p) = resp.interact_pointer_pos()
+    {
+        let k = (((p.x - rect.left()) / rect.width()) * n as f32).floor() as isize;
+        let k = k.clamp(0, n as isize - 1) as usize;
+        if k != state.step {
+            cmds.push(Command::Step(StepMove::To(k)));
+        }
+    }
+    ui.horizontal_wrapped(|ui| {
+        for st in [
+            Stage::RayGeneration,
+            Stage::Traversal,
+            Stage::Intersection,
+            Stage::AnyHit,
+            Stage::ClosestHit,
+            Stage::Miss,
+        ] {
+            if stages.contains(&st) {
+                ui.label(RichText::new("■").color(stage_colour(st)));
+                ui.label(describe::stage_name(st));
+            }
+        }
+    });
+}
+
+/// The formula of the current step with the recorded numbers substituted.
+fn math_panel(ui: &mut egui::Ui, state: &AppState) {
+    let Some(s) = &state.stepping else {
+        return;
+    };
+    let Some((ray, step)) = s.at(state.step) else {
+        return;
+    };
+    let e = crate::trace::formula::explain(&s.trace, ray, &step.step);
+    ui.heading(&e.title);
+    ui.label(
+        RichText::new(format!(
+            "{} · {} · f32, the numbers the renderer used",
+            describe::stage_name(step.stage),
+            kind_label(ray.kind)
+        ))
+        .weak(),
+    );
+    ui.add_space(4.0);
+    for f in &e.lines {
+        let mut line = if f.symbolic == f.name {
+            f.name.clone()
+        } else {
+            format!("{} = {}", f.name, f.symbolic)
+        };
+        if !f.substituted.is_empty() {
+            line += &format!(" = {}", f.substituted);
+        }
+        if f.value != f.symbolic {
+            line += &format!(" = {}", f.value);
+        }
+        ui.horizontal_wrapped(|ui| {
+            ui.label(
+                RichText::new(line)
+                    .monospace()
+                    .size(ui.text_style_height(&egui::TextStyle::Body) * 1.1),
+            );
+            if let Some(n) = &f.note {
+                ui.label(RichText::new(n).italics());
+            }
+        });
+    }
+    ui.add_space(4.0);
+    ui.label(RichText::new(&e.conclusion).strong());
+    if let Step::Triangle { .. } | Step::Sphere { .. } = step.step {
+        ui.add_space(4.0);
+        ui.label(RichText::new(describe::describe(&step.step)).weak());
+    }
+}
+
+fn diagram_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    let Some(s) = &state.stepping else {
+        ui.label("The diagrams appear when a pixel is traced.");
+        return;
+    };
+    let mut p = state.prefs.clone();
+    ui.horizontal_wrapped(|ui| {
+        ui.selectable_value(&mut p.diagram, DiagramChoice::Auto, "Follow the step");
+        for k in &s.kinds {
+            ui.selectable_value(&mut p.diagram, DiagramChoice::Kind(*k), diagram_label(*k));
+        }
+    });
+    if state.diagram_kind() == Some(DiagramKind::Slice) {
+        ui.horizontal(|ui| {
+            let l = ui.label("Slice angle");
+            ui.add(egui::Slider::new(&mut p.slice_angle, -180.0..=180.0).suffix("°"))
+                .labelled_by(l.id);
+            ui.checkbox(&mut p.top_down, "from above");
+        });
+    }
+    if p != state.prefs {
+        cmds.push(Command::SetPrefs(p));
+    }
+    let avail = ui.available_size();
+    let ppp = ui.ctx().pixels_per_point();
+    let size = [
+        ((avail.x * ppp) as u32).clamp(64, 2048),
+        ((avail.y * ppp) as u32).clamp(64, 2048),
+    ];
+    // Round to 8 pixels so a panel being resized does not redraw on every frame.
+    let size = [size[0] / 8 * 8, size[1] / 8 * 8];
+    match views.diagram(ui.ctx(), state, size) {
+        Some(t) => {
+            ui.add(
+                egui::Image::new(&t)
+                    .fit_to_exact_size(Vec2::new(size[0] as f32, size[1] as f32) / ppp),
+            );
+        }
+        None => {
+            ui.label(views.diagram_error.clone().unwrap_or_default());
+        }
+    }
+}
+
+fn diagram_label(k: DiagramKind) -> &'static str {
+    match k {
+        DiagramKind::Slice => "Slice",
+        DiagramKind::Quadratic => "Quadratic",
+        DiagramKind::Barycentric => "Barycentric",
+        DiagramKind::Bvh => "BVH",
+        DiagramKind::Raytree => "Ray tree",
+    }
+}
+
+/// The shipped scenes (scenes/ next to the working directory, else next to the source).
+fn shipped_scenes() -> Vec<PathBuf> {
+    let dirs = [
+        PathBuf::from("scenes"),
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
+    ];
+    for d in dirs {
+        if let Ok(rd) = std::fs::read_dir(&d) {
+            let mut v: Vec<PathBuf> = rd
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+                .collect();
+            v.sort();
+            return v;
+        }
+    }
+    vec![]
+}
+
+fn dialogs(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
+    let Some(d) = &state.dialog else {
+        return;
+    };
+    let ctx = ui.ctx().clone();
+    match d {
+        Dialog::Open { path } => {
+            let mut path = path.clone();
+            egui::Window::new("Open a scene or a saved trace")
+                .collapsible(false)
+                .anchor(egui::Align2::CENTER_CENTER, Vec2::ZERO)
+                .show(&ctx, |ui| {
+                    let mut go = false;
+                    ui.horizontal(|ui| {
+                        let l = ui.label("Path");
+                        let r = ui
+                            .add(egui::TextEdit::singleline(&mut path).desired_width(420.0))
+                            .labelled_by(l.id);
+                        go |= r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                    });
+                    ui.horizontal(|ui| {
+                        go |= ui.button("Open").clicked();
+                        if ui.button("Cancel").clicked() {
+                            cmds.push(Command::CloseDialog);
+                        }
+                    });
+                    if go && !path.trim().is_empty() {
+                        cmds.push(Command::Open(PathBuf::from(path.trim())));
+                    }
+                    ui.separator();
+                    ui.label("Shipped scenes:");
+                    for p in shipped_scenes() {
+                        if ui.button(p.display().to_string()).clicked() {
+                            cmds.push(Command::Open(p));
+                        }
+                    }
+                    if ui.button("the built-in scene").clicked() {
+                        cmds.push(Command::OpenBuiltin);
+                        cmds.push(Command::CloseDialog);
+                    }
+                });
+            let opening = cmds
+                .iter()
+                .any(|c| matches!(c, Command::Open(_) | Command::OpenBuiltin));
+            if path != d_path(d) && !opening {
+                cmds.push(Command::ShowDialog(Dialog::Open { path }));
+            }
+        }
+        Dialog::Save { kind, path } => {
+            let mut path = path.clone();
+            egui::Window::new(kind.title())
+                .collapsible(false)
+                .anchor(egui::Align2::CENTER_CENTER, Vec2::ZERO)
+                .show(&ctx, |ui| {
+                    let mut go = false;
+                    ui.horizontal(|ui| {
+                        let l = ui.label("File");
+                        let r = ui
+                            .add(egui::TextEdit::singleline(&mut path).desired_width(420.0))
+                            .labelled_by(l.id);
+                        go |= r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                    });
+                    ui.horizontal(|ui| {
+                        go |= ui.button("Save").clicked();
+                        if ui.button("Cancel").clicked() {
+                            cmds.push(Command::CloseDialog);
+                        }
+                    });
+                    if go && !path.trim().is_empty() {
+                        cmds.push(Command::Save(*kind, PathBuf::from(path.trim())));
+                    }
+                });
+            let current = d_path(d);
+            if path != current && !cmds.iter().any(|c| matches!(c, Command::Save(..))) {
+                cmds.push(Command::ShowDialog(Dialog::Save { kind: *kind, path }));
+            }
+        }
+    }
+}
+
+fn d_path(d: &Dialog) -> String {
+    match d {
+        Dialog::Open { path } | Dialog::Save { path, .. } => path.clone(),
+    }
+}

@@ -1,0 +1,873 @@
+//! The app's state: one [`AppState`] owns everything — the open scene or trace, the live
+//! settings, the background render, the selected pixel's trace and the step being shown. Panels
+//! read it and return [`Command`]s; [`AppState::apply`] is the only place that changes it.
+
+use super::job::{JobEvent, Prepared, RenderJob, is_cancelled};
+use crate::diagram::{self, DiagramKind, ViewOptions};
+use crate::render::RenderOutput;
+use crate::scene::{Scene, Settings};
+use crate::trace::{RayRecord, StepRecord, Trace};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant, SystemTime};
+
+/// The colour scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum ThemeChoice {
+    /// Dark text on white (the default: best on most projectors).
+    #[default]
+    Light,
+    /// Light text on dark grey.
+    Dark,
+    /// White on black with heavier lines, for a washed-out projector at the back of a hall.
+    HighContrast,
+}
+
+impl ThemeChoice {
+    /// The menu label.
+    pub fn label(self) -> &'static str {
+        match self {
+            ThemeChoice::Light => "Light",
+            ThemeChoice::Dark => "Dark",
+            ThemeChoice::HighContrast => "High contrast",
+        }
+    }
+
+    /// The diagrams' colours for this scheme.
+    pub fn diagram_theme(self) -> diagram::Theme {
+        match self {
+            ThemeChoice::Light => diagram::Theme::LIGHT,
+            ThemeChoice::Dark | ThemeChoice::HighContrast => diagram::Theme::DARK,
+        }
+    }
+}
+
+/// Which diagram the diagram panel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum DiagramChoice {
+    /// The one that best explains the current step (changes as you step).
+    #[default]
+    Auto,
+    /// Always this kind (when the trace has it).
+    Kind(DiagramKind),
+}
+
+/// What the app remembers between runs (eframe persistence).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Prefs {
+    /// Colour scheme.
+    pub theme: ThemeChoice,
+    /// UI scale (1 = normal).
+    pub scale: f32,
+    /// Presentation mode: high contrast, large text, full screen.
+    pub presentation: bool,
+    /// UI scale in presentation mode.
+    pub presentation_scale: f32,
+    /// The last scene or trace opened from a file.
+    pub last_file: Option<PathBuf>,
+    /// Recently opened files, newest first.
+    pub recent: Vec<PathBuf>,
+    /// Show the BVH heatmap over the render.
+    pub heatmap: bool,
+    /// Playback speed in steps per second.
+    pub speed: f32,
+    /// The diagram panel's choice.
+    pub diagram: DiagramChoice,
+    /// Slice diagram: angle of the cutting plane about the primary ray (degrees).
+    pub slice_angle: f32,
+    /// Slice diagram: view from above.
+    pub top_down: bool,
+    /// Show the trace tree panel.
+    pub show_tree: bool,
+    /// Show the settings panel.
+    pub show_settings: bool,
+}
+
+impl Default for Prefs {
+    fn default() -> Self {
+        Prefs {
+            theme: ThemeChoice::Light,
+            scale: 1.0,
+            presentation: false,
+            presentation_scale: 1.6,
+            last_file: None,
+            recent: vec![],
+            heatmap: false,
+            speed: 2.0,
+            diagram: DiagramChoice::Auto,
+            slice_angle: 0.0,
+            top_down: false,
+            show_tree: true,
+            show_settings: true,
+        }
+    }
+}
+
+impl Prefs {
+    /// The theme in force (presentation mode forces high contrast).
+    pub fn effective_theme(&self) -> ThemeChoice {
+        if self.presentation {
+            ThemeChoice::HighContrast
+        } else {
+            self.theme
+        }
+    }
+
+    /// The UI scale in force.
+    pub fn effective_scale(&self) -> f32 {
+        if self.presentation {
+            self.presentation_scale
+        } else {
+            self.scale
+        }
+    }
+}
+
+/// What is open.
+#[derive(Debug, Clone)]
+pub enum Document {
+    /// Nothing yet (only before the first open).
+    Empty,
+    /// A scene: the built-in one (`path` None) or a file.
+    Scene {
+        /// The scene as loaded (its own settings).
+        scene: Arc<Scene>,
+        /// Its file.
+        path: Option<PathBuf>,
+    },
+    /// A saved trace, replayed without its scene.
+    Trace {
+        /// Its file.
+        path: PathBuf,
+    },
+}
+
+/// A move through the timeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepMove {
+    /// The first step.
+    First,
+    /// One back.
+    Previous,
+    /// One forward.
+    Next,
+    /// The last step.
+    Last,
+    /// Step number k.
+    To(usize),
+}
+
+/// What a save dialog writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SaveKind {
+    /// The current trace as JSON.
+    Trace,
+    /// The current diagram as PNG.
+    DiagramPng,
+    /// Every step of the current diagram as an animated GIF.
+    StepsGif,
+}
+
+impl SaveKind {
+    /// The dialog's title.
+    pub fn title(self) -> &'static str {
+        match self {
+            SaveKind::Trace => "Save trace (JSON)",
+            SaveKind::DiagramPng => "Export diagram (PNG)",
+            SaveKind::StepsGif => "Export all steps (animated GIF)",
+        }
+    }
+}
+
+/// An open dialog.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Dialog {
+    /// Open a scene or trace file by path.
+    Open {
+        /// The path being typed.
+        path: String,
+    },
+    /// Save or export to a path.
+    Save {
+        /// What to write.
+        kind: SaveKind,
+        /// The path being typed.
+        path: String,
+    },
+}
+
+/// Everything a panel can ask for.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Command {
+    /// Open a scene (.toml) or a saved trace (.json).
+    Open(PathBuf),
+    /// Open the built-in scene.
+    OpenBuiltin,
+    /// Reload the open file.
+    Reload,
+    /// Change the live settings (restarts the render).
+    SetSettings(Settings),
+    /// Select a pixel (traces it).
+    SelectPixel([u32; 2]),
+    /// Choose which sample of the pixel to trace.
+    SetSample(u32),
+    /// Move through the steps.
+    Step(StepMove),
+    /// Start or stop playback.
+    TogglePlay,
+    /// Change the preferences.
+    SetPrefs(Prefs),
+    /// Write a file.
+    Save(SaveKind, PathBuf),
+    /// Show a dialog.
+    ShowDialog(Dialog),
+    /// Close the dialog.
+    CloseDialog,
+}
+
+/// A message for the status line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Message {
+    /// The text.
+    pub text: String,
+    /// Whether it reports a failure.
+    pub error: bool,
+}
+
+/// The finished render.
+#[derive(Debug, Clone)]
+pub struct Rendered {
+    /// The image, statistics and node visits.
+    pub output: Arc<RenderOutput>,
+    /// Time from the job's start to its end (prepare + build + trace).
+    pub wall: Duration,
+    /// Accelerator build time.
+    pub build: Duration,
+}
+
+/// The trace being stepped through, with the indexes the panels need.
+#[derive(Debug, Clone)]
+pub struct Stepping {
+    /// The trace.
+    pub trace: Arc<Trace>,
+    /// For each timeline step: (index of its ray in [`Trace::rays`], index in that ray's steps).
+    pub index: Vec<(usize, usize)>,
+    /// The depth of each ray (in [`Trace::rays`] order).
+    pub ray_depth: Vec<u32>,
+    /// The diagram kinds this trace has.
+    pub kinds: Vec<DiagramKind>,
+    /// How long recording it took (zero for a loaded trace).
+    pub record_time: Duration,
+}
+
+impl Stepping {
+    /// Indexes a trace.
+    pub fn new(trace: Trace, record_time: Duration) -> Stepping {
+        let rays = trace.rays();
+        let ray_depth = rays.iter().map(|r| r.depth).collect();
+        let index = trace
+            .timeline()
+            .iter()
+            .map(|(r, s)| {
+                let ri = rays
+                    .iter()
+                    .position(|x| std::ptr::eq(*x, *r))
+                    .expect("a timeline ray is one of the trace's rays");
+                let si = r
+                    .steps
+                    .iter()
+                    .position(|x| std::ptr::eq(x, *s))
+                    .expect("a timeline step is one of its ray's steps");
+                (ri, si)
+            })
+            .collect();
+        let kinds = diagram::available(&trace);
+        Stepping {
+            trace: Arc::new(trace),
+            index,
+            ray_depth,
+            kinds,
+            record_time,
+        }
+    }
+
+    /// Number of steps.
+    pub fn len(&self) -> usize {
+        self.index.len()
+    }
+
+    /// Whether the trace has no steps.
+    pub fn is_empty(&self) -> bool {
+        self.index.is_empty()
+    }
+
+    /// The ray and step at timeline position `k`.
+    pub fn at(&self, k: usize) -> Option<(&RayRecord, &StepRecord)> {
+        let (ri, si) = *self.index.get(k)?;
+        let ray = *self.trace.rays().get(ri)?;
+        Some((ray, ray.steps.get(si)?))
+    }
+}
+
+/// How often the open file is checked for changes on disk.
+const WATCH_INTERVAL: Duration = Duration::from_millis(500);
+
+/// The whole state of the app.
+pub struct AppState {
+    /// Remembered preferences.
+    pub prefs: Prefs,
+    /// What is open.
+    pub doc: Document,
+    /// The live settings (start as the scene's own).
+    pub settings: Settings,
+    /// The scene ready to trace with the live settings (None while preparing).
+    pub prepared: Option<Arc<Prepared>>,
+    /// The running render.
+    pub job: Option<RenderJob>,
+    /// The last finished render (for the current settings once `job` is None).
+    pub rendered: Option<Rendered>,
+    /// How many renders were started (tests watch it restart).
+    pub renders_started: u64,
+    /// The selected pixel.
+    pub pixel: Option<[u32; 2]>,
+    /// The sample of the selected pixel.
+    pub sample: u32,
+    /// The selected pixel's trace.
+    pub stepping: Option<Stepping>,
+    /// The current step (timeline index).
+    pub step: usize,
+    /// Playing the steps.
+    pub playing: bool,
+    /// The last load error (file:line:column and what is wrong), shown until a good load.
+    pub load_error: Option<String>,
+    /// The status line.
+    pub message: Option<Message>,
+    /// The open dialog.
+    pub dialog: Option<Dialog>,
+    /// Bumped whenever the trace changes (caches key on it).
+    pub trace_generation: u64,
+    last_play: Option<Instant>,
+    exports: Vec<std::sync::mpsc::Receiver<Message>>,
+    watch: Option<(PathBuf, Option<SystemTime>, Instant)>,
+    repaint: Arc<dyn Fn() + Send + Sync>,
+}
+
+impl std::fmt::Debug for AppState {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("AppState")
+            .field("doc", &self.doc)
+            .field("pixel", &self.pixel)
+            .field("step", &self.step)
+            .finish_non_exhaustive()
+    }
+}
+
+impl AppState {
+    /// A state with nothing open. `repaint` wakes the UI (background jobs call it).
+    pub fn new(prefs: Prefs, repaint: impl Fn() + Send + Sync + 'static) -> AppState {
+        AppState {
+            prefs,
+            doc: Document::Empty,
+            settings: Settings::default(),
+            prepared: None,
+            job: None,
+            rendered: None,
+            renders_started: 0,
+            pixel: None,
+            sample: 0,
+            stepping: None,
+            step: 0,
+            playing: false,
+            load_error: None,
+            message: None,
+            dialog: None,
+            trace_generation: 0,
+            last_play: None,
+            exports: vec![],
+            watch: None,
+            repaint: Arc::new(repaint),
+        }
+    }
+
+    /// The open scene, if a scene is open.
+    pub fn scene(&self) -> Option<&Arc<Scene>> {
+        match &self.doc {
+            Document::Scene { scene, .. } => Some(scene),
+            _ => None,
+        }
+    }
+
+    /// The open file, if any.
+    pub fn path(&self) -> Option<&Path> {
+        match &self.doc {
+            Document::Scene { path, .. } => path.as_deref(),
+            Document::Trace { path } => Some(path),
+            Document::Empty => None,
+        }
+    }
+
+    /// Applies one command.
+    pub fn apply(&mut self, cmd: Command) {
+        match cmd {
+            Command::Open(path) => self.open(&path),
+            Command::OpenBuiltin => {
+                self.set_scene(Arc::new(crate::scene::default_scene()), None);
+            }
+            Command::Reload => self.reload(),
+            Command::SetSettings(s) => {
+                if s != self.settings {
+                    self.settings = s;
+                    if self.sample >= self.settings.spp {
+                        self.sample = 0;
+                    }
+                    self.restart_render();
+                }
+            }
+            Command::SelectPixel(p) => {
+                self.pixel = Some(p);
+                self.playing = false;
+                self.retrace(false);
+            }
+            Command::SetSample(s) => {
+                self.sample = s.min(self.settings.spp.saturating_sub(1));
+                self.retrace(true);
+            }
+            Command::Step(m) => {
+                self.move_step(m);
+                if m != StepMove::Next {
+                    self.playing = false;
+                }
+            }
+            Command::TogglePlay => {
+                self.playing = !self.playing;
+                if self.playing
+                    && let Some(s) = &self.stepping
+                    && self.step + 1 >= s.len()
+                {
+                    self.step = 0;
+                }
+                self.last_play = None;
+            }
+            Command::SetPrefs(p) => self.prefs = p,
+            Command::Save(kind, path) => self.save(kind, &path),
+            Command::ShowDialog(d) => self.dialog = Some(d),
+            Command::CloseDialog => self.dialog = None,
+        }
+    }
+
+    /// Opens a scene (.toml) or saved trace (.json) file. A file that fails to load leaves what
+    /// was open in place and shows the error.
+    pub fn open(&mut self, path: &Path) {
+        self.dialog = None;
+        let is_trace = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+        let result = if is_trace {
+            Trace::load(path).map_err(|e| e.to_string()).map(|t| {
+                self.open_trace(t, path);
+            })
+        } else {
+            crate::scene::load_file(path)
+                .map_err(|e| e.to_string())
+                .map(|s| self.set_scene(Arc::new(s), Some(path.to_path_buf())))
+        };
+        self.watch = Some((path.to_path_buf(), modified(path), Instant::now()));
+        match result {
+            Ok(()) => {
+                self.load_error = None;
+                self.prefs.last_file = Some(path.to_path_buf());
+                self.prefs.recent.retain(|p| p != path);
+                self.prefs.recent.insert(0, path.to_path_buf());
+                self.prefs.recent.truncate(8);
+            }
+            Err(e) => self.load_error = Some(e),
+        }
+    }
+
+    /// Opens again the file last asked for (the one a load error is about, else the open one).
+    fn reload(&mut self) {
+        let watched = self.watch.as_ref().map(|(p, ..)| p.clone());
+        match watched.or_else(|| self.path().map(Path::to_path_buf)) {
+            Some(p) => {
+                let keep = (self.pixel, self.step);
+                let same = self.path() == Some(p.as_path());
+                self.open(&p);
+                if same && self.load_error.is_none() && matches!(self.doc, Document::Scene { .. }) {
+                    (self.pixel, self.step) = keep;
+                    self.retrace(true);
+                }
+            }
+            None => self.apply(Command::OpenBuiltin),
+        }
+    }
+
+    fn set_scene(&mut self, scene: Arc<Scene>, path: Option<PathBuf>) {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        self.settings = scene.settings.clone();
+        let same_size = self
+            .scene()
+            .is_some_and(|s| s.camera.width == w && s.camera.height == h);
+        self.doc = Document::Scene { scene, path };
+        self.load_error = None;
+        if !same_size || self.pixel.is_none() {
+            // Start on the centre pixel so the panels have something to show.
+            self.pixel = Some([w / 2, h / 2]);
+            self.step = 0;
+        }
+        self.sample = 0;
+        self.stepping = None;
+        self.prepared = None;
+        self.rendered = None;
+        self.playing = false;
+        if path_is_none(&self.doc) {
+            self.watch = None;
+        }
+        self.restart_render();
+    }
+
+    fn open_trace(&mut self, trace: Trace, path: &Path) {
+        self.job = None;
+        self.prepared = None;
+        self.rendered = None;
+        self.pixel = Some(trace.pixel);
+        self.sample = trace.sample;
+        self.settings = trace.settings.clone();
+        self.doc = Document::Trace {
+            path: path.to_path_buf(),
+        };
+        self.stepping = Some(Stepping::new(trace, Duration::ZERO));
+        self.trace_generation += 1;
+        self.step = 0;
+        self.playing = false;
+    }
+
+    /// Cancels the running render and starts a new one with the live settings.
+    fn restart_render(&mut self) {
+        let Some(scene) = self.scene().cloned() else {
+            return;
+        };
+        let previous = self.prepared.take();
+        self.job = None; // cancels the old one
+        let repaint = Arc::clone(&self.repaint);
+        self.job = Some(RenderJob::start(
+            scene,
+            self.settings.clone(),
+            previous,
+            move || repaint(),
+        ));
+        self.renders_started += 1;
+    }
+
+    /// Records the selected pixel's trace again (after a new pixel, sample or settings). With
+    /// `keep_step` the current step index is kept (clamped), so a teacher can flip a setting and
+    /// compare the same step.
+    fn retrace(&mut self, keep_step: bool) {
+        let (Some(p), Some([x, y])) = (&self.prepared, self.pixel) else {
+            return;
+        };
+        let c = &p.scene.camera;
+        if x >= c.width || y >= c.height {
+            self.pixel = None;
+            return;
+        }
+        let start = Instant::now();
+        let trace = p
+            .tracer()
+            .record(x, y, self.sample.min(p.scene.settings.spp - 1));
+        let stepping = Stepping::new(trace, start.elapsed());
+        self.step = if keep_step {
+            self.step.min(stepping.len().saturating_sub(1))
+        } else {
+            0
+        };
+        self.stepping = Some(stepping);
+        self.trace_generation += 1;
+    }
+
+    fn move_step(&mut self, m: StepMove) {
+        let Some(s) = &self.stepping else {
+            return;
+        };
+        let last = s.len().saturating_sub(1);
+        self.step = match m {
+            StepMove::First => 0,
+            StepMove::Previous => self.step.saturating_sub(1),
+            StepMove::Next => (self.step + 1).min(last),
+            StepMove::Last => last,
+            StepMove::To(k) => k.min(last),
+        };
+    }
+
+    /// Work between frames: take what the render job reports, advance playback, watch the file.
+    /// `now` is the UI clock.
+    pub fn tick(&mut self, now: Instant) {
+        while let Some(event) = self.job.as_ref().and_then(RenderJob::poll) {
+            match event {
+                JobEvent::Prepared(p) => {
+                    self.prepared = Some(p);
+                    self.retrace(true);
+                }
+                JobEvent::Done(result) => {
+                    let job = self.job.take().expect("an event came from the job");
+                    match result {
+                        Ok(output) => {
+                            self.rendered = Some(Rendered {
+                                output,
+                                wall: job.started.elapsed(),
+                                build: self.prepared.as_ref().map_or(Duration::ZERO, |p| p.build),
+                            })
+                        }
+                        Err(e) if is_cancelled(&e) => {}
+                        Err(e) => {
+                            self.message = Some(Message {
+                                text: format!("render failed: {e}"),
+                                error: true,
+                            })
+                        }
+                    }
+                }
+            }
+        }
+        if self.playing {
+            let interval =
+                Duration::from_secs_f64(1.0 / f64::from(self.prefs.speed.clamp(0.1, 60.0)));
+            match self.last_play {
+                None => self.last_play = Some(now),
+                Some(t) if now.duration_since(t) >= interval => {
+                    self.last_play = Some(now);
+                    let at_end = self
+                        .stepping
+                        .as_ref()
+                        .is_none_or(|s| self.step + 1 >= s.len());
+                    if at_end {
+                        self.playing = false;
+                    } else {
+                        self.step += 1;
+                    }
+                }
+                Some(_) => {}
+            }
+        }
+        self.exports.retain(|rx| match rx.try_recv() {
+            Ok(m) => {
+                self.message = Some(m);
+                false
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => true,
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => false,
+        });
+        self.check_file(now);
+    }
+
+    /// Reloads the open file when it changed on disk.
+    fn check_file(&mut self, now: Instant) {
+        let Some((path, stamp, checked)) = &mut self.watch else {
+            return;
+        };
+        if now.duration_since(*checked) < WATCH_INTERVAL {
+            return;
+        }
+        *checked = now;
+        let m = modified(path);
+        if m != *stamp {
+            *stamp = m;
+            if m.is_some() {
+                self.reload();
+                if self.load_error.is_none() {
+                    self.message = Some(Message {
+                        text: "the file changed on disk: reloaded".into(),
+                        error: false,
+                    });
+                }
+            }
+        }
+    }
+
+    /// When the next [`AppState::tick`] has work to do by itself (playback, file watching).
+    pub fn next_wakeup(&self) -> Option<Duration> {
+        if self.playing {
+            Some(Duration::from_secs_f32(
+                1.0 / self.prefs.speed.clamp(0.1, 60.0) / 2.0,
+            ))
+        } else if self.watch.is_some() {
+            Some(WATCH_INTERVAL)
+        } else {
+            None
+        }
+    }
+
+    /// The diagram kind the diagram panel shows now.
+    pub fn diagram_kind(&self) -> Option<DiagramKind> {
+        let s = self.stepping.as_ref()?;
+        match self.prefs.diagram {
+            DiagramChoice::Kind(k) if s.kinds.contains(&k) => Some(k),
+            _ => Some(diagram::kinds_for_step(&s.trace, self.step)[0]),
+        }
+    }
+
+    /// The view options of the diagram panel at a size.
+    pub fn view_options(&self, width: u32, height: u32) -> ViewOptions {
+        ViewOptions {
+            width,
+            height,
+            theme: self.prefs.effective_theme().diagram_theme(),
+            focus: Some(self.step),
+            slice_angle: self.prefs.slice_angle,
+            top_down: self.prefs.top_down,
+        }
+    }
+
+    /// A file name for saving, from the scene and pixel, e.g. `three-spheres-160-120.json`.
+    pub fn suggested_name(&self, kind: SaveKind) -> String {
+        let stem = match (&self.doc, &self.stepping) {
+            (Document::Scene { scene, path }, _) => path
+                .as_ref()
+                .and_then(|p| p.file_stem())
+                .map_or_else(|| slug(&scene.name), |s| s.to_string_lossy().into_owned()),
+            (_, Some(s)) => slug(&s.trace.scene),
+            _ => "raystep".into(),
+        };
+        let [x, y] = self.pixel.unwrap_or([0, 0]);
+        let kind_name = self.diagram_kind().map_or("diagram", DiagramKind::name);
+        match kind {
+            SaveKind::Trace => format!("{stem}-{x}-{y}.json"),
+            SaveKind::DiagramPng => format!("{stem}-{x}-{y}-{kind_name}-step{}.png", self.step),
+            SaveKind::StepsGif => format!("{stem}-{x}-{y}-steps.gif"),
+        }
+    }
+
+    fn save(&mut self, kind: SaveKind, path: &Path) {
+        self.dialog = None;
+        if kind == SaveKind::StepsGif {
+            self.export_gif(path);
+            return;
+        }
+        let result = self.write(kind, path);
+        self.message = Some(match result {
+            Ok(what) => Message {
+                text: format!("wrote {} ({what})", path.display()),
+                error: false,
+            },
+            Err(e) => Message {
+                text: format!("{}: {e}", path.display()),
+                error: true,
+            },
+        });
+    }
+
+    fn write(&self, kind: SaveKind, path: &Path) -> Result<String, String> {
+        let s = self
+            .stepping
+            .as_ref()
+            .ok_or("there is no trace yet: click a pixel first")?;
+        let want = match kind {
+            SaveKind::Trace => "json",
+            SaveKind::DiagramPng => "png",
+            SaveKind::StepsGif => "gif",
+        };
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case(want))
+        {
+            return Err(format!("the file name must end in .{want}"));
+        }
+        let opts = self.view_options(1024, 768);
+        match kind {
+            SaveKind::Trace => {
+                crate::io::write_atomic(path, s.trace.to_json().as_bytes())?;
+                Ok(format!("{} steps", s.len()))
+            }
+            SaveKind::DiagramPng => {
+                let kind = self.diagram_kind().ok_or("no diagram to export")?;
+                let c = diagram::draw(&s.trace, kind, &opts)?;
+                crate::io::write_atomic(path, &c.png())?;
+                Ok(format!("{} diagram, step {}", kind.name(), self.step))
+            }
+            SaveKind::StepsGif => Err("GIFs are written in the background".into()),
+        }
+    }
+
+    /// Draws every step and encodes the GIF on a background thread (a long trace takes
+    /// seconds); the status line reports when it is written.
+    fn export_gif(&mut self, path: &Path) {
+        let Some(s) = &self.stepping else {
+            self.message = Some(Message {
+                text: "there is no trace yet: click a pixel first".into(),
+                error: true,
+            });
+            return;
+        };
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
+        {
+            self.message = Some(Message {
+                text: format!("{}: the file name must end in .gif", path.display()),
+                error: true,
+            });
+            return;
+        }
+        let fixed = match self.prefs.diagram {
+            DiagramChoice::Kind(k) if s.kinds.contains(&k) => Some(k),
+            _ => None,
+        };
+        let trace = Arc::clone(&s.trace);
+        let opts = self.view_options(800, 600);
+        let path = path.to_path_buf();
+        let (tx, rx) = std::sync::mpsc::channel();
+        let repaint = Arc::clone(&self.repaint);
+        std::thread::spawn(move || {
+            let result = diagram::frames(&trace, fixed, &opts).and_then(|frames| {
+                crate::io::write_atomic(&path, &diagram::gif(&frames)?)?;
+                Ok(frames.len())
+            });
+            let _ = tx.send(match result {
+                Ok(n) => Message {
+                    text: format!("wrote {} ({n} frames)", path.display()),
+                    error: false,
+                },
+                Err(e) => Message {
+                    text: format!("{}: {e}", path.display()),
+                    error: true,
+                },
+            });
+            repaint();
+        });
+        self.exports.push(rx);
+        self.message = Some(Message {
+            text: "writing the GIF in the background…".into(),
+            error: false,
+        });
+    }
+
+    /// Whether a background export is still running.
+    pub fn exporting(&self) -> bool {
+        !self.exports.is_empty()
+    }
+}
+
+fn path_is_none(doc: &Document) -> bool {
+    matches!(doc, Document::Scene { path: None, .. })
+}
+
+fn modified(path: &Path) -> Option<SystemTime> {
+    std::fs::metadata(path).and_then(|m| m.modified()).ok()
+}
+
+/// A file-name-safe version of a title.
+fn slug(s: &str) -> String {
+    let out: String = s
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '-'
+            }
+        })
+        .collect();
+    let out = out.trim_matches('-').to_string();
+    if out.is_empty() { "scene".into() } else { out }
+}

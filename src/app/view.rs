@@ -1,0 +1,305 @@
+//! The render view (zoom, pan, hover readout, click to select, heatmap overlay) and the
+//! textures and caches the panels keep between frames. Nothing here is persisted.
+
+use super::state::{AppState, Command};
+use crate::diagram::DiagramKind;
+use egui::{Color32, ColorImage, Pos2, Rect, Sense, TextureHandle, TextureOptions, Vec2};
+use std::sync::atomic::Ordering;
+
+/// Textures and view state.
+#[derive(Default)]
+pub struct Views {
+    /// The render as shown (sRGB), kept on the CPU so a new render paints over the old one.
+    shown: Vec<Color32>,
+    shown_size: [usize; 2],
+    render_tex: Option<TextureHandle>,
+    /// (renders started, tiles done, finished) of what the texture holds.
+    render_key: (u64, usize, bool),
+    heat_tex: Option<(TextureHandle, u64)>,
+    heat_max: u32,
+    /// Zoom relative to "fit" (1 = the image fills the view).
+    pub zoom: f32,
+    /// Pan in points from the centred position.
+    pub pan: Vec2,
+    /// The pixel under the cursor.
+    pub hovered: Option<[u32; 2]>,
+    /// Where the image was drawn last frame (screen rect in points) and points per pixel.
+    pub image_rect: Option<(Rect, f32)>,
+    diagram_tex: Option<(TextureHandle, DiagramKey)>,
+    /// The diagram drawn last, or why there is none.
+    pub diagram_error: Option<String>,
+    /// Tree rows for the current trace.
+    pub tree: Option<(u64, Vec<super::panels::Row>)>,
+    /// The step the tree last scrolled to.
+    pub tree_scrolled: Option<(u64, usize)>,
+    /// The F11 key or the menu asked to toggle full screen.
+    pub toggle_fullscreen: bool,
+}
+
+/// What a cached diagram texture shows.
+#[derive(Debug, Clone, PartialEq)]
+struct DiagramKey {
+    generation: u64,
+    kind: DiagramKind,
+    step: usize,
+    size: [u32; 2],
+    theme: super::state::ThemeChoice,
+    angle: f32,
+    top_down: bool,
+}
+
+impl Views {
+    /// Brings the render texture up to date with the running or finished render.
+    fn update_render(&mut self, ctx: &egui::Context, state: &AppState) {
+        let Some(scene) = state.scene() else {
+            return;
+        };
+        let size = [scene.camera.width as usize, scene.camera.height as usize];
+        if self.shown_size != size {
+            self.shown = vec![Color32::from_gray(40); size[0] * size[1]];
+            self.shown_size = size;
+            self.render_key = (u64::MAX, 0, false);
+        }
+        let key;
+        if let Some(job) = &state.job {
+            key = (
+                state.renders_started,
+                job.live.tiles_done.load(Ordering::Relaxed),
+                false,
+            );
+            if key != self.render_key {
+                let live = job.live.pixels.lock().unwrap_or_else(|e| e.into_inner());
+                for (dst, src) in self.shown.iter_mut().zip(live.iter()) {
+                    if src[3] == 255 {
+                        *dst = Color32::from_rgb(src[0], src[1], src[2]);
+                    }
+                }
+            }
+        } else if let Some(r) = &state.rendered {
+            key = (state.renders_started, usize::MAX, true);
+            if key != self.render_key && r.output.pixels.len() == self.shown.len() {
+                for (dst, p) in self.shown.iter_mut().zip(&r.output.pixels) {
+                    *dst = Color32::from_rgb(
+                        crate::render::image::srgb8(p.x),
+                        crate::render::image::srgb8(p.y),
+                        crate::render::image::srgb8(p.z),
+                    );
+                }
+            }
+        } else {
+            return;
+        }
+        if key != self.render_key || self.render_tex.is_none() {
+            self.render_key = key;
+            let img = ColorImage::new(size, self.shown.clone());
+            match &mut self.render_tex {
+                Some(t) => t.set(img, TextureOptions::NEAREST),
+                None => {
+                    self.render_tex = Some(ctx.load_texture("render", img, TextureOptions::NEAREST))
+                }
+            }
+        }
+    }
+
+    /// The heatmap texture of the finished render (None without BVH visits).
+    fn heatmap(&mut self, ctx: &egui::Context, state: &AppState) -> Option<TextureHandle> {
+        let r = state.rendered.as_ref()?;
+        let visits = r.output.node_visits.as_ref()?;
+        if visits.iter().all(|&v| v == 0) {
+            return None;
+        }
+        if let Some((t, k)) = &self.heat_tex
+            && *k == state.renders_started
+        {
+            return Some(t.clone());
+        }
+        let mut sorted = visits.clone();
+        sorted.sort_unstable();
+        let max = sorted[(sorted.len() - 1) * 99 / 100].max(1);
+        self.heat_max = max;
+        let pixels = visits
+            .iter()
+            .map(|&v| {
+                let c = colorous::VIRIDIS.eval_continuous((v as f64 / max as f64).min(1.0));
+                Color32::from_rgba_unmultiplied(c.r, c.g, c.b, 230)
+            })
+            .collect();
+        let img = ColorImage::new([r.output.width as usize, r.output.height as usize], pixels);
+        let t = ctx.load_texture("heatmap", img, TextureOptions::NEAREST);
+        self.heat_tex = Some((t.clone(), state.renders_started));
+        Some(t)
+    }
+
+    /// The top of the heatmap's colour scale (the 99th percentile of node visits).
+    pub fn heat_max(&self) -> u32 {
+        self.heat_max
+    }
+
+    /// Whether the finished render has BVH visits to show as a heatmap.
+    pub fn has_heatmap(state: &AppState) -> bool {
+        state
+            .rendered
+            .as_ref()
+            .and_then(|r| r.output.node_visits.as_ref())
+            .is_some_and(|v| v.iter().any(|&x| x > 0))
+    }
+
+    /// The diagram texture for the current step at `size`, drawn when anything it depends on
+    /// changed.
+    pub fn diagram(
+        &mut self,
+        ctx: &egui::Context,
+        state: &AppState,
+        size: [u32; 2],
+    ) -> Option<TextureHandle> {
+        let s = state.stepping.as_ref()?;
+        let kind = state.diagram_kind()?;
+        let key = DiagramKey {
+            generation: state.trace_generation,
+            kind,
+            step: state.step,
+            size,
+            theme: state.prefs.effective_theme(),
+            angle: state.prefs.slice_angle,
+            top_down: state.prefs.top_down,
+        };
+        if let Some((t, k)) = &self.diagram_tex
+            && *k == key
+        {
+            return Some(t.clone());
+        }
+        match crate::diagram::draw(&s.trace, kind, &state.view_options(size[0], size[1])) {
+            Ok(c) => {
+                self.diagram_error = None;
+                let img = ColorImage::from_rgba_premultiplied(
+                    [c.pixmap.width() as usize, c.pixmap.height() as usize],
+                    c.pixmap.data(),
+                );
+                let t = match self.diagram_tex.take() {
+                    Some((mut t, _)) => {
+                        t.set(img, TextureOptions::LINEAR);
+                        t
+                    }
+                    None => ctx.load_texture("diagram", img, TextureOptions::LINEAR),
+                };
+                self.diagram_tex = Some((t.clone(), key));
+                Some(t)
+            }
+            Err(e) => {
+                self.diagram_error = Some(e);
+                None
+            }
+        }
+    }
+}
+
+/// The render view: the image fitted to the space, zoomed with the scroll wheel about the
+/// cursor, panned by dragging, reset by double-clicking; a click selects the pixel.
+pub fn render_view(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    views: &mut Views,
+    cmds: &mut Vec<Command>,
+) {
+    let ctx = ui.ctx().clone();
+    views.update_render(&ctx, state);
+    let Some(scene) = state.scene() else {
+        return;
+    };
+    let (w, h) = (scene.camera.width as f32, scene.camera.height as f32);
+    let (rect, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    if views.zoom <= 0.0 {
+        views.zoom = 1.0;
+    }
+    let fit = (rect.width() / w).min(rect.height() / h).max(1e-3);
+    if resp.hovered() {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+        if scroll != 0.0
+            && let Some(p) = resp.hover_pos()
+        {
+            let old = views.zoom;
+            views.zoom = (old * (scroll * 0.003).exp()).clamp(0.25, 64.0);
+            // Keep the point under the cursor where it is.
+            let c = rect.center() + views.pan;
+            views.pan += (p - c) * (1.0 - views.zoom / old);
+        }
+    }
+    if resp.dragged() {
+        views.pan += resp.drag_delta();
+    }
+    if resp.double_clicked() {
+        views.zoom = 1.0;
+        views.pan = Vec2::ZERO;
+    }
+    let scale = fit * views.zoom;
+    let img_rect = Rect::from_center_size(rect.center() + views.pan, Vec2::new(w, h) * scale);
+    views.image_rect = Some((img_rect, scale));
+    let to_pixel = |p: Pos2| -> Option<[u32; 2]> {
+        let q = (p - img_rect.min) / scale;
+        (q.x >= 0.0 && q.y >= 0.0 && q.x < w && q.y < h).then_some([q.x as u32, q.y as u32])
+    };
+    let painter = ui.painter_at(rect);
+    let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
+    if let Some(t) = &views.render_tex {
+        painter.image(t.id(), img_rect, uv, Color32::WHITE);
+    }
+    if state.prefs.heatmap
+        && let Some(t) = views.heatmap(&ctx, state)
+    {
+        painter.image(t.id(), img_rect, uv, Color32::WHITE);
+    }
+    let px_rect = |p: [u32; 2]| {
+        Rect::from_min_size(
+            img_rect.min + Vec2::new(p[0] as f32, p[1] as f32) * scale,
+            Vec2::splat(scale),
+        )
+    };
+    views.hovered = resp.hover_pos().and_then(to_pixel);
+    if let Some(p) = views.hovered {
+        painter.rect_stroke(
+            px_rect(p).expand(1.0),
+            0.0,
+            egui::Stroke::new(1.0, Color32::from_white_alpha(160)),
+            egui::StrokeKind::Outside,
+        );
+    }
+    if let Some(p) = state.pixel {
+        let r = px_rect(p).expand(2.0);
+        painter.rect_stroke(
+            r,
+            0.0,
+            egui::Stroke::new(3.0, Color32::BLACK),
+            egui::StrokeKind::Outside,
+        );
+        painter.rect_stroke(
+            r,
+            0.0,
+            egui::Stroke::new(2.0, Color32::from_rgb(255, 210, 0)),
+            egui::StrokeKind::Outside,
+        );
+    }
+    if resp.clicked()
+        && let Some(p) = resp.interact_pointer_pos().and_then(to_pixel)
+    {
+        cmds.push(Command::SelectPixel(p));
+    }
+}
+
+/// The colour of pixel `p` in words: linear RGB from the finished render, and its sRGB hex.
+pub fn pixel_colour(state: &AppState, p: [u32; 2]) -> Option<String> {
+    let r = state.rendered.as_ref()?;
+    let c = r
+        .output
+        .pixels
+        .get((p[1] * r.output.width + p[0]) as usize)?;
+    let s = |v: f32| crate::render::image::srgb8(v);
+    Some(format!(
+        "linear ({:.3}, {:.3}, {:.3}) = sRGB #{:02x}{:02x}{:02x}",
+        c.x,
+        c.y,
+        c.z,
+        s(c.x),
+        s(c.y),
+        s(c.z)
+    ))
+}

@@ -1,0 +1,408 @@
+//! The app, driven through egui_kittest as a user would: open a shipped scene, click a pixel,
+//! step, read the math panel by its accessible labels, flip a setting, open a bad scene, save
+//! and reopen a trace. The expected numbers come from raystep's tracer run directly (the
+//! library the app wraps) or from hand computation, never from the app itself.
+
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT as _, Queryable as _};
+use raystep::app::RaystepApp;
+use raystep::app::state::{Command, Document, Prefs, StepMove};
+use raystep::trace::Step;
+use raystep::trace::describe::num;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+fn harness(file: Option<&Path>) -> Harness<'static, RaystepApp> {
+    let file = file.map(Path::to_path_buf);
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 900.0))
+        .build_eframe(move |cc| {
+            RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), file.clone())
+        })
+}
+
+/// Steps the UI until `done` holds (the render runs on other threads), at most 60 s.
+fn wait_for(h: &mut Harness<'static, RaystepApp>, what: &str, done: impl Fn(&RaystepApp) -> bool) {
+    let start = Instant::now();
+    while !done(h.state()) {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "timed out waiting for {what}"
+        );
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+}
+
+fn rendered(app: &RaystepApp) -> bool {
+    app.state.job.is_none() && app.state.rendered.is_some()
+}
+
+/// Clicks pixel `p` of the render view.
+fn click_pixel(h: &mut Harness<'static, RaystepApp>, p: [u32; 2]) {
+    let (rect, scale) = h
+        .state()
+        .views
+        .image_rect
+        .expect("the render view was drawn");
+    let pos = rect.min + egui::vec2(p[0] as f32 + 0.5, p[1] as f32 + 0.5) * scale;
+    h.hover_at(pos);
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.step();
+    }
+}
+
+/// The text of every label on screen.
+fn labels(h: &Harness<'static, RaystepApp>) -> Vec<String> {
+    h.query_all_by_role(Role::Label)
+        .filter_map(|n| n.accesskit_node().value())
+        .collect()
+}
+
+fn scene_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+/// The reference trace, recorded by the library directly.
+fn reference(path: &Path, p: [u32; 2]) -> raystep::trace::Trace {
+    let scene = raystep::scene::load_file(path).unwrap();
+    let (accel, _) = raystep::accel::SceneAccel::build(&scene);
+    raystep::trace::Tracer::new(&scene, &accel).record(p[0], p[1], 0)
+}
+
+#[test]
+fn click_a_pixel_step_and_read_the_math() {
+    let path = scene_path("three-spheres.toml");
+    let mut h = harness(Some(&path));
+    wait_for(&mut h, "the first render", rendered);
+    // The middle sphere sits in the image centre; pick a pixel a little off it.
+    let p = [150, 110];
+    click_pixel(&mut h, p);
+    assert_eq!(
+        h.state().state.pixel,
+        Some(p),
+        "the click selected its pixel"
+    );
+    let want = reference(&path, p);
+    let s = h.state().state.stepping.as_ref().expect("a trace");
+    assert_eq!(
+        s.trace.to_json(),
+        want.to_json(),
+        "the app's trace is the tracer's"
+    );
+    assert_eq!(h.state().state.step, 0);
+
+    // Step with the keyboard and the buttons.
+    h.key_press(egui::Key::ArrowRight);
+    h.step();
+    assert_eq!(h.state().state.step, 1);
+    h.get_by_label("Next ▶").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().state.step, 2);
+    h.get_by_label("◀ Previous").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().state.step, 1);
+    h.key_press(egui::Key::End);
+    h.step();
+    let n = want.timeline().len();
+    assert_eq!(h.state().state.step, n - 1);
+    h.key_press(egui::Key::Home);
+    h.step();
+    assert_eq!(h.state().state.step, 0);
+
+    // Go to the first sphere test and read Δ and the roots from the math panel.
+    let (k, test) = want
+        .timeline()
+        .iter()
+        .enumerate()
+        .find_map(|(k, (_, s))| match &s.step {
+            Step::Sphere { test, .. } => Some((k, *test)),
+            _ => None,
+        })
+        .expect("a sphere test");
+    h.state_mut().state.apply(Command::Step(StepMove::To(k)));
+    h.step();
+    h.step();
+    let lines = labels(&h);
+    assert!(
+        lines.iter().any(
+            |l| l.starts_with("Δ = ") && l.ends_with(&format!(" = {}", num(test.discriminant)))
+        ),
+        "a math line gives Δ = the recorded discriminant {}: {lines:#?}",
+        num(test.discriminant)
+    );
+    for (name, v) in [("a", test.a), ("c", test.c)] {
+        assert!(
+            lines
+                .iter()
+                .any(|l| l.starts_with(&format!("{name} = "))
+                    && l.ends_with(&format!(" = {}", num(v)))),
+            "the math panel gives {name} = {}: {lines:#?}",
+            num(v)
+        );
+    }
+}
+
+#[test]
+fn a_setting_restarts_the_render_and_retraces() {
+    let path = scene_path("three-spheres.toml");
+    let mut h = harness(Some(&path));
+    wait_for(&mut h, "the first render", rendered);
+    let before = h.state().state.renders_started;
+    h.get_by_label("textbook").click();
+    h.step();
+    assert_eq!(
+        h.state().state.renders_started,
+        before + 1,
+        "the render restarted"
+    );
+    assert_eq!(
+        h.state().state.settings.sphere_method,
+        raystep::shapes::SphereMethod::Textbook
+    );
+    wait_for(&mut h, "the second render", rendered);
+    let s = h.state().state.stepping.as_ref().expect("a trace");
+    assert_eq!(
+        s.trace.settings.sphere_method,
+        raystep::shapes::SphereMethod::Textbook,
+        "the selected pixel was traced again with the new method"
+    );
+    // Settings that do not apply are left out: three spheres have no triangles.
+    assert!(h.query_by_label("Möller–Trumbore").is_none());
+    assert!(h.query_by_label("watertight").is_none());
+}
+
+#[test]
+fn a_bad_scene_shows_its_error_and_keeps_the_old_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[[sphere]]\ncenter = [0, 0, 0]\nradius = -1\n").unwrap();
+    let mut h = harness(Some(&scene_path("first-sphere.toml")));
+    wait_for(&mut h, "the first render", rendered);
+    // Through the Open dialog, as a user would.
+    h.get_by_label("File").click();
+    h.run_steps(3);
+    h.get_by_label("Open…").click();
+    h.run_steps(3);
+    h.get_by_role_and_label(Role::TextInput, "Path").focus();
+    h.step();
+    // Replace the prefilled path (the open file's): select all, then type.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.step();
+    h.get_by_role_and_label(Role::TextInput, "Path")
+        .type_text(&bad.display().to_string());
+    h.step();
+    assert!(
+        matches!(&h.state().state.dialog, Some(raystep::app::state::Dialog::Open { path }) if *path == bad.display().to_string()),
+        "the typed path replaced the prefilled one: {:?}",
+        h.state().state.dialog
+    );
+    h.get_by_label("Open").click();
+    h.step();
+    h.step();
+    let err = h.state().state.load_error.clone().expect("an error");
+    assert!(err.contains("bad.toml:3:"), "file and line in {err:?}");
+    assert!(err.contains("radius"), "the field in {err:?}");
+    assert!(
+        h.query_by_label_contains("bad.toml:3:").is_some(),
+        "the error is on screen"
+    );
+    assert!(
+        matches!(&h.state().state.doc, Document::Scene { path: Some(p), .. } if p.ends_with("first-sphere.toml")),
+        "the previous scene stays open"
+    );
+    // Fixing the file on disk reloads it by itself.
+    std::thread::sleep(Duration::from_millis(1100));
+    std::fs::write(
+        &bad,
+        "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n[[light]]\nposition = [-10, 10, -10]\n",
+    )
+    .unwrap();
+    wait_for(&mut h, "the reload", |a| a.state.load_error.is_none());
+    assert!(
+        matches!(&h.state().state.doc, Document::Scene { path: Some(p), .. } if p.ends_with("bad.toml"))
+    );
+}
+
+#[test]
+fn save_a_trace_and_replay_it_without_the_scene() {
+    let path = scene_path("mirror-glass.toml");
+    let dir = tempfile::tempdir().unwrap();
+    let saved = dir.path().join("t.json");
+    let mut h = harness(Some(&path));
+    wait_for(&mut h, "the first render", rendered);
+    let p = h.state().state.pixel.expect("the centre pixel is selected");
+    let want = reference(&path, p);
+    h.state_mut().state.apply(Command::Save(
+        raystep::app::state::SaveKind::Trace,
+        saved.clone(),
+    ));
+    h.step();
+    let msg = h.state().state.message.clone().expect("a status message");
+    assert!(!msg.error, "{}", msg.text);
+    h.state_mut().state.apply(Command::Open(saved.clone()));
+    h.step();
+    h.step();
+    assert!(matches!(h.state().state.doc, Document::Trace { .. }));
+    let s = h
+        .state()
+        .state
+        .stepping
+        .as_ref()
+        .expect("the replayed trace");
+    assert_eq!(s.trace.to_json(), want.to_json());
+    assert!(
+        h.query_by_label("Replaying a saved trace").is_some(),
+        "the render view says it is a replay"
+    );
+    h.key_press(egui::Key::ArrowRight);
+    h.step();
+    assert_eq!(h.state().state.step, 1, "stepping works without the scene");
+    // A saved diagram export is a PNG.
+    let png = dir.path().join("d.png");
+    h.state_mut().state.apply(Command::Save(
+        raystep::app::state::SaveKind::DiagramPng,
+        png.clone(),
+    ));
+    let bytes = std::fs::read(&png).expect("the PNG was written");
+    assert_eq!(&bytes[1..4], b"PNG");
+}
+
+/// Whether wgpu finds an adapter (lavapipe on a machine without a GPU).
+fn have_adapter() -> bool {
+    let instance = eframe::wgpu::Instance::new(
+        eframe::wgpu::InstanceDescriptor::new_without_display_handle_from_env(),
+    );
+    !pollster::block_on(instance.enumerate_adapters(eframe::wgpu::Backends::all())).is_empty()
+}
+
+/// Snapshots of the main views rendered with wgpu on the software adapter. The thresholds
+/// tolerate driver noise in antialiased edges but catch a moved or missing panel; the timing
+/// figures (which change every run) are masked.
+#[test]
+fn snapshots_of_the_main_views() {
+    if !have_adapter() {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI must run the snapshots: install Mesa's lavapipe (mesa-vulkan-drivers)"
+        );
+        eprintln!(
+            "SKIPPED snapshots_of_the_main_views: wgpu found no adapter (install mesa-vulkan-drivers)"
+        );
+        return;
+    }
+    let mut failures = vec![];
+    for (scene, name, pixel, kind) in [
+        (
+            "three-spheres.toml",
+            "app-three-spheres-quadratic",
+            [150, 110],
+            "Sphere",
+        ),
+        (
+            "triangles.toml",
+            "app-triangles-barycentric",
+            [160, 120],
+            "Triangle",
+        ),
+    ] {
+        let path = scene_path(scene);
+        let file = Some(path.clone());
+        let mut h = Harness::builder()
+            .with_size(egui::vec2(1400.0, 860.0))
+            .wgpu()
+            .build_eframe(move |cc| {
+                RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), file.clone())
+            });
+        wait_for(&mut h, "the render", rendered);
+        h.state_mut().state.apply(Command::SelectPixel(pixel));
+        // Show the first test of the wanted kind.
+        let want = reference(&path, pixel);
+        let k = want
+            .timeline()
+            .iter()
+            .position(|(_, s)| match kind {
+                "Sphere" => matches!(s.step, Step::Sphere { .. }),
+                _ => matches!(s.step, Step::Triangle { .. }),
+            })
+            .expect("the step kind is in the trace");
+        h.state_mut().state.apply(Command::Step(StepMove::To(k)));
+        h.run_steps(4);
+        let masks: Vec<egui::Rect> = ["rendered in", "recorded in"]
+            .iter()
+            .filter_map(|l| h.query_by_label_contains(l).map(|n| n.rect()))
+            .collect();
+        assert_eq!(masks.len(), 2, "the timing labels are there to mask");
+        for r in masks {
+            h.mask(r);
+        }
+        if let Err(e) = h.try_snapshot_options(
+            name,
+            &egui_kittest::SnapshotOptions::new()
+                .threshold(2.0)
+                .max_failed_pixels(200),
+        ) {
+            failures.push(e.to_string());
+        }
+    }
+    assert!(
+        failures.is_empty(),
+        "snapshots differ:\n{}",
+        failures.join("\n")
+    );
+}
+
+/// Playback advances one step per 1/speed seconds of the UI clock and stops at the last step;
+/// driven through the state alone, with a simulated clock.
+#[test]
+fn playback_advances_with_the_clock_and_stops_at_the_end() {
+    use raystep::app::state::AppState;
+    let mut st = AppState::new(
+        Prefs {
+            speed: 10.0,
+            ..Prefs::default()
+        },
+        || {},
+    );
+    st.open(&scene_path("first-sphere.toml"));
+    let start = Instant::now();
+    while st.stepping.is_none() {
+        assert!(start.elapsed() < Duration::from_secs(30), "no trace");
+        st.tick(Instant::now());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let n = st.stepping.as_ref().unwrap().len();
+    assert!(n > 3);
+    st.apply(Command::TogglePlay);
+    assert!(st.playing);
+    let t0 = Instant::now();
+    st.tick(t0);
+    assert_eq!(st.step, 0, "the first tick only starts the clock");
+    st.tick(t0 + Duration::from_millis(50));
+    assert_eq!(st.step, 0, "half an interval at 10 steps/s is not a step");
+    st.tick(t0 + Duration::from_millis(100));
+    assert_eq!(st.step, 1);
+    let mut t = t0 + Duration::from_millis(100);
+    for _ in 0..n + 5 {
+        t += Duration::from_millis(100);
+        st.tick(t);
+    }
+    assert_eq!(st.step, n - 1, "playback ends on the last step");
+    assert!(!st.playing, "and stops there");
+    // Play from the end starts over.
+    st.apply(Command::TogglePlay);
+    assert_eq!(st.step, 0);
+}
