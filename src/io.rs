@@ -23,7 +23,18 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
             dir.display()
         ));
     }
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+    // A temporary file is private (0600); the file the user asked for gets the usual mode:
+    // an existing file's own, else 0666 less the umask, as `File::create` would give it.
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = std::fs::metadata(path)
+            .map(|m| m.permissions().mode() & 0o7777)
+            .unwrap_or_else(|_| 0o666 & !current_umask());
+        builder.permissions(std::fs::Permissions::from_mode(mode));
+    }
+    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
         format!(
             "{}: cannot create a file in {}: {e}",
             path.display(),
@@ -38,4 +49,42 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     tmp.persist(path)
         .map_err(|e| format!("{}: cannot write: {}", path.display(), e.error))?;
     Ok(())
+}
+
+/// The process's file-creation mask, read without changing it (from /proc where it is shown;
+/// the common 022 otherwise).
+#[cfg(unix)]
+fn current_umask() -> u32 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find_map(|l| l.strip_prefix("Umask:"))
+                .and_then(|v| u32::from_str_radix(v.trim(), 8).ok())
+        })
+        .unwrap_or(0o022)
+}
+
+#[cfg(all(test, unix))]
+mod tests {
+    use super::*;
+    use std::os::unix::fs::PermissionsExt;
+
+    #[test]
+    fn a_new_file_gets_the_usual_mode_and_an_old_one_keeps_its_own() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("out.json");
+        write_atomic(&p, b"{}").unwrap();
+        let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(
+            mode,
+            0o666 & !current_umask(),
+            "not the temporary file's 0600"
+        );
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o640)).unwrap();
+        write_atomic(&p, b"[]").unwrap();
+        let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o640);
+        assert_eq!(std::fs::read(&p).unwrap(), b"[]");
+    }
 }
