@@ -382,10 +382,6 @@ pub fn app(path: &std::path::Path) {
     use crate::app::state::{Command, Prefs};
     let ctx = egui::Context::default();
     let mut app = RaystepApp::with_context(&ctx, Prefs::default(), Some(path.to_path_buf()));
-    if let Some(e) = &app.state.load_error {
-        println!("## {}: {e}", path.display());
-        return;
-    }
     let frame = |app: &mut RaystepApp| {
         let t = Instant::now();
         let input = egui::RawInput {
@@ -399,6 +395,18 @@ pub fn app(path: &std::path::Path) {
         let _ = ctx.tessellate(out.shapes, out.pixels_per_point);
         t.elapsed()
     };
+    let start = Instant::now();
+    let mut during = vec![];
+    while app.state.busy() && start.elapsed() < Duration::from_secs(300) {
+        let t = frame(&mut app);
+        during.push(t);
+        std::thread::sleep(Duration::from_millis(16).saturating_sub(t));
+    }
+    let render_s = start.elapsed().as_secs_f64();
+    if let Some(e) = &app.state.load_error {
+        println!("## {}: {e}", path.display());
+        return;
+    }
     let name = app.state.scene().map_or(String::new(), |s| {
         format!(
             "{} ({} primitives, {}×{})",
@@ -406,19 +414,12 @@ pub fn app(path: &std::path::Path) {
         )
     });
     println!("## app: {name}");
-    let start = Instant::now();
-    let mut during = vec![];
-    while app.state.job.is_some() && start.elapsed() < Duration::from_secs(300) {
-        let t = frame(&mut app);
-        during.push(t);
-        std::thread::sleep(Duration::from_millis(16).saturating_sub(t));
-    }
-    let render_s = start.elapsed().as_secs_f64();
+
     during.sort();
     let pct = |q: f64| during[((during.len() - 1) as f64 * q) as usize].as_secs_f64() * 1e3;
     if !during.is_empty() {
         println!(
-            "  UI frames during the render ({render_s:.1} s, {} frames): median {:.2} ms, p95 {:.2} ms, max {:.2} ms, {} over 16 ms",
+            "  UI frames while loading, building and rendering ({render_s:.1} s, {} frames): median {:.2} ms, p95 {:.2} ms, max {:.2} ms, {} over 16 ms",
             during.len(),
             pct(0.5),
             pct(0.95),

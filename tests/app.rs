@@ -37,7 +37,7 @@ fn wait_for(h: &mut Harness<'static, RaystepApp>, what: &str, done: impl Fn(&Ray
 }
 
 fn rendered(app: &RaystepApp) -> bool {
-    app.state.job.is_none() && app.state.rendered.is_some()
+    !app.state.busy() && app.state.rendered.is_some()
 }
 
 /// Clicks pixel `p` of the render view.
@@ -211,8 +211,7 @@ fn a_bad_scene_shows_its_error_and_keeps_the_old_one() {
         h.state().state.dialog
     );
     h.get_by_label("Open").click();
-    h.step();
-    h.step();
+    wait_for(&mut h, "the load error", |a| a.state.load_error.is_some());
     let err = h.state().state.load_error.clone().expect("an error");
     assert!(err.contains("bad.toml:3:"), "file and line in {err:?}");
     assert!(err.contains("radius"), "the field in {err:?}");

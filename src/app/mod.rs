@@ -75,26 +75,10 @@ impl RaystepApp {
         install_fonts(ctx);
         let repaint_ctx = ctx.clone();
         let mut state = AppState::new(prefs, move || repaint_ctx.request_repaint());
-        match file {
-            Some(p) => {
-                state.open(&p);
-                if matches!(state.doc, state::Document::Empty) {
-                    // The file did not load: show its error over the built-in scene.
-                    let err = state.load_error.take();
-                    state.apply(Command::OpenBuiltin);
-                    state.load_error = err;
-                }
-            }
-            None => {
-                let last = state.prefs.last_file.clone().filter(|p| p.is_file());
-                if let Some(p) = last {
-                    state.open(&p);
-                }
-                if matches!(state.doc, state::Document::Empty) {
-                    state.load_error = None;
-                    state.apply(Command::OpenBuiltin);
-                }
-            }
+        // A file that fails to load shows its error over the built-in scene.
+        match file.or_else(|| state.prefs.last_file.clone().filter(|p| p.is_file())) {
+            Some(p) => state.open(&p),
+            None => state.apply(Command::OpenBuiltin),
         }
         RaystepApp {
             state,
@@ -142,7 +126,7 @@ impl RaystepApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(self.fullscreen));
         }
         self.screenshot_step(&ctx);
-        if self.state.job.is_some() || self.state.exporting() {
+        if self.state.busy() || self.state.exporting() {
             ctx.request_repaint_after(Duration::from_millis(100));
         } else if let Some(d) = self.state.next_wakeup() {
             ctx.request_repaint_after(d);
@@ -158,7 +142,7 @@ impl RaystepApp {
         let Some(plan) = &mut self.screenshot else {
             return;
         };
-        if plan.requested || self.state.job.is_some() || self.state.prepared.is_none() {
+        if plan.requested || self.state.busy() || self.state.prepared.is_none() {
             return;
         }
         if plan.settled == 0 {

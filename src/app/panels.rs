@@ -289,6 +289,7 @@ fn status_bar(ui: &mut egui::Ui, state: &AppState, views: &Views) {
 
 /// The settings a teacher flips live, each shown only when the scene has something it affects.
 fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut Vec<Command>) {
+    ui.set_min_width(ui.available_width());
     let Some(scene) = state.scene() else {
         if let Some(s) = &state.stepping {
             ui.heading("Trace settings");
@@ -477,6 +478,8 @@ fn tree_rows(state: &AppState) -> Vec<Row> {
 }
 
 fn tree_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    // Fill the panel whatever the content, so its width does not depend on the first frame's.
+    ui.set_min_width(ui.available_width());
     ui.heading("Trace");
     let Some(s) = &state.stepping else {
         ui.label("Click a pixel of the render to trace it.");
@@ -734,6 +737,7 @@ fn math_panel(ui: &mut egui::Ui, state: &AppState) {
 }
 
 fn diagram_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    ui.set_min_width(ui.available_width());
     let Some(s) = &state.stepping else {
         ui.label("The diagrams appear when a pixel is traced.");
         return;

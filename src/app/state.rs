@@ -311,6 +311,13 @@ impl Stepping {
     }
 }
 
+/// A scene file loading on a background thread.
+struct Loading {
+    path: PathBuf,
+    keep: Option<(Option<[u32; 2]>, usize)>,
+    result: std::sync::mpsc::Receiver<Result<Scene, String>>,
+}
+
 /// How often the open file is checked for changes on disk.
 const WATCH_INTERVAL: Duration = Duration::from_millis(500);
 
@@ -349,6 +356,7 @@ pub struct AppState {
     /// Bumped whenever the trace changes (caches key on it).
     pub trace_generation: u64,
     last_play: Option<Instant>,
+    loading: Option<Loading>,
     exports: Vec<std::sync::mpsc::Receiver<Message>>,
     watch: Option<(PathBuf, Option<SystemTime>, Instant)>,
     repaint: Arc<dyn Fn() + Send + Sync>,
@@ -385,6 +393,7 @@ impl AppState {
             dialog: None,
             trace_generation: 0,
             last_play: None,
+            loading: None,
             exports: vec![],
             watch: None,
             repaint: Arc::new(repaint),
@@ -460,20 +469,40 @@ impl AppState {
     /// Opens a scene (.toml) or saved trace (.json) file. A file that fails to load leaves what
     /// was open in place and shows the error.
     pub fn open(&mut self, path: &Path) {
+        self.open_keeping(path, None);
+    }
+
+    /// Opens `path`; a scene loads on a background thread (a million-triangle OBJ takes most of
+    /// a second) and replaces what is open when it arrives, keeping `keep` = (pixel, step).
+    fn open_keeping(&mut self, path: &Path, keep: Option<(Option<[u32; 2]>, usize)>) {
         self.dialog = None;
+        self.watch = Some((path.to_path_buf(), modified(path), Instant::now()));
         let is_trace = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
-        let result = if is_trace {
-            Trace::load(path).map_err(|e| e.to_string()).map(|t| {
-                self.open_trace(t, path);
-            })
-        } else {
-            crate::scene::load_file(path)
+        if is_trace {
+            let result = Trace::load(path)
                 .map_err(|e| e.to_string())
-                .map(|s| self.set_scene(Arc::new(s), Some(path.to_path_buf())))
-        };
-        self.watch = Some((path.to_path_buf(), modified(path), Instant::now()));
+                .map(|t| self.open_trace(t, path));
+            self.loaded(path, result);
+            return;
+        }
+        let (tx, rx) = std::sync::mpsc::channel();
+        let file = path.to_path_buf();
+        let repaint = Arc::clone(&self.repaint);
+        std::thread::spawn(move || {
+            let _ = tx.send(crate::scene::load_file(&file).map_err(|e| e.to_string()));
+            repaint();
+        });
+        self.loading = Some(Loading {
+            path: path.to_path_buf(),
+            keep,
+            result: rx,
+        });
+    }
+
+    /// Records the outcome of opening `path`.
+    fn loaded(&mut self, path: &Path, result: Result<(), String>) {
         match result {
             Ok(()) => {
                 self.load_error = None;
@@ -482,8 +511,43 @@ impl AppState {
                 self.prefs.recent.insert(0, path.to_path_buf());
                 self.prefs.recent.truncate(8);
             }
-            Err(e) => self.load_error = Some(e),
+            Err(e) => {
+                self.load_error = Some(e);
+                if matches!(self.doc, Document::Empty) {
+                    // Nothing was open yet: show the error over the built-in scene.
+                    self.set_scene(Arc::new(crate::scene::default_scene()), None);
+                }
+            }
         }
+    }
+
+    /// Takes a finished background load.
+    fn take_load(&mut self) {
+        let Some(l) = &self.loading else {
+            return;
+        };
+        let result = match l.result.try_recv() {
+            Ok(r) => r,
+            Err(std::sync::mpsc::TryRecvError::Empty) => return,
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => Err(format!(
+                "{}: loading stopped unexpectedly",
+                l.path.display()
+            )),
+        };
+        let l = self.loading.take().expect("checked above");
+        let result = result.map(|scene| {
+            self.set_scene(Arc::new(scene), Some(l.path.clone()));
+            if let Some((pixel, step)) = l.keep {
+                self.pixel = pixel;
+                self.step = step;
+            }
+        });
+        self.loaded(&l.path, result);
+    }
+
+    /// Whether a scene is loading or a render is running.
+    pub fn busy(&self) -> bool {
+        self.loading.is_some() || self.job.is_some()
     }
 
     /// Opens again the file last asked for (the one a load error is about, else the open one).
@@ -491,13 +555,9 @@ impl AppState {
         let watched = self.watch.as_ref().map(|(p, ..)| p.clone());
         match watched.or_else(|| self.path().map(Path::to_path_buf)) {
             Some(p) => {
-                let keep = (self.pixel, self.step);
                 let same = self.path() == Some(p.as_path());
-                self.open(&p);
-                if same && self.load_error.is_none() && matches!(self.doc, Document::Scene { .. }) {
-                    (self.pixel, self.step) = keep;
-                    self.retrace(true);
-                }
+                let keep = same.then_some((self.pixel, self.step));
+                self.open_keeping(&p, keep);
             }
             None => self.apply(Command::OpenBuiltin),
         }
@@ -603,6 +663,7 @@ impl AppState {
     /// Work between frames: take what the render job reports, advance playback, watch the file.
     /// `now` is the UI clock.
     pub fn tick(&mut self, now: Instant) {
+        self.take_load();
         while let Some(event) = self.job.as_ref().and_then(RenderJob::poll) {
             match event {
                 JobEvent::Prepared(p) => {
@@ -677,7 +738,7 @@ impl AppState {
                 self.reload();
                 if self.load_error.is_none() {
                     self.message = Some(Message {
-                        text: "the file changed on disk: reloaded".into(),
+                        text: "the file changed on disk: reloading".into(),
                         error: false,
                     });
                 }
