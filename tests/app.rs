@@ -405,3 +405,29 @@ fn playback_advances_with_the_clock_and_stops_at_the_end() {
     st.apply(Command::TogglePlay);
     assert_eq!(st.step, 0);
 }
+
+/// Presentation mode: high contrast (black panels, white text) and the presentation scale;
+/// leaving it (Esc) restores the chosen theme and scale.
+#[test]
+fn presentation_mode_is_high_contrast_and_large() {
+    let mut h = harness(Some(&scene_path("first-sphere.toml")));
+    wait_for(&mut h, "the first render", rendered);
+    assert_eq!(h.ctx.zoom_factor(), 1.0);
+    let mut p = h.state().state.prefs.clone();
+    p.presentation = true;
+    p.presentation_scale = 1.75;
+    h.state_mut().state.apply(Command::SetPrefs(p));
+    h.run_steps(3);
+    assert_eq!(h.ctx.zoom_factor(), 1.75);
+    let v = h.ctx.global_style().visuals.clone();
+    assert_eq!(v.panel_fill, egui::Color32::BLACK);
+    assert_eq!(v.override_text_color, Some(egui::Color32::WHITE));
+    h.key_press(egui::Key::Escape);
+    h.run_steps(3);
+    assert!(!h.state().state.prefs.presentation);
+    assert_eq!(h.ctx.zoom_factor(), 1.0);
+    assert_ne!(
+        h.ctx.global_style().visuals.panel_fill,
+        egui::Color32::BLACK
+    );
+}
