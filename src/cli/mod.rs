@@ -3,6 +3,7 @@
 
 mod bench_cmd;
 mod diagram_cmd;
+mod diff_cmd;
 mod intersect;
 mod render_cmd;
 mod scene_cmd;
@@ -38,6 +39,9 @@ pub enum Command {
     Bench(bench_cmd::BenchArgs),
     /// Draw a traced pixel's diagrams (PNG), or every step as an animated GIF or PNG frames.
     Diagram(diagram_cmd::DiagramArgs),
+    /// Compare two saved traces step by step and report the first divergence (exit 0 equal,
+    /// 1 different, 2 bad input).
+    Diff(diff_cmd::DiffArgs),
     /// Work with scene files.
     #[command(subcommand)]
     Scene(scene_cmd::SceneCmd),
@@ -185,6 +189,8 @@ pub fn main() -> ExitCode {
         Some(Command::Render(args)) => render_cmd::run(&args),
         Some(Command::Bench(args)) => bench_cmd::run(&args),
         Some(Command::Diagram(args)) => diagram_cmd::run(&args),
+        // Its own exit status: 1 means "the traces differ", 2 bad input.
+        Some(Command::Diff(args)) => return diff_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

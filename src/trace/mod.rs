@@ -3,6 +3,7 @@
 
 pub mod camera;
 pub mod describe;
+pub mod diff;
 pub mod formula;
 pub mod observer;
 pub mod record;
