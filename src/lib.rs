@@ -18,6 +18,7 @@
 //! - [`render`]: the full parallel render and image output; [`diagram`]: the 2D diagrams drawn
 //!   from a trace.
 //! - [`app`]: the eframe app — the render, the stepping, the math and the diagrams side by side.
+//! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
 //! - [`cli`]: the `raystep` command line.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -29,6 +30,7 @@ pub mod cli;
 pub mod diagram;
 pub mod io;
 pub mod jsonf;
+pub mod lesson;
 pub mod math;
 pub mod render;
 pub mod scene;

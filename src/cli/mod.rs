@@ -4,6 +4,7 @@
 mod bench_cmd;
 mod diagram_cmd;
 mod diff_cmd;
+mod exercise_cmd;
 mod intersect;
 mod render_cmd;
 mod scene_cmd;
@@ -45,6 +46,12 @@ pub enum Command {
     /// Work with scene files.
     #[command(subcommand)]
     Scene(scene_cmd::SceneCmd),
+    /// Print a student's variant of an exercise sheet's questions.
+    Exercise(exercise_cmd::ExerciseArgs),
+    /// Mark one student's answers to an exercise sheet against the tracer.
+    Check(exercise_cmd::CheckArgs),
+    /// Mark a class's answers (CSV) to an exercise sheet; write a grades CSV.
+    Grade(exercise_cmd::GradeArgs),
     /// Open the app on a scene (.toml) or a saved trace (.json).
     Open {
         /// The scene or trace file.
@@ -191,6 +198,9 @@ pub fn main() -> ExitCode {
         Some(Command::Diagram(args)) => diagram_cmd::run(&args),
         // Its own exit status: 1 means "the traces differ", 2 bad input.
         Some(Command::Diff(args)) => return diff_cmd::run(&args),
+        Some(Command::Exercise(args)) => exercise_cmd::run_exercise(&args),
+        Some(Command::Check(args)) => exercise_cmd::run_check(&args),
+        Some(Command::Grade(args)) => exercise_cmd::run_grade(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,108 @@
+//! Reading a question's quantity out of a recorded trace.
+
+use super::{Answer, Quantity, Question, RaySel};
+use crate::trace::record::{RayKind, RayRecord, Step, Trace};
+
+fn v3(a: [f32; 3]) -> Answer {
+    Answer::Vector(a.map(f64::from))
+}
+
+fn num(x: Option<f32>) -> Answer {
+    x.map_or(Answer::None, |x| Answer::Number(x as f64))
+}
+
+fn ray(trace: &Trace, sel: RaySel) -> Option<&RayRecord> {
+    let kind = match sel {
+        RaySel::Primary => return Some(&trace.root),
+        RaySel::Shadow => RayKind::Shadow,
+        RaySel::Reflection => RayKind::Reflection,
+        RaySel::Refraction => RayKind::Refraction,
+    };
+    trace.rays().into_iter().find(|r| r.kind == kind)
+}
+
+/// The question's quantity in `trace` ([`Answer::None`] where the tracer never computed it).
+pub fn extract(trace: &Trace, q: &Question) -> Answer {
+    let Some(r) = ray(trace, q.ray) else {
+        return Answer::None;
+    };
+    let steps = || r.steps.iter().map(|s| &s.step);
+    let object = q.object.as_deref();
+    // The last test against the object (a ray tests each object at most once; last to be safe).
+    let sphere = || {
+        steps()
+            .filter_map(|s| match s {
+                Step::Sphere { name, test, .. } if Some(name.as_str()) == object => Some(test),
+                _ => None,
+            })
+            .next_back()
+    };
+    let triangle = || {
+        let target = match object {
+            Some(o) => Some(o.to_string()),
+            None => r.hit.as_ref().map(|h| h.name.clone()),
+        }?;
+        steps()
+            .filter_map(|s| match s {
+                Step::Triangle { name, test, .. } if *name == target => Some(test),
+                _ => None,
+            })
+            .next_back()
+    };
+    let surface = || {
+        steps().find_map(|s| match s {
+            Step::Surface { point, normal, .. } => Some((*point, *normal)),
+            _ => None,
+        })
+    };
+    match q.quantity {
+        Quantity::Discriminant => num(sphere().map(|t| t.discriminant)),
+        Quantity::NearRoot => num(sphere().and_then(|t| t.roots).map(|r| r[0])),
+        Quantity::FarRoot => num(sphere().and_then(|t| t.roots).map(|r| r[1])),
+        Quantity::ClosestT => num(r.hit.as_ref().map(|h| h.t)),
+        Quantity::HitObject => r
+            .hit
+            .as_ref()
+            .map_or(Answer::None, |h| Answer::Name(h.name.clone())),
+        Quantity::HitPoint => surface().map_or(Answer::None, |(p, _)| v3(p)),
+        Quantity::Normal => surface().map_or(Answer::None, |(_, n)| v3(n)),
+        Quantity::TriangleU => num(triangle().and_then(|t| t.u)),
+        Quantity::TriangleV => num(triangle().and_then(|t| t.v)),
+        Quantity::BvhNodesVisited => {
+            if trace.bvh.is_none() {
+                return Answer::None;
+            }
+            Answer::Number(steps().filter(|s| matches!(s, Step::Node(_))).count() as f64)
+        }
+        Quantity::ShadowBlocked => steps()
+            .find_map(|s| match s {
+                Step::Light { light, blocked, .. } if *light == q.light => {
+                    Some(Answer::YesNo(*blocked))
+                }
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::ReflectedDirection => steps()
+            .find_map(|s| match s {
+                Step::Reflect { direction, .. } => Some(v3(*direction)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::RefractedDirection => steps()
+            .find_map(|s| match s {
+                Step::Refract { direction, .. } => Some(direction.map_or(Answer::None, v3)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::TotalInternalReflection => steps()
+            .find_map(|s| match s {
+                Step::Refract {
+                    total_internal_reflection,
+                    ..
+                } => Some(Answer::YesNo(*total_internal_reflection)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::Color => v3(r.color),
+    }
+}

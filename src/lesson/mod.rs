@@ -1,0 +1,373 @@
+//! Exercises with checked answers: an exercise sheet (TOML) asks for quantities of a traced
+//! pixel, every student gets their own variant of each question, and answers are marked against
+//! what raystep's tracer computes **when the sheet is checked** — a sheet never contains answers.
+//!
+//! # The sheet format
+//!
+//! ```toml
+//! title = "The ray–sphere quadratic"   # optional; shown above the questions
+//! id = "02-sphere"                     # optional; salts the variants (default: the file stem)
+//!
+//! [[question]]
+//! id = "disc"                          # letters, digits, _ and -: a CSV column, an answers key
+//! text = "Pixel ({x}, {y}), sphere of radius {r}: what is the discriminant?"
+//! scene_toml = """                     # inline scene with {placeholders} — or
+//! [[sphere]]                           # scene = "../../scenes/first-sphere.toml"
+//! name = "ball"                        # (a file, relative to the sheet)
+//! radius = {r}
+//! """
+//! pixel = { x = [150, 170], y = [110, 130] }   # inclusive ranges, or a fixed pixel = [160, 120]
+//! quantity = "discriminant"
+//! object = "ball"                      # the object the quantity refers to, where it needs one
+//! ray = "primary"                      # which ray: primary (default), shadow, reflection, refraction
+//! light = 0                            # for shadow_blocked (default 0)
+//! tolerance = { abs = 1e-3, rel = 1e-3 }   # right if within either (default 1e-3 and 1e-3)
+//! params = { r = [0.5, 2.0] }          # see below
+//! hints = ["a = d·d, b = 2 f·d, c = f·f − r²", "Δ = b² − 4ac"]
+//! points = 1                           # default 1
+//! group = "ball"                       # optional: questions of one group share their variant
+//! ```
+//!
+//! **Parameters** are drawn per student: `[lo, hi]` with integer bounds is an integer in that
+//! inclusive range; with a float bound, a number in it rounded to 2 decimals
+//! (`{ range = [lo, hi], decimals = 3 }` keeps another number of decimals); `{ one_of = [...] }`
+//! picks one of a list (numbers or strings). `{name}` in `text` and `scene_toml` is replaced by
+//! the value, `{x}` and `{y}` by the pixel; any other braces are left alone.
+//!
+//! **Variants**: each value is SHA-256(`raystep-exercise`, sheet id, question id, student id,
+//! parameter name) read as a number (a question with `group = "g"` uses "g" instead of its id, so the
+//! questions of a group get the same values for the same parameter names and pixel ranges) — deterministic, so one student id always gets the same
+//! variant, and different ids (almost always) different ones.
+//!
+//! **Quantities** ([`Quantity`]) are read from the trace of sample 0 of the pixel, from the ray
+//! chosen by `ray` (the first ray of that kind, depth first):
+//! `discriminant`, `near_root`, `far_root` (the test against `object`), `closest_t`, `hit_object`,
+//! `hit_point`, `normal`, `triangle_u`, `triangle_v` (the test against `object`, else against the
+//! object hit), `bvh_nodes_visited` (BVH nodes whose box the ray tested, culled ones included),
+//! `shadow_blocked` (`light`), `reflected_direction`, `refracted_direction`,
+//! `total_internal_reflection`, `color` (the ray's linear RGB). When the tracer never computed
+//! the quantity for a variant (the ray missed, the test stopped early, no such ray), the expected
+//! answer is `none`.
+//!
+//! **Answers** are numbers, vectors (`x, y, z`, `(x, y, z)` or `[x, y, z]`; right when the
+//! Euclidean distance is within tolerance), yes/no (also true/false), object names (any case), or
+//! `none` (also `miss`, `-`). A missing or unreadable answer is wrong, never an error.
+//!
+//! **Answers file** (`raystep check`): one `id = value` per line; `#` starts a comment; values
+//! may be quoted. **Class file** (`raystep grade`): CSV with the header `student,<question ids…>`
+//! and one row per student; the grades file has `student,<question ids…>,score,out_of,notes`
+//! with the points each question earned.
+
+mod answer;
+mod csv;
+mod extract;
+mod grade;
+mod sheet;
+
+pub use answer::{Answer, AnswerKind, Mark, mark, parse_answers};
+pub use csv::{CsvError, parse_csv, write_csv};
+pub use extract::extract;
+pub use grade::{GradeReport, grade_class};
+pub use sheet::{
+    Coord, Param, ParamValue, Question, SceneSource, Sheet, SheetError, load_sheet, parse_sheet,
+};
+
+use crate::accel::SceneAccel;
+use crate::trace::Tracer;
+use serde::Deserialize;
+use sha2::{Digest, Sha256};
+
+/// What a question asks for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// The discriminant b² − 4ac of the ray's test against `object`.
+    Discriminant,
+    /// The smaller root of that test.
+    NearRoot,
+    /// The larger root of that test.
+    FarRoot,
+    /// The t of the ray's closest hit.
+    ClosestT,
+    /// The name of the object the ray hits (or none).
+    HitObject,
+    /// The closest hit's point.
+    HitPoint,
+    /// The closest hit's unit normal (facing the ray).
+    Normal,
+    /// The barycentric u (weight of P1) of a triangle test.
+    TriangleU,
+    /// The barycentric v (weight of P2) of a triangle test.
+    TriangleV,
+    /// The number of BVH nodes whose box the ray tested.
+    BvhNodesVisited,
+    /// Whether the shadow ray to `light` is blocked.
+    ShadowBlocked,
+    /// The reflected direction.
+    ReflectedDirection,
+    /// The refracted direction.
+    RefractedDirection,
+    /// Whether Snell's law gives total internal reflection.
+    TotalInternalReflection,
+    /// The ray's colour (linear RGB).
+    Color,
+}
+
+impl Quantity {
+    /// The name used in sheets.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Discriminant => "discriminant",
+            Quantity::NearRoot => "near_root",
+            Quantity::FarRoot => "far_root",
+            Quantity::ClosestT => "closest_t",
+            Quantity::HitObject => "hit_object",
+            Quantity::HitPoint => "hit_point",
+            Quantity::Normal => "normal",
+            Quantity::TriangleU => "triangle_u",
+            Quantity::TriangleV => "triangle_v",
+            Quantity::BvhNodesVisited => "bvh_nodes_visited",
+            Quantity::ShadowBlocked => "shadow_blocked",
+            Quantity::ReflectedDirection => "reflected_direction",
+            Quantity::RefractedDirection => "refracted_direction",
+            Quantity::TotalInternalReflection => "total_internal_reflection",
+            Quantity::Color => "color",
+        }
+    }
+
+    /// Whether the quantity needs `object`.
+    pub fn needs_object(self) -> bool {
+        matches!(
+            self,
+            Quantity::Discriminant | Quantity::NearRoot | Quantity::FarRoot
+        )
+    }
+
+    /// The kind of answer expected.
+    pub fn kind(self) -> AnswerKind {
+        match self {
+            Quantity::HitObject => AnswerKind::Name,
+            Quantity::ShadowBlocked | Quantity::TotalInternalReflection => AnswerKind::YesNo,
+            Quantity::HitPoint
+            | Quantity::Normal
+            | Quantity::ReflectedDirection
+            | Quantity::RefractedDirection
+            | Quantity::Color => AnswerKind::Vector,
+            _ => AnswerKind::Number,
+        }
+    }
+}
+
+/// Which ray of the trace a question is about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RaySel {
+    /// The primary ray.
+    #[default]
+    Primary,
+    /// The first shadow ray.
+    Shadow,
+    /// The first reflection ray.
+    Reflection,
+    /// The first refraction ray.
+    Refraction,
+}
+
+/// How close an answer must be: right when within `abs`, or within `rel` × |expected|.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerance {
+    /// Absolute tolerance.
+    pub abs: f64,
+    /// Relative tolerance.
+    pub rel: f64,
+}
+
+impl Default for Tolerance {
+    fn default() -> Self {
+        Tolerance {
+            abs: 1e-3,
+            rel: 1e-3,
+        }
+    }
+}
+
+/// One student's version of one question.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Variant {
+    /// The parameters' values, in name order.
+    pub values: Vec<(String, ParamValue)>,
+    /// The pixel.
+    pub pixel: [u32; 2],
+    /// The text with its placeholders filled.
+    pub text: String,
+    /// The inline scene with its placeholders filled, for `scene_toml` questions.
+    pub scene_toml: Option<String>,
+}
+
+/// 1-based line and column of byte `pos` in `text`.
+pub(crate) fn line_col(text: &str, pos: usize) -> (usize, usize) {
+    let pos = pos.min(text.len());
+    let before = &text[..pos];
+    let line = before.matches('\n').count() + 1;
+    let col = before[before.rfind('\n').map_or(0, |nl| nl + 1)..]
+        .chars()
+        .count()
+        + 1;
+    (line, col)
+}
+
+/// A number in [0, 1) from the student, sheet, question and parameter.
+fn draw(sheet: &str, question: &str, student: &str, name: &str) -> u64 {
+    let mut h = Sha256::new();
+    for part in ["raystep-exercise", sheet, question, student, name] {
+        h.update(part.as_bytes());
+        h.update([0u8]);
+    }
+    let d = h.finalize();
+    u64::from_le_bytes(d[..8].try_into().expect("eight bytes"))
+}
+
+fn uniform(bits: u64) -> f64 {
+    (bits >> 11) as f64 / (1u64 << 53) as f64
+}
+
+fn pick_int(bits: u64, lo: i64, hi: i64) -> i64 {
+    let span = (hi as i128 - lo as i128 + 1) as u128;
+    (lo as i128 + (bits as u128 % span) as i128) as i64
+}
+
+/// Replaces `{name}` for every known name; other braces stay.
+pub fn fill(template: &str, values: &[(String, String)]) -> String {
+    let mut out = String::with_capacity(template.len());
+    let mut rest = template;
+    while let Some(open) = rest.find('{') {
+        out += &rest[..open];
+        let after = &rest[open + 1..];
+        let replaced = after.find('}').and_then(|close| {
+            let name = &after[..close];
+            values
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, v)| (v, close))
+        });
+        match replaced {
+            Some((v, close)) => {
+                out += v;
+                rest = &after[close + 1..];
+            }
+            None => {
+                out.push('{');
+                rest = after;
+            }
+        }
+    }
+    out + rest
+}
+
+impl Sheet {
+    /// The variant of question `q` for `student` (deterministic).
+    pub fn variant(&self, q: &Question, student: &str) -> Variant {
+        let student = student.trim();
+        let salt = q.group.as_deref().unwrap_or(&q.id);
+        let values: Vec<(String, ParamValue)> = q
+            .params
+            .iter()
+            .map(|(name, p)| {
+                let bits = draw(&self.id, salt, student, name);
+                let v = match p {
+                    Param::Int(lo, hi) => ParamValue::Int(pick_int(bits, *lo, *hi)),
+                    Param::Float { lo, hi, decimals } => {
+                        let scale = 10f64.powi(*decimals as i32);
+                        let x = lo + uniform(bits) * (hi - lo);
+                        let r = ((x * scale).round() / scale).clamp(*lo, *hi);
+                        ParamValue::Float(r)
+                    }
+                    Param::OneOf(items) => items[(bits % items.len() as u64) as usize].clone(),
+                };
+                (name.clone(), v)
+            })
+            .collect();
+        let coord = |c: Coord, name: &str| match c {
+            Coord::Fixed(v) => v,
+            Coord::Range(lo, hi) => {
+                pick_int(draw(&self.id, salt, student, name), lo as i64, hi as i64) as u32
+            }
+        };
+        let pixel = [coord(q.pixel[0], "pixel x"), coord(q.pixel[1], "pixel y")];
+        let mut texts: Vec<(String, String)> = values
+            .iter()
+            .map(|(n, v)| (n.clone(), v.to_string()))
+            .collect();
+        texts.push(("x".into(), pixel[0].to_string()));
+        texts.push(("y".into(), pixel[1].to_string()));
+        Variant {
+            text: fill(&q.text, &texts),
+            scene_toml: match &q.scene {
+                SceneSource::Inline(t) => Some(fill(t, &texts)),
+                SceneSource::File(_) => None,
+            },
+            values,
+            pixel,
+        }
+    }
+
+    /// The answer raystep's tracer gives for a variant: loads the scene, builds the accelerator
+    /// the renderer would use, records sample 0 of the pixel and reads the quantity. An error
+    /// means the sheet (not the student) is wrong: a scene that doesn't load, a pixel outside it.
+    pub fn expected(&self, q: &Question, v: &Variant) -> Result<Answer, String> {
+        let scene = match (&q.scene, &v.scene_toml) {
+            (SceneSource::File(p), _) => {
+                crate::scene::load_file(p).map_err(|e| self.question_err(q, "scene", &e))?
+            }
+            (SceneSource::Inline(template), filled) => {
+                let text = filled.as_deref().unwrap_or(template);
+                let name = format!("{} (question \"{}\", scene_toml)", self.file, q.id);
+                let base = std::path::Path::new(&self.file).parent();
+                crate::scene::load_str(text, &name, base)
+                    .map_err(|e| self.question_err(q, "scene_toml", &e))?
+            }
+        };
+        let [x, y] = v.pixel;
+        let c = &scene.camera;
+        if x >= c.width || y >= c.height {
+            return Err(self.question_err(
+                q,
+                "pixel",
+                &format!(
+                    "pixel {x},{y} is outside the {}×{} image",
+                    c.width, c.height
+                ),
+            ));
+        }
+        let (accel, _) = SceneAccel::build(&scene);
+        let trace = Tracer::new(&scene, &accel).record(x, y, 0);
+        Ok(extract(&trace, q))
+    }
+
+    fn question_err(&self, q: &Question, field: &str, e: &dyn std::fmt::Display) -> String {
+        format!(
+            "{}:{}: question \"{}\" → {field}: {e}",
+            self.file, q.line, q.id
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fill_replaces_known_names_only() {
+        let v = vec![("r".to_string(), "1.5".to_string())];
+        assert_eq!(fill("r = {r}, {z} {", &v), "r = 1.5, {z} {");
+    }
+
+    #[test]
+    fn int_draws_cover_the_range() {
+        let mut seen = [false; 3];
+        for i in 0..100u64 {
+            seen[(pick_int(i.wrapping_mul(0x9e3779b97f4a7c15), 1, 3) - 1) as usize] = true;
+        }
+        assert_eq!(seen, [true; 3]);
+    }
+}
