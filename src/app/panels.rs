@@ -602,9 +602,9 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         if let Some((ray, step)) = s.at(state.step) {
             ui.label(
                 RichText::new(format!(
-                    "step {} of {} · {} · {} (depth {})",
-                    state.step + 1,
-                    n,
+                    "step {} of 0–{} · {} · {} (depth {})",
+                    state.step,
+                    n - 1,
                     describe::stage_name(step.stage),
                     kind_label(ray.kind),
                     ray.depth

@@ -83,7 +83,7 @@ pub fn describe(step: &Step) -> String {
             );
             match test.case {
                 SphereCase::Miss => s += " < 0 → no real roots: miss",
-                SphereCase::Tangent => s += " = 0 → tangent",
+                SphereCase::Tangent => s += " → tangent: one root",
                 SphereCase::EnterExit => s += " > 0 → enters and exits",
             }
             if let Some([t0, t1]) = test.roots {

@@ -5,7 +5,7 @@
 //! Steps are handed over as closures: a silent observer never calls them, so the record (and
 //! every `String` in it) is never built on the render path.
 
-use super::record::{HitRecord, NodeVisit, RayKind, RayRecord, Step, StepRecord};
+use super::record::{HitRecord, NodeVisit, RayKind, RayRecord, Stage, Step, StepRecord};
 use crate::math::Ray;
 use glam::Vec3;
 
@@ -110,10 +110,19 @@ impl Recorder {
     }
     fn push(&mut self, step: Step) {
         if let Some(r) = self.stack.last_mut() {
-            r.steps.push(StepRecord {
-                stage: step.stage(),
-                step,
-            });
+            // The colour of a ray that hit nothing comes from the miss shader, not closest-hit.
+            let after_miss = matches!(
+                r.steps.last(),
+                Some(StepRecord {
+                    step: Step::Miss { .. },
+                    ..
+                })
+            );
+            let stage = match step {
+                Step::Color { .. } if after_miss => Stage::Miss,
+                _ => step.stage(),
+            };
+            r.steps.push(StepRecord { stage, step });
         }
     }
 }
