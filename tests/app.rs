@@ -318,7 +318,9 @@ fn snapshots_of_the_main_views() {
             "Triangle",
         ),
     ] {
-        let path = scene_path(scene);
+        // A relative path (tests run in the crate root): the window title shows it, and an
+        // absolute one would differ between checkouts.
+        let path = Path::new("scenes").join(scene);
         let file = Some(path.clone());
         let mut h = Harness::builder()
             .with_size(egui::vec2(1400.0, 860.0))

@@ -19,6 +19,20 @@ fn load(name: &str) -> Scene {
 fn expected() -> Vec<(&'static str, Features)> {
     vec![
         (
+            // One red ball 4100 units away, one light, nothing reflects.
+            "far-sphere.toml",
+            Features {
+                spheres: 1,
+                planes: 0,
+                triangles: 0,
+                meshes: 0,
+                lights: 1,
+                reflective: false,
+                transparent: false,
+                primitives: 1,
+            },
+        ),
+        (
             // middle, mirror, small on a floor plane; the "mirror" material reflects.
             "three-spheres.toml",
             Features {
