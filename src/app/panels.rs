@@ -565,6 +565,11 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         return;
     };
     let n = s.len();
+    if n == 0 {
+        // Only a hand-made trace file can have no steps.
+        ui.label("This trace has no steps.");
+        return;
+    }
     ui.horizontal(|ui| {
         if ui.button("⇤ First").clicked() {
             cmds.push(Command::Step(StepMove::First));
