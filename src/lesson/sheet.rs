@@ -7,35 +7,8 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
-/// A sheet that could not be read: where and why.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{}", self.render())]
-pub struct SheetError {
-    /// The sheet file.
-    pub file: String,
-    /// 1-based line, when known.
-    pub line: Option<usize>,
-    /// 1-based column, when known.
-    pub column: Option<usize>,
-    /// The question and field, e.g. `question "disc" → quantity`.
-    pub field: Option<String>,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl SheetError {
-    fn render(&self) -> String {
-        let mut s = self.file.clone();
-        if let (Some(l), Some(c)) = (self.line, self.column) {
-            s += &format!(":{l}:{c}");
-        }
-        s += ": ";
-        if let Some(f) = &self.field {
-            s += &format!("{f}: ");
-        }
-        s + &self.message
-    }
-}
+/// A sheet that could not be read: where (file, line, column, question and field) and why.
+pub type SheetError = crate::scene::LocatedError;
 
 /// Where a question's scene comes from.
 #[derive(Debug, Clone, PartialEq)]

@@ -9,23 +9,27 @@ use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
-/// A scene that could not be loaded: where and why.
+/// A file that could not be read (a scene, an OBJ, an exercise sheet): where and why, printed
+/// as `file:line:column: field: message`.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("{}", self.render())]
-pub struct SceneError {
-    /// The scene (or OBJ) file.
+pub struct LocatedError {
+    /// The file.
     pub file: String,
     /// 1-based line, when known.
     pub line: Option<usize>,
     /// 1-based column, when known.
     pub column: Option<usize>,
-    /// The object and field, e.g. `sphere "ball" → radius`.
+    /// The object and field, e.g. `sphere "ball" → radius` or `question "disc" → quantity`.
     pub field: Option<String>,
     /// What is wrong.
     pub message: String,
 }
 
-impl SceneError {
+/// A scene that could not be loaded.
+pub type SceneError = LocatedError;
+
+impl LocatedError {
     fn render(&self) -> String {
         let mut s = self.file.clone();
         if let (Some(l), Some(c)) = (self.line, self.column) {
