@@ -4,82 +4,12 @@
 //! order, and together they cover the twelve topics of the course.
 
 use raystep::accel::SceneAccel;
-use raystep::scene::{AccelChoice, OffsetPolicy, Scene};
-use raystep::shapes::{SphereMethod, TriangleMethod};
+use raystep::lesson::{Lesson, explaining_step, load_lessons, load_sheet, parse_lesson};
 use raystep::trace::Tracer;
-use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
 /// The number of lessons the course has.
 const LESSONS: usize = 12;
-
-/// A lesson's front matter (the keys the app reads; anything else is an error).
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct FrontMatter {
-    title: String,
-    scene: String,
-    pixel: [u32; 2],
-    hits: String,
-    steps: Vec<usize>,
-    #[serde(default)]
-    settings: LessonSettings,
-}
-
-/// `[settings]`: overrides with the scene format's `[render]` names and value spellings.
-#[derive(Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LessonSettings {
-    max_depth: Option<u32>,
-    spp: Option<u32>,
-    background: Option<[f32; 3]>,
-    sphere_method: Option<SphereMethod>,
-    triangle_method: Option<TriangleMethod>,
-    offset: Option<OffsetPolicy>,
-    epsilon: Option<f32>,
-    accel: Option<AccelChoice>,
-    seed: Option<u32>,
-}
-
-impl LessonSettings {
-    /// Applies the overrides to the scene, as the command line's `SettingsArgs::apply` does.
-    fn apply(&self, scene: &mut Scene) {
-        let s = &mut scene.settings;
-        if let Some(v) = self.max_depth {
-            assert!(v <= 64, "max_depth must be 0–64, got {v}");
-            s.max_depth = v;
-        }
-        if let Some(v) = self.spp {
-            assert!((1..=65536).contains(&v), "spp must be 1–65536, got {v}");
-            s.spp = v;
-        }
-        if let Some(v) = self.background {
-            s.background = glam::Vec3::from(v);
-        }
-        if let Some(v) = self.sphere_method {
-            s.sphere_method = v;
-        }
-        if let Some(v) = self.triangle_method {
-            s.triangle_method = v;
-        }
-        if let Some(v) = self.offset {
-            s.offset = v;
-        }
-        if let Some(v) = self.epsilon {
-            assert!(
-                v.is_finite() && v > 0.0,
-                "epsilon must be positive, got {v}"
-            );
-            s.epsilon = v;
-        }
-        if let Some(v) = self.accel {
-            s.accel = v;
-        }
-        if let Some(v) = self.seed {
-            s.seed = v;
-        }
-    }
-}
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -116,24 +46,9 @@ fn read(p: &Path) -> String {
     std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
 }
 
-/// Splits a lesson into its TOML front matter (between the first two `+++` lines) and its body.
-fn split_front_matter<'a>(name: &str, text: &'a str) -> (&'a str, &'a str) {
-    let rest = text
-        .strip_prefix("+++\n")
-        .unwrap_or_else(|| panic!("{name}: must start with a `+++` line"));
-    let end = rest
-        .find("\n+++\n")
-        .unwrap_or_else(|| panic!("{name}: the front matter has no closing `+++` line"));
-    (&rest[..=end], &rest[end + 5..])
-}
-
-fn front_matter(p: &Path) -> (FrontMatter, String) {
-    let name = file_name(p);
-    let text = read(p);
-    let (fm, body) = split_front_matter(&name, &text);
-    let parsed: FrontMatter =
-        toml::from_str(fm).unwrap_or_else(|e| panic!("{name}: bad front matter: {e}"));
-    (parsed, body.to_string())
+/// The lesson as the library (and the app) reads it.
+fn lesson(p: &Path) -> Lesson {
+    parse_lesson(&read(p), p).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The targets of the inline Markdown links `[text](target)` in `text`, outside code spans and
@@ -214,7 +129,8 @@ fn every_lesson_traces_to_what_it_says() {
     assert!(!files.is_empty(), "no lessons found");
     for p in files {
         let name = file_name(&p);
-        let (fm, body) = front_matter(&p);
+        let fm = lesson(&p);
+        let body = &fm.body;
         assert!(!fm.title.trim().is_empty(), "{name}: empty title");
         assert!(
             !fm.steps.is_empty(),
@@ -238,7 +154,9 @@ fn every_lesson_traces_to_what_it_says() {
 
         let mut scene = raystep::scene::load_file(&root().join(&fm.scene))
             .unwrap_or_else(|e| panic!("{name}: scene {} does not load: {e}", fm.scene));
-        fm.settings.apply(&mut scene);
+        fm.settings
+            .apply(&mut scene)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
         let [x, y] = fm.pixel;
         assert!(
             x < scene.camera.width && y < scene.camera.height,
@@ -268,6 +186,38 @@ fn every_lesson_traces_to_what_it_says() {
                 "{name}: step {k} does not exist: pixel ({x}, {y}) has {n} steps (0–{})",
                 n - 1
             );
+        }
+    }
+}
+
+#[test]
+fn lessons_with_exercises_point_at_sheets_that_load_and_explain_their_answers() {
+    let lessons = load_lessons(&lessons_dir()).expect("the lessons load");
+    assert_eq!(lessons.len(), LESSONS);
+    let with_sheets: Vec<&Lesson> = lessons.iter().filter(|l| l.exercises.is_some()).collect();
+    // The four shipped sheets: spheres (2), triangles (4), the BVH (6), shadows (7).
+    assert_eq!(with_sheets.len(), 4, "lessons with an exercise sheet");
+    for l in with_sheets {
+        let name = file_name(&l.file);
+        let path = l.exercises_path().unwrap();
+        let sheet = load_sheet(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(!sheet.questions.is_empty(), "{name}: an empty sheet");
+        // Every question of the sheet, for one student: the step that explains the answer
+        // exists and is of the kind the quantity is read from.
+        for q in &sheet.questions {
+            let v = sheet.variant(q, "s1");
+            let scene = match &v.scene_toml {
+                Some(t) => raystep::scene::load_str(t, "inline", path.parent()).unwrap(),
+                None => match &q.scene {
+                    raystep::lesson::SceneSource::File(p) => raystep::scene::load_file(p).unwrap(),
+                    raystep::lesson::SceneSource::Inline(_) => unreachable!(),
+                },
+            };
+            let (accel, _) = SceneAccel::build(&scene);
+            let trace = Tracer::new(&scene, &accel).record(v.pixel[0], v.pixel[1], 0);
+            let k = explaining_step(&trace, q)
+                .unwrap_or_else(|| panic!("{name}: question {} has no explaining step", q.id));
+            assert!(k < trace.timeline().len());
         }
     }
 }

@@ -106,3 +106,44 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
         Quantity::Color => v3(r.color),
     }
 }
+
+/// The timeline index of the step that shows the question's quantity — where a student who got
+/// it wrong should look: the sphere test for a discriminant or root, the triangle test for u and
+/// v, the surface step for the hit point and normal, the last BVH node for the count of nodes,
+/// the light's step for a shadow, the reflect or refract step, the colour step. `None` when the
+/// trace has no such step (the ray was never spawned).
+pub fn explaining_step(trace: &Trace, q: &Question) -> Option<usize> {
+    let r = ray(trace, q.ray)?;
+    let object = q.object.as_deref();
+    let hit_name = r.hit.as_ref().map(|h| h.name.as_str());
+    let is = |s: &Step| match q.quantity {
+        Quantity::Discriminant | Quantity::NearRoot | Quantity::FarRoot => {
+            matches!(s, Step::Sphere { name, .. } if Some(name.as_str()) == object)
+        }
+        Quantity::TriangleU | Quantity::TriangleV => {
+            matches!(s, Step::Triangle { name, .. } if Some(name.as_str()) == object.or(hit_name))
+        }
+        Quantity::ClosestT | Quantity::HitObject | Quantity::HitPoint | Quantity::Normal => {
+            matches!(s, Step::Surface { .. })
+        }
+        Quantity::BvhNodesVisited => matches!(s, Step::Node(_)),
+        Quantity::ShadowBlocked => matches!(s, Step::Light { light, .. } if *light == q.light),
+        Quantity::ReflectedDirection => matches!(s, Step::Reflect { .. }),
+        Quantity::RefractedDirection | Quantity::TotalInternalReflection => {
+            matches!(s, Step::Refract { .. })
+        }
+        Quantity::Color => false,
+    };
+    // The last matching step (a ray tests each object once; the last node is where the count
+    // ends); the ray's last step when nothing matches (its colour, or where it missed).
+    let target = r
+        .steps
+        .iter()
+        .rev()
+        .find(|s| is(&s.step))
+        .or_else(|| r.steps.last())?;
+    trace
+        .timeline()
+        .iter()
+        .position(|(_, s)| std::ptr::eq(*s, target))
+}

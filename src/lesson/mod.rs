@@ -1,6 +1,7 @@
 //! Exercises with checked answers: an exercise sheet (TOML) asks for quantities of a traced
 //! pixel, every student gets their own variant of each question, and answers are marked against
 //! what raystep's tracer computes **when the sheet is checked** — a sheet never contains answers.
+//! The lessons themselves (Markdown with a TOML front matter) are read by [`load_lessons`].
 //!
 //! # The sheet format
 //!
@@ -62,12 +63,14 @@ mod answer;
 mod csv;
 mod extract;
 mod grade;
+mod lessons;
 mod sheet;
 
 pub use answer::{Answer, AnswerKind, Mark, mark, parse_answers};
 pub use csv::{CsvError, parse_csv, write_csv};
-pub use extract::extract;
+pub use extract::{explaining_step, extract};
 pub use grade::{GradeReport, grade_class};
+pub use lessons::{Lesson, LessonSettings, lessons_dir, load_lessons, parse_lesson};
 pub use sheet::{
     Coord, Param, ParamValue, Question, SceneSource, Sheet, SheetError, load_sheet, parse_sheet,
 };
