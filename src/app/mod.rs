@@ -9,6 +9,7 @@
 //! the window shows.
 
 pub mod job;
+pub mod learn;
 pub mod panels;
 pub mod state;
 pub mod view;
@@ -281,8 +282,14 @@ fn install_fonts(ctx: &egui::Context) {
         "dejavu-sans-mono".into(),
         std::sync::Arc::new(FontData::from_static(dejavu::sans_mono::regular())),
     );
+    // The emoji/icon font egui used to ship: the Markdown viewer's code-block copy button (🗐).
+    fonts.font_data.insert(
+        "emoji-icons".into(),
+        std::sync::Arc::new(FontData::from_static(epaint_default_fonts::EMOJI_ICON)),
+    );
     let prop = fonts.families.entry(FontFamily::Proportional).or_default();
     prop.insert(0, "dejavu-sans".into());
+    prop.push("emoji-icons".into());
     let mono = fonts.families.entry(FontFamily::Monospace).or_default();
     mono.insert(0, "dejavu-sans-mono".into());
     mono.insert(1, "dejavu-sans".into());

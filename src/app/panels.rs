@@ -43,6 +43,12 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
     if state.stepping.is_some() {
         egui::Panel::bottom("steps").show(ui, |ui| step_controls(ui, state, cmds));
     }
+    if state.prefs.show_learn {
+        egui::Panel::left("learn")
+            .resizable(true)
+            .default_size(360.0)
+            .show(ui, |ui| super::learn::panel(ui, state, views, cmds));
+    }
     if state.prefs.show_settings {
         egui::Panel::left("settings")
             .resizable(true)
@@ -171,6 +177,7 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
                 views.toggle_fullscreen = true;
             }
             ui.separator();
+            ui.checkbox(&mut p.show_learn, "Lessons and exercises");
             ui.checkbox(&mut p.show_settings, "Settings panel");
             ui.checkbox(&mut p.show_tree, "Trace tree");
             if Views::has_heatmap(state) {
@@ -193,6 +200,19 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
             ui.label("Scroll on the render to zoom, drag to pan, double-click to fit.");
             ui.label("Drop a scene (.toml) or a saved trace (.json) on the window to open it.");
         });
+        let mut learn = state.prefs.show_learn;
+        if ui
+            .toggle_value(&mut learn, "Lessons")
+            .on_hover_text("the lessons, and exercises whose answers the tracer checks")
+            .clicked()
+        {
+            // The lessons take the settings panel's place (a lesson sets its own settings;
+            // View → Settings panel shows both): the render keeps its width.
+            let mut p = state.prefs.clone();
+            p.show_learn = learn;
+            p.show_settings = !learn;
+            cmds.push(Command::SetPrefs(p));
+        }
         ui.separator();
         let title = match &state.doc {
             Document::Scene { scene, path } => format!(

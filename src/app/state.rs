@@ -3,7 +3,9 @@
 //! read it and return [`Command`]s; [`AppState::apply`] is the only place that changes it.
 
 use super::job::{JobEvent, Prepared, RenderJob, is_cancelled};
+use super::learn::{Learn, LearnCmd};
 use crate::diagram::{self, DiagramKind, ViewOptions};
+use crate::lesson::LessonSettings;
 use crate::render::RenderOutput;
 use crate::scene::{Scene, Settings};
 use crate::trace::{RayRecord, StepRecord, Trace};
@@ -83,6 +85,10 @@ pub struct Prefs {
     pub show_tree: bool,
     /// Show the settings panel.
     pub show_settings: bool,
+    /// Show the lessons and exercises panel.
+    pub show_learn: bool,
+    /// The student id the exercises are drawn for.
+    pub student: String,
 }
 
 impl Default for Prefs {
@@ -101,6 +107,8 @@ impl Default for Prefs {
             top_down: false,
             show_tree: true,
             show_settings: true,
+            show_learn: false,
+            student: String::new(),
         }
     }
 }
@@ -225,6 +233,8 @@ pub enum Command {
     ShowDialog(Dialog),
     /// Close the dialog.
     CloseDialog,
+    /// Lessons and exercises.
+    Learn(LearnCmd),
 }
 
 /// A message for the status line.
@@ -355,6 +365,10 @@ pub struct AppState {
     pub dialog: Option<Dialog>,
     /// Bumped whenever the trace changes (caches key on it).
     pub trace_generation: u64,
+    /// The lessons and the exercise session.
+    pub learn: Learn,
+    /// Settings a lesson laid over the file it opened (kept when that file reloads).
+    overrides: Option<(PathBuf, LessonSettings)>,
     last_play: Option<Instant>,
     loading: Option<Loading>,
     exports: Vec<std::sync::mpsc::Receiver<Message>>,
@@ -376,7 +390,7 @@ impl AppState {
     /// A state with nothing open. `repaint` wakes the UI (background jobs call it).
     pub fn new(prefs: Prefs, repaint: impl Fn() + Send + Sync + 'static) -> AppState {
         AppState {
-            prefs,
+            prefs: prefs.clone(),
             doc: Document::Empty,
             settings: Settings::default(),
             prepared: None,
@@ -392,6 +406,8 @@ impl AppState {
             message: None,
             dialog: None,
             trace_generation: 0,
+            learn: Learn::load(&prefs.student),
+            overrides: None,
             last_play: None,
             loading: None,
             exports: vec![],
@@ -420,7 +436,10 @@ impl AppState {
     /// Applies one command.
     pub fn apply(&mut self, cmd: Command) {
         match cmd {
-            Command::Open(path) => self.open(&path),
+            Command::Open(path) => {
+                self.overrides = None;
+                self.open(&path)
+            }
             Command::OpenBuiltin => {
                 self.set_scene(Arc::new(crate::scene::default_scene()), None);
             }
@@ -463,6 +482,7 @@ impl AppState {
             Command::Save(kind, path) => self.save(kind, &path),
             Command::ShowDialog(d) => self.dialog = Some(d),
             Command::CloseDialog => self.dialog = None,
+            Command::Learn(c) => self.apply_learn(c),
         }
     }
 
@@ -475,6 +495,41 @@ impl AppState {
     /// Opens `path`; a scene loads on a background thread (a million-triangle OBJ takes most of
     /// a second) and replaces what is open when it arrives, keeping `keep` = (pixel, step).
     fn open_keeping(&mut self, path: &Path, keep: Option<(Option<[u32; 2]>, usize)>) {
+        let overrides = self
+            .overrides
+            .as_ref()
+            .filter(|(p, _)| p == path)
+            .map(|(_, o)| o.clone());
+        self.load_with(path, keep, overrides);
+    }
+
+    /// Opens the scene `path` with `overrides` laid over its settings (a lesson's), selecting
+    /// `pixel` and going to `step` once it is traced.
+    pub(super) fn open_prepared(
+        &mut self,
+        path: &Path,
+        overrides: Option<LessonSettings>,
+        pixel: Option<[u32; 2]>,
+        step: usize,
+    ) {
+        self.overrides = overrides.clone().map(|o| (path.to_path_buf(), o));
+        self.load_with(path, Some((pixel, step)), overrides);
+    }
+
+    /// Shows a scene made here (an exercise's variant) at `pixel`, on `step` once it is traced.
+    pub(super) fn show_scene(&mut self, scene: Scene, pixel: [u32; 2], step: usize) {
+        self.overrides = None;
+        self.set_scene(Arc::new(scene), None);
+        self.pixel = Some(pixel);
+        self.step = step;
+    }
+
+    fn load_with(
+        &mut self,
+        path: &Path,
+        keep: Option<(Option<[u32; 2]>, usize)>,
+        overrides: Option<LessonSettings>,
+    ) {
         self.dialog = None;
         self.watch = Some((path.to_path_buf(), modified(path), Instant::now()));
         let is_trace = path
@@ -490,8 +545,17 @@ impl AppState {
         let (tx, rx) = std::sync::mpsc::channel();
         let file = path.to_path_buf();
         let repaint = Arc::clone(&self.repaint);
+        let laid = overrides;
         std::thread::spawn(move || {
-            let _ = tx.send(crate::scene::load_file(&file).map_err(|e| e.to_string()));
+            let loaded = crate::scene::load_file(&file)
+                .map_err(|e| e.to_string())
+                .and_then(|mut scene| {
+                    if let Some(o) = &laid {
+                        o.apply(&mut scene)?;
+                    }
+                    Ok(scene)
+                });
+            let _ = tx.send(loaded);
             repaint();
         });
         self.loading = Some(Loading {

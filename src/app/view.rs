@@ -34,6 +34,8 @@ pub struct Views {
     pub tree_scrolled: Option<(u64, usize)>,
     /// The F11 key or the menu asked to toggle full screen.
     pub toggle_fullscreen: bool,
+    /// The lesson viewer's cache (Markdown layout).
+    pub markdown: egui_commonmark::CommonMarkCache,
 }
 
 /// What a cached diagram texture shows.
