@@ -9,12 +9,16 @@ pub fn v3(v: [f32; 3]) -> String {
     format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]))
 }
 
-/// Formats a number: shortest round-trip form, `∞` for infinity.
+/// Formats a number: shortest round-trip form, `∞` for infinity; scientific (`1e-45`,
+/// `2.5e12`) for magnitudes below 10⁻⁴ or from 10⁹ up, which would otherwise print as dozens of
+/// zeros.
 pub fn num(x: f32) -> String {
     if x == f32::INFINITY {
         "∞".into()
     } else if x == f32::NEG_INFINITY {
         "-∞".into()
+    } else if x != 0.0 && (x.abs() < 1e-4 || x.abs() >= 1e9) {
+        format!("{x:e}")
     } else {
         format!("{x}")
     }
