@@ -147,6 +147,44 @@ fn read_quantity(trace: &Trace, q: &Question) -> A {
                 _ => None,
             })
             .unwrap_or(A::None),
+        "hit_point" | "normal" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::Surface { point, normal, .. } => {
+                    Some(vec(if q.quantity.name() == "normal" {
+                        *normal
+                    } else {
+                        *point
+                    }))
+                }
+                _ => None,
+            })
+            .unwrap_or(A::None),
+        "refracted_direction" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::Refract { direction, .. } => Some(direction.map_or(A::None, vec)),
+                _ => None,
+            })
+            .unwrap_or(A::None),
+        "total_internal_reflection" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::Refract {
+                    total_internal_reflection,
+                    ..
+                } => Some(A::Bool(*total_internal_reflection)),
+                _ => None,
+            })
+            .unwrap_or(A::None),
+        "color" => steps
+            .iter()
+            .rev()
+            .find_map(|s| match s {
+                Step::Color { color } => Some(vec(*color)),
+                _ => None,
+            })
+            .unwrap_or(A::None),
         other => panic!("the test reads no {other}: add it"),
     }
 }
