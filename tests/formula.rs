@@ -75,7 +75,8 @@ fn parse(s: &str) -> f32 {
     }
 }
 
-/// The ASCII numbers in a substituted formula, in order (`-` only as a sign; the operators use `−`).
+/// The ASCII numbers in a substituted formula, in order (`-` only as a sign or in an exponent;
+/// the operators use `−`).
 fn numbers(s: &str) -> Vec<f32> {
     let mut out = vec![];
     let mut cur = String::new();
@@ -89,7 +90,15 @@ fn numbers(s: &str) -> Vec<f32> {
         cur.clear();
     };
     for c in s.chars() {
-        if c.is_ascii_digit() || c == '.' || (c == '-' && cur.is_empty()) {
+        // Scientific notation too (`7.1525574e-7`): `e` after a digit, `-` after that `e`.
+        let exponent = c == 'e' && cur.ends_with(|d: char| d.is_ascii_digit());
+        let exponent_sign = c == '-' && cur.ends_with('e');
+        if c.is_ascii_digit()
+            || c == '.'
+            || (c == '-' && cur.is_empty())
+            || exponent
+            || exponent_sign
+        {
             cur.push(c);
         } else {
             flush(&mut cur, &mut out);
