@@ -9,14 +9,14 @@
 //! refraction spawns). The "full" variant switches everything on, the way a single shader for
 //! every scene would be written, and is what the generated one is measured against.
 
-use crate::accel::SceneAccel;
+use crate::accel::{Bvh, SceneAccel};
 use crate::math::gamma;
 use crate::scene::{AccelChoice, OffsetPolicy, Scene};
 use crate::shapes::{SphereMethod, TriangleMethod};
 
-/// The deepest BVH the GPU traversal's fixed-size stack holds (raystep's trees for a million
+/// The deepest BVH the GPU traversal's stack may be sized for (raystep's trees for a million
 /// triangles are about 30 levels deep; [`super::GpuTracer::new`] refuses deeper ones).
-pub const BVH_STACK: u32 = 64;
+pub const MAX_BVH_STACK: u32 = 64;
 
 /// What goes into a tracer shader.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,6 +47,9 @@ pub struct ShaderConfig {
     pub offset: OffsetPolicy,
     /// The recursion limit (sizes the ray stack).
     pub max_depth: u32,
+    /// Entries of the BVH traversal stack: the tree's depth + 2. Sized per scene because a
+    /// software rasterizer (lavapipe) pays for every entry of a dynamically indexed array.
+    pub bvh_stack: u32,
 }
 
 /// Which shader a [`super::GpuTracer`] runs.
@@ -60,10 +63,16 @@ pub enum ShaderVariant {
 }
 
 impl ShaderConfig {
-    /// The shader a scene needs.
+    /// The shader a scene needs (building the scene's BVH, when it uses one, for its depth).
     pub fn for_scene(scene: &Scene) -> ShaderConfig {
+        let bvh = (SceneAccel::resolve(scene) == AccelChoice::Bvh).then(|| Bvh::build(scene));
+        ShaderConfig::for_scene_with(scene, bvh.as_ref())
+    }
+
+    /// The shader a scene needs, given the BVH already built for it (None: brute force).
+    pub fn for_scene_with(scene: &Scene, tree: Option<&Bvh>) -> ShaderConfig {
         let f = &scene.features;
-        let bvh = SceneAccel::resolve(scene) == AccelChoice::Bvh;
+        let bvh = tree.is_some();
         let s = &scene.settings;
         ShaderConfig {
             spheres: f.spheres > 0,
@@ -79,12 +88,18 @@ impl ShaderConfig {
             triangle_method: s.triangle_method,
             offset: s.offset,
             max_depth: s.max_depth,
+            bvh_stack: tree.map_or(2, |t| t.max_depth as u32 + 2),
         }
     }
 
     /// Every feature on (the scene's methods and recursion limit are kept: they are settings,
     /// not features).
     pub fn full(scene: &Scene) -> ShaderConfig {
+        ShaderConfig::for_scene(scene).all_on()
+    }
+
+    /// This config with every feature switched on.
+    pub fn all_on(self) -> ShaderConfig {
         ShaderConfig {
             spheres: true,
             planes: true,
@@ -95,15 +110,16 @@ impl ShaderConfig {
             reflection: true,
             refraction: true,
             full: true,
-            ..ShaderConfig::for_scene(scene)
+            ..self
         }
     }
 
-    /// The config of a variant.
-    pub fn variant(scene: &Scene, variant: ShaderVariant) -> ShaderConfig {
+    /// The config of a variant, given the scene's BVH (None: brute force).
+    pub fn variant(scene: &Scene, tree: Option<&Bvh>, variant: ShaderVariant) -> ShaderConfig {
+        let c = ShaderConfig::for_scene_with(scene, tree);
         match variant {
-            ShaderVariant::Generated => ShaderConfig::for_scene(scene),
-            ShaderVariant::Full => ShaderConfig::full(scene),
+            ShaderVariant::Generated => c,
+            ShaderVariant::Full => c.all_on(),
         }
     }
 
@@ -205,8 +221,9 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         out += &format!("const {name}: f32 = {v:?};\n");
     }
     out += &format!(
-        "const RAY_STACK: u32 = {}u;\nconst BVH_STACK: u32 = {BVH_STACK}u;\n\n",
-        config.max_depth + 2
+        "const RAY_STACK: u32 = {}u;\nconst BVH_STACK: u32 = {}u;\n\n",
+        config.max_depth + 2,
+        config.bvh_stack.clamp(2, MAX_BVH_STACK)
     );
     let mut add = |piece: &str| {
         out += &preprocess(piece, config);

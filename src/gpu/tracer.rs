@@ -1,7 +1,7 @@
 //! The wgpu side: the device, the pipelines, the two render paths, readback and the debug pixel.
 
 use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
-use super::shader::{self, BVH_STACK, ShaderConfig, ShaderVariant};
+use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
 use crate::accel::{Bvh, SceneAccel};
 use crate::scene::{AccelChoice, Camera, Scene, Shape};
 use crate::trace::camera::CameraRays;
@@ -233,15 +233,15 @@ impl GpuTracer {
         let use_bvh = SceneAccel::resolve(scene) == AccelChoice::Bvh;
         let bvh = use_bvh.then(|| Bvh::build(scene));
         if let Some(b) = &bvh
-            && b.max_depth + 2 > BVH_STACK as usize
+            && b.max_depth + 2 > MAX_BVH_STACK as usize
         {
             return Err(GpuError::Scene(format!(
-                "the scene's BVH is {} levels deep; the GPU traversal's stack holds {BVH_STACK}",
+                "the scene's BVH is {} levels deep; the GPU traversal's stack holds {MAX_BVH_STACK}",
                 b.max_depth
             )));
         }
         let data = buffers::scene_data(scene, bvh.as_ref());
-        let config = ShaderConfig::variant(scene, variant);
+        let config = ShaderConfig::variant(scene, bvh.as_ref(), variant);
         let wgsl = shader::wgsl(&config);
         shader::validate(&wgsl).map_err(GpuError::Shader)?;
         let device = ctx.device.clone();

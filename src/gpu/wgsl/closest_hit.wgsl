@@ -116,7 +116,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
         if can_recurse {
             let dir = refract_dir(it.eye, it.normal, n.x, n.y);
             if valid_dir(dir) {
-                let media = media_crossed(task.media, hit.object, m.refractive_index);
+                let media = media_crossed(task.media, hit.object);
                 push_ray(Ray(spawn_origin(it, dir), dir, 0.0, params.inf), task.depth + 1u, task.weight * refract_weight, media);
             }
         }

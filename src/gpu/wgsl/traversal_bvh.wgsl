@@ -13,13 +13,13 @@ struct SlabRay {
 }
 
 fn slab_ray(r: Ray) -> SlabRay {
-    var inv = 1.0 / r.dir;
-    for (var i = 0u; i < 3u; i++) {
-        if r.dir[i] == 0.0 {
-            inv[i] = bitcast<f32>((bitcast<u32>(r.dir[i]) & 0x80000000u) | 0x7f800000u);
-        }
-    }
+    let signed_inf = bitcast<vec3f>((bitcast<vec3u>(r.dir) & vec3u(0x80000000u)) | vec3u(0x7f800000u));
+    let inv = select(1.0 / r.dir, signed_inf, r.dir == vec3f(0.0));
     return SlabRay(r.origin, inv, inv < vec3f(0.0));
+}
+
+fn is_nan3(v: vec3f) -> vec3<bool> {
+    return (bitcast<vec3u>(v) & vec3u(0x7fffffffu)) > vec3u(0x7f800000u);
 }
 
 // (t_near, t_far) of a node's box: the robust slab test (NUMERICS.md), t_far enlarged by 1 + 2γ₃,
@@ -30,14 +30,8 @@ fn box_interval(s: SlabRay, node: Node, t_min: f32, t_max: f32) -> vec2f {
     let t1 = (node.max - s.origin) * s.inv;
     var entry = select(t0, t1, s.negative);
     var exit = select(t1, t0, s.negative) * BOX_ENLARGE;
-    for (var i = 0u; i < 3u; i++) {
-        if is_nan(entry[i]) {
-            entry[i] = -params.inf;
-        }
-        if is_nan(exit[i]) {
-            exit[i] = params.inf;
-        }
-    }
+    entry = select(entry, vec3f(-params.inf), is_nan3(entry));
+    exit = select(exit, vec3f(params.inf), is_nan3(exit));
     let e = max(entry.x, max(entry.y, entry.z));
     let x = min(exit.x, min(exit.y, exit.z));
     return vec2f(select(t_min, e, e > t_min), select(t_max, x, x < t_max));
