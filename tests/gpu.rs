@@ -329,3 +329,139 @@ fn debug_pixel_matches_the_recorded_cpu_trace() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// The command line (assert_cmd)
+// ---------------------------------------------------------------------------------------------
+
+fn raystep_cmd() -> assert_cmd::Command {
+    assert_cmd::Command::cargo_bin("raystep").expect("the raystep binary is built")
+}
+
+fn scene_file(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+#[test]
+fn cli_render_gpu_writes_the_cpu_image() {
+    if context("cli_render_gpu_writes_the_cpu_image").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cpu_png = dir.path().join("cpu.png");
+    raystep_cmd()
+        .arg("render")
+        .arg(scene_file("far-sphere.toml"))
+        .arg("-o")
+        .arg(&cpu_png)
+        .assert()
+        .success();
+    let cpu = image::open(&cpu_png).unwrap().to_rgb8();
+    for path in ["fragment", "compute"] {
+        let png = dir.path().join(format!("gpu-{path}.png"));
+        let out = raystep_cmd()
+            .arg("render")
+            .arg(scene_file("far-sphere.toml"))
+            .args(["--gpu", "--gpu-path", path, "-o"])
+            .arg(&png)
+            .assert()
+            .success();
+        let stdout = String::from_utf8_lossy(&out.get_output().stdout).to_string();
+        assert!(stdout.contains("on the GPU"), "{stdout}");
+        assert!(stdout.contains(&format!("{path} path")), "{stdout}");
+        assert!(stdout.contains("bytes of WGSL"), "{stdout}");
+        let gpu = image::open(&png).unwrap().to_rgb8();
+        assert_eq!(gpu.dimensions(), (64, 64));
+        let worst = cpu
+            .as_raw()
+            .iter()
+            .zip(gpu.as_raw())
+            .map(|(a, b)| a.abs_diff(*b))
+            .max()
+            .unwrap();
+        assert!(worst <= MAX_ERROR, "{path}: a pixel is {worst} steps off");
+    }
+}
+
+#[test]
+fn cli_compare_prints_times_and_figures_and_writes_the_difference() {
+    if context("cli_compare_prints_times_and_figures_and_writes_the_difference").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let diff = dir.path().join("diff.png");
+    let out = raystep_cmd()
+        .arg("compare")
+        .arg(scene_file("three-spheres.toml"))
+        .args([
+            "--width",
+            "80",
+            "--height",
+            "60",
+            "--gpu-path",
+            "compute",
+            "-o",
+        ])
+        .arg(&diff)
+        .assert()
+        .success();
+    let stdout = String::from_utf8_lossy(&out.get_output().stdout).to_string();
+    for want in [
+        "at 80×60",
+        "adapter",
+        "CPU ",
+        "GPU ",
+        "compute path",
+        "RMSE",
+        "max error",
+        "of 4800 pixels differ",
+    ] {
+        assert!(stdout.contains(want), "no {want:?} in:\n{stdout}");
+    }
+    let img = image::open(&diff).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (80, 60));
+}
+
+#[test]
+fn cli_gpu_errors_are_plain_messages() {
+    // Checked before any GPU work: no adapter needed.
+    let dir = tempfile::tempdir().unwrap();
+    raystep_cmd()
+        .arg("compare")
+        .arg(scene_file("first-sphere.toml"))
+        .arg("-o")
+        .arg(dir.path().join("diff.jpg"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("must be a .png file"));
+    raystep_cmd()
+        .arg("render")
+        .arg(scene_file("first-sphere.toml"))
+        .args(["--gpu-path", "compute", "-o"])
+        .arg(dir.path().join("x.png"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("--gpu"));
+    // No adapter (only a backend this platform lacks): the message says what to install.
+    let out = raystep_cmd()
+        .env(
+            "WGPU_BACKEND",
+            if cfg!(target_os = "macos") {
+                "dx12"
+            } else {
+                "metal"
+            },
+        )
+        .arg("render")
+        .arg(scene_file("first-sphere.toml"))
+        .args(["--gpu", "-o"])
+        .arg(dir.path().join("x.png"))
+        .assert()
+        .failure();
+    let stderr = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+    assert!(stderr.contains("no GPU adapter"), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
