@@ -310,13 +310,11 @@ fn debug_pixel_matches_the_recorded_cpu_trace() {
                     .expect("the hit's sphere test is recorded");
                 let g = got.discriminant.expect("a sphere hit has a discriminant");
                 // The discriminant cancels (Δ′ = r² − |l|²): compare within its own scale.
-                let scale = 4.0 * {
-                    let r2 = match scene.objects[hit.object as usize].shape {
+                let scale = 4.0
+                    * match scene.objects[hit.object as usize].shape {
                         Shape::Sphere { radius, .. } => radius * radius,
                         _ => 1.0,
                     };
-                    r2
-                };
                 assert!(
                     (g - disc).abs() <= 1e-5 * scale,
                     "{name} ({x}, {y}): discriminant {g} vs {disc}"
@@ -464,4 +462,33 @@ fn cli_gpu_errors_are_plain_messages() {
     assert!(stderr.contains("no GPU adapter"), "{stderr}");
     assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
     assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn set_camera_renders_another_view_and_size() {
+    let Some(ctx) = context("set_camera_renders_another_view_and_size") else {
+        return;
+    };
+    let scene = load_file(&scene_file("three-spheres.toml")).unwrap();
+    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    let mut moved = scene.clone();
+    moved.camera.from = glam::Vec3::new(2.0, 3.0, -4.0);
+    moved.camera.width = 90;
+    moved.camera.height = 70;
+    gpu.set_camera(&moved.camera).unwrap();
+    let frame = gpu.render(GpuPath::Fragment).unwrap();
+    assert_eq!((frame.width, frame.height), (90, 70));
+    let d = gpu::difference(90, 70, &cpu_pixels(&moved), &frame.pixels).unwrap();
+    assert!(
+        d.rmse < 1.0 / 255.0 && d.max_error <= MAX_ERROR,
+        "{}",
+        d.summary()
+    );
+    assert!(matches!(gpu.debug_pixel(90, 0), Err(GpuError::Scene(_))));
+    assert!(gpu.debug_pixel(45, 35).is_ok());
+    let line = gpu.adapter_line(GpuPath::Compute);
+    assert!(
+        line.contains("compute path") && line.contains("ray queries"),
+        "{line}"
+    );
 }

@@ -75,7 +75,7 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         args.gpu_path.name()
     );
     println!(
-        "  error    RMSE {:.4} ({:.3}/255), max error {}/255, {} of {} pixels differ",
+        "  error    RMSE {:.2e} ({:.3}/255), max error {}/255, {} of {} pixels differ",
         d.rmse,
         d.rmse * 255.0,
         d.max_error,

@@ -104,8 +104,8 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
     let mut leaf_objects = Bytes::default();
     let mut planes = Bytes::default();
     let (mut n_nodes, mut n_planes) = (0, 0);
-    match bvh {
-        Some(bvh) => {
+    if let Some(bvh) = bvh {
+        {
             for n in &bvh.nodes {
                 nodes
                     .vec3(Vec3::from(n.min))
@@ -122,7 +122,6 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
             n_nodes = bvh.nodes.len() as u32;
             n_planes = bvh.planes.len() as u32;
         }
-        None => {}
     }
     SceneData {
         objects: objects.non_empty(64),
