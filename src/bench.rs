@@ -458,3 +458,47 @@ pub fn app(path: &std::path::Path) {
         idle[idle.len() / 2].as_secs_f64() * 1e3
     );
 }
+
+/// The GPU view's figures: for each scene at 1280×720, the WGSL's size generated for the scene and
+/// with every feature, the median frame time of the fragment and compute paths with each shader
+/// (trace pass only, submit to completion, after one warm-up frame), and the CPU render on all
+/// cores for scale. Returns an error when there is no GPU adapter.
+pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
+    use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
+    let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
+    println!("## GPU view at 1280×720 (frame times in ms, medians of {reps})");
+    println!("adapter: {}\n", ctx.adapter_name());
+    println!(
+        "| scene | WGSL bytes, generated | WGSL bytes, full | fragment, generated | compute, generated | fragment, full | compute, full | CPU, {} threads |",
+        rayon::current_num_threads()
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for scene in scenes {
+        let mut s = scene.clone();
+        s.camera.width = 1280;
+        s.camera.height = 720;
+        let mut row = format!(
+            "| {} | {} | {} |",
+            s.name,
+            crate::gpu::generated_wgsl(&s).len(),
+            crate::gpu::full_wgsl(&s).len()
+        );
+        for variant in [ShaderVariant::Generated, ShaderVariant::Full] {
+            let mut tracer = GpuTracer::new(ctx.clone(), &s, variant).map_err(|e| e.to_string())?;
+            for path in [GpuPath::Fragment, GpuPath::Compute] {
+                let t = tracer
+                    .time_frames(path, 1, reps)
+                    .map_err(|e| e.to_string())?;
+                row += &format!(" {:.1} |", t.as_secs_f64() * 1e3);
+            }
+        }
+        let (accel, _) = SceneAccel::build(&s);
+        let tracer = Tracer::new(&s, &accel);
+        let cpu = median_time(reps.min(3), || {
+            std::hint::black_box(render(&tracer, &RenderOptions::default()).expect("render"));
+        });
+        row += &format!(" {:.1} |", cpu.as_secs_f64() * 1e3);
+        println!("{row}");
+    }
+    Ok(())
+}

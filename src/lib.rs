@@ -17,6 +17,8 @@
 //!   trace records, Phong/Snell/Schlick shading and the one recursive Whitted tracer.
 //! - [`render`]: the full parallel render and image output; [`diagram`]: the 2D diagrams drawn
 //!   from a trace.
+//! - [`gpu`]: the same scene traced on the GPU (wgpu, WGSL generated per scene), compared with
+//!   the CPU render.
 //! - [`app`]: the eframe app — the render, the stepping, the math and the diagrams side by side.
 //! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
 //! - [`cli`]: the `raystep` command line.
@@ -28,6 +30,7 @@ pub mod app;
 pub mod bench;
 pub mod cli;
 pub mod diagram;
+pub mod gpu;
 pub mod io;
 pub mod jsonf;
 pub mod lesson;

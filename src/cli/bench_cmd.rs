@@ -36,6 +36,9 @@ pub enum Section {
     Traversal,
     /// The app, headless: UI frame times during a render and click-to-trace latency.
     App,
+    /// The GPU view at 1280×720: fragment vs compute, generated vs full shader, shader sizes
+    /// (the scenes plus the sphereflake, SPD balls size 3).
+    Gpu,
     /// Everything.
     All,
 }
@@ -85,6 +88,15 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             println!("## {}", s.name);
             crate::bench::traversal_vs_obvhs(&s, &bvh, reps, args.side);
         }
+    }
+    if args.section == Section::Gpu {
+        let flake = crate::scene::spd::generate(crate::scene::spd::SpdScene::Balls, 3)?;
+        let mut with_flake = scenes.clone();
+        with_flake.push(
+            crate::scene::load_str(&flake.toml, "balls-3.toml", None).map_err(|e| e.to_string())?,
+        );
+        crate::bench::gpu(&with_flake, reps)?;
+        println!();
     }
     if args.section == Section::App {
         for p in &paths {

@@ -2,6 +2,7 @@
 //! prints it and exits non-zero. No command panics on bad input.
 
 mod bench_cmd;
+mod compare_cmd;
 mod diagram_cmd;
 mod diff_cmd;
 mod exercise_cmd;
@@ -34,8 +35,11 @@ pub enum Command {
     Intersect(intersect::Shape),
     /// Trace one pixel of a scene and print every step.
     Trace(trace_cmd::TraceArgs),
-    /// Render a scene in parallel to a PNG, with statistics.
+    /// Render a scene in parallel to a PNG, with statistics (on the GPU with --gpu).
     Render(render_cmd::RenderArgs),
+    /// Render a scene on the CPU and on the GPU: both times, the error figures (RMSE, max error,
+    /// differing pixels) and a difference image.
+    Compare(compare_cmd::CompareArgs),
     /// Print performance figures (medians of timed repetitions).
     Bench(bench_cmd::BenchArgs),
     /// Draw a traced pixel's diagrams (PNG), or every step as an animated GIF or PNG frames.
@@ -164,6 +168,30 @@ pub fn load_scene(path: Option<&PathBuf>, overrides: &SettingsArgs) -> Result<Sc
     Ok(scene)
 }
 
+/// Checks that an output path ends in `.png` and that its directory exists, before any work.
+pub fn check_png_path(p: &std::path::Path) -> Result<(), String> {
+    if p.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+        != Some("png")
+    {
+        return Err(format!("{}: the output must be a .png file", p.display()));
+    }
+    let dir = p
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    if !dir.is_dir() {
+        return Err(format!(
+            "{}: the directory {} does not exist",
+            p.display(),
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
 /// Writes command output to stdout. A closed pipe (`raystep trace … | head`) ends the output
 /// quietly instead of panicking as `println!` would.
 pub fn emit(text: &str) -> Result<(), String> {
@@ -194,6 +222,7 @@ pub fn main() -> ExitCode {
         Some(Command::Trace(args)) => trace_cmd::run(&args),
         Some(Command::Scene(cmd)) => scene_cmd::run(&cmd),
         Some(Command::Render(args)) => render_cmd::run(&args),
+        Some(Command::Compare(args)) => compare_cmd::run(&args),
         Some(Command::Bench(args)) => bench_cmd::run(&args),
         Some(Command::Diagram(args)) => diagram_cmd::run(&args),
         // Its own exit status: 1 means "the traces differ", 2 bad input.

@@ -2,6 +2,7 @@
 
 use super::{SettingsArgs, scene_cmd::value_name};
 use crate::accel::SceneAccel;
+use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
 use crate::render::{RenderOptions, image, render};
 use crate::trace::Tracer;
 use std::path::PathBuf;
@@ -22,8 +23,17 @@ pub struct RenderArgs {
     #[arg(long)]
     pub linear: bool,
     /// Also write the BVH node visits per pixel as a colour-mapped PNG with a legend.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "gpu")]
     pub heatmap: Option<PathBuf>,
+    /// Render on the GPU (wgpu, offscreen) with the WGSL tracer generated for the scene.
+    #[arg(long)]
+    pub gpu: bool,
+    /// With --gpu: make primary rays with a full-screen triangle (fragment) or a compute shader.
+    #[arg(long, value_enum, default_value_t = GpuPath::Fragment, requires = "gpu")]
+    pub gpu_path: GpuPath,
+    /// With --gpu: the shader generated for the scene's features, or the one with every feature.
+    #[arg(long, value_enum, default_value_t = ShaderVariant::Generated, requires = "gpu")]
+    pub gpu_shader: ShaderVariant,
     /// Setting overrides.
     #[command(flatten)]
     pub settings: SettingsArgs,
@@ -33,29 +43,14 @@ pub struct RenderArgs {
 pub fn run(args: &RenderArgs) -> Result<(), String> {
     // Check the output paths before spending time on the render.
     for p in std::iter::once(&args.output).chain(args.heatmap.as_ref()) {
-        if p.extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-            != Some("png")
-        {
-            return Err(format!("{}: the output must be a .png file", p.display()));
-        }
-        let dir = p
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(std::path::Path::new("."));
-        if !dir.is_dir() {
-            return Err(format!(
-                "{}: the directory {} does not exist",
-                p.display(),
-                dir.display()
-            ));
-        }
+        super::check_png_path(p)?;
     }
     let t0 = Instant::now();
     let scene = super::load_scene(Some(&args.scene), &args.settings)?;
     let load = t0.elapsed();
+    if args.gpu {
+        return run_gpu(args, &scene, load);
+    }
     let (accel, build) = SceneAccel::build(&scene);
     let tracer = Tracer::new(&scene, &accel);
     let opts = RenderOptions {
@@ -119,5 +114,48 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     if let Some(h) = &args.heatmap {
         println!("wrote {}", h.display());
     }
+    Ok(())
+}
+
+/// Frames timed for `render --gpu` and `compare` (after one warm-up frame); the median is shown.
+pub const GPU_FRAMES: usize = 5;
+
+/// `raystep render --gpu`: offscreen on the GPU, read back, written like the CPU render.
+fn run_gpu(
+    args: &RenderArgs,
+    scene: &crate::scene::Scene,
+    load: std::time::Duration,
+) -> Result<(), String> {
+    let t = Instant::now();
+    let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
+    let mut gpu = GpuTracer::new(ctx, scene, args.gpu_shader).map_err(|e| e.to_string())?;
+    let setup = t.elapsed();
+    let frame_time = gpu
+        .time_frames(args.gpu_path, 1, GPU_FRAMES)
+        .map_err(|e| e.to_string())?;
+    let frame = gpu.render(args.gpu_path).map_err(|e| e.to_string())?;
+    let img = image::to_rgb8(frame.width, frame.height, &frame.pixels, args.linear);
+    image::write_png(&args.output, &img)?;
+    println!(
+        "rendered \"{}\" at {}×{} on the GPU, {} sample{} per pixel",
+        scene.name,
+        frame.width,
+        frame.height,
+        scene.settings.spp,
+        if scene.settings.spp == 1 { "" } else { "s" },
+    );
+    println!("  adapter  {}", gpu.adapter_line(args.gpu_path));
+    println!(
+        "  shader   {} bytes of WGSL ({} for every feature)",
+        gpu.wgsl().len(),
+        crate::gpu::full_wgsl(scene).len()
+    );
+    println!(
+        "  time     load {:.1} ms, set-up (device, BVH, shader) {:.1} ms, frame {:.2} ms (median of {GPU_FRAMES})",
+        load.as_secs_f64() * 1e3,
+        setup.as_secs_f64() * 1e3,
+        frame_time.as_secs_f64() * 1e3
+    );
+    println!("wrote {}", args.output.display());
     Ok(())
 }

@@ -12,7 +12,7 @@ use crate::scene::{OffsetPolicy, Scene, Shape};
 use glam::Vec3;
 
 /// pbrt-v4's `ShadowEpsilon`: shadow rays stop at 1 − 1e-4 of the segment to the light.
-const SHADOW_EPSILON: f32 = 1e-4;
+pub const SHADOW_EPSILON: f32 = 1e-4;
 /// How many levels of the BVH a trace carries for the tree diagram.
 const BVH_OUTLINE_DEPTH: u32 = 6;
 /// Nesting depth of transparent media a ray can be inside (deeper nesting is ignored).

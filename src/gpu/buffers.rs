@@ -1,0 +1,172 @@
+//! The scene flattened into the byte layouts of `wgsl/common.wgsl` (WGSL's uniform and storage
+//! layout rules: a `vec3f` is 16-byte aligned, so each one is followed by a scalar that fills its
+//! fourth slot). Written by hand, little-endian, so no unsafe casting is needed.
+
+use crate::accel::Bvh;
+use crate::scene::{Scene, Shape};
+use crate::trace::camera::CameraRays;
+use glam::Vec3;
+
+/// A little-endian byte writer.
+#[derive(Default)]
+pub(crate) struct Bytes(pub Vec<u8>);
+
+impl Bytes {
+    fn f32(&mut self, v: f32) -> &mut Self {
+        self.0.extend_from_slice(&v.to_le_bytes());
+        self
+    }
+    fn u32(&mut self, v: u32) -> &mut Self {
+        self.0.extend_from_slice(&v.to_le_bytes());
+        self
+    }
+    fn vec3(&mut self, v: Vec3) -> &mut Self {
+        self.f32(v.x).f32(v.y).f32(v.z)
+    }
+    /// At least one element: a storage buffer may not be empty.
+    fn non_empty(mut self, element: usize) -> Vec<u8> {
+        if self.0.is_empty() {
+            self.0.resize(element, 0);
+        }
+        self.0
+    }
+}
+
+/// Size of `Params` in bytes.
+pub(crate) const PARAMS_SIZE: u64 = 128;
+/// Size of `DebugRecord` in bytes.
+pub(crate) const DEBUG_SIZE: u64 = 48;
+
+/// The storage buffers' contents.
+pub(crate) struct SceneData {
+    pub objects: Vec<u8>,
+    pub materials: Vec<u8>,
+    pub lights: Vec<u8>,
+    pub nodes: Vec<u8>,
+    pub leaf_objects: Vec<u8>,
+    pub planes: Vec<u8>,
+    pub n_nodes: u32,
+    pub n_planes: u32,
+}
+
+/// Flattens the scene (and its BVH, when it has one).
+pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
+    let mut objects = Bytes::default();
+    for o in &scene.objects {
+        let (kind, axis, a, b, c) = match o.shape {
+            Shape::Sphere { center, radius } => (
+                0,
+                0,
+                center.extend(radius),
+                glam::Vec4::ZERO,
+                glam::Vec4::ZERO,
+            ),
+            Shape::Plane { normal, offset } => (
+                1,
+                0,
+                normal.extend(offset),
+                glam::Vec4::ZERO,
+                glam::Vec4::ZERO,
+            ),
+            Shape::AxisPlane { axis, offset } => (
+                2,
+                axis as u32,
+                glam::Vec4::new(offset, 0.0, 0.0, 0.0),
+                glam::Vec4::ZERO,
+                glam::Vec4::ZERO,
+            ),
+            Shape::Triangle { p } => (3, 0, p[0].extend(0.0), p[1].extend(0.0), p[2].extend(0.0)),
+        };
+        for v in [a, b, c] {
+            objects.vec3(v.truncate()).f32(v.w);
+        }
+        objects.u32(kind).u32(o.material).u32(axis).u32(0);
+    }
+    let mut materials = Bytes::default();
+    for m in &scene.materials {
+        materials
+            .vec3(m.color)
+            .f32(m.ambient)
+            .f32(m.diffuse)
+            .f32(m.specular)
+            .f32(m.shininess)
+            .f32(m.reflective)
+            .f32(m.transparency)
+            .f32(m.refractive_index)
+            .f32(0.0)
+            .f32(0.0);
+    }
+    let mut lights = Bytes::default();
+    for l in &scene.lights {
+        lights.vec3(l.position).f32(0.0).vec3(l.color).f32(0.0);
+    }
+    let mut nodes = Bytes::default();
+    let mut leaf_objects = Bytes::default();
+    let mut planes = Bytes::default();
+    let (mut n_nodes, mut n_planes) = (0, 0);
+    if let Some(bvh) = bvh {
+        {
+            for n in &bvh.nodes {
+                nodes
+                    .vec3(Vec3::from(n.min))
+                    .u32(n.first)
+                    .vec3(Vec3::from(n.max))
+                    .u32(n.count);
+            }
+            for &id in &bvh.leaf_objects {
+                leaf_objects.u32(id);
+            }
+            for &id in &bvh.planes {
+                planes.u32(id);
+            }
+            n_nodes = bvh.nodes.len() as u32;
+            n_planes = bvh.planes.len() as u32;
+        }
+    }
+    SceneData {
+        objects: objects.non_empty(64),
+        materials: materials.non_empty(48),
+        lights: lights.non_empty(32),
+        nodes: nodes.non_empty(32),
+        leaf_objects: leaf_objects.non_empty(4),
+        planes: planes.non_empty(4),
+        n_nodes,
+        n_planes,
+    }
+}
+
+/// The uniform `Params` for a camera.
+pub(crate) fn params(
+    scene: &Scene,
+    cam: &CameraRays,
+    data: &SceneData,
+    use_bvh: bool,
+    debug_pixel: [u32; 2],
+) -> Vec<u8> {
+    let s = &scene.settings;
+    let mut b = Bytes::default();
+    b.vec3(cam.origin)
+        .f32(cam.half_width)
+        .vec3(cam.u)
+        .f32(cam.half_height)
+        .vec3(cam.v)
+        .f32(s.epsilon)
+        .vec3(cam.w)
+        .u32(s.seed)
+        .vec3(s.background)
+        .u32(s.spp)
+        .u32(cam.width)
+        .u32(cam.height)
+        .u32(s.max_depth)
+        .u32(scene.objects.len() as u32)
+        .u32(scene.lights.len() as u32)
+        .u32(data.n_planes)
+        .u32(use_bvh as u32)
+        .u32(data.n_nodes)
+        .u32(debug_pixel[0])
+        .u32(debug_pixel[1])
+        .f32(f32::INFINITY)
+        .u32(0);
+    debug_assert_eq!(b.0.len() as u64, PARAMS_SIZE);
+    b.0
+}

@@ -1,0 +1,68 @@
+//! The GPU view: the same scene traced on the GPU with wgpu, by a WGSL tracer generated for the
+//! scene, and compared with the CPU render.
+//!
+//! - [`shader`]: the WGSL, assembled from the pieces in `src/gpu/wgsl/` (one per stage of a
+//!   hardware ray-tracing pipeline: ray generation, traversal, intersection, any-hit,
+//!   closest-hit, miss) according to the scene's [`crate::scene::Features`]; [`generated_wgsl`]
+//!   and [`full_wgsl`] return it, [`shader::validate`] checks it with naga without a GPU.
+//! - [`GpuTracer`]: the scene uploaded (objects, materials, lights, the BVH flattened into
+//!   storage buffers), two ways to make primary rays ([`GpuPath::Fragment`]: a full-screen
+//!   triangle whose ray directions the rasterizer interpolates; [`GpuPath::Compute`]: one
+//!   invocation per pixel), frame timing, readback and the [debug pixel](GpuTracer::debug_pixel).
+//! - [`difference`]: CPU against GPU — RMSE, max error, differing pixels, a difference image.
+//!
+//! The tracer is software ray tracing in WGSL on any adapter. Hardware ray queries
+//! (`EXPERIMENTAL_RAY_QUERY`) are detected and reported in [`GpuTracer::adapter_line`] but not
+//! used yet.
+//!
+//! # How the app should use this
+//!
+//! ```ignore
+//! // Once, in the app's constructor (cc: &eframe::CreationContext):
+//! let rs = cc.wgpu_render_state.as_ref().expect("the wgpu backend");
+//! let ctx = GpuContext::from_device(
+//!     rs.device.clone(), rs.queue.clone(), rs.adapter.get_info(), rs.adapter.features());
+//! let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated)?;
+//! // Per frame (or when the scene or camera changed): trace, then show the texture.
+//! gpu.set_camera(&camera)?;                  // optional: another view or size
+//! let time = gpu.trace(GpuPath::Fragment)?;  // blocks until done; or gpu.encode(&mut encoder, path)
+//! let id = rs.renderer.write().register_native_texture(
+//!     &rs.device, gpu.display_view(), eframe::wgpu::FilterMode::Nearest);
+//! // (re-register after set_camera changed the size; otherwise update_egui_texture_from_wgpu_texture)
+//! ui.label(gpu.adapter_line(GpuPath::Fragment));
+//! ui.code(gpu.wgsl());                        // the generated shader
+//! let pick = gpu.debug_pixel(x, y)?;         // hit object, t, u, v, discriminant, BVH nodes
+//! // CPU against GPU: render both and compare the linear images.
+//! let frame = gpu.render(GpuPath::Compute)?;
+//! let diff = difference(frame.width, frame.height, &cpu.pixels, &frame.pixels)?;
+//! ```
+//!
+//! Headless (the command line, the tests): [`GpuContext::headless`] opens its own device; it fails
+//! with [`GpuError::NoAdapter`], whose message says what to install, when wgpu finds no adapter.
+//!
+//! # How GPU and CPU differ
+//!
+//! The WGSL repeats the CPU's f32 arithmetic operation for operation (the stable sphere formula,
+//! the watertight triangle test, the robust slab test, pbrt-v4's ray offsets, the same γₙ
+//! constants), so the two images differ only where the GPU rounds differently:
+//! - `pow` in the Phong specular term: WGSL's `pow` is `exp2(y·log2(x))` at reduced precision
+//!   (a few ulps, more for large exponents), Rust's `powf` is correctly rounded in practice. This
+//!   is the main systematic difference: specular highlights can be an 8-bit step apart.
+//! - The GPU compiler may fuse a·b + c into an FMA and evaluate `dot`, `length` and `cross` in
+//!   its own order: last-bit differences everywhere, visible only where they flip a decision
+//!   (a silhouette pixel, a shadow-ray hit at grazing angles).
+//! - The fragment path's ray direction is interpolated by the rasterizer across the full-screen
+//!   triangle, not computed per pixel: its rounding differs from the CPU's in the last bits.
+//! - The watertight triangle test's fallback for an edge function of exactly 0 uses FMA-based
+//!   exact products instead of f64 (WGSL has no f64): same sign, value within about an ulp.
+//! - With spp > 1, both sides place samples identically (the same PCG hash in WGSL); the fragment
+//!   path offsets them from the interpolated centre direction.
+
+mod buffers;
+pub mod compare;
+pub mod shader;
+mod tracer;
+
+pub use compare::{Difference, difference};
+pub use shader::{ShaderConfig, ShaderVariant, full_wgsl, generated_wgsl};
+pub use tracer::{DISPLAY_FORMAT, GpuContext, GpuError, GpuFrame, GpuPath, GpuTracer, PixelDebug};

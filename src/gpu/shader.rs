@@ -1,0 +1,372 @@
+//! The WGSL generator: the tracer's shader assembled from the pieces in `src/gpu/wgsl/`, keeping
+//! only what the scene needs (DESIGN.md principle 4).
+//!
+//! Each piece is a WGSL file named after the stage of a hardware ray-tracing pipeline it plays
+//! (ray generation, traversal, intersection, any-hit, closest-hit, miss). Whole pieces are left
+//! out when a scene does not need them (no sphere kernel without spheres, no BVH traversal for a
+//! brute-force scene, no media stack without glass), and inside pieces `//#if NAME` … `//#else` …
+//! `//#endif` lines keep or drop smaller blocks (the shadow-ray loop, the reflection and
+//! refraction spawns). The "full" variant switches everything on, the way a single shader for
+//! every scene would be written, and is what the generated one is measured against.
+
+use crate::accel::{Bvh, SceneAccel};
+use crate::math::gamma;
+use crate::scene::{AccelChoice, OffsetPolicy, Scene};
+use crate::shapes::{SphereMethod, TriangleMethod};
+
+/// The deepest BVH the GPU traversal's stack may be sized for (raystep's trees for a million
+/// triangles are about 30 levels deep; [`super::GpuTracer::new`] refuses deeper ones).
+pub const MAX_BVH_STACK: u32 = 64;
+
+/// What goes into a tracer shader.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ShaderConfig {
+    /// Sphere intersection code.
+    pub spheres: bool,
+    /// Plane intersection code (general and axis-aligned).
+    pub planes: bool,
+    /// Triangle intersection code.
+    pub triangles: bool,
+    /// BVH traversal.
+    pub bvh: bool,
+    /// The brute-force loop.
+    pub brute: bool,
+    /// Lights: the shadow-ray loop and Phong.
+    pub shadows: bool,
+    /// Reflection rays.
+    pub reflection: bool,
+    /// Refraction rays, Snell, Schlick and the media stack.
+    pub refraction: bool,
+    /// Every feature on, chosen at run time (lights, accelerator).
+    pub full: bool,
+    /// The scene's ray–sphere method.
+    pub sphere_method: SphereMethod,
+    /// The scene's ray–triangle method.
+    pub triangle_method: TriangleMethod,
+    /// The scene's offset policy for spawned rays.
+    pub offset: OffsetPolicy,
+    /// The recursion limit (sizes the ray stack).
+    pub max_depth: u32,
+    /// Entries of the BVH traversal stack: the tree's depth + 2. Sized per scene because a
+    /// software rasterizer (lavapipe) pays for every entry of a dynamically indexed array.
+    pub bvh_stack: u32,
+}
+
+/// Which shader a [`super::GpuTracer`] runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum ShaderVariant {
+    /// Generated for the scene's features.
+    #[default]
+    Generated,
+    /// Every feature compiled in.
+    Full,
+}
+
+impl ShaderConfig {
+    /// The shader a scene needs (building the scene's BVH, when it uses one, for its depth).
+    pub fn for_scene(scene: &Scene) -> ShaderConfig {
+        let bvh = (SceneAccel::resolve(scene) == AccelChoice::Bvh).then(|| Bvh::build(scene));
+        ShaderConfig::for_scene_with(scene, bvh.as_ref())
+    }
+
+    /// The shader a scene needs, given the BVH already built for it (None: brute force).
+    pub fn for_scene_with(scene: &Scene, tree: Option<&Bvh>) -> ShaderConfig {
+        let f = &scene.features;
+        let bvh = tree.is_some();
+        let s = &scene.settings;
+        ShaderConfig {
+            spheres: f.spheres > 0,
+            planes: f.planes > 0,
+            triangles: f.triangles > 0,
+            bvh,
+            brute: !bvh,
+            shadows: f.lights > 0,
+            reflection: f.reflective,
+            refraction: f.transparent,
+            full: false,
+            sphere_method: s.sphere_method,
+            triangle_method: s.triangle_method,
+            offset: s.offset,
+            max_depth: s.max_depth,
+            bvh_stack: tree.map_or(2, |t| t.max_depth as u32 + 2),
+        }
+    }
+
+    /// Every feature on (the scene's methods and recursion limit are kept: they are settings,
+    /// not features).
+    pub fn full(scene: &Scene) -> ShaderConfig {
+        ShaderConfig::for_scene(scene).all_on()
+    }
+
+    /// This config with every feature switched on.
+    pub fn all_on(self) -> ShaderConfig {
+        ShaderConfig {
+            spheres: true,
+            planes: true,
+            triangles: true,
+            bvh: true,
+            brute: true,
+            shadows: true,
+            reflection: true,
+            refraction: true,
+            full: true,
+            ..self
+        }
+    }
+
+    /// The config of a variant, given the scene's BVH (None: brute force).
+    pub fn variant(scene: &Scene, tree: Option<&Bvh>, variant: ShaderVariant) -> ShaderConfig {
+        let c = ShaderConfig::for_scene_with(scene, tree);
+        match variant {
+            ShaderVariant::Generated => c,
+            ShaderVariant::Full => c.all_on(),
+        }
+    }
+
+    fn flag(&self, name: &str) -> Option<bool> {
+        Some(match name {
+            "SPHERES" => self.spheres,
+            "PLANES" => self.planes,
+            "TRIANGLES" => self.triangles,
+            "BVH" => self.bvh,
+            "BRUTE" => self.brute,
+            "SHADOWS" => self.shadows,
+            "REFLECTION" => self.reflection,
+            "REFRACTION" => self.refraction,
+            "FULL" => self.full,
+            _ => return None,
+        })
+    }
+
+    /// Whether spawned rays exist (and so the offset policy's code).
+    fn spawns(&self) -> bool {
+        self.shadows || self.reflection || self.refraction
+    }
+}
+
+/// The pieces, by file.
+mod pieces {
+    pub const COMMON: &str = include_str!("wgsl/common.wgsl");
+    pub const MEDIA: &str = include_str!("wgsl/media.wgsl");
+    pub const SPHERE_ROOT: &str = include_str!("wgsl/sphere_root.wgsl");
+    pub const SPHERE_STABLE: &str = include_str!("wgsl/sphere_stable.wgsl");
+    pub const SPHERE_TEXTBOOK: &str = include_str!("wgsl/sphere_textbook.wgsl");
+    pub const PLANE: &str = include_str!("wgsl/plane.wgsl");
+    pub const TRIANGLE_MT: &str = include_str!("wgsl/triangle_mt.wgsl");
+    pub const TRIANGLE_WATERTIGHT: &str = include_str!("wgsl/triangle_watertight.wgsl");
+    pub const ANY_HIT: &str = include_str!("wgsl/any_hit.wgsl");
+    pub const TRAVERSAL_BRUTE: &str = include_str!("wgsl/traversal_brute.wgsl");
+    pub const TRAVERSAL_BVH: &str = include_str!("wgsl/traversal_bvh.wgsl");
+    pub const MISS: &str = include_str!("wgsl/miss.wgsl");
+    pub const INTERACTION: &str = include_str!("wgsl/interaction.wgsl");
+    pub const OFFSET_NONE: &str = include_str!("wgsl/offset_none.wgsl");
+    pub const OFFSET_FIXED: &str = include_str!("wgsl/offset_fixed.wgsl");
+    pub const OFFSET_ROBUST: &str = include_str!("wgsl/offset_robust.wgsl");
+    pub const CLOSEST_HIT: &str = include_str!("wgsl/closest_hit.wgsl");
+    pub const RAYGEN: &str = include_str!("wgsl/raygen.wgsl");
+    pub const DISPLAY: &str = include_str!("wgsl/display.wgsl");
+}
+
+/// The small shader that encodes the linear image as sRGB into the app's `Rgba8Unorm` texture.
+pub const DISPLAY_WGSL: &str = pieces::DISPLAY;
+
+/// The tracer shader generated for a scene's features.
+pub fn generated_wgsl(scene: &Scene) -> String {
+    wgsl(&ShaderConfig::for_scene(scene))
+}
+
+/// The tracer shader with every feature compiled in.
+pub fn full_wgsl(scene: &Scene) -> String {
+    wgsl(&ShaderConfig::full(scene))
+}
+
+/// Assembles the shader for `config`.
+pub fn wgsl(config: &ShaderConfig) -> String {
+    let mut out = String::new();
+    let on = |b: bool| if b { "yes" } else { "no" };
+    out += &format!(
+        "// raystep GPU tracer, {} shader.\n// spheres: {}, planes: {}, triangles: {}, accelerator: {}, \
+         shadows: {}, reflection: {}, refraction: {}\n// sphere method: {:?}, triangle method: {:?}, offset: {:?}\n\n",
+        if config.full {
+            "full (every feature)"
+        } else {
+            "generated"
+        },
+        on(config.spheres),
+        on(config.planes),
+        on(config.triangles),
+        match (config.bvh, config.brute) {
+            (true, true) => "BVH or brute force (chosen at run time)",
+            (true, false) => "BVH",
+            _ => "brute force",
+        },
+        on(config.shadows),
+        on(config.reflection),
+        on(config.refraction),
+        config.sphere_method,
+        config.triangle_method,
+        config.offset,
+    );
+    // Constants computed exactly as the CPU computes them, written in Rust's shortest
+    // round-trip form.
+    let constants: [(&str, f32); 6] = [
+        ("GAMMA2", gamma::<f32>(2)),
+        ("GAMMA3", gamma::<f32>(3)),
+        ("GAMMA5", gamma::<f32>(5)),
+        ("GAMMA7", gamma::<f32>(7)),
+        ("BOX_ENLARGE", 1.0 + 2.0 * gamma::<f32>(3)),
+        ("SHADOW_T_MAX", 1.0 - crate::trace::whitted::SHADOW_EPSILON),
+    ];
+    for (name, v) in constants {
+        out += &format!("const {name}: f32 = {v:?};\n");
+    }
+    out += &format!(
+        "const RAY_STACK: u32 = {}u;\nconst BVH_STACK: u32 = {}u;\n\n",
+        config.max_depth + 2,
+        config.bvh_stack.clamp(2, MAX_BVH_STACK)
+    );
+    let mut add = |piece: &str| {
+        out += &preprocess(piece, config);
+        out.push('\n');
+    };
+    add(pieces::COMMON);
+    if config.refraction {
+        add(pieces::MEDIA);
+    }
+    if config.spheres {
+        add(pieces::SPHERE_ROOT);
+        add(match config.sphere_method {
+            SphereMethod::Stable => pieces::SPHERE_STABLE,
+            SphereMethod::Textbook => pieces::SPHERE_TEXTBOOK,
+        });
+    }
+    if config.planes {
+        add(pieces::PLANE);
+    }
+    if config.triangles {
+        add(match config.triangle_method {
+            TriangleMethod::Watertight => pieces::TRIANGLE_WATERTIGHT,
+            TriangleMethod::MollerTrumbore => pieces::TRIANGLE_MT,
+        });
+    }
+    add(&intersection_dispatch(config));
+    add(pieces::ANY_HIT);
+    if config.brute {
+        add(pieces::TRAVERSAL_BRUTE);
+    }
+    if config.bvh {
+        add(pieces::TRAVERSAL_BVH);
+    }
+    add(&traversal_dispatch(config));
+    add(pieces::MISS);
+    add(pieces::INTERACTION);
+    if config.spawns() {
+        add(match config.offset {
+            OffsetPolicy::None => pieces::OFFSET_NONE,
+            OffsetPolicy::Fixed => pieces::OFFSET_FIXED,
+            OffsetPolicy::Robust => pieces::OFFSET_ROBUST,
+        });
+    }
+    add(pieces::CLOSEST_HIT);
+    add(pieces::RAYGEN);
+    out
+}
+
+/// `intersection(id, ray)`: the switch over the primitive kinds the shader has.
+fn intersection_dispatch(c: &ShaderConfig) -> String {
+    let mut s = String::from(
+        "// ---- intersection: the kernel for the object's kind ----\n\n\
+         fn intersection(id: u32, r: Ray) -> Cand {\n    let o = objects[id];\n    switch o.kind {\n",
+    );
+    if c.spheres {
+        s += "        case 0u: { return intersect_sphere(r, o.a.xyz, o.a.w); }\n";
+    }
+    if c.planes {
+        s += "        case 1u: { return intersect_plane(r, o.a.xyz, o.a.w); }\n";
+        s += "        case 2u: { return intersect_axis_plane(r, o.axis, o.a.x); }\n";
+    }
+    if c.triangles {
+        s += "        case 3u: { return intersect_triangle(r, o.a.xyz, o.b.xyz, o.c.xyz); }\n";
+    }
+    s += "        default: { return no_cand(0.0); }\n    }\n}\n";
+    s
+}
+
+/// `traversal_closest` / `traversal_any`: the accelerator the shader has (both, chosen by a
+/// uniform, in the full shader).
+fn traversal_dispatch(c: &ShaderConfig) -> String {
+    let pick = |kind: &str| match (c.bvh, c.brute) {
+        (true, true) => format!(
+            "    if params.use_bvh != 0u {{\n        return bvh_{kind}(r);\n    }}\n    return brute_{kind}(r);\n"
+        ),
+        (true, false) => format!("    return bvh_{kind}(r);\n"),
+        _ => format!("    return brute_{kind}(r);\n"),
+    };
+    let mut s = String::from(
+        "// ---- traversal: finding the closest hit (and any hit, for shadows) ----\n\n",
+    );
+    s += "fn traversal_closest(r: Ray) -> Hit {\n";
+    s += &pick("closest");
+    s += "}\n";
+    if c.shadows {
+        s += "\nfn traversal_any(r: Ray) -> bool {\n";
+        s += &pick("any");
+        s += "}\n";
+    }
+    s
+}
+
+/// Keeps or drops the `//#if NAME` / `//#else` / `//#endif` blocks of a piece.
+fn preprocess(src: &str, config: &ShaderConfig) -> String {
+    // Each open block: (its condition held, the enclosing blocks all active).
+    let mut stack: Vec<(bool, bool)> = vec![];
+    let mut out = String::with_capacity(src.len());
+    let active = |stack: &[(bool, bool)]| stack.last().is_none_or(|&(c, outer)| c && outer);
+    for line in src.lines() {
+        let t = line.trim();
+        if let Some(name) = t.strip_prefix("//#if ") {
+            let cond = config
+                .flag(name.trim())
+                .unwrap_or_else(|| panic!("unknown shader flag {name} in a WGSL piece"));
+            let outer = active(&stack);
+            stack.push((cond, outer));
+        } else if t == "//#else" {
+            if let Some(top) = stack.last_mut() {
+                top.0 = !top.0;
+            }
+        } else if t == "//#endif" {
+            stack.pop();
+        } else if active(&stack) {
+            out += line;
+            out.push('\n');
+        }
+    }
+    out
+}
+
+/// Parses and validates WGSL with naga (the compiler wgpu itself uses), without any adapter.
+pub fn validate(wgsl: &str) -> Result<(), String> {
+    use eframe::wgpu::naga;
+    let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| e.emit_to_string(wgsl))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::default(),
+    )
+    .validate(&module)
+    .map_err(|e| e.emit_to_string(wgsl))?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn preprocessor_nests() {
+        let mut c = ShaderConfig::for_scene(&crate::scene::default_scene());
+        c.refraction = false;
+        c.reflection = true;
+        let src = "a\n//#if REFLECTION\nb\n//#if REFRACTION\nc\n//#else\nd\n//#endif\n//#else\ne\n//#endif\nf\n";
+        assert_eq!(preprocess(src, &c), "a\nb\nd\nf\n");
+    }
+}

@@ -1,0 +1,921 @@
+//! The wgpu side: the device, the pipelines, the two render paths, readback and the debug pixel.
+
+use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
+use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
+use crate::accel::{Bvh, SceneAccel};
+use crate::scene::{AccelChoice, Camera, Scene, Shape};
+use crate::trace::camera::CameraRays;
+use eframe::wgpu;
+use glam::Vec3;
+use std::time::{Duration, Instant};
+
+/// What went wrong on the GPU side. Every variant is a plain message for the user.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum GpuError {
+    /// wgpu found no adapter at all.
+    #[error(
+        "no GPU adapter: wgpu found no Vulkan, Metal, DX12 or GL device ({0}). On Linux without a \
+         GPU, install Mesa's software Vulkan driver lavapipe (Debian/Ubuntu package \
+         mesa-vulkan-drivers)"
+    )]
+    NoAdapter(String),
+    /// The device could not be created, or reported an error.
+    #[error("GPU device error: {0}")]
+    Device(String),
+    /// The generated shader was rejected (a bug in raystep: please report it).
+    #[error("the generated WGSL was rejected: {0}")]
+    Shader(String),
+    /// The scene cannot be traced on the GPU.
+    #[error("{0}")]
+    Scene(String),
+}
+
+/// How primary rays are made on the GPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum GpuPath {
+    /// A full-screen triangle: the rasterizer interpolates the ray direction per pixel and the
+    /// fragment shader traces it (the seeds' approach).
+    #[default]
+    Fragment,
+    /// A compute shader, one invocation per pixel, the ray computed as on the CPU.
+    Compute,
+}
+
+impl GpuPath {
+    /// The name, as the command line spells it.
+    pub fn name(self) -> &'static str {
+        match self {
+            GpuPath::Fragment => "fragment",
+            GpuPath::Compute => "compute",
+        }
+    }
+}
+
+/// A device to trace on: raystep's own (headless) or the app's (eframe's).
+#[derive(Debug, Clone)]
+pub struct GpuContext {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter's name, backend and type.
+    pub info: wgpu::AdapterInfo,
+    /// Whether the adapter offers hardware ray queries (`EXPERIMENTAL_RAY_QUERY`). raystep's
+    /// tracer is the software (WGSL) one either way; this is reported in the adapter line.
+    pub ray_query: bool,
+}
+
+impl GpuContext {
+    /// Creates an instance, picks the default adapter and opens a device on it, with no window.
+    pub fn headless() -> Result<GpuContext, GpuError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("raystep gpu"),
+            required_features: wgpu::Features::empty(),
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+        Ok(GpuContext::from_device(
+            device,
+            queue,
+            adapter.get_info(),
+            adapter.features(),
+        ))
+    }
+
+    /// Wraps a device someone else created — the app's: with eframe's
+    /// `egui_wgpu::RenderState` `rs`, `GpuContext::from_device(rs.device.clone(),
+    /// rs.queue.clone(), rs.adapter.get_info(), rs.adapter.features())`.
+    pub fn from_device(
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        info: wgpu::AdapterInfo,
+        adapter_features: wgpu::Features,
+    ) -> GpuContext {
+        GpuContext {
+            device,
+            queue,
+            info,
+            ray_query: adapter_features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY),
+        }
+    }
+
+    /// "llvmpipe (LLVM 15.0.6, 256 bits), Vulkan, CPU": the adapter, its backend and type.
+    pub fn adapter_name(&self) -> String {
+        let kind = match self.info.device_type {
+            wgpu::DeviceType::Cpu => "CPU (software rasterizer)",
+            wgpu::DeviceType::IntegratedGpu => "integrated GPU",
+            wgpu::DeviceType::DiscreteGpu => "discrete GPU",
+            wgpu::DeviceType::VirtualGpu => "virtual GPU",
+            wgpu::DeviceType::Other => "other",
+        };
+        format!("{}, {:?}, {kind}", self.info.name, self.info.backend)
+    }
+
+    /// Runs `f` inside a validation and an out-of-memory error scope; a captured error becomes
+    /// a [`GpuError`] instead of wgpu's default panic.
+    fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        let v = pollster::block_on(validation.pop());
+        let o = pollster::block_on(oom.pop());
+        match v.or(o) {
+            Some(e) => Err(GpuError::Device(format!("{what}: {e}"))),
+            None => Ok(value),
+        }
+    }
+
+    fn wait(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
+            .map(|_| ())
+            .map_err(|e| GpuError::Device(e.to_string()))
+    }
+}
+
+/// One GPU frame read back: linear RGB, like [`crate::render::RenderOutput::pixels`].
+#[derive(Debug, Clone)]
+pub struct GpuFrame {
+    /// Width.
+    pub width: u32,
+    /// Height.
+    pub height: u32,
+    /// Linear RGB, row-major from the top-left.
+    pub pixels: Vec<Vec3>,
+    /// The trace pass alone, from submit to completion.
+    pub time: Duration,
+    /// Which path made it.
+    pub path: GpuPath,
+}
+
+/// The selected pixel traced on the GPU (the debug-pixel storage buffer, read back): what its
+/// primary ray (first sample) hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PixelDebug {
+    /// The pixel.
+    pub pixel: [u32; 2],
+    /// The object the primary ray hit (its id in the scene), if any.
+    pub object: Option<u32>,
+    /// Distance along the primary ray (0 on a miss).
+    pub t: f32,
+    /// Triangle barycentric u (weight of P1); 0 for other shapes.
+    pub u: f32,
+    /// Triangle barycentric v (weight of P2); 0 for other shapes.
+    pub v: f32,
+    /// The sphere test's discriminant (b² − 4ac, or 4a·Δ′ for the stable method) when the hit
+    /// object is a sphere.
+    pub discriminant: Option<f32>,
+    /// The hit test's key quantity whatever the shape: the sphere's discriminant, the triangle's
+    /// determinant, the plane's denominator Q·n.
+    pub aux: f32,
+    /// BVH nodes whose boxes the primary ray tested (0 for brute force).
+    pub nodes_visited: u32,
+    /// The pixel's linear colour (all samples).
+    pub color: Vec3,
+}
+
+/// The per-size resources: the linear image, the display texture, their bind groups.
+struct Target {
+    width: u32,
+    height: u32,
+    linear: wgpu::Texture,
+    linear_view: wgpu::TextureView,
+    display: wgpu::Texture,
+    display_view: wgpu::TextureView,
+    output_group: wgpu::BindGroup,
+    display_group: wgpu::BindGroup,
+}
+
+/// The GPU tracer of one scene. See the [module documentation](super) for how the app uses it.
+pub struct GpuTracer {
+    ctx: GpuContext,
+    scene: Scene,
+    data: SceneData,
+    use_bvh: bool,
+    variant: ShaderVariant,
+    wgsl: String,
+    camera: Camera,
+    debug_pixel: [u32; 2],
+    params: wgpu::Buffer,
+    scene_group: wgpu::BindGroup,
+    output_layout: wgpu::BindGroupLayout,
+    display_layout: wgpu::BindGroupLayout,
+    debug: wgpu::Buffer,
+    debug_readback: wgpu::Buffer,
+    fragment: wgpu::RenderPipeline,
+    compute: wgpu::ComputePipeline,
+    debug_pipeline: wgpu::ComputePipeline,
+    display_pipeline: wgpu::RenderPipeline,
+    target: Target,
+}
+
+const LINEAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// The format of [`GpuTracer::display_view`].
+pub const DISPLAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
+impl GpuTracer {
+    /// Uploads `scene` (building its BVH when the CPU would use one), generates and compiles its
+    /// shader (`variant`), and prepares both paths at the scene camera's size.
+    pub fn new(ctx: GpuContext, scene: &Scene, variant: ShaderVariant) -> Result<Self, GpuError> {
+        let use_bvh = SceneAccel::resolve(scene) == AccelChoice::Bvh;
+        let bvh = use_bvh.then(|| Bvh::build(scene));
+        if let Some(b) = &bvh
+            && b.max_depth + 2 > MAX_BVH_STACK as usize
+        {
+            return Err(GpuError::Scene(format!(
+                "the scene's BVH is {} levels deep; the GPU traversal's stack holds {MAX_BVH_STACK}",
+                b.max_depth
+            )));
+        }
+        let data = buffers::scene_data(scene, bvh.as_ref());
+        let config = ShaderConfig::variant(scene, bvh.as_ref(), variant);
+        let wgsl = shader::wgsl(&config);
+        shader::validate(&wgsl).map_err(GpuError::Shader)?;
+        let device = ctx.device.clone();
+        let built = ctx.checked("creating the GPU tracer", || {
+            Self::build(
+                &device,
+                &data,
+                &wgsl,
+                scene.camera.width,
+                scene.camera.height,
+            )
+        })?;
+        let (
+            params,
+            scene_group,
+            output_layout,
+            display_layout,
+            pipelines,
+            debug,
+            debug_readback,
+            target,
+        ) = built;
+        let (fragment, compute, debug_pipeline, display_pipeline) = pipelines;
+        let mut tracer = GpuTracer {
+            ctx,
+            scene: scene.clone(),
+            data,
+            use_bvh,
+            variant,
+            wgsl,
+            camera: scene.camera.clone(),
+            debug_pixel: [0, 0],
+            params,
+            scene_group,
+            output_layout,
+            display_layout,
+            debug,
+            debug_readback,
+            fragment,
+            compute,
+            debug_pipeline,
+            display_pipeline,
+            target,
+        };
+        tracer.write_params();
+        Ok(tracer)
+    }
+
+    #[allow(clippy::type_complexity)]
+    fn build(
+        device: &wgpu::Device,
+        data: &SceneData,
+        wgsl: &str,
+        width: u32,
+        height: u32,
+    ) -> (
+        wgpu::Buffer,
+        wgpu::BindGroup,
+        wgpu::BindGroupLayout,
+        wgpu::BindGroupLayout,
+        (
+            wgpu::RenderPipeline,
+            wgpu::ComputePipeline,
+            wgpu::ComputePipeline,
+            wgpu::RenderPipeline,
+        ),
+        wgpu::Buffer,
+        wgpu::Buffer,
+        Target,
+    ) {
+        use wgpu::util::DeviceExt;
+        let storage = |label: &str, bytes: &[u8]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytes,
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+        };
+        let params = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("raystep params"),
+            size: PARAMS_SIZE,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let scene_buffers = [
+            storage("objects", &data.objects),
+            storage("materials", &data.materials),
+            storage("lights", &data.lights),
+            storage("nodes", &data.nodes),
+            storage("leaf objects", &data.leaf_objects),
+            storage("planes", &data.planes),
+        ];
+        let both = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let mut entries = vec![wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: both | wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Uniform,
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        }];
+        for b in 1..=6 {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: b,
+                visibility: both,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            });
+        }
+        let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("raystep scene"),
+            entries: &entries,
+        });
+        let mut group_entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: params.as_entire_binding(),
+        }];
+        for (k, b) in scene_buffers.iter().enumerate() {
+            group_entries.push(wgpu::BindGroupEntry {
+                binding: k as u32 + 1,
+                resource: b.as_entire_binding(),
+            });
+        }
+        let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("raystep scene"),
+            layout: &scene_layout,
+            entries: &group_entries,
+        });
+        let output_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("raystep output"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: LINEAR_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let display_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("raystep display"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            }],
+        });
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("raystep tracer"),
+            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+        });
+        let display_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("raystep display"),
+            source: wgpu::ShaderSource::Wgsl(shader::DISPLAY_WGSL.into()),
+        });
+        let layout = |label: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(label),
+                bind_group_layouts: groups,
+                immediate_size: 0,
+            })
+        };
+        let fragment_layout = layout("raystep fragment", &[Some(&scene_layout)]);
+        let compute_layout = layout(
+            "raystep compute",
+            &[Some(&scene_layout), Some(&output_layout)],
+        );
+        let display_pipeline_layout = layout("raystep display", &[Some(&display_layout)]);
+        let render_pipeline = |label: &str,
+                               layout: &wgpu::PipelineLayout,
+                               module: &wgpu::ShaderModule,
+                               format: wgpu::TextureFormat| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(layout),
+                vertex: wgpu::VertexState {
+                    module,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: None,
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let compute_pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&compute_layout),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipelines = (
+            render_pipeline("raystep fragment", &fragment_layout, &module, LINEAR_FORMAT),
+            compute_pipeline("cs_main"),
+            compute_pipeline("debug_main"),
+            render_pipeline(
+                "raystep display",
+                &display_pipeline_layout,
+                &display_module,
+                DISPLAY_FORMAT,
+            ),
+        );
+        let debug = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("raystep debug pixel"),
+            size: DEBUG_SIZE,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let debug_readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("raystep debug readback"),
+            size: DEBUG_SIZE,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let target = Self::make_target(
+            device,
+            &output_layout,
+            &display_layout,
+            &debug,
+            width,
+            height,
+        );
+        (
+            params,
+            scene_group,
+            output_layout,
+            display_layout,
+            pipelines,
+            debug,
+            debug_readback,
+            target,
+        )
+    }
+
+    fn make_target(
+        device: &wgpu::Device,
+        output_layout: &wgpu::BindGroupLayout,
+        display_layout: &wgpu::BindGroupLayout,
+        debug: &wgpu::Buffer,
+        width: u32,
+        height: u32,
+    ) -> Target {
+        let texture = |label: &str, format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width,
+                    height,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        use wgpu::TextureUsages as U;
+        let linear = texture(
+            "raystep linear image",
+            LINEAR_FORMAT,
+            U::RENDER_ATTACHMENT | U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        let display = texture(
+            "raystep display image",
+            DISPLAY_FORMAT,
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        let linear_view = linear.create_view(&Default::default());
+        let display_view = display.create_view(&Default::default());
+        let output_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("raystep output"),
+            layout: output_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&linear_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: debug.as_entire_binding(),
+                },
+            ],
+        });
+        let display_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("raystep display"),
+            layout: display_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&linear_view),
+            }],
+        });
+        Target {
+            width,
+            height,
+            linear,
+            linear_view,
+            display,
+            display_view,
+            output_group,
+            display_group,
+        }
+    }
+
+    fn write_params(&mut self) {
+        let cam = CameraRays::new(&self.camera);
+        let bytes = buffers::params(
+            &self.scene,
+            &cam,
+            &self.data,
+            self.use_bvh,
+            self.debug_pixel,
+        );
+        self.ctx.queue.write_buffer(&self.params, 0, &bytes);
+    }
+
+    /// The generated (or full) WGSL this tracer runs, for the app to show.
+    pub fn wgsl(&self) -> &str {
+        &self.wgsl
+    }
+
+    /// Which shader variant this tracer runs.
+    pub fn variant(&self) -> ShaderVariant {
+        self.variant
+    }
+
+    /// The device this tracer runs on.
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    /// The camera frames are traced with.
+    pub fn camera(&self) -> &Camera {
+        &self.camera
+    }
+
+    /// Traces later frames with `camera` (its width and height set the image size; the textures
+    /// are re-created when the size changes, so re-register [`Self::display_view`] then).
+    /// The camera must be valid (as the scene loader checks: `from` ≠ `at`, `up` not along the
+    /// view direction, size at least 1×1).
+    pub fn set_camera(&mut self, camera: &Camera) -> Result<(), GpuError> {
+        if camera.width == 0 || camera.height == 0 {
+            return Err(GpuError::Scene(
+                "the image size must be at least 1×1".into(),
+            ));
+        }
+        self.camera = camera.clone();
+        if (camera.width, camera.height) != (self.target.width, self.target.height) {
+            let device = self.ctx.device.clone();
+            let target = self.ctx.checked("resizing the GPU image", || {
+                Self::make_target(
+                    &device,
+                    &self.output_layout,
+                    &self.display_layout,
+                    &self.debug,
+                    camera.width,
+                    camera.height,
+                )
+            })?;
+            self.target = target;
+        }
+        self.write_params();
+        Ok(())
+    }
+
+    /// The line the GPU view shows: the adapter, its backend, and which path runs.
+    pub fn adapter_line(&self, path: GpuPath) -> String {
+        format!(
+            "{} — software ray tracing in WGSL ({} path, {} shader); hardware ray queries: {}",
+            self.ctx.adapter_name(),
+            path.name(),
+            match self.variant {
+                ShaderVariant::Generated => "generated",
+                ShaderVariant::Full => "full",
+            },
+            if self.ctx.ray_query {
+                "offered by the adapter, not used by raystep yet"
+            } else {
+                "not offered by this adapter"
+            }
+        )
+    }
+
+    /// Records one frame into `encoder`: the trace pass by `path` into the linear image, then
+    /// the sRGB encoding into [`Self::display_view`]. For the app: record into its own encoder
+    /// (e.g. in an egui_wgpu callback's `prepare`) and nothing here blocks.
+    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, path: GpuPath) {
+        self.encode_trace(encoder, path);
+        self.encode_display(encoder);
+    }
+
+    fn encode_trace(&self, encoder: &mut wgpu::CommandEncoder, path: GpuPath) {
+        let t = &self.target;
+        match path {
+            GpuPath::Fragment => {
+                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                    label: Some("raystep trace (fragment)"),
+                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                        view: &t.linear_view,
+                        depth_slice: None,
+                        resolve_target: None,
+                        ops: wgpu::Operations {
+                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                            store: wgpu::StoreOp::Store,
+                        },
+                    })],
+                    ..Default::default()
+                });
+                pass.set_pipeline(&self.fragment);
+                pass.set_bind_group(0, &self.scene_group, &[]);
+                pass.draw(0..3, 0..1);
+            }
+            GpuPath::Compute => {
+                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some("raystep trace (compute)"),
+                    timestamp_writes: None,
+                });
+                pass.set_pipeline(&self.compute);
+                pass.set_bind_group(0, &self.scene_group, &[]);
+                pass.set_bind_group(1, &t.output_group, &[]);
+                pass.dispatch_workgroups(t.width.div_ceil(8), t.height.div_ceil(8), 1);
+            }
+        }
+    }
+
+    fn encode_display(&self, encoder: &mut wgpu::CommandEncoder) {
+        let t = &self.target;
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("raystep display"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &t.display_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..Default::default()
+        });
+        pass.set_pipeline(&self.display_pipeline);
+        pass.set_bind_group(0, &t.display_group, &[]);
+        pass.draw(0..3, 0..1);
+    }
+
+    /// The sRGB-encoded image of the last frame, `Rgba8Unorm`: register it with
+    /// `egui_wgpu::Renderer::register_native_texture(device, view, FilterMode::Nearest)`.
+    pub fn display_view(&self) -> &wgpu::TextureView {
+        &self.target.display_view
+    }
+
+    /// The display texture itself (`Rgba8Unorm`, `TEXTURE_BINDING | COPY_SRC`).
+    pub fn display_texture(&self) -> &wgpu::Texture {
+        &self.target.display
+    }
+
+    /// Traces one frame and waits for it: returns the trace pass's time from submit to
+    /// completion. The display texture is updated too (untimed).
+    pub fn trace(&mut self, path: GpuPath) -> Result<Duration, GpuError> {
+        let device = self.ctx.device.clone();
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.encode_trace(&mut encoder, path);
+        let commands = encoder.finish();
+        let time = self.ctx.checked("tracing a frame", || {
+            let start = Instant::now();
+            self.ctx.queue.submit([commands]);
+            let waited = self.ctx.wait();
+            (start.elapsed(), waited)
+        })?;
+        time.1?;
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.encode_display(&mut encoder);
+        self.ctx.checked("encoding the display image", || {
+            self.ctx.queue.submit([encoder.finish()]);
+        })?;
+        Ok(time.0)
+    }
+
+    /// The median frame time of `frames` frames after `warmup` untimed ones.
+    pub fn time_frames(
+        &mut self,
+        path: GpuPath,
+        warmup: usize,
+        frames: usize,
+    ) -> Result<Duration, GpuError> {
+        for _ in 0..warmup {
+            self.trace(path)?;
+        }
+        let mut times = vec![];
+        for _ in 0..frames.max(1) {
+            times.push(self.trace(path)?);
+        }
+        times.sort();
+        Ok(times[times.len() / 2])
+    }
+
+    /// Traces one frame by `path` and reads the linear image back.
+    pub fn render(&mut self, path: GpuPath) -> Result<GpuFrame, GpuError> {
+        let time = self.trace(path)?;
+        let pixels = self.read_linear()?;
+        Ok(GpuFrame {
+            width: self.target.width,
+            height: self.target.height,
+            pixels,
+            time,
+            path,
+        })
+    }
+
+    /// Copies `bytes` bytes from a GPU copy source into a mappable buffer and returns them.
+    fn read_back(
+        &self,
+        size: u64,
+        copy: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Buffer),
+    ) -> Result<Vec<u8>, GpuError> {
+        let device = &self.ctx.device;
+        let buffer = self.ctx.checked("reading the image back", || {
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("raystep readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = device.create_command_encoder(&Default::default());
+            copy(&mut encoder, &buffer);
+            self.ctx.queue.submit([encoder.finish()]);
+            buffer
+        })?;
+        self.map(&buffer)
+    }
+
+    fn map(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        let slice = buffer.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.ctx.wait()?;
+        rx.recv()
+            .map_err(|e| GpuError::Device(e.to_string()))?
+            .map_err(|e| GpuError::Device(format!("mapping the readback buffer: {e}")))?;
+        let bytes = slice
+            .get_mapped_range()
+            .map_err(|e| GpuError::Device(format!("reading the readback buffer: {e:?}")))?
+            .to_vec();
+        buffer.unmap();
+        Ok(bytes)
+    }
+
+    fn read_linear(&self) -> Result<Vec<Vec3>, GpuError> {
+        let (w, h) = (self.target.width, self.target.height);
+        let row = (w * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.target.linear,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        })?;
+        let f = |i: usize| f32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+        let mut pixels = Vec::with_capacity((w * h) as usize);
+        for y in 0..h as usize {
+            for x in 0..w as usize {
+                let i = y * row as usize + x * 16;
+                pixels.push(Vec3::new(f(i), f(i + 4), f(i + 8)));
+            }
+        }
+        Ok(pixels)
+    }
+
+    /// Traces pixel (x, y) alone on the GPU (compute, the CPU's exact primary ray) into the
+    /// debug storage buffer and reads it back.
+    pub fn debug_pixel(&mut self, x: u32, y: u32) -> Result<PixelDebug, GpuError> {
+        if x >= self.target.width || y >= self.target.height {
+            return Err(GpuError::Scene(format!(
+                "pixel ({x}, {y}) is outside the {}×{} image",
+                self.target.width, self.target.height
+            )));
+        }
+        self.debug_pixel = [x, y];
+        self.write_params();
+        let device = self.ctx.device.clone();
+        self.ctx.checked("tracing the debug pixel", || {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&self.debug_pipeline);
+                pass.set_bind_group(0, &self.scene_group, &[]);
+                pass.set_bind_group(1, &self.target.output_group, &[]);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+            encoder.copy_buffer_to_buffer(&self.debug, 0, &self.debug_readback, 0, DEBUG_SIZE);
+            self.ctx.queue.submit([encoder.finish()]);
+        })?;
+        let b = self.map(&self.debug_readback)?;
+        let u = |i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        let f = |i: usize| f32::from_bits(u(i));
+        let object = (u(0) != u32::MAX).then_some(u(0));
+        let is_sphere = object.is_some_and(|id| {
+            matches!(
+                self.scene.objects.get(id as usize).map(|o| o.shape),
+                Some(Shape::Sphere { .. })
+            )
+        });
+        Ok(PixelDebug {
+            pixel: [x, y],
+            object,
+            t: f(8),
+            u: f(12),
+            v: f(16),
+            discriminant: is_sphere.then_some(f(20)),
+            aux: f(20),
+            nodes_visited: u(4),
+            color: Vec3::new(f(32), f(36), f(40)),
+        })
+    }
+}

@@ -1,0 +1,5 @@
+// ---- miss: the ray hit nothing ----
+
+fn miss() -> vec3f {
+    return params.background;
+}

@@ -1,0 +1,4 @@
+// No offset: spawned rays start exactly at the hit point (shows shadow acne).
+fn spawn_origin(it: Interaction, w: vec3f) -> vec3f {
+    return it.point;
+}

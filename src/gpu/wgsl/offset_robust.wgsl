@@ -1,0 +1,30 @@
+// pbrt-v4 OffsetRayOrigin: move |n|·error along n to the side w leaves on, then one float further.
+fn next_up(x: f32) -> f32 {
+    if is_nan(x) || (!finite(x) && x > 0.0) {
+        return x;
+    }
+    if x == 0.0 {
+        return bitcast<f32>(1u);
+    }
+    let b = bitcast<u32>(x);
+    return bitcast<f32>(select(b - 1u, b + 1u, x > 0.0));
+}
+
+fn next_down(x: f32) -> f32 {
+    return -next_up(-x);
+}
+
+fn spawn_origin(it: Interaction, w: vec3f) -> vec3f {
+    let side = select(-1.0, 1.0, dot(w, it.normal) >= 0.0);
+    let n = it.normal * side;
+    let d = dot(abs(n), it.error);
+    var o = it.point + n * d;
+    for (var i = 0u; i < 3u; i++) {
+        if n[i] > 0.0 {
+            o[i] = next_up(o[i]);
+        } else if n[i] < 0.0 {
+            o[i] = next_down(o[i]);
+        }
+    }
+    return o;
+}

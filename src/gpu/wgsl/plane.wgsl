@@ -1,0 +1,21 @@
+// ---- intersection: ray–plane, general X·n = c and axis-aligned X_axis = c (src/shapes/plane.rs) ----
+
+fn plane_root(r: Ray, numerator: f32, denominator: f32) -> Cand {
+    // Either sign of zero: parallel, a miss (NUMERICS.md S9). An overflowing t fails `accepts`.
+    if denominator == 0.0 {
+        return no_cand(denominator);
+    }
+    let t = numerator / denominator;
+    if accepts(r, t) {
+        return Cand(true, t, 0.0, 0.0, denominator);
+    }
+    return no_cand(denominator);
+}
+
+fn intersect_plane(r: Ray, normal: vec3f, offset: f32) -> Cand {
+    return plane_root(r, offset - dot(r.origin, normal), dot(r.dir, normal));
+}
+
+fn intersect_axis_plane(r: Ray, axis: u32, offset: f32) -> Cand {
+    return plane_root(r, offset - r.origin[axis], r.dir[axis]);
+}

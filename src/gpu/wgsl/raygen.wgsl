@@ -1,0 +1,188 @@
+// ---- ray generation: the camera's primary rays, the ray stack, and the shader entry points ----
+
+// One ray still to trace: its colour is added to the pixel multiplied by `weight`.
+struct Task {
+    ray: Ray,
+    depth: u32,
+    weight: f32,
+//#if REFRACTION
+    media: Media,
+//#endif
+}
+
+// The recursion of the CPU's Whitted tracer, made iterative: each hit pushes at most one
+// reflection and one refraction ray, and depth-first order needs at most max_depth + 1 entries.
+var<private> ray_stack: array<Task, RAY_STACK>;
+var<private> ray_sp: u32;
+
+//#if REFRACTION
+fn push_ray(r: Ray, depth: u32, weight: f32, media: Media) {
+    if ray_sp < RAY_STACK {
+        ray_stack[ray_sp] = Task(r, depth, weight, media);
+        ray_sp += 1u;
+    }
+}
+//#else
+fn push_ray(r: Ray, depth: u32, weight: f32) {
+    if ray_sp < RAY_STACK {
+        ray_stack[ray_sp] = Task(r, depth, weight);
+        ray_sp += 1u;
+    }
+}
+//#endif
+
+// What the debug pixel keeps of the primary ray (the first sample).
+struct DebugRecord {
+    object: u32,
+    nodes: u32,
+    t: f32,
+    u: f32,
+    v: f32,
+    discriminant: f32,
+    pad0: u32,
+    pad1: u32,
+    color: vec4f,
+}
+var<private> debug_record: DebugRecord;
+
+// The PCG hash (Jarzynski & Olano 2020), as src/trace/sampling.rs.
+fn pcg_hash(input: u32) -> u32 {
+    let state = input * 747796405u + 2891336453u;
+    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+fn unit_float(h: u32) -> f32 {
+    return f32(h >> 8u) * (1.0 / 16777216.0);
+}
+
+// Where sample `k` lies inside pixel `p`, in [0, 1)² (src/trace/sampling.rs `sample_offset`).
+fn sample_offset(p: vec2u, k: u32) -> vec2f {
+    let spp = params.spp;
+    if spp <= 1u {
+        return vec2f(0.5, 0.5);
+    }
+    let cols = u32(ceil(sqrt(f32(spp))));
+    let rows = (spp + cols - 1u) / cols;
+    let cx = k % cols;
+    let cy = k / cols;
+    let h1 = pcg_hash(p.x ^ pcg_hash(p.y ^ pcg_hash(k ^ pcg_hash(params.seed))));
+    let h2 = pcg_hash(h1);
+    return vec2f((f32(cx) + unit_float(h1)) / f32(cols), (f32(cy) + unit_float(h2)) / f32(rows));
+}
+
+// The camera (src/trace/camera.rs): sx·half_width·u + sy·half_height·v − w, not yet normalized.
+fn camera_dir(sx: f32, sy: f32) -> vec3f {
+    return params.u * (sx * params.half_width) + params.v * (sy * params.half_height) - params.w;
+}
+
+// The primary ray of sample `k` of pixel `p`. `centre` is the rasterizer's interpolated direction
+// through the pixel centre (fragment path); `exact` recomputes it per pixel as the CPU does
+// (compute path, debug pixel).
+fn ray_generation(p: vec2u, k: u32, centre: vec3f, exact: bool) -> Ray {
+    let o = sample_offset(p, k);
+    var d: vec3f;
+    if exact {
+        let sx = 2.0 * (f32(p.x) + o.x) / f32(params.width) - 1.0;
+        let sy = 1.0 - 2.0 * (f32(p.y) + o.y) / f32(params.height);
+        d = camera_dir(sx, sy);
+    } else {
+        // Off-centre samples move along the image plane from the interpolated centre direction.
+        let dx = 2.0 * (o.x - 0.5) / f32(params.width);
+        let dy = -2.0 * (o.y - 0.5) / f32(params.height);
+        d = centre + params.u * (dx * params.half_width) + params.v * (dy * params.half_height);
+    }
+    return Ray(params.origin, unit(d), 0.0, params.inf);
+}
+
+// Traces one primary ray and everything it spawns; returns the sample's linear colour.
+fn trace(primary: Ray, capture: bool) -> vec3f {
+    var color = vec3f(0.0);
+    ray_sp = 0u;
+//#if REFRACTION
+    var air: Media;
+    air.len = 0u;
+    push_ray(primary, 0u, 1.0, air);
+//#else
+    push_ray(primary, 0u, 1.0);
+//#endif
+    var first = capture;
+    while ray_sp > 0u {
+        ray_sp -= 1u;
+        let task = ray_stack[ray_sp];
+        node_visits = 0u;
+        let hit = traversal_closest(task.ray);
+        if first {
+            first = false;
+            debug_record.object = hit.object;
+            debug_record.nodes = node_visits;
+            debug_record.t = hit.t;
+            debug_record.u = hit.u;
+            debug_record.v = hit.v;
+            debug_record.discriminant = hit.aux;
+        }
+        if hit.object == NO_OBJECT {
+            color += task.weight * miss();
+        } else {
+            color += task.weight * closest_hit(hit, task);
+        }
+    }
+    return color;
+}
+
+// The pixel's colour: the mean of its samples.
+fn render_pixel(p: vec2u, centre: vec3f, exact: bool, capture: bool) -> vec3f {
+    var sum = vec3f(0.0);
+    for (var k = 0u; k < max(params.spp, 1u); k++) {
+        sum += trace(ray_generation(p, k, centre, exact), capture && k == 0u);
+    }
+    return sum / f32(max(params.spp, 1u));
+}
+
+// ---- fragment path: a full-screen triangle; the rasterizer interpolates the ray direction ----
+
+struct VertexOut {
+    @builtin(position) position: vec4f,
+    @location(0) dir: vec3f,
+}
+
+@vertex
+fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
+    // (−1, −1), (3, −1), (−1, 3): one triangle covering the screen. Clip space y points up like
+    // the camera's sy, so sx, sy are the clip coordinates themselves.
+    let xy = vec2f(f32((i << 1u) & 2u) * 2.0 - 1.0, f32(i & 2u) * 2.0 - 1.0);
+    var out: VertexOut;
+    out.position = vec4f(xy, 0.0, 1.0);
+    out.dir = camera_dir(xy.x, xy.y);
+    return out;
+}
+
+@fragment
+fn fs_main(in: VertexOut) -> @location(0) vec4f {
+    let p = vec2u(floor(in.position.xy));
+    return vec4f(render_pixel(p, in.dir, false, false), 1.0);
+}
+
+// ---- compute path: one invocation per pixel, the primary ray computed as on the CPU ----
+
+@group(1) @binding(0) var output: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(1) var<storage, read_write> debug_out: DebugRecord;
+
+@compute @workgroup_size(8, 8)
+fn cs_main(@builtin(global_invocation_id) gid: vec3u) {
+    if gid.x >= params.width || gid.y >= params.height {
+        return;
+    }
+    let c = render_pixel(gid.xy, vec3f(0.0), true, false);
+    textureStore(output, gid.xy, vec4f(c, 1.0));
+}
+
+// ---- the debug pixel: one invocation traces params.debug_pixel and keeps its primary ray ----
+
+@compute @workgroup_size(1)
+fn debug_main() {
+    debug_record.object = NO_OBJECT;
+    let c = render_pixel(params.debug_pixel, vec3f(0.0), true, true);
+    debug_record.color = vec4f(c, 1.0);
+    debug_out = debug_record;
+}

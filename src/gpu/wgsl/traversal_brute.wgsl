@@ -1,0 +1,25 @@
+// ---- traversal: the seeds' naive loop over every object (src/accel/brute.rs) ----
+
+fn brute_closest(ray: Ray) -> Hit {
+    var r = ray;
+    var best = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
+    for (var id = 0u; id < params.n_objects; id++) {
+        let c = intersection(id, r);
+        if any_hit(c) {
+            r.t_max = c.t;
+            best = Hit(id, c.t, c.u, c.v, c.aux);
+        }
+    }
+    return best;
+}
+
+//#if SHADOWS
+fn brute_any(r: Ray) -> bool {
+    for (var id = 0u; id < params.n_objects; id++) {
+        if any_hit(intersection(id, r)) {
+            return true;
+        }
+    }
+    return false;
+}
+//#endif

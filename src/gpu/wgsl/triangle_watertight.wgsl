@@ -1,0 +1,96 @@
+// ---- intersection: ray–triangle, watertight (Woop–Benthin–Wald 2013, pbrt-v4; src/shapes/triangle.rs) ----
+
+// a·b − c·d with the rounding of c·d recovered by an FMA (Kahan).
+fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let cd = c * d;
+    let dop = fma(a, b, -cd);
+    let err = fma(-c, d, cd);
+    return dop + err;
+}
+
+// a·b − c·d for an edge function that came out exactly 0. The CPU recomputes it in f64; WGSL has
+// no f64, so the two products are split into exact (value, error) pairs with FMAs instead, which
+// gets the sign right and the value to within about an ulp of the f64 result.
+fn exact_difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
+    let p = a * b;
+    let ep = fma(a, b, -p);
+    let q = c * d;
+    let eq = fma(c, d, -q);
+    return (p - q) + (ep - eq);
+}
+
+fn permute(v: vec3f, k: vec3u) -> vec3f {
+    return vec3f(v[k.x], v[k.y], v[k.z]);
+}
+
+fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
+    // Translate to the origin; permute so z is the largest |dir| component.
+    let ad = abs(r.dir);
+    var kz = 2u;
+    if ad.x > ad.y {
+        if ad.x > ad.z {
+            kz = 0u;
+        }
+    } else if ad.y > ad.z {
+        kz = 1u;
+    }
+    let kx = select(kz + 1u, 0u, kz == 2u);
+    let ky = select(kx + 1u, 0u, kx == 2u);
+    let k = vec3u(kx, ky, kz);
+    var q0 = permute(p0 - r.origin, k);
+    var q1 = permute(p1 - r.origin, k);
+    var q2 = permute(p2 - r.origin, k);
+    let dp = permute(r.dir, k);
+    // Shear so the ray runs along +z.
+    let sx = -dp.x / dp.z;
+    let sy = -dp.y / dp.z;
+    let sz = 1.0 / dp.z;
+    q0.x = q0.x + sx * q0.z;
+    q0.y = q0.y + sy * q0.z;
+    q1.x = q1.x + sx * q1.z;
+    q1.y = q1.y + sy * q1.z;
+    q2.x = q2.x + sx * q2.z;
+    q2.y = q2.y + sy * q2.z;
+    // 2D edge functions.
+    var e0 = difference_of_products(q1.x, q2.y, q1.y, q2.x);
+    var e1 = difference_of_products(q2.x, q0.y, q2.y, q0.x);
+    var e2 = difference_of_products(q0.x, q1.y, q0.y, q1.x);
+    if e0 == 0.0 || e1 == 0.0 || e2 == 0.0 {
+        e0 = exact_difference_of_products(q1.x, q2.y, q1.y, q2.x);
+        e1 = exact_difference_of_products(q2.x, q0.y, q2.y, q0.x);
+        e2 = exact_difference_of_products(q0.x, q1.y, q0.y, q1.x);
+    }
+    if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+        return no_cand(0.0);
+    }
+    let det = e0 + e1 + e2;
+    if det == 0.0 || !finite(det) {
+        return no_cand(det);
+    }
+    let max_z_unscaled = max(abs(q0.z), max(abs(q1.z), abs(q2.z)));
+    q0.z = q0.z * sz;
+    q1.z = q1.z * sz;
+    q2.z = q2.z * sz;
+    let t_scaled = e0 * q0.z + e1 * q1.z + e2 * q2.z;
+    let inv_det = 1.0 / det;
+    let t = t_scaled * inv_det;
+    let b1 = e1 * inv_det;
+    let b2 = e2 * inv_det;
+    if !accepts(r, t) {
+        return no_cand(det);
+    }
+    // pbrt-v4's conservative bound: t must exceed its own rounding error.
+    let max_zt = max(abs(q0.z), max(abs(q1.z), abs(q2.z)));
+    let delta_z = GAMMA3 * max_zt;
+    let max_xt = max(abs(q0.x), max(abs(q1.x), abs(q2.x)));
+    let max_yt = max(abs(q0.y), max(abs(q1.y), abs(q2.y)));
+    let delta_x = GAMMA5 * (max_xt + max_z_unscaled);
+    let delta_y = GAMMA5 * (max_yt + max_z_unscaled);
+    let delta_e = 2.0 * (GAMMA2 * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = max(abs(e0), max(abs(e1), abs(e2)));
+    let delta_t = 3.0 * (GAMMA3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * abs(inv_det);
+    if t <= delta_t {
+        return no_cand(det);
+    }
+    return Cand(true, t, b1, b2, det);
+}

@@ -1,0 +1,494 @@
+//! The GPU view against the CPU: every shipped scene traced by the generated WGSL on the software
+//! adapter (lavapipe) must match the CPU render; the generated shaders leave out what a scene does
+//! not need and every variant passes naga's validator; the debug pixel agrees with the recorded
+//! CPU trace.
+//!
+//! Tests that need an adapter print "SKIPPED: no wgpu adapter (install mesa-vulkan-drivers)" and
+//! return when there is none — except on CI (the CI variable set), where that is a failure.
+
+use raystep::accel::SceneAccel;
+use raystep::gpu::{
+    self, GpuContext, GpuError, GpuPath, GpuTracer, ShaderConfig, ShaderVariant, shader,
+};
+use raystep::render::{RenderOptions, render};
+use raystep::scene::{Scene, Shape, load_file, load_str};
+use raystep::shapes::{SphereMethod, TriangleMethod};
+use raystep::trace::{Step, Tracer};
+use std::path::PathBuf;
+
+/// The largest per-channel difference (in 8-bit sRGB steps) any pixel may show. The WGSL repeats
+/// the CPU's f32 operations, so the images differ only where the GPU rounds differently (WGSL's
+/// `pow` in the specular term, FMA contraction, the rasterizer's interpolated ray directions in
+/// the fragment path): nothing in smooth regions, and a few steps where such a last-bit
+/// difference flips a decision — a silhouette or shadow-edge pixel, or a mirror reflecting one.
+/// Measured on lavapipe at 160×120: every shipped scene within 1 step, the sphereflake's
+/// fragment path 6 steps on one pixel. The RMSE bound (1/255) catches a wrong shader; this bound
+/// catches a wrong pixel while tolerating a rare flipped edge on other drivers.
+const MAX_ERROR: u8 = 16;
+/// At most this fraction of pixels may differ by more than 2 steps.
+const MAX_FLIPPED: f64 = 0.002;
+
+fn scene_paths() -> Vec<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    v.sort();
+    assert!(v.len() >= 6, "the shipped scenes are found");
+    v
+}
+
+fn small(mut scene: Scene) -> Scene {
+    // Keep CI fast: 160×120 (far-sphere's 64×64 stays as it is).
+    if scene.camera.width * scene.camera.height > 160 * 120 {
+        scene.camera.width = 160;
+        scene.camera.height = 120;
+    }
+    scene
+}
+
+/// The headless context, or None (after printing why) where wgpu finds no adapter.
+fn context(test: &str) -> Option<GpuContext> {
+    match GpuContext::headless() {
+        Ok(c) => Some(c),
+        Err(GpuError::NoAdapter(e)) => {
+            assert!(
+                std::env::var("CI").is_err(),
+                "CI must run the GPU tests: install Mesa's lavapipe (mesa-vulkan-drivers): {e}"
+            );
+            eprintln!("SKIPPED {test}: no wgpu adapter (install mesa-vulkan-drivers)");
+            None
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
+
+fn cpu_pixels(scene: &Scene) -> Vec<glam::Vec3> {
+    let (accel, _) = SceneAccel::build(scene);
+    let tracer = Tracer::new(scene, &accel);
+    render(&tracer, &RenderOptions::default()).unwrap().pixels
+}
+
+fn sphereflake() -> Scene {
+    let out = raystep::scene::spd::generate(raystep::scene::spd::SpdScene::Balls, 2).unwrap();
+    load_str(&out.toml, "balls-2.toml", None).unwrap()
+}
+
+#[test]
+fn gpu_matches_cpu_on_every_shipped_scene() {
+    let Some(ctx) = context("gpu_matches_cpu_on_every_shipped_scene") else {
+        return;
+    };
+    let mut failures = vec![];
+    let mut scenes: Vec<Scene> = scene_paths()
+        .iter()
+        .map(|p| small(load_file(p).unwrap()))
+        .collect();
+    scenes.push(small(sphereflake()));
+    for scene in &scenes {
+        let cpu = cpu_pixels(scene);
+        let mut gpu = GpuTracer::new(ctx.clone(), scene, ShaderVariant::Generated).unwrap();
+        for path in [GpuPath::Fragment, GpuPath::Compute] {
+            let frame = gpu.render(path).unwrap();
+            let d = gpu::difference(frame.width, frame.height, &cpu, &frame.pixels).unwrap();
+            // Pixels off by more than 2 steps.
+            let big = cpu
+                .iter()
+                .zip(&frame.pixels)
+                .filter(|(a, b)| {
+                    let e = |x: f32, y: f32| {
+                        raystep::render::image::srgb8(x).abs_diff(raystep::render::image::srgb8(y))
+                    };
+                    e(a.x, b.x).max(e(a.y, b.y)).max(e(a.z, b.z)) > 2
+                })
+                .count();
+            eprintln!(
+                "{} ({}): {}; {} pixels off by more than 2",
+                scene.name,
+                path.name(),
+                d.summary(),
+                big
+            );
+            if d.rmse >= 1.0 / 255.0
+                || d.max_error > MAX_ERROR
+                || big as f64 > MAX_FLIPPED * d.pixels as f64
+            {
+                failures.push(format!("{} ({}): {}", scene.name, path.name(), d.summary()));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+#[test]
+fn full_shader_renders_what_the_generated_one_does() {
+    let Some(ctx) = context("full_shader_renders_what_the_generated_one_does") else {
+        return;
+    };
+    for name in ["mirror-glass.toml", "triangles.toml"] {
+        let scene = small(
+            load_file(
+                &PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+                    .join("scenes")
+                    .join(name),
+            )
+            .unwrap(),
+        );
+        let a = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated)
+            .unwrap()
+            .render(GpuPath::Compute)
+            .unwrap();
+        let b = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Full)
+            .unwrap()
+            .render(GpuPath::Compute)
+            .unwrap();
+        let d = gpu::difference(a.width, a.height, &a.pixels, &b.pixels).unwrap();
+        eprintln!("{name}: generated vs full: {}", d.summary());
+        assert!(
+            d.rmse < 0.5 / 255.0 && d.max_error <= 2,
+            "{name}: {}",
+            d.summary()
+        );
+    }
+}
+
+#[test]
+fn generated_shaders_leave_out_what_the_scene_does_not_need() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let sphere = load_file(&dir.join("first-sphere.toml")).unwrap();
+    let s = gpu::generated_wgsl(&sphere);
+    for absent in [
+        "fn intersect_triangle",
+        "fn intersect_plane",
+        "fn bvh_closest",
+        "fn refract_dir",
+        "fn schlick",
+        "struct Media",
+    ] {
+        assert!(!s.contains(absent), "first-sphere's shader has {absent}");
+    }
+    assert!(s.contains("fn intersect_sphere") && s.contains("fn traversal_any"));
+    // Mirror but no glass: reflection code, no refraction code.
+    let three = load_file(&dir.join("three-spheres.toml")).unwrap();
+    let s = gpu::generated_wgsl(&three);
+    assert!(s.contains("mirror_dir(r.dir") && !s.contains("fn refract_dir"));
+    // Glass: refraction and Schlick.
+    let glass = gpu::generated_wgsl(&load_file(&dir.join("mirror-glass.toml")).unwrap());
+    assert!(glass.contains("fn refract_dir") && glass.contains("fn schlick"));
+    // Triangles with a BVH, no spheres.
+    let tri = gpu::generated_wgsl(&load_file(&dir.join("triangles.toml")).unwrap());
+    assert!(tri.contains("fn bvh_closest") && !tri.contains("fn intersect_sphere"));
+    assert!(!tri.contains("fn brute_closest"));
+    // A scene without lights has no shadow loop.
+    let dark = load_str("[[sphere]]\n", "dark.toml", None).unwrap();
+    assert!(!gpu::generated_wgsl(&dark).contains("fn traversal_any"));
+    // And every generated shader is smaller than the full one.
+    for p in scene_paths() {
+        let scene = load_file(&p).unwrap();
+        assert!(gpu::generated_wgsl(&scene).len() < gpu::full_wgsl(&scene).len());
+    }
+}
+
+#[test]
+fn naga_validates_every_shader_variant() {
+    let scene = raystep::scene::default_scene();
+    let base = ShaderConfig::for_scene(&scene);
+    let mut checked = 0;
+    for bits in 0u32..128 {
+        let b = |k: u32| bits & (1 << k) != 0;
+        let mut c = ShaderConfig {
+            spheres: b(0),
+            planes: b(1),
+            triangles: b(2),
+            shadows: b(3),
+            reflection: b(4),
+            refraction: b(5),
+            bvh: b(6),
+            brute: !b(6),
+            ..base
+        };
+        c.full = false;
+        let wgsl = shader::wgsl(&c);
+        if let Err(e) = shader::validate(&wgsl) {
+            panic!("{c:?}:\n{e}");
+        }
+        checked += 1;
+    }
+    // The methods and offsets, each on the full shader.
+    let full = ShaderConfig::full(&scene);
+    for c in [
+        ShaderConfig {
+            sphere_method: SphereMethod::Textbook,
+            ..full
+        },
+        ShaderConfig {
+            triangle_method: TriangleMethod::MollerTrumbore,
+            ..full
+        },
+        ShaderConfig {
+            offset: raystep::scene::OffsetPolicy::None,
+            ..full
+        },
+        ShaderConfig {
+            offset: raystep::scene::OffsetPolicy::Fixed,
+            ..full
+        },
+        full,
+    ] {
+        shader::validate(&shader::wgsl(&c)).unwrap_or_else(|e| panic!("{c:?}:\n{e}"));
+        checked += 1;
+    }
+    for p in scene_paths() {
+        let scene = load_file(&p).unwrap();
+        shader::validate(&gpu::generated_wgsl(&scene)).unwrap();
+        checked += 1;
+    }
+    eprintln!("naga validated {checked} shader variants");
+}
+
+#[test]
+fn debug_pixel_matches_the_recorded_cpu_trace() {
+    let Some(ctx) = context("debug_pixel_matches_the_recorded_cpu_trace") else {
+        return;
+    };
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    for (name, pixels) in [
+        ("first-sphere.toml", vec![[160, 120], [130, 100], [5, 5]]),
+        (
+            "three-spheres.toml",
+            vec![[150, 110], [250, 160], [160, 200]],
+        ),
+        ("triangles.toml", vec![[160, 120], [100, 130], [220, 140]]),
+        ("far-sphere.toml", vec![[32, 32]]),
+    ] {
+        let scene = load_file(&dir.join(name)).unwrap();
+        let (accel, _) = SceneAccel::build(&scene);
+        let tracer = Tracer::new(&scene, &accel);
+        let mut gpu = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated).unwrap();
+        for [x, y] in pixels {
+            let trace = tracer.record(x, y, 0);
+            let got = gpu.debug_pixel(x, y).unwrap();
+            let root = &trace.root;
+            let want = root.hit.as_ref().map(|h| h.object);
+            assert_eq!(got.object, want, "{name} ({x}, {y}): hit object");
+            let nodes = root
+                .steps
+                .iter()
+                .filter(|s| matches!(s.step, Step::Node(_)))
+                .count() as u32;
+            assert_eq!(
+                got.nodes_visited, nodes,
+                "{name} ({x}, {y}): BVH nodes visited"
+            );
+            let Some(hit) = &root.hit else { continue };
+            let rel = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0);
+            assert!(
+                rel(got.t, hit.t),
+                "{name} ({x}, {y}): t {} vs {}",
+                got.t,
+                hit.t
+            );
+            if let Some([u, v]) = hit.uv {
+                assert!(rel(got.u, u) && rel(got.v, v), "{name} ({x}, {y}): u, v");
+            }
+            if let Shape::Sphere { .. } = scene.objects[hit.object as usize].shape {
+                // The discriminant of the test that produced the hit.
+                let disc = root
+                    .steps
+                    .iter()
+                    .rev()
+                    .find_map(|s| match &s.step {
+                        Step::Sphere { object, test, .. }
+                            if *object == hit.object && test.t == Some(hit.t) =>
+                        {
+                            Some(test.discriminant)
+                        }
+                        _ => None,
+                    })
+                    .expect("the hit's sphere test is recorded");
+                let g = got.discriminant.expect("a sphere hit has a discriminant");
+                // The discriminant cancels (Δ′ = r² − |l|²): compare within its own scale.
+                let scale = 4.0
+                    * match scene.objects[hit.object as usize].shape {
+                        Shape::Sphere { radius, .. } => radius * radius,
+                        _ => 1.0,
+                    };
+                assert!(
+                    (g - disc).abs() <= 1e-5 * scale,
+                    "{name} ({x}, {y}): discriminant {g} vs {disc}"
+                );
+            }
+            eprintln!(
+                "{name} ({x}, {y}): object {:?}, t {}, discriminant {:?}, {} nodes",
+                got.object, got.t, got.discriminant, got.nodes_visited
+            );
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command line (assert_cmd)
+// ---------------------------------------------------------------------------------------------
+
+fn raystep_cmd() -> assert_cmd::Command {
+    assert_cmd::Command::cargo_bin("raystep").expect("the raystep binary is built")
+}
+
+fn scene_file(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name)
+}
+
+#[test]
+fn cli_render_gpu_writes_the_cpu_image() {
+    if context("cli_render_gpu_writes_the_cpu_image").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let cpu_png = dir.path().join("cpu.png");
+    raystep_cmd()
+        .arg("render")
+        .arg(scene_file("far-sphere.toml"))
+        .arg("-o")
+        .arg(&cpu_png)
+        .assert()
+        .success();
+    let cpu = image::open(&cpu_png).unwrap().to_rgb8();
+    for path in ["fragment", "compute"] {
+        let png = dir.path().join(format!("gpu-{path}.png"));
+        let out = raystep_cmd()
+            .arg("render")
+            .arg(scene_file("far-sphere.toml"))
+            .args(["--gpu", "--gpu-path", path, "-o"])
+            .arg(&png)
+            .assert()
+            .success();
+        let stdout = String::from_utf8_lossy(&out.get_output().stdout).to_string();
+        assert!(stdout.contains("on the GPU"), "{stdout}");
+        assert!(stdout.contains(&format!("{path} path")), "{stdout}");
+        assert!(stdout.contains("bytes of WGSL"), "{stdout}");
+        let gpu = image::open(&png).unwrap().to_rgb8();
+        assert_eq!(gpu.dimensions(), (64, 64));
+        let worst = cpu
+            .as_raw()
+            .iter()
+            .zip(gpu.as_raw())
+            .map(|(a, b)| a.abs_diff(*b))
+            .max()
+            .unwrap();
+        assert!(worst <= MAX_ERROR, "{path}: a pixel is {worst} steps off");
+    }
+}
+
+#[test]
+fn cli_compare_prints_times_and_figures_and_writes_the_difference() {
+    if context("cli_compare_prints_times_and_figures_and_writes_the_difference").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let diff = dir.path().join("diff.png");
+    let out = raystep_cmd()
+        .arg("compare")
+        .arg(scene_file("three-spheres.toml"))
+        .args([
+            "--width",
+            "80",
+            "--height",
+            "60",
+            "--gpu-path",
+            "compute",
+            "-o",
+        ])
+        .arg(&diff)
+        .assert()
+        .success();
+    let stdout = String::from_utf8_lossy(&out.get_output().stdout).to_string();
+    for want in [
+        "at 80×60",
+        "adapter",
+        "CPU ",
+        "GPU ",
+        "compute path",
+        "RMSE",
+        "max error",
+        "of 4800 pixels differ",
+    ] {
+        assert!(stdout.contains(want), "no {want:?} in:\n{stdout}");
+    }
+    let img = image::open(&diff).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (80, 60));
+}
+
+#[test]
+fn cli_gpu_errors_are_plain_messages() {
+    // Checked before any GPU work: no adapter needed.
+    let dir = tempfile::tempdir().unwrap();
+    raystep_cmd()
+        .arg("compare")
+        .arg(scene_file("first-sphere.toml"))
+        .arg("-o")
+        .arg(dir.path().join("diff.jpg"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("must be a .png file"));
+    raystep_cmd()
+        .arg("render")
+        .arg(scene_file("first-sphere.toml"))
+        .args(["--gpu-path", "compute", "-o"])
+        .arg(dir.path().join("x.png"))
+        .assert()
+        .failure()
+        .stderr(predicates::str::contains("--gpu"));
+    // No adapter (only a backend this platform lacks): the message says what to install.
+    let out = raystep_cmd()
+        .env(
+            "WGPU_BACKEND",
+            if cfg!(target_os = "macos") {
+                "dx12"
+            } else {
+                "metal"
+            },
+        )
+        .arg("render")
+        .arg(scene_file("first-sphere.toml"))
+        .args(["--gpu", "-o"])
+        .arg(dir.path().join("x.png"))
+        .assert()
+        .failure();
+    let stderr = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+    assert!(stderr.contains("no GPU adapter"), "{stderr}");
+    assert!(stderr.contains("mesa-vulkan-drivers"), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn set_camera_renders_another_view_and_size() {
+    let Some(ctx) = context("set_camera_renders_another_view_and_size") else {
+        return;
+    };
+    let scene = load_file(&scene_file("three-spheres.toml")).unwrap();
+    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    let mut moved = scene.clone();
+    moved.camera.from = glam::Vec3::new(2.0, 3.0, -4.0);
+    moved.camera.width = 90;
+    moved.camera.height = 70;
+    gpu.set_camera(&moved.camera).unwrap();
+    let frame = gpu.render(GpuPath::Fragment).unwrap();
+    assert_eq!((frame.width, frame.height), (90, 70));
+    let d = gpu::difference(90, 70, &cpu_pixels(&moved), &frame.pixels).unwrap();
+    assert!(
+        d.rmse < 1.0 / 255.0 && d.max_error <= MAX_ERROR,
+        "{}",
+        d.summary()
+    );
+    assert!(matches!(gpu.debug_pixel(90, 0), Err(GpuError::Scene(_))));
+    assert!(gpu.debug_pixel(45, 35).is_ok());
+    let line = gpu.adapter_line(GpuPath::Compute);
+    assert!(
+        line.contains("compute path") && line.contains("ray queries"),
+        "{line}"
+    );
+}
