@@ -8,6 +8,7 @@
 //! frame into any [`egui::Ui`], so tests (egui_kittest) and the benchmark drive the very UI
 //! the window shows.
 
+pub mod gpu_view;
 pub mod job;
 pub mod learn;
 pub mod panels;
@@ -97,7 +98,14 @@ impl RaystepApp {
             .storage
             .and_then(|s| eframe::get_value::<Prefs>(s, PREFS_KEY))
             .unwrap_or_default();
-        Self::with_context(&cc.egui_ctx, prefs, file)
+        Self::with_context(&cc.egui_ctx, prefs, file).with_wgpu(cc.wgpu_render_state.clone())
+    }
+
+    /// Gives the app eframe's wgpu device, which turns on the GPU view (the tabs "GPU render"
+    /// and "CPU − GPU" above the render).
+    pub fn with_wgpu(mut self, render_state: Option<eframe::egui_wgpu::RenderState>) -> Self {
+        self.views.gpu.render_state = render_state;
+        self
     }
 
     /// Draws one frame into `ui` (the whole window) and applies what the user asked for.

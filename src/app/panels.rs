@@ -102,7 +102,18 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
                 ui.label("There is no render: the trace was opened without its scene.");
             });
         }
-        _ => view::render_view(ui, state, views, cmds),
+        _ => {
+            use super::gpu_view::{self, CentralTab};
+            if !views.gpu.available() {
+                return view::render_view(ui, state, views, cmds);
+            }
+            gpu_view::tabs(ui, &mut views.gpu);
+            match views.gpu.tab {
+                CentralTab::Cpu => view::render_view(ui, state, views, cmds),
+                CentralTab::Gpu => gpu_view::gpu_tab(ui, state, &mut views.gpu),
+                CentralTab::Difference => gpu_view::difference_tab(ui, state, &mut views.gpu),
+            }
+        }
     });
     dialogs(ui, state, cmds);
 }

@@ -36,6 +36,8 @@ pub struct Views {
     pub toggle_fullscreen: bool,
     /// The lesson viewer's cache (Markdown layout).
     pub markdown: egui_commonmark::CommonMarkCache,
+    /// The GPU view (and which tab the central panel shows).
+    pub gpu: super::gpu_view::GpuView,
 }
 
 /// What a cached diagram texture shows.

@@ -1,0 +1,547 @@
+//! The GPU view in the app: the open scene traced by [`crate::gpu::GpuTracer`] on eframe's own
+//! wgpu device, beside the CPU render. Drag to orbit the camera, scroll to move closer (each
+//! change re-traces at once); the adapter line says which adapter, backend and path run; the
+//! selected pixel is traced into the GPU's debug buffer and shown next to the CPU trace's values;
+//! the difference tab compares the two images pixel by pixel; the generated WGSL can be read.
+//!
+//! Nothing here is needed: without a wgpu render state (the glow backend, a test harness
+//! without `.wgpu()`) the tabs are left out and the app shows the CPU render alone.
+
+use super::state::AppState;
+use crate::gpu::{Difference, GpuContext, GpuPath, GpuTracer, PixelDebug, ShaderVariant};
+use crate::scene::{Camera, Scene};
+use crate::trace::Step;
+use crate::trace::describe::num;
+use eframe::egui_wgpu::{self, wgpu};
+use egui::{Color32, RichText, Sense};
+use glam::{Quat, Vec3};
+use std::sync::Arc;
+use std::time::Duration;
+
+/// Which view the central panel shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CentralTab {
+    /// The CPU render (click a pixel to trace it).
+    #[default]
+    Cpu,
+    /// The GPU render.
+    Gpu,
+    /// CPU − GPU, pixel by pixel.
+    Difference,
+}
+
+/// The orbit applied to the scene's camera in the GPU view.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orbit {
+    /// Rotation about the camera's up vector (radians).
+    pub yaw: f32,
+    /// Rotation about the camera's right vector (radians).
+    pub pitch: f32,
+    /// Distance to the look-at point relative to the scene's.
+    pub distance: f32,
+}
+
+impl Default for Orbit {
+    fn default() -> Self {
+        Orbit {
+            yaw: 0.0,
+            pitch: 0.0,
+            distance: 1.0,
+        }
+    }
+}
+
+impl Orbit {
+    /// The scene camera moved by this orbit (same look-at point, up vector and field of view).
+    pub fn apply(&self, c: &Camera) -> Camera {
+        if *self == Orbit::default() {
+            return c.clone();
+        }
+        let offset = c.from - c.at;
+        let up = c.up.normalize_or(Vec3::Y);
+        let right = offset.cross(up).normalize_or(Vec3::X);
+        let q = Quat::from_axis_angle(up, self.yaw) * Quat::from_axis_angle(right, self.pitch);
+        Camera {
+            from: c.at + q * offset * self.distance,
+            ..c.clone()
+        }
+    }
+}
+
+/// A comparison and its image on the GPU.
+type Compared = (Difference, egui::TextureHandle);
+
+/// What the GPU traced for the scene as the app prepared it.
+struct Traced {
+    /// The prepared scene it was made for (pointer identity).
+    key: usize,
+    tracer: GpuTracer,
+    /// egui's id of the tracer's display texture, and the size it was registered at.
+    texture: Option<(egui::TextureId, [u32; 2])>,
+    /// The orbit the last frame was traced with, and how long the trace pass took.
+    frame: Option<(Orbit, GpuPath, Duration)>,
+    /// The debug pixel of (pixel, path), at the scene camera.
+    pick: Option<([u32; 2], Result<PixelDebug, String>)>,
+    /// The comparison with the CPU render (for the render it was made against).
+    diff: Option<(u64, Result<Compared, String>)>,
+}
+
+/// The GPU view's state (part of [`super::view::Views`]).
+#[derive(Default)]
+pub struct GpuView {
+    /// eframe's wgpu device (None: no GPU view).
+    pub render_state: Option<egui_wgpu::RenderState>,
+    /// The tab shown in the central panel.
+    pub tab: CentralTab,
+    /// Fragment (rasterizer-interpolated primary rays) or compute.
+    pub path: GpuPath,
+    /// The camera orbit of the GPU view.
+    pub orbit: Orbit,
+    /// Show the generated WGSL.
+    pub show_wgsl: bool,
+    traced: Option<Traced>,
+    /// Why the GPU view could not be made for the current scene.
+    pub error: Option<(usize, String)>,
+    /// Where the GPU image was drawn last frame (screen rect in points).
+    pub image_rect: Option<egui::Rect>,
+}
+
+impl GpuView {
+    /// Whether the app has a GPU view at all.
+    pub fn available(&self) -> bool {
+        self.render_state.is_some()
+    }
+
+    /// The last GPU frame's trace time and path.
+    pub fn frame_time(&self) -> Option<(GpuPath, Duration)> {
+        let t = self.traced.as_ref()?;
+        t.frame.map(|(_, p, d)| (p, d))
+    }
+
+    /// The adapter line (adapter, backend, path), once a tracer exists.
+    pub fn adapter_line(&self) -> Option<String> {
+        Some(self.traced.as_ref()?.tracer.adapter_line(self.path))
+    }
+
+    /// The GPU debug buffer of the selected pixel, once traced.
+    pub fn pick(&self) -> Option<&Result<PixelDebug, String>> {
+        self.traced.as_ref()?.pick.as_ref().map(|(_, r)| r)
+    }
+
+    /// The CPU − GPU comparison, once made.
+    pub fn difference(&self) -> Option<Result<&Difference, &String>> {
+        let d = &self.traced.as_ref()?.diff.as_ref()?.1;
+        Some(d.as_ref().map(|(d, _)| d))
+    }
+
+    /// The tracer for the prepared scene, made (shader generated and compiled, scene uploaded)
+    /// the first time it is needed.
+    fn tracer_for(&mut self, scene: &Arc<Scene>) -> Result<&mut Traced, String> {
+        let key = Arc::as_ptr(scene) as usize;
+        if let Some((k, e)) = &self.error
+            && *k == key
+        {
+            return Err(e.clone());
+        }
+        if self.traced.as_ref().is_none_or(|t| t.key != key) {
+            let rs = self
+                .render_state
+                .as_ref()
+                .ok_or("the app has no wgpu device")?;
+            let ctx = GpuContext::from_device(
+                rs.device.clone(),
+                rs.queue.clone(),
+                rs.adapter.get_info(),
+                rs.adapter.features(),
+            );
+            if let Some(old) = self.traced.take()
+                && let Some((id, _)) = old.texture
+            {
+                rs.renderer.write().free_texture(&id);
+            }
+            match GpuTracer::new(ctx, scene, ShaderVariant::Generated) {
+                Ok(tracer) => {
+                    self.traced = Some(Traced {
+                        key,
+                        tracer,
+                        texture: None,
+                        frame: None,
+                        pick: None,
+                        diff: None,
+                    })
+                }
+                Err(e) => {
+                    self.error = Some((key, e.to_string()));
+                    return Err(e.to_string());
+                }
+            }
+        }
+        Ok(self.traced.as_mut().expect("made above"))
+    }
+
+    /// Traces a frame when the orbit, the path or the scene changed, and keeps the texture
+    /// registered with egui.
+    fn frame(&mut self, scene: &Arc<Scene>) -> Result<(egui::TextureId, [u32; 2]), String> {
+        let (orbit, path) = (self.orbit, self.path);
+        let rs = self
+            .render_state
+            .clone()
+            .ok_or("the app has no wgpu device")?;
+        let t = self.tracer_for(scene)?;
+        if t.frame.is_none_or(|(o, p, _)| o != orbit || p != path) {
+            t.tracer
+                .set_camera(&orbit.apply(&scene.camera))
+                .map_err(|e| e.to_string())?;
+            let time = t.tracer.trace(path).map_err(|e| e.to_string())?;
+            t.frame = Some((orbit, path, time));
+        }
+        let size = [t.tracer.camera().width, t.tracer.camera().height];
+        match t.texture {
+            Some((id, s)) if s == size => Ok((id, size)),
+            old => {
+                let mut renderer = rs.renderer.write();
+                if let Some((id, _)) = old {
+                    renderer.free_texture(&id);
+                }
+                let id = renderer.register_native_texture(
+                    &rs.device,
+                    t.tracer.display_view(),
+                    wgpu::FilterMode::Nearest,
+                );
+                t.texture = Some((id, size));
+                Ok((id, size))
+            }
+        }
+    }
+
+    /// The selected pixel traced into the GPU's debug buffer (at the scene's own camera, so it
+    /// is the pixel the CPU traced).
+    fn pick_pixel(&mut self, scene: &Arc<Scene>, pixel: [u32; 2]) {
+        let orbit = self.orbit;
+        let Ok(t) = self.tracer_for(scene) else {
+            return;
+        };
+        if t.pick.as_ref().is_some_and(|(p, _)| *p == pixel) {
+            return;
+        }
+        let result = (|| {
+            if orbit != Orbit::default() {
+                t.tracer
+                    .set_camera(&scene.camera)
+                    .map_err(|e| e.to_string())?;
+                t.frame = None; // the display now needs the orbit again
+            }
+            t.tracer
+                .debug_pixel(pixel[0], pixel[1])
+                .map_err(|e| e.to_string())
+        })();
+        t.pick = Some((pixel, result));
+    }
+
+    /// Renders on the GPU at the scene's camera and compares with the CPU render `render_id`.
+    fn compare(&mut self, ctx: &egui::Context, scene: &Arc<Scene>, state: &AppState) {
+        let Some(rendered) = &state.rendered else {
+            return;
+        };
+        let render_id = state.renders_started;
+        let path = self.path;
+        let Ok(t) = self.tracer_for(scene) else {
+            return;
+        };
+        if t.diff.as_ref().is_some_and(|(k, _)| *k == render_id) {
+            return;
+        }
+        let out = &rendered.output;
+        let result = (|| {
+            t.tracer
+                .set_camera(&scene.camera)
+                .map_err(|e| e.to_string())?;
+            t.frame = None;
+            let frame = t.tracer.render(path).map_err(|e| e.to_string())?;
+            let d = crate::gpu::difference(out.width, out.height, &out.pixels, &frame.pixels)?;
+            let img = egui::ColorImage::from_rgb(
+                [d.image.width() as usize, d.image.height() as usize],
+                d.image.as_raw(),
+            );
+            let tex = ctx.load_texture("gpu-difference", img, egui::TextureOptions::NEAREST);
+            Ok((d, tex))
+        })();
+        t.diff = Some((render_id, result));
+    }
+}
+
+/// The tab strip above the central view (only when the app has a GPU view).
+pub fn tabs(ui: &mut egui::Ui, gpu: &mut GpuView) {
+    ui.horizontal(|ui| {
+        for (tab, label, hover) in [
+            (
+                CentralTab::Cpu,
+                "CPU render",
+                "the render on the CPU; click a pixel to trace it",
+            ),
+            (
+                CentralTab::Gpu,
+                "GPU render",
+                "the same scene traced by a WGSL shader generated for it; drag to orbit",
+            ),
+            (
+                CentralTab::Difference,
+                "CPU − GPU",
+                "where the two renders differ, and by how much",
+            ),
+        ] {
+            if ui
+                .selectable_label(gpu.tab == tab, label)
+                .on_hover_text(hover)
+                .clicked()
+            {
+                gpu.tab = tab;
+            }
+        }
+    });
+}
+
+/// The GPU render view (the central panel's "GPU render" tab).
+pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
+    let Some(prepared) = &state.prepared else {
+        ui.label("Preparing the scene…");
+        return;
+    };
+    let scene = Arc::clone(&prepared.scene);
+    ui.horizontal_wrapped(|ui| {
+        ui.radio_value(&mut gpu.path, GpuPath::Fragment, "fragment")
+            .on_hover_text("a full-screen triangle: the rasterizer interpolates the primary rays");
+        ui.radio_value(&mut gpu.path, GpuPath::Compute, "compute")
+            .on_hover_text("a compute shader, one invocation per pixel");
+        if ui
+            .add_enabled(
+                gpu.orbit != Orbit::default(),
+                egui::Button::new("Reset view"),
+            )
+            .clicked()
+        {
+            gpu.orbit = Orbit::default();
+        }
+        ui.toggle_value(&mut gpu.show_wgsl, "WGSL");
+    });
+    let frame = gpu.frame(&scene);
+    if let Some(line) = gpu.adapter_line() {
+        ui.label(RichText::new(line).small());
+    }
+    let (id, size) = match frame {
+        Ok(f) => f,
+        Err(e) => {
+            ui.colored_label(ui.visuals().error_fg_color, format!("GPU view: {e}"));
+            return;
+        }
+    };
+    if let Some((path, d)) = gpu.frame_time() {
+        ui.label(format!(
+            "{} path: {:.2} ms per frame (trace pass, submit to completion), {}×{}",
+            path.name(),
+            d.as_secs_f64() * 1e3,
+            size[0],
+            size[1]
+        ));
+    }
+    if let Some([x, y]) = state.pixel {
+        gpu.pick_pixel(&scene, [x, y]);
+        pick_table(ui, state, &scene, gpu);
+    }
+    if gpu.show_wgsl {
+        if let Some(t) = &gpu.traced {
+            let wgsl = t.tracer.wgsl();
+            ui.label(format!(
+                "Generated for this scene: {} lines, {} bytes (features the scene lacks are left out)",
+                wgsl.lines().count(),
+                wgsl.len()
+            ));
+            egui::ScrollArea::both()
+                .id_salt("wgsl")
+                .auto_shrink([false, false])
+                .show(ui, |ui| {
+                    ui.add(
+                        egui::TextEdit::multiline(&mut wgsl.to_string())
+                            .code_editor()
+                            .interactive(false)
+                            .desired_width(f32::INFINITY),
+                    );
+                });
+        }
+        return;
+    }
+    // The image, fitted, with drag to orbit and scroll to zoom.
+    let avail = ui.available_size();
+    let scale = (avail.x / size[0] as f32)
+        .min(avail.y / size[1] as f32)
+        .max(0.05);
+    let shown = egui::vec2(size[0] as f32, size[1] as f32) * scale;
+    let (rect, response) = ui.allocate_exact_size(shown, Sense::click_and_drag());
+    gpu.image_rect = Some(rect);
+    ui.painter().image(
+        id,
+        rect,
+        egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+        Color32::WHITE,
+    );
+    let drag = response.drag_delta();
+    if drag != egui::Vec2::ZERO {
+        gpu.orbit.yaw -= drag.x * 0.01;
+        gpu.orbit.pitch = (gpu.orbit.pitch - drag.y * 0.01).clamp(-1.4, 1.4);
+    }
+    if response.hovered() {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+        if scroll != 0.0 {
+            gpu.orbit.distance = (gpu.orbit.distance * (-scroll * 0.002).exp()).clamp(0.1, 10.0);
+        }
+    }
+    if response.double_clicked() {
+        gpu.orbit = Orbit::default();
+    }
+}
+
+/// The GPU debug buffer of the selected pixel beside the CPU trace's values.
+fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuView) {
+    let Some(pick) = gpu.pick() else {
+        return;
+    };
+    let p = match pick {
+        Ok(p) => p,
+        Err(e) => {
+            ui.colored_label(ui.visuals().error_fg_color, format!("debug pixel: {e}"));
+            return;
+        }
+    };
+    let cpu = state.stepping.as_ref().map(|s| &s.trace.root);
+    let hit = cpu.and_then(|r| r.hit.as_ref());
+    let hit_name = hit.map(|h| h.name.clone());
+    // The CPU's test against the object it hit: the discriminant of a sphere, u and v of a
+    // triangle.
+    let (mut disc, mut u, mut v) = (None, None, None);
+    if let (Some(r), Some(name)) = (cpu, &hit_name) {
+        for s in &r.steps {
+            match &s.step {
+                Step::Sphere { name: n, test, .. } if n == name => disc = Some(test.discriminant),
+                Step::Triangle { name: n, test, .. } if n == name => {
+                    u = test.u;
+                    v = test.v;
+                }
+                _ => {}
+            }
+        }
+    }
+    let nodes = cpu.map(|r| {
+        r.steps
+            .iter()
+            .filter(|s| matches!(s.step, Step::Node(_)))
+            .count()
+    });
+    let opt = |x: Option<f32>| x.map_or("—".to_string(), num);
+    let gpu_name = p
+        .object
+        .map_or("nothing".into(), |id| scene.object_name(id));
+    let rows: Vec<(&str, String, String)> = vec![
+        (
+            "hit object",
+            hit_name.clone().unwrap_or_else(|| "nothing".into()),
+            gpu_name,
+        ),
+        (
+            "t",
+            opt(hit.map(|h| h.t)),
+            if p.object.is_some() {
+                num(p.t)
+            } else {
+                "—".into()
+            },
+        ),
+        ("discriminant", opt(disc), opt(p.discriminant)),
+        ("u", opt(u), if u.is_some() { num(p.u) } else { "—".into() }),
+        ("v", opt(v), if v.is_some() { num(p.v) } else { "—".into() }),
+        (
+            "BVH nodes visited",
+            nodes.map_or("—".into(), |n| n.to_string()),
+            p.nodes_visited.to_string(),
+        ),
+    ];
+    // Leave out what neither side computed (u and v off triangles, nodes without a BVH).
+    let with_bvh = state
+        .stepping
+        .as_ref()
+        .is_some_and(|s| s.trace.bvh.is_some());
+    let rows: Vec<_> = rows
+        .into_iter()
+        .filter(|(name, c, g)| {
+            if *name == "BVH nodes visited" {
+                with_bvh || p.nodes_visited > 0
+            } else {
+                !(c == "—" && g == "—")
+            }
+        })
+        .collect();
+    ui.label(
+        RichText::new(format!(
+            "Pixel ({}, {}), primary ray, traced on both:",
+            p.pixel[0], p.pixel[1]
+        ))
+        .strong(),
+    );
+    egui::Grid::new("gpu-pick")
+        .striped(true)
+        .num_columns(3)
+        .show(ui, |ui| {
+            ui.label(RichText::new("quantity").strong());
+            ui.label(RichText::new("CPU trace").strong());
+            ui.label(RichText::new("GPU debug buffer").strong());
+            ui.end_row();
+            for (name, c, g) in rows {
+                ui.label(name);
+                ui.monospace(c);
+                ui.monospace(g);
+                ui.end_row();
+            }
+        });
+}
+
+/// The difference tab: CPU − GPU as an image, with RMSE, max error and the count of differing
+/// pixels.
+pub fn difference_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
+    let Some(prepared) = &state.prepared else {
+        ui.label("Preparing the scene…");
+        return;
+    };
+    if state.job.is_some() || state.rendered.is_none() {
+        ui.label("Waiting for the CPU render to finish…");
+        return;
+    }
+    let scene = Arc::clone(&prepared.scene);
+    ui.horizontal(|ui| {
+        ui.radio_value(&mut gpu.path, GpuPath::Fragment, "fragment");
+        ui.radio_value(&mut gpu.path, GpuPath::Compute, "compute");
+    });
+    gpu.compare(ui.ctx(), &scene, state);
+    let Some(t) = &gpu.traced else {
+        if let Some((_, e)) = &gpu.error {
+            ui.colored_label(ui.visuals().error_fg_color, format!("GPU view: {e}"));
+        }
+        return;
+    };
+    match &t.diff {
+        Some((_, Ok((d, tex)))) => {
+            ui.label(RichText::new(d.summary()).strong());
+            ui.label(
+                "Equal pixels are dim grey; differing ones run from dark red (one 8-bit step) to \
+                 yellow (16 or more). Both sides compute in f32; the GPU's pow, FMA contraction \
+                 and the rasterizer's interpolated rays round differently in the last bits.",
+            );
+            let avail = ui.available_size();
+            let size = tex.size_vec2();
+            let scale = (avail.x / size.x).min(avail.y / size.y).max(0.05);
+            ui.image((tex.id(), size * scale));
+        }
+        Some((_, Err(e))) => {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+        }
+        None => {}
+    }
+}
