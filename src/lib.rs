@@ -18,6 +18,8 @@
 //! - [`render`]: the full parallel render and image output; [`diagram`]: the 2D diagrams drawn
 //!   from a trace.
 //! - [`app`]: the eframe app — the render, the stepping, the math and the diagrams side by side.
+//! - [`stability`]: the numerical stability lab — every method in f32 and f64 on the stiff cases
+//!   S1–S25 against exact rational references, cost per test, and image error against run time.
 //! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
 //! - [`cli`]: the `raystep` command line.
 #![forbid(unsafe_code)]
@@ -35,4 +37,5 @@ pub mod math;
 pub mod render;
 pub mod scene;
 pub mod shapes;
+pub mod stability;
 pub mod trace;
