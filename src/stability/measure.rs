@@ -385,10 +385,12 @@ fn rays_row<T: Real>(
                     let err = te.abs_error(tm);
                     if let Some(other) = other
                         && other.abs_error(tm) < err
-                        && !band
                     {
-                        // The wrong root of a sphere (S3's near-root cancellation, S5).
-                        row.misclassified += 1;
+                        // The other root of a sphere: wrong outside the band (S3's near-root
+                        // cancellation, S5), legitimate inside it (S4); no t error either way.
+                        if !band {
+                            row.misclassified += 1;
+                        }
                         continue;
                     }
                     row.compared += 1;

@@ -90,7 +90,7 @@ pub fn draw(plot: &Plot, width: u32, height: u32) -> Vec<u8> {
     let th = Theme::LIGHT;
     let ts = 15.0f32;
     let (w, h) = (c.width(), c.height());
-    let (left, right, top, bottom) = (80.0f32, w - 30.0, 62.0f32, h - 60.0);
+    let (left, right, top, bottom) = (80.0f32, w - 30.0, 84.0f32, h - 60.0);
     c.text(w / 2.0, 10.0, 19.0, &plot.title, th.ink, Anchor::TopCenter);
     c.text(
         w / 2.0,
@@ -158,13 +158,15 @@ pub fn draw(plot: &Plot, width: u32, height: u32) -> Vec<u8> {
     // The y label, horizontal above the axis (the canvas draws no rotated text).
     c.text(
         left - 70.0,
-        top - 18.0,
+        top - 22.0,
         ts - 1.0,
         &plot.y_label,
         th.ink,
         Anchor::TopLeft,
     );
     let mut legend_y = top + 8.0;
+    // Placed point labels, to keep later ones from overlapping earlier ones.
+    let mut placed: Vec<[f32; 4]> = vec![];
     for s in &plot.series {
         if let Some(band) = &s.band {
             let mut poly: Vec<[f32; 2]> = band.iter().map(|q| [px(q[0]), py(q[2])]).collect();
@@ -181,13 +183,46 @@ pub fn draw(plot: &Plot, width: u32, height: u32) -> Vec<u8> {
             let fill = s.filled.then_some(s.color);
             c.circle(*p, 5.5, fill, Some(s.color), 2.0);
             if s.label_points {
-                // Alternate sides so neighbouring labels overlap less.
-                let (dx, anchor) = if k % 2 == 0 {
-                    (9.0, Anchor::MiddleLeft)
-                } else {
-                    (-9.0, Anchor::MiddleRight)
-                };
-                c.label(p[0] + dx, p[1] - 9.0, ts - 3.0, &s.label, s.color, anchor);
+                // Try spots right and left of the point, nearest first, and take the first that
+                // overlaps no earlier label and stays inside the plot.
+                let size = ts - 3.0;
+                let (lw, lh) = (c.text_width(&s.label, size) + 6.0, size * 1.2 + 2.0);
+                let _ = k;
+                let mut spot = None;
+                'find: for dy in [-10.0f32, 10.0, -26.0, 26.0, -42.0, 42.0, -58.0, 58.0] {
+                    for right_side in [true, false] {
+                        let x0 = if right_side {
+                            p[0] + 9.0
+                        } else {
+                            p[0] - 9.0 - lw
+                        };
+                        let y0 = p[1] + dy - lh / 2.0;
+                        let r = [x0, y0, x0 + lw, y0 + lh];
+                        let inside = r[0] >= left && r[2] <= right && r[1] >= top && r[3] <= bottom;
+                        let free = placed
+                            .iter()
+                            .all(|o| r[2] <= o[0] || r[0] >= o[2] || r[3] <= o[1] || r[1] >= o[3]);
+                        if inside && free {
+                            spot = Some(r);
+                            break 'find;
+                        }
+                    }
+                }
+                let r = spot.unwrap_or([
+                    p[0] + 9.0,
+                    p[1] - 10.0 - lh / 2.0,
+                    p[0] + 9.0 + lw,
+                    p[1] - 10.0 + lh / 2.0,
+                ]);
+                placed.push(r);
+                c.label(
+                    r[0] + 3.0,
+                    r[1] + 1.0,
+                    size,
+                    &s.label,
+                    s.color,
+                    Anchor::TopLeft,
+                );
             }
         }
         if !s.label_points {
