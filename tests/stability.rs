@@ -195,6 +195,10 @@ fn the_seeds_methods_show_the_documented_failures() {
     );
     let s7 = r.row("S7", Method::OffsetFixed, Precision::F32).unwrap();
     assert_eq!(s7.misclassified, s7.rays);
+    // S23: the BVH finds exactly what brute force finds, at 1e-5 and 5e-5 apart.
+    let s23 = r.row("S23", Method::SlabRobust, Precision::F32).unwrap();
+    assert!(s23.rays > 0 && s23.exact_hits > 0);
+    assert_eq!(s23.misclassified, 0);
     // S22: the plain slab test drops zero-thickness boxes.
     let s22 = r.row("S22", Method::SlabPlain, Precision::F32).unwrap();
     assert_eq!(s22.misclassified, s22.rays);
@@ -213,9 +217,6 @@ fn no_method_returns_nan_and_invalid_rays_are_rejected() {
     // Every case of the catalogue ran.
     for k in 1..=25 {
         let id = format!("S{k}");
-        if id == "S23" {
-            continue; // scene-level (BVH against brute force): tests/bvh.rs
-        }
         assert!(r.rows.iter().any(|row| row.case == id), "{id} missing");
     }
 }
@@ -385,7 +386,9 @@ fn converge_writes_tables_and_plots_and_mse_falls_like_one_over_spp() {
     }
     let slope = raystep::stability::converge::slope(&pts);
     println!("MSE slope {slope:.2}");
-    assert!((-1.4..=-0.6).contains(&slope), "slope {slope}");
+    // Independent samples give −1; raystep's jitter is stratified, which at the ball's edge
+    // (the only noise here) tends to −1.5 (measured −1.39 on this scene). Accept both regimes.
+    assert!((-1.7..=-0.6).contains(&slope), "slope {slope}");
     let md = std::fs::read_to_string(out.join("converge.md")).unwrap();
     assert!(md.contains("ε = 0.01") && md.contains("Equal time") && md.contains("FLIP"));
     assert_eq!(png_size(&out.join("converge-spp.png")), (900, 600));

@@ -93,7 +93,7 @@ pub struct SpawnQuery {
 }
 
 /// The rays of a case.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub enum CaseData {
     /// Kernel-level rays.
     Rays {
@@ -104,10 +104,13 @@ pub enum CaseData {
     },
     /// Spawned rays.
     Spawn(Vec<SpawnQuery>),
+    /// Whole scenes traced through the BVH and by brute force (f32, the renderer's own
+    /// accelerators): the answers must be identical (S23).
+    Scenes(Vec<(crate::scene::Scene, Vec<crate::math::Ray<f32>>)>),
 }
 
 /// One stiff case of the catalogue.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Case {
     /// "S1" … "S25".
     pub id: &'static str,
@@ -125,6 +128,7 @@ impl Case {
         match &self.data {
             CaseData::Rays { queries, .. } => queries.len(),
             CaseData::Spawn(q) => q.len(),
+            CaseData::Scenes(s) => s.iter().map(|(_, r)| r.len()).sum(),
         }
     }
     /// Whether the case has no rays.
@@ -356,6 +360,7 @@ pub fn catalogue(opts: &Options) -> Vec<Case> {
             true,
         ),
     ];
+    out.push(bvh_scenes(&mut rng, n));
     out.extend(invalid_rays());
     out.push(spawn_s7(&mut rng, n));
     out.push(spawn_s19(opts, &mut rng, n));
@@ -1110,5 +1115,62 @@ fn spawn_s19(opts: &Options, rng: &mut Rng, n: usize) -> Case {
         title: "reflected rays from spheres, planes, triangles at 1e-3…1e6, 1°…89°",
         primitive: Primitive::Spawn,
         data: CaseData::Spawn(q),
+    }
+}
+
+fn toml_vec(v: Vec3) -> String {
+    format!("[{:e}, {:e}, {:e}]", v.x, v.y, v.z)
+}
+
+fn bvh_scenes(rng: &mut Rng, n: usize) -> Case {
+    use crate::math::Ray;
+    let mut out = vec![];
+    // A random scene of spheres and triangles scaled by 1e-5: no fixed t_min may creep into
+    // the traversal.
+    let s = 1e-5f32;
+    let mut t = format!("[[plane]]\naxis = \"y\"\noffset = {:e}\n", -12.0 * s);
+    for _ in 0..40 {
+        t += &format!(
+            "[[sphere]]\ncenter = {}\nradius = {:e}\n",
+            toml_vec(rvec(rng) * 10.0 * s),
+            rng.range(0.1, 1.5) as f32 * s
+        );
+        let c = rvec(rng) * 10.0;
+        let p: Vec<Vec3> = (0..3).map(|_| (c + rvec(rng) * 2.0) * s).collect();
+        t += &format!(
+            "[[triangle]]\nvertices = [{}, {}, {}]\n",
+            toml_vec(p[0]),
+            toml_vec(p[1]),
+            toml_vec(p[2])
+        );
+    }
+    if let Ok(scene) = crate::scene::load_str(&t, "s23-tiny.toml", None) {
+        let rays = (0..n)
+            .filter_map(|_| {
+                let o = rvec(rng) * 20.0 * s;
+                let target = rvec(rng) * 10.0 * s;
+                Ray::infinite(o, target - o).ok()
+            })
+            .collect();
+        out.push((scene, rays));
+    }
+    // Two spheres whose surfaces are 5e-5 apart; rays from just inside the inner one outwards.
+    let t = "[[sphere]]\nradius = 1\n[[sphere]]\nradius = 1.00005\n[[sphere]]\ncenter = [5, 0, 0]\n\
+             [[sphere]]\ncenter = [-5, 0, 0]\n";
+    if let Ok(scene) = crate::scene::load_str(t, "s23-close.toml", None) {
+        let rays = (0..n)
+            .filter_map(|_| {
+                let d = rvec(rng);
+                let o = d.normalize_or_zero() * 0.999;
+                Ray::new(o, d, 0.0, f32::INFINITY).ok()
+            })
+            .collect();
+        out.push((scene, rays));
+    }
+    Case {
+        id: "S23",
+        title: "BVH against brute force: scene scaled by 1e-5; surfaces 5e-5 apart",
+        primitive: Primitive::Box,
+        data: CaseData::Scenes(out),
     }
 }
