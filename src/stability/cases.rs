@@ -61,8 +61,12 @@ pub struct Query {
 pub enum Kind {
     /// Hit or miss, and t, against the exact reference.
     Classify,
-    /// Rays exactly at a shared edge or vertex: a leak is a ray that hits none of the triangles.
+    /// Rays exactly at a shared edge or vertex: a leak is a ray the exact reference sees hit
+    /// at least one of the triangles, while the method hits none.
     Leak,
+    /// Rays at a shared edge of triangles whose vertices no longer agree (lossy compression,
+    /// S24): every ray that hits none of them goes through a crack in the data — the crack rate.
+    Crack,
     /// Invalid rays (NaN, ∞, zero direction): they must be rejected where rays are made.
     Reject,
 }
@@ -731,7 +735,8 @@ fn edge_leaks(
             q.push(query(Geometry::Triangles(tris), f64x3(origin), f64x3(d)));
         }
     }
-    rays(id, title, Primitive::Triangle, Kind::Leak, q)
+    let kind = if compressed { Kind::Crack } else { Kind::Leak };
+    rays(id, title, Primitive::Triangle, kind, q)
 }
 
 fn vertex_leaks(
@@ -780,7 +785,8 @@ fn vertex_leaks(
             ));
         }
     }
-    rays(id, title, Primitive::Triangle, Kind::Leak, q)
+    let kind = if compressed { Kind::Crack } else { Kind::Leak };
+    rays(id, title, Primitive::Triangle, kind, q)
 }
 
 fn triangle_slopes(opts: &Options, rng: &mut Rng, n: usize) -> Case {
