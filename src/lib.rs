@@ -20,6 +20,8 @@
 //! - [`gpu`]: the same scene traced on the GPU (wgpu, WGSL generated per scene), compared with
 //!   the CPU render.
 //! - [`app`]: the eframe app — the render, the stepping, the math and the diagrams side by side.
+//! - [`stability`]: the numerical stability lab — every method in f32 and f64 on the stiff cases
+//!   S1–S25 against exact rational references, cost per test, and image error against run time.
 //! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
 //! - [`cli`]: the `raystep` command line.
 #![forbid(unsafe_code)]
@@ -38,4 +40,5 @@ pub mod math;
 pub mod render;
 pub mod scene;
 pub mod shapes;
+pub mod stability;
 pub mod trace;

@@ -102,6 +102,34 @@ fn expected() -> Vec<(&'static str, Features)> {
                 primitives: 7,
             },
         ),
+        (
+            // ball; floor (a general plane). Spawned rays with no offset: acne.
+            "acne.toml",
+            Features {
+                spheres: 1,
+                planes: 1,
+                triangles: 0,
+                meshes: 0,
+                lights: 1,
+                reflective: false,
+                transparent: false,
+                primitives: 2,
+            },
+        ),
+        (
+            // Four loose triangles around one vertex; lamp.
+            "leaky-edge.toml",
+            Features {
+                spheres: 0,
+                planes: 0,
+                triangles: 4,
+                meshes: 0,
+                lights: 1,
+                reflective: false,
+                transparent: false,
+                primitives: 4,
+            },
+        ),
     ]
 }
 

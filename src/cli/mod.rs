@@ -3,12 +3,14 @@
 
 mod bench_cmd;
 mod compare_cmd;
+mod converge_cmd;
 mod diagram_cmd;
 mod diff_cmd;
 mod exercise_cmd;
 mod intersect;
 mod render_cmd;
 mod scene_cmd;
+mod stability_cmd;
 mod trace_cmd;
 
 use crate::scene::{AccelChoice, OffsetPolicy, Scene};
@@ -42,6 +44,12 @@ pub enum Command {
     Compare(compare_cmd::CompareArgs),
     /// Print performance figures (medians of timed repetitions).
     Bench(bench_cmd::BenchArgs),
+    /// The numerical stability lab: every intersection method in f32 and f64 on the stiff cases
+    /// S1–S25, against exact references; Markdown, CSV and error-vs-time plots.
+    Stability(stability_cmd::StabilityArgs),
+    /// Render a scene at spp 1, 2, 4, … with several seeds against a high-spp reference; error
+    /// against spp and trace time (Markdown, CSV, plots).
+    Converge(converge_cmd::ConvergeArgs),
     /// Draw a traced pixel's diagrams (PNG), or every step as an animated GIF or PNG frames.
     Diagram(diagram_cmd::DiagramArgs),
     /// Compare two saved traces step by step and report the first divergence (exit 0 equal,
@@ -225,6 +233,8 @@ pub fn main() -> ExitCode {
         Some(Command::Compare(args)) => compare_cmd::run(&args),
         Some(Command::Bench(args)) => bench_cmd::run(&args),
         Some(Command::Diagram(args)) => diagram_cmd::run(&args),
+        Some(Command::Stability(args)) => stability_cmd::run_cmd(&args),
+        Some(Command::Converge(args)) => converge_cmd::run_cmd(&args),
         // Its own exit status: 1 means "the traces differ", 2 bad input.
         Some(Command::Diff(args)) => return diff_cmd::run(&args),
         Some(Command::Exercise(args)) => exercise_cmd::run_exercise(&args),

@@ -95,8 +95,15 @@ pub struct Interaction {
 /// general plane — re-projected, bound γ₇(|P| + |P·n||n| + |c||n|).
 #[inline(always)]
 pub fn interact(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
+    interact_shape(&scene.objects[hit.object as usize].shape, hit, ray)
+}
+
+/// [`interact`] for one shape, without a scene: the stability lab spawns rays from bare shapes
+/// through this very code, so what it measures is what the renderer does.
+#[inline(always)]
+pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
     let raw = ray.at(hit.t);
-    let (point, outward, error) = match scene.objects[hit.object as usize].shape {
+    let (point, outward, error) = match *shape {
         Shape::Sphere { center, radius } => {
             let rel = raw - center;
             let len = rel.length();

@@ -1,0 +1,393 @@
+//! Image-level error against run time (`raystep converge`): a scene rendered at spp = 1, 2, 4, …
+//! with K independent seeds, each image compared with a reference rendered at ≥ 16× the top spp
+//! (NUMERICS.md, "Reporting error against run time").
+//!
+//! Per level and seed: trace seconds (the renderer's own [`RenderStats::trace`], which excludes
+//! loading and building the accelerator — both reported once, separately), MSE, RMSE,
+//! relMSE = mean((x − r)² / (r² + ε)) with ε = [`REL_EPSILON`], and NaN/∞ pixel counts. FLIP is
+//! not computed (it needs the nv-flip crate; the report says so).
+//!
+//! [`RenderStats::trace`]: crate::render::RenderStats::trace
+
+use super::plot::{PALETTE, Plot, Series, draw};
+use super::report::num;
+use crate::accel::SceneAccel;
+use crate::render::{RenderOptions, render};
+use crate::scene::Scene;
+use crate::trace::Tracer;
+use glam::Vec3;
+use serde::Serialize;
+use std::fmt::Write as _;
+
+/// ε of relMSE (stated in every report).
+pub const REL_EPSILON: f64 = 0.01;
+
+/// What `converge` renders.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ConvergeOptions {
+    /// The largest spp (levels are 1, 2, 4, … up to it; rounded down to a power of two).
+    pub max_spp: u32,
+    /// Independent seeds per level.
+    pub seeds: u32,
+    /// The reference renders at `reference_factor` × `max_spp` (at least 16).
+    pub reference_factor: u32,
+    /// Worker threads (None: all cores).
+    pub threads: Option<usize>,
+}
+
+impl Default for ConvergeOptions {
+    fn default() -> Self {
+        ConvergeOptions {
+            max_spp: 16,
+            seeds: 4,
+            reference_factor: 16,
+            threads: None,
+        }
+    }
+}
+
+/// One render: a level's spp with one seed.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Sample {
+    /// Samples per pixel.
+    pub spp: u32,
+    /// The jitter seed.
+    pub seed: u32,
+    /// Trace seconds.
+    pub seconds: f64,
+    /// Mean squared error over pixels and channels (linear RGB).
+    pub mse: f64,
+    /// √MSE.
+    pub rmse: f64,
+    /// mean((x − r)² / (r² + ε)), ε = [`REL_EPSILON`].
+    pub relmse: f64,
+    /// Pixels with a NaN channel.
+    pub nan: usize,
+    /// Pixels with an infinite channel.
+    pub inf: usize,
+}
+
+/// A level's seeds summarized: median and the p10–p90 range.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Level {
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Median trace seconds.
+    pub seconds: f64,
+    /// MSE: [p10, median, p90] over seeds.
+    pub mse: [f64; 3],
+    /// RMSE: [p10, median, p90].
+    pub rmse: [f64; 3],
+    /// relMSE: [p10, median, p90].
+    pub relmse: [f64; 3],
+    /// NaN pixels over all seeds.
+    pub nan: usize,
+    /// Infinite pixels over all seeds.
+    pub inf: usize,
+}
+
+/// Everything `converge` measured.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConvergeReport {
+    /// The scene's name.
+    pub scene: String,
+    /// Image size.
+    pub size: [u32; 2],
+    /// Seconds to build the accelerator (BVH or brute force), once.
+    pub build_seconds: f64,
+    /// The reference's spp.
+    pub reference_spp: u32,
+    /// The reference's trace seconds.
+    pub reference_seconds: f64,
+    /// Every render.
+    pub samples: Vec<Sample>,
+    /// Per level.
+    pub levels: Vec<Level>,
+    /// Least-squares slope of log median MSE against log spp (≈ −1 for independent samples;
+    /// steeper where stratification helps, e.g. at edges).
+    pub mse_slope: f64,
+}
+
+fn quantiles(mut v: Vec<f64>) -> [f64; 3] {
+    v.sort_by(|a, b| a.total_cmp(b));
+    let q = |p: f64| {
+        if v.is_empty() {
+            return 0.0;
+        }
+        // Linear interpolation between order statistics.
+        let x = p * (v.len() - 1) as f64;
+        let (i, f) = (x.floor() as usize, x - x.floor());
+        let j = (i + 1).min(v.len() - 1);
+        v[i] * (1.0 - f) + v[j] * f
+    };
+    [q(0.1), q(0.5), q(0.9)]
+}
+
+fn errors(img: &[Vec3], reference: &[Vec3]) -> (f64, f64, usize, usize) {
+    let (mut se, mut rel) = (0.0, 0.0);
+    let (mut nan, mut inf) = (0, 0);
+    for (x, r) in img.iter().zip(reference) {
+        if x.is_nan() {
+            nan += 1;
+            continue;
+        }
+        if !x.is_finite() {
+            inf += 1;
+            continue;
+        }
+        for k in 0..3 {
+            let d = (x[k] - r[k]) as f64;
+            se += d * d;
+            rel += d * d / ((r[k] as f64).powi(2) + REL_EPSILON);
+        }
+    }
+    let n = (img.len() * 3).max(1) as f64;
+    (se / n, rel / n, nan, inf)
+}
+
+/// Least-squares slope of y against x.
+pub fn slope(points: &[(f64, f64)]) -> f64 {
+    let n = points.len() as f64;
+    if points.len() < 2 {
+        return 0.0;
+    }
+    let mx = points.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = points.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    if sxx == 0.0 { 0.0 } else { sxy / sxx }
+}
+
+/// Renders the levels and the reference and measures every level's error.
+pub fn run(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport, String> {
+    if opts.max_spp == 0 || opts.seeds == 0 {
+        return Err("converge needs --max-spp ≥ 1 and --seeds ≥ 1".into());
+    }
+    let factor = opts.reference_factor.max(16);
+    let top = 1u32 << (31 - opts.max_spp.leading_zeros());
+    let reference_spp = top
+        .checked_mul(factor)
+        .filter(|s| *s <= 1 << 20)
+        .ok_or_else(|| format!("a reference at {factor} × {top} spp is too many samples"))?;
+    let (accel, build) = SceneAccel::build(scene);
+    let ropts = RenderOptions {
+        threads: opts.threads,
+        ..Default::default()
+    };
+    let render_with = |spp: u32, seed: u32| {
+        let mut s = scene.clone();
+        s.settings.spp = spp;
+        s.settings.seed = seed;
+        let tracer = Tracer::new(&s, &accel);
+        render(&tracer, &ropts)
+    };
+    // The reference's seed differs from every level's (levels use 1..=K).
+    let reference = render_with(reference_spp, 0x5EED_u32.wrapping_mul(7919))?;
+    let (rn, ri) = reference.pixels.iter().fold((0, 0), |(n, i), p| {
+        (
+            n + p.is_nan() as usize,
+            i + (!p.is_nan() && !p.is_finite()) as usize,
+        )
+    });
+    if rn + ri > 0 {
+        return Err(format!(
+            "the reference render has {rn} NaN and {ri} infinite pixels: no error can be measured"
+        ));
+    }
+    let mut samples = vec![];
+    let mut levels = vec![];
+    let mut spp = 1;
+    while spp <= top {
+        let mut here = vec![];
+        for seed in 1..=opts.seeds {
+            let out = render_with(spp, seed)?;
+            let (mse, relmse, nan, inf) = errors(&out.pixels, &reference.pixels);
+            here.push(Sample {
+                spp,
+                seed,
+                seconds: out.stats.trace.as_secs_f64(),
+                mse,
+                rmse: mse.sqrt(),
+                relmse,
+                nan,
+                inf,
+            });
+        }
+        levels.push(Level {
+            spp,
+            seconds: quantiles(here.iter().map(|s| s.seconds).collect())[1],
+            mse: quantiles(here.iter().map(|s| s.mse).collect()),
+            rmse: quantiles(here.iter().map(|s| s.rmse).collect()),
+            relmse: quantiles(here.iter().map(|s| s.relmse).collect()),
+            nan: here.iter().map(|s| s.nan).sum(),
+            inf: here.iter().map(|s| s.inf).sum(),
+        });
+        samples.extend(here);
+        spp *= 2;
+    }
+    let pts: Vec<(f64, f64)> = levels
+        .iter()
+        .filter(|l| l.mse[1] > 0.0)
+        .map(|l| ((l.spp as f64).ln(), l.mse[1].ln()))
+        .collect();
+    Ok(ConvergeReport {
+        scene: scene.name.clone(),
+        size: [reference.width, reference.height],
+        build_seconds: build.as_secs_f64(),
+        reference_spp,
+        reference_seconds: reference.stats.trace.as_secs_f64(),
+        samples,
+        levels,
+        mse_slope: slope(&pts),
+    })
+}
+
+/// Column names of [`csv`].
+pub const CSV_COLUMNS: [&str; 8] = [
+    "spp", "seed", "seconds", "mse", "rmse", "relmse", "nan", "inf",
+];
+
+/// One line per render (spp × seed).
+pub fn csv(r: &ConvergeReport) -> String {
+    let mut s = CSV_COLUMNS.join(",");
+    s.push('\n');
+    for x in &r.samples {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{}",
+            x.spp, x.seed, x.seconds, x.mse, x.rmse, x.relmse, x.nan, x.inf
+        );
+    }
+    s
+}
+
+/// The Markdown report: setup, the equal-spp table and the equal-time table.
+pub fn markdown(r: &ConvergeReport, load_seconds: f64) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# raystep converge: {}\n", r.scene);
+    let _ = writeln!(
+        s,
+        "{}×{} pixels. Load {:.3} s and accelerator build {:.3} s are excluded from the times \
+         below (trace time only). Reference: {} spp ({:.2} s). relMSE = mean((x − r)²/(r² + ε)) \
+         with ε = {}. Errors are medians over seeds, with the p10–p90 range. FLIP: not computed \
+         (no nv-flip dependency).\n",
+        r.size[0],
+        r.size[1],
+        load_seconds,
+        r.build_seconds,
+        r.reference_spp,
+        r.reference_seconds,
+        REL_EPSILON
+    );
+    let _ = writeln!(
+        s,
+        "MSE slope against spp (log–log least squares): **{:.2}** (independent samples give −1).\n",
+        r.mse_slope
+    );
+    let _ = writeln!(s, "## Equal spp\n");
+    let _ = writeln!(
+        s,
+        "| spp | seconds | MSE | MSE p10–p90 | RMSE | relMSE | relMSE p10–p90 | NaN | ∞ |"
+    );
+    let _ = writeln!(s, "|---:|---:|---:|---|---:|---:|---|---:|---:|");
+    for l in &r.levels {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {}–{} | {} | {} | {}–{} | {} | {} |",
+            l.spp,
+            num(l.seconds),
+            num(l.mse[1]),
+            num(l.mse[0]),
+            num(l.mse[2]),
+            num(l.rmse[1]),
+            num(l.relmse[1]),
+            num(l.relmse[0]),
+            num(l.relmse[2]),
+            l.nan,
+            l.inf
+        );
+    }
+    let _ = writeln!(s, "\n## Equal time\n");
+    let _ = writeln!(
+        s,
+        "For each time budget, the largest spp whose median trace time fits, and its error.\n"
+    );
+    let _ = writeln!(s, "| budget (s) | spp | MSE | relMSE |");
+    let _ = writeln!(s, "|---:|---:|---:|---:|");
+    let t0 = r.levels.first().map_or(0.0, |l| l.seconds).max(1e-6);
+    let t1 = r.levels.last().map_or(0.0, |l| l.seconds);
+    let mut budget = t0;
+    while budget <= t1 * 1.0001 + 1e-12 {
+        if let Some(l) = r.levels.iter().rev().find(|l| l.seconds <= budget) {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} |",
+                num(budget),
+                l.spp,
+                num(l.mse[1]),
+                num(l.relmse[1])
+            );
+        }
+        budget *= 2.0;
+    }
+    s
+}
+
+fn band_series(label: &str, xs: &[f64], q: &[[f64; 3]], color: [u8; 4]) -> Series {
+    Series {
+        label: label.into(),
+        points: xs.iter().zip(q).map(|(x, q)| [*x, q[1]]).collect(),
+        line: true,
+        filled: true,
+        label_points: false,
+        band: Some(xs.iter().zip(q).map(|(x, q)| [*x, q[0], q[2]]).collect()),
+        color,
+    }
+}
+
+/// The two log–log plots as PNG bytes: error against spp, and error against trace seconds.
+pub fn plots(r: &ConvergeReport) -> (Vec<u8>, Vec<u8>) {
+    let spp: Vec<f64> = r.levels.iter().map(|l| l.spp as f64).collect();
+    let secs: Vec<f64> = r.levels.iter().map(|l| l.seconds.max(1e-9)).collect();
+    let mse: Vec<[f64; 3]> = r.levels.iter().map(|l| l.mse).collect();
+    let rel: Vec<[f64; 3]> = r.levels.iter().map(|l| l.relmse).collect();
+    // The 1/spp guide through the first level.
+    let guide = |xs: &[f64]| -> Series {
+        let y0 = r.levels.first().map_or(1.0, |l| l.mse[1]);
+        Series {
+            label: "slope −1".into(),
+            points: xs.iter().map(|x| [*x, y0 * xs[0] / x]).collect(),
+            line: true,
+            filled: false,
+            label_points: false,
+            band: None,
+            color: [150, 150, 160, 255],
+        }
+    };
+    let sub = format!(
+        "median over seeds, band p10–p90; reference {} spp; relMSE ε = {}; MSE slope {:.2}",
+        r.reference_spp, REL_EPSILON, r.mse_slope
+    );
+    let a = Plot {
+        title: format!("{}: error against samples per pixel", r.scene),
+        subtitle: sub.clone(),
+        x_label: "samples per pixel (log)".into(),
+        y_label: "error (log)".into(),
+        series: vec![
+            band_series("MSE", &spp, &mse, PALETTE[0]),
+            band_series("relMSE", &spp, &rel, PALETTE[1]),
+            guide(&spp),
+        ],
+    };
+    let b = Plot {
+        title: format!("{}: error against trace time", r.scene),
+        subtitle: sub,
+        x_label: "trace seconds (log; excludes load and BVH build)".into(),
+        y_label: "error (log)".into(),
+        series: vec![
+            band_series("MSE", &secs, &mse, PALETTE[0]),
+            band_series("relMSE", &secs, &rel, PALETTE[1]),
+        ],
+    };
+    (draw(&a, 900, 600), draw(&b, 900, 600))
+}

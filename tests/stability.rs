@@ -1,0 +1,396 @@
+//! The stability lab (issue 8): the exact references against hand-computed answers, the
+//! renderer's default methods free of failures on the stiff cases that justify them, the seeds'
+//! methods visibly failing (so a regression either way is caught), no NaN anywhere, the shipped
+//! failure scenes showing their failure, and `raystep stability --quick` / `raystep converge`
+//! writing well-formed outputs.
+
+use assert_cmd::Command;
+use num_rational::BigRational;
+use raystep::stability::exact::{self, Dd};
+use raystep::stability::{Method, Options, Precision, Report, run};
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// The quick suite, run once for all the tests that read it.
+fn quick() -> &'static Report {
+    static REPORT: OnceLock<Report> = OnceLock::new();
+    REPORT.get_or_init(|| {
+        let r = run(&Options::quick());
+        // Timing is only printed, never asserted.
+        for p in &r.points {
+            println!(
+                "{:9} {:19} {} {:8.1} ns/test",
+                p.primitive.name(),
+                p.method.name(),
+                p.precision.name(),
+                p.ns_per_test
+            );
+        }
+        r
+    })
+}
+
+fn rat(n: i64, d: i64) -> BigRational {
+    BigRational::new(n.into(), d.into())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exact references against hand computation
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn sphere_reference_matches_hand_computation() {
+    let u = Precision::F32.unit_roundoff();
+    // Sphere at the origin, radius 5; ray from (0,0,−10) along +z: |(0,0,−10+t)|² = 25 gives
+    // t = 10 ∓ 5 = 5 and 15. The near root is taken, the far one is the "other".
+    let r = exact::sphere([0.0; 3], 5.0, [0.0, 0.0, -10.0], [0.0, 0.0, 1.0], u);
+    assert!(r.hit && !r.band);
+    assert_eq!(r.t, Some(Dd { hi: 5.0, lo: 0.0 }));
+    assert_eq!(r.other, Some(Dd { hi: 15.0, lo: 0.0 }));
+    // From inside, at the centre: roots −5 and 5, the exit root 5 is taken.
+    let r = exact::sphere([0.0; 3], 5.0, [0.0; 3], [0.0, 0.0, 1.0], u);
+    assert_eq!(r.t.map(|t| t.hi), Some(5.0));
+    // Direction (0,0,2): t halves (t·|d| is the distance): 2.5.
+    let r = exact::sphere([0.0; 3], 5.0, [0.0, 0.0, -10.0], [0.0, 0.0, 2.0], u);
+    assert_eq!(r.t.map(|t| t.hi), Some(2.5));
+    // Passing at distance 6 > 5 from the centre: a miss, outside the band.
+    let r = exact::sphere([0.0; 3], 5.0, [6.0, 0.0, -10.0], [0.0, 0.0, 1.0], u);
+    assert!(!r.hit && !r.band);
+    // Tangent (distance exactly 5): the double root t = 10, in the band.
+    let r = exact::sphere([0.0; 3], 5.0, [5.0, 0.0, -10.0], [0.0, 0.0, 1.0], u);
+    assert!(r.hit && r.band);
+    assert_eq!(r.t.map(|t| t.hi), Some(10.0));
+    // Irrational root: unit sphere 4100 away, ray 0.5 off axis: t = 4100 − √(1 − 0.25)
+    // = 4100 − √3/2. The reference carries it to double-double precision: compare hi + lo with
+    // √3/2 = 0.866025403784438646763723170752936183… by hand.
+    let r = exact::sphere([0.0, 0.0, 4100.0], 1.0, [0.5, 0.0, 0.0], [0.0, 0.0, 1.0], u);
+    let t = r.t.unwrap();
+    let sqrt3_half_hi = 0.8660254037844386_f64;
+    // The f64 written 0.8660254037844386 is exactly
+    // 0.8660254037844385965883020617184229195117950439453125 (its binary expansion), so
+    // √3/2 − that = 5.01754211090345132…e-17 (50-digit decimal arithmetic).
+    let sqrt3_half_lo = 5.017_542_110_903_451e-17;
+    assert_eq!(t.hi, 4100.0 - sqrt3_half_hi);
+    // 4100 − √3/2 = hi + lo: lo is the rounding error of the f64 subtraction (recovered exactly
+    // by Fast2Sum, |4100| ≥ |√3/2|) minus the part of √3/2 an f64 cannot hold.
+    let rounding = (4100.0 - t.hi) - sqrt3_half_hi;
+    let expected_lo = rounding - sqrt3_half_lo;
+    assert!(
+        (t.lo - expected_lo).abs() < 1e-25,
+        "{} vs {expected_lo}",
+        t.lo
+    );
+}
+
+#[test]
+fn plane_triangle_and_box_references_are_exact_rationals() {
+    let u = Precision::F32.unit_roundoff();
+    // Plane x + 2y + 2z = 3, ray from the origin along (1,1,1): t = 3/(1+2+2) = 3/5 — not a
+    // binary fraction, so the double-double must be 0.6 to ~106 bits.
+    let r = exact::plane([1.0, 2.0, 2.0], 3.0, [0.0; 3], [1.0, 1.0, 1.0], u);
+    assert!(r.hit);
+    assert_eq!(r.t, Some(Dd::of(&rat(3, 5))));
+    assert_eq!(r.t.unwrap().hi, 0.6);
+    // The same ray going away: t = −3/5, a miss. Parallel: d·n = 1·2 − 2·1 + 0 = 0, a miss.
+    assert!(!exact::plane([1.0, 2.0, 2.0], 3.0, [0.0; 3], [-1.0, -1.0, -1.0], u).hit);
+    assert!(!exact::plane([1.0, 2.0, 2.0], 3.0, [0.0; 3], [2.0, -1.0, 0.0], u).hit);
+    // Triangle (0,0,0), (4,0,0), (0,4,0); ray from (1,1,3) along (0,0,−2): it meets z = 0 at
+    // t = 3/2, at (1,1,0) = 0.25·P1 + 0.25·P2 → u = v = 1/4.
+    let r = exact::triangle(
+        [[0.0; 3], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]],
+        [1.0, 1.0, 3.0],
+        [0.0, 0.0, -2.0],
+        u,
+    );
+    assert!(r.hit && !r.band);
+    assert_eq!(r.t.map(|t| t.hi), Some(1.5));
+    assert_eq!((r.u.unwrap().hi, r.v.unwrap().hi), (0.25, 0.25));
+    // Aimed at (1, 3, 0): u + v = 1/4 + 3/4 = 1, exactly on the hypotenuse — a hit of the
+    // closed triangle, and in the band.
+    let r = exact::triangle(
+        [[0.0; 3], [4.0, 0.0, 0.0], [0.0, 4.0, 0.0]],
+        [1.0, 3.0, 3.0],
+        [0.0, 0.0, -1.0],
+        u,
+    );
+    assert!(r.hit && r.band);
+    // Triangle (0,0,0), (3,0,0), (0,3,0), ray from (1,1,1) along (1,1,−3)·(1/1): the hit is at
+    // t = 1/3 at (4/3, 4/3, 0): u = v = 4/9.
+    let r = exact::triangle(
+        [[0.0; 3], [3.0, 0.0, 0.0], [0.0, 3.0, 0.0]],
+        [1.0, 1.0, 1.0],
+        [1.0, 1.0, -3.0],
+        u,
+    );
+    assert_eq!(r.t, Some(Dd::of(&rat(1, 3))));
+    assert_eq!(r.u, Some(Dd::of(&rat(4, 9))));
+    // Box [1,2]³ from the origin along (1,1,1): enters at t = 1.
+    let r = exact::aabb([1.0; 3], [2.0; 3], [0.0; 3], [1.0, 1.0, 1.0], u);
+    assert_eq!(r.t.map(|t| t.hi), Some(1.0));
+    // Along (1, 3, 1): y enters at 1/3 and leaves at 2/3, x enters at 1: empty, a miss.
+    assert!(!exact::aabb([1.0; 3], [2.0; 3], [0.0; 3], [1.0, 3.0, 1.0], u).hit);
+    // Zero-thickness box z = 0.5, ray through it: t_near = t_far = 1/2, hit, not in the band.
+    let r = exact::aabb(
+        [0.0, 0.0, 0.5],
+        [1.0, 1.0, 0.5],
+        [0.5, 0.5, 0.0],
+        [0.0, 0.0, 1.0],
+        u,
+    );
+    assert!(r.hit && !r.band);
+    assert_eq!(r.t.map(|t| t.hi), Some(0.5));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The quick suite
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn defaults_have_no_misclassifications_or_leaks_on_the_key_cases() {
+    let r = quick();
+    for case in ["S1", "S3", "S6", "S12", "S13"] {
+        for m in [Method::SphereStable, Method::Watertight] {
+            let Some(row) = r.row(case, m, Precision::F32) else {
+                continue;
+            };
+            assert!(row.rays > 0);
+            assert_eq!(row.misclassified, 0, "{case} {}", m.name());
+            assert_eq!(row.leaks, 0, "{case} {}", m.name());
+        }
+    }
+    // Each of those cases was run by one of the two methods.
+    for case in ["S1", "S3", "S6"] {
+        assert!(r.row(case, Method::SphereStable, Precision::F32).is_some());
+    }
+    for case in ["S12", "S13"] {
+        let row = r.row(case, Method::Watertight, Precision::F32).unwrap();
+        assert_eq!(row.leak_rays, row.rays);
+    }
+    // The error-bound offset: no self-hits, and the surface 4e-5 beyond is reached.
+    for case in ["S7", "S19"] {
+        let row = r
+            .row(case, Method::OffsetErrorBound, Precision::F32)
+            .unwrap();
+        assert_eq!((row.self_hits, row.misclassified), (0, 0), "{case}");
+    }
+}
+
+#[test]
+fn the_seeds_methods_show_the_documented_failures() {
+    let r = quick();
+    // S1: the textbook quadratic loses the radius of a far sphere in f32.
+    let s1 = r.row("S1", Method::SphereTextbook, Precision::F32).unwrap();
+    assert!(s1.misclassified * 20 > s1.rays, "{s1:?}");
+    // S12: Möller–Trumbore leaks at shared edges in f32 (NUMERICS.md: 7.4%).
+    let s12 = r
+        .row("S12", Method::MollerTrumbore, Precision::F32)
+        .unwrap();
+    assert!(s12.leaks * 50 > s12.leak_rays, "{s12:?}");
+    // S19/S7: no offset self-hits; a fixed ε skips a surface 4e-5 away.
+    assert!(
+        r.row("S19", Method::OffsetNone, Precision::F32)
+            .unwrap()
+            .self_hits
+            > 0
+    );
+    let s7 = r.row("S7", Method::OffsetFixed, Precision::F32).unwrap();
+    assert_eq!(s7.misclassified, s7.rays);
+    // S23: the BVH finds exactly what brute force finds, at 1e-5 and 5e-5 apart.
+    let s23 = r.row("S23", Method::SlabRobust, Precision::F32).unwrap();
+    assert!(s23.rays > 0 && s23.exact_hits > 0);
+    assert_eq!(s23.misclassified, 0);
+    // S22: the plain slab test drops zero-thickness boxes.
+    let s22 = r.row("S22", Method::SlabPlain, Precision::F32).unwrap();
+    assert_eq!(s22.misclassified, s22.rays);
+}
+
+#[test]
+fn no_method_returns_nan_and_invalid_rays_are_rejected() {
+    let r = quick();
+    for row in &r.rows {
+        assert_eq!(row.nonfinite, 0, "{row:?}");
+        if row.case == "S25" {
+            assert!(row.rays > 0);
+            assert_eq!(row.misclassified, 0, "an invalid ray was accepted: {row:?}");
+        }
+    }
+    // Every case of the catalogue ran.
+    for k in 1..=25 {
+        let id = format!("S{k}");
+        assert!(r.rows.iter().any(|row| row.case == id), "{id} missing");
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The failure scenes
+// ---------------------------------------------------------------------------------------------
+
+fn scene(name: &str) -> raystep::scene::Scene {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .join(name);
+    raystep::scene::load_file(&p).unwrap()
+}
+
+fn render(s: &raystep::scene::Scene) -> Vec<glam::Vec3> {
+    let (accel, _) = raystep::accel::SceneAccel::build(s);
+    let tracer = raystep::trace::Tracer::new(s, &accel);
+    raystep::render::render(&tracer, &Default::default())
+        .unwrap()
+        .pixels
+}
+
+#[test]
+fn leaky_edge_scene_leaks_with_moller_trumbore_only() {
+    let mut s = scene("leaky-edge.toml");
+    let holes = |px: &[glam::Vec3], w: usize, h: usize| {
+        // Background pixels with the fan on both sides (left/right or above/below).
+        let bg = |x: usize, y: usize| px[y * w + x] == glam::Vec3::ZERO;
+        (1..h - 1)
+            .flat_map(|y| (1..w - 1).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                bg(x, y) && ((!bg(x - 1, y) && !bg(x + 1, y)) || (!bg(x, y - 1) && !bg(x, y + 1)))
+            })
+            .count()
+    };
+    let (w, h) = (s.camera.width as usize, s.camera.height as usize);
+    let mt = holes(&render(&s), w, h);
+    s.settings.triangle_method = raystep::shapes::TriangleMethod::Watertight;
+    let wt = holes(&render(&s), w, h);
+    assert!(mt > 0, "no crack with Möller–Trumbore");
+    assert_eq!(wt, 0);
+}
+
+#[test]
+fn acne_scene_shows_acne_without_offset_only() {
+    let mut s = scene("acne.toml");
+    let none = render(&s);
+    s.settings.offset = raystep::scene::OffsetPolicy::Robust;
+    let robust = render(&s);
+    // Acne darkens lit pixels to ambient: count pixels darker than with the robust offset.
+    let darker = none
+        .iter()
+        .zip(&robust)
+        .filter(|(a, b)| a.element_sum() + 0.05 < b.element_sum())
+        .count();
+    assert!(darker * 50 > none.len(), "only {darker} acne pixels");
+    // And nothing is brighter: acne only ever adds false shadow.
+    assert!(
+        none.iter()
+            .zip(&robust)
+            .all(|(a, b)| a.element_sum() <= b.element_sum() + 0.05)
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// The command line
+// ---------------------------------------------------------------------------------------------
+
+fn png_size(path: &Path) -> (u32, u32) {
+    let img = image::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    (img.width(), img.height())
+}
+
+#[test]
+fn stability_quick_writes_markdown_csv_and_plots() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lab");
+    Command::cargo_bin("raystep")
+        .unwrap()
+        .args(["stability", "--quick", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let csv = std::fs::read_to_string(out.join("stability.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header, raystep::stability::report::CSV_COLUMNS);
+    let mut n = 0;
+    for line in lines {
+        // Split respecting quotes (titles may contain commas).
+        let mut fields = vec![];
+        let (mut cur, mut quoted) = (String::new(), false);
+        for ch in line.chars() {
+            match ch {
+                '"' => quoted = !quoted,
+                ',' if !quoted => fields.push(std::mem::take(&mut cur)),
+                c => cur.push(c),
+            }
+        }
+        fields.push(cur);
+        assert_eq!(fields.len(), header.len(), "{line}");
+        assert!(fields[0].starts_with('S'));
+        assert!(["f32", "f64"].contains(&fields[4].as_str()));
+        for (k, f) in fields.iter().enumerate().skip(5) {
+            if f.is_empty() {
+                assert!(header[k].starts_with("uv_"), "{}: empty", header[k]);
+                continue;
+            }
+            let v: f64 = f.parse().unwrap_or_else(|_| panic!("{}: {f}", header[k]));
+            assert!(v >= 0.0, "{}: {v}", header[k]);
+        }
+        n += 1;
+    }
+    assert!(n > 50, "only {n} rows");
+    let md = std::fs::read_to_string(out.join("stability.md")).unwrap();
+    assert!(md.contains("| primitive | method | precision |"));
+    for prim in ["sphere", "triangle", "plane", "box", "spawn"] {
+        assert_eq!(
+            png_size(&out.join(format!("stability-{prim}.png"))),
+            (900, 600)
+        );
+    }
+}
+
+#[test]
+fn converge_writes_tables_and_plots_and_mse_falls_like_one_over_spp() {
+    let dir = tempfile::tempdir().unwrap();
+    // A small copy of the first lesson's scene: the ball's edge is all the noise there is.
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/first-sphere.toml"),
+    )
+    .unwrap()
+    .replace("width = 320", "width = 96")
+    .replace("height = 240", "height = 72");
+    let scene = dir.path().join("small.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.path().join("conv");
+    Command::cargo_bin("raystep")
+        .unwrap()
+        .args(["converge"])
+        .arg(&scene)
+        .args(["--max-spp", "16", "--seeds", "3", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let csv = std::fs::read_to_string(out.join("converge.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        raystep::stability::converge::CSV_COLUMNS.join(",")
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 5 * 3, "spp 1, 2, 4, 8, 16 × 3 seeds");
+    assert!(
+        rows.iter()
+            .all(|r| r.len() == 8 && r[6] == 0.0 && r[7] == 0.0)
+    );
+    // Median MSE per level, and the log–log slope against spp.
+    let mut pts = vec![];
+    for spp in [1.0, 2.0, 4.0, 8.0, 16.0] {
+        let mut m: Vec<f64> = rows.iter().filter(|r| r[0] == spp).map(|r| r[3]).collect();
+        m.sort_by(f64::total_cmp);
+        pts.push((f64::ln(spp), m[1].ln()));
+    }
+    let slope = raystep::stability::converge::slope(&pts);
+    println!("MSE slope {slope:.2}");
+    // Independent samples give −1; raystep's jitter is stratified, which at the ball's edge
+    // (the only noise here) tends to −1.5 (measured −1.39 on this scene). Accept both regimes.
+    assert!((-1.7..=-0.6).contains(&slope), "slope {slope}");
+    let md = std::fs::read_to_string(out.join("converge.md")).unwrap();
+    assert!(md.contains("ε = 0.01") && md.contains("Equal time") && md.contains("FLIP"));
+    assert_eq!(png_size(&out.join("converge-spp.png")), (900, 600));
+    assert_eq!(png_size(&out.join("converge-time.png")), (900, 600));
+}
