@@ -22,7 +22,8 @@
 //! - [`app`]: the eframe app — the render, the stepping, the math and the diagrams side by side.
 //! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
 //! - [`cli`]: the `raystep` command line.
-#![forbid(unsafe_code)]
+// One function opts in, with its reason: gpu::tracer's request for wgpu's experimental ray queries.
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod accel;

@@ -243,6 +243,16 @@ fn naga_validates_every_shader_variant() {
     for p in scene_paths() {
         let scene = load_file(&p).unwrap();
         shader::validate(&gpu::generated_wgsl(&scene)).unwrap();
+        // The hardware ray-query traversal, generated and full (validated even where no adapter
+        // here can run it).
+        let rq = ShaderConfig::for_scene(&scene).with_ray_query();
+        for c in [rq, rq.all_on()] {
+            let wgsl = shader::wgsl(&c);
+            assert!(wgsl.starts_with("enable wgpu_ray_query;") && wgsl.contains("rayQueryProceed"));
+            assert!(!wgsl.contains("fn bvh_closest") && !wgsl.contains("fn brute_closest"));
+            shader::validate(&wgsl).unwrap_or_else(|e| panic!("{c:?}:\n{e}"));
+            checked += 1;
+        }
         checked += 1;
     }
     eprintln!("naga validated {checked} shader variants");
@@ -491,4 +501,42 @@ fn set_camera_renders_another_view_and_size() {
         line.contains("compute path") && line.contains("ray queries"),
         "{line}"
     );
+}
+
+#[test]
+fn hardware_ray_queries_match_the_cpu_where_the_adapter_has_them() {
+    let Some(ctx) = context("hardware_ray_queries_match_the_cpu_where_the_adapter_has_them") else {
+        return;
+    };
+    if !ctx
+        .device
+        .features()
+        .contains(eframe::wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+    {
+        eprintln!(
+            "SKIPPED hardware_ray_queries_match_the_cpu_where_the_adapter_has_them: the adapter ({}) \
+             lacks EXPERIMENTAL_RAY_QUERY; the software WGSL traversal is tested instead",
+            ctx.adapter_name()
+        );
+        return;
+    }
+    for p in scene_paths() {
+        let scene = small(load_file(&p).unwrap());
+        let mut gpu = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated).unwrap();
+        assert!(gpu.adapter_line(GpuPath::Compute).contains("BLAS/TLAS"));
+        let frame = gpu.render(GpuPath::Compute).unwrap();
+        let d = gpu::difference(
+            frame.width,
+            frame.height,
+            &cpu_pixels(&scene),
+            &frame.pixels,
+        )
+        .unwrap();
+        eprintln!("{} (ray queries): {}", scene.name, d.summary());
+        assert!(
+            d.rmse < 1.0 / 255.0 && d.max_error <= MAX_ERROR,
+            "{}",
+            d.summary()
+        );
+    }
 }
