@@ -540,3 +540,28 @@ fn hardware_ray_queries_match_the_cpu_where_the_adapter_has_them() {
         );
     }
 }
+
+#[test]
+fn antialiased_samples_are_placed_as_on_the_cpu() {
+    let Some(ctx) = context("antialiased_samples_are_placed_as_on_the_cpu") else {
+        return;
+    };
+    // spp = 4, seed 7: the same PCG-hashed jitter in WGSL as in src/trace/sampling.rs.
+    let mut scene = small(load_file(&scene_file("three-spheres.toml")).unwrap());
+    scene.camera.width = 80;
+    scene.camera.height = 60;
+    scene.settings.spp = 4;
+    scene.settings.seed = 7;
+    let cpu = cpu_pixels(&scene);
+    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    for path in [GpuPath::Fragment, GpuPath::Compute] {
+        let frame = gpu.render(path).unwrap();
+        let d = gpu::difference(80, 60, &cpu, &frame.pixels).unwrap();
+        eprintln!("spp 4 ({}): {}", path.name(), d.summary());
+        assert!(
+            d.rmse < 1.0 / 255.0 && d.max_error <= MAX_ERROR,
+            "{}",
+            d.summary()
+        );
+    }
+}
