@@ -565,3 +565,30 @@ fn antialiased_samples_are_placed_as_on_the_cpu() {
         );
     }
 }
+
+#[test]
+fn display_texture_holds_the_srgb_image() {
+    let Some(ctx) = context("display_texture_holds_the_srgb_image") else {
+        return;
+    };
+    let scene = small(load_file(&scene_file("mirror-glass.toml")).unwrap());
+    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    let frame = gpu.render(GpuPath::Fragment).unwrap();
+    let display = gpu.read_display().unwrap();
+    // The GPU's sRGB encoding (WGSL pow) against the CPU's srgb8 of the same linear values.
+    let srgb = raystep::render::image::srgb8;
+    let worst = frame
+        .pixels
+        .iter()
+        .zip(&display)
+        .map(|(p, d)| {
+            assert_eq!(d[3], 255);
+            srgb(p.x)
+                .abs_diff(d[0])
+                .max(srgb(p.y).abs_diff(d[1]))
+                .max(srgb(p.z).abs_diff(d[2]))
+        })
+        .max()
+        .unwrap();
+    assert!(worst <= 1, "the display texture is {worst} steps off");
+}

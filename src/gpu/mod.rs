@@ -39,7 +39,7 @@
 //! ui.code(gpu.wgsl());                        // the generated shader
 //! let pick = gpu.debug_pixel(x, y)?;         // hit object, t, u, v, discriminant, BVH nodes
 //! // CPU against GPU: render both and compare the linear images.
-//! let frame = gpu.render(GpuPath::Compute)?;
+//! let frame = gpu.render(GpuPath::Compute)?;   // linear pixels; gpu.read_display() gives the RGBA8
 //! let diff = difference(frame.width, frame.height, &cpu.pixels, &frame.pixels)?;
 //! ```
 //!

@@ -988,6 +988,45 @@ impl GpuTracer {
         Ok(pixels)
     }
 
+    /// Reads back the display texture ([`Self::display_view`]: sRGB-encoded RGBA8, encoded on
+    /// the GPU), row-major from the top-left.
+    pub fn read_display(&self) -> Result<Vec<[u8; 4]>, GpuError> {
+        let (w, h) = (self.target.width, self.target.height);
+        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.target.display,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        })?;
+        let mut pixels = Vec::with_capacity((w * h) as usize);
+        for y in 0..h as usize {
+            for x in 0..w as usize {
+                let i = y * row as usize + x * 4;
+                pixels.push([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+            }
+        }
+        Ok(pixels)
+    }
+
     /// Traces pixel (x, y) alone on the GPU (compute, the CPU's exact primary ray) into the
     /// debug storage buffer and reads it back.
     pub fn debug_pixel(&mut self, x: u32, y: u32) -> Result<PixelDebug, GpuError> {
