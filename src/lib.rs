@@ -24,7 +24,8 @@
 //!   S1–S25 against exact rational references, cost per test, and image error against run time.
 //! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
 //! - [`cli`]: the `raystep` command line.
-#![forbid(unsafe_code)]
+// One function opts in, with its reason: gpu::tracer's request for wgpu's experimental ray queries.
+#![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod accel;

@@ -243,6 +243,16 @@ fn naga_validates_every_shader_variant() {
     for p in scene_paths() {
         let scene = load_file(&p).unwrap();
         shader::validate(&gpu::generated_wgsl(&scene)).unwrap();
+        // The hardware ray-query traversal, generated and full (validated even where no adapter
+        // here can run it).
+        let rq = ShaderConfig::for_scene(&scene).with_ray_query();
+        for c in [rq, rq.all_on()] {
+            let wgsl = shader::wgsl(&c);
+            assert!(wgsl.starts_with("enable wgpu_ray_query;") && wgsl.contains("rayQueryProceed"));
+            assert!(!wgsl.contains("fn bvh_closest") && !wgsl.contains("fn brute_closest"));
+            shader::validate(&wgsl).unwrap_or_else(|e| panic!("{c:?}:\n{e}"));
+            checked += 1;
+        }
         checked += 1;
     }
     eprintln!("naga validated {checked} shader variants");
@@ -491,4 +501,94 @@ fn set_camera_renders_another_view_and_size() {
         line.contains("compute path") && line.contains("ray queries"),
         "{line}"
     );
+}
+
+#[test]
+fn hardware_ray_queries_match_the_cpu_where_the_adapter_has_them() {
+    let Some(ctx) = context("hardware_ray_queries_match_the_cpu_where_the_adapter_has_them") else {
+        return;
+    };
+    if !ctx
+        .device
+        .features()
+        .contains(eframe::wgpu::Features::EXPERIMENTAL_RAY_QUERY)
+    {
+        eprintln!(
+            "SKIPPED hardware_ray_queries_match_the_cpu_where_the_adapter_has_them: the adapter ({}) \
+             lacks EXPERIMENTAL_RAY_QUERY; the software WGSL traversal is tested instead",
+            ctx.adapter_name()
+        );
+        return;
+    }
+    for p in scene_paths() {
+        let scene = small(load_file(&p).unwrap());
+        let mut gpu = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated).unwrap();
+        assert!(gpu.adapter_line(GpuPath::Compute).contains("BLAS/TLAS"));
+        let frame = gpu.render(GpuPath::Compute).unwrap();
+        let d = gpu::difference(
+            frame.width,
+            frame.height,
+            &cpu_pixels(&scene),
+            &frame.pixels,
+        )
+        .unwrap();
+        eprintln!("{} (ray queries): {}", scene.name, d.summary());
+        assert!(
+            d.rmse < 1.0 / 255.0 && d.max_error <= MAX_ERROR,
+            "{}",
+            d.summary()
+        );
+    }
+}
+
+#[test]
+fn antialiased_samples_are_placed_as_on_the_cpu() {
+    let Some(ctx) = context("antialiased_samples_are_placed_as_on_the_cpu") else {
+        return;
+    };
+    // spp = 4, seed 7: the same PCG-hashed jitter in WGSL as in src/trace/sampling.rs.
+    let mut scene = small(load_file(&scene_file("three-spheres.toml")).unwrap());
+    scene.camera.width = 80;
+    scene.camera.height = 60;
+    scene.settings.spp = 4;
+    scene.settings.seed = 7;
+    let cpu = cpu_pixels(&scene);
+    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    for path in [GpuPath::Fragment, GpuPath::Compute] {
+        let frame = gpu.render(path).unwrap();
+        let d = gpu::difference(80, 60, &cpu, &frame.pixels).unwrap();
+        eprintln!("spp 4 ({}): {}", path.name(), d.summary());
+        assert!(
+            d.rmse < 1.0 / 255.0 && d.max_error <= MAX_ERROR,
+            "{}",
+            d.summary()
+        );
+    }
+}
+
+#[test]
+fn display_texture_holds_the_srgb_image() {
+    let Some(ctx) = context("display_texture_holds_the_srgb_image") else {
+        return;
+    };
+    let scene = small(load_file(&scene_file("mirror-glass.toml")).unwrap());
+    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    let frame = gpu.render(GpuPath::Fragment).unwrap();
+    let display = gpu.read_display().unwrap();
+    // The GPU's sRGB encoding (WGSL pow) against the CPU's srgb8 of the same linear values.
+    let srgb = raystep::render::image::srgb8;
+    let worst = frame
+        .pixels
+        .iter()
+        .zip(&display)
+        .map(|(p, d)| {
+            assert_eq!(d[3], 255);
+            srgb(p.x)
+                .abs_diff(d[0])
+                .max(srgb(p.y).abs_diff(d[1]))
+                .max(srgb(p.z).abs_diff(d[2]))
+        })
+        .max()
+        .unwrap();
+    assert!(worst <= 1, "the display texture is {worst} steps off");
 }

@@ -135,6 +135,35 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
     }
 }
 
+/// The scene for hardware ray queries: every finite object a procedural primitive (its box, in
+/// `aabbs`, six f32 each), `leaf_objects` mapping primitive index to object id, `n_nodes` their
+/// count; planes apart, as with the BVH.
+pub(crate) fn ray_query_data(scene: &Scene) -> (SceneData, Vec<u8>) {
+    let mut data = scene_data(scene, None);
+    let mut aabbs = Bytes::default();
+    let mut ids = Bytes::default();
+    let mut planes = Bytes::default();
+    let (mut n, mut n_planes) = (0, 0);
+    for (id, o) in scene.objects.iter().enumerate() {
+        match crate::accel::bvh::shape_bounds(&o.shape) {
+            Some((lo, hi)) => {
+                aabbs.vec3(lo).vec3(hi);
+                ids.u32(id as u32);
+                n += 1;
+            }
+            None => {
+                planes.u32(id as u32);
+                n_planes += 1;
+            }
+        }
+    }
+    data.leaf_objects = ids.non_empty(4);
+    data.planes = planes.non_empty(4);
+    data.n_nodes = n;
+    data.n_planes = n_planes;
+    (data, aabbs.0)
+}
+
 /// The uniform `Params` for a camera.
 pub(crate) fn params(
     scene: &Scene,

@@ -11,9 +11,15 @@
 //!   invocation per pixel), frame timing, readback and the [debug pixel](GpuTracer::debug_pixel).
 //! - [`difference`]: CPU against GPU — RMSE, max error, differing pixels, a difference image.
 //!
-//! The tracer is software ray tracing in WGSL on any adapter. Hardware ray queries
-//! (`EXPERIMENTAL_RAY_QUERY`) are detected and reported in [`GpuTracer::adapter_line`] but not
-//! used yet.
+//! The tracer is software ray tracing in WGSL on any adapter. Where the device has hardware ray
+//! queries (`EXPERIMENTAL_RAY_QUERY`; [`GpuContext::headless`] requests it where the adapter
+//! offers it), the finite objects go into a BLAS as procedural boxes under a one-instance TLAS,
+//! and `traversal_closest`/`traversal_any` become ray queries whose candidates are decided by the
+//! same WGSL intersection functions (so the numbers stay the CPU's); planes are tested first as
+//! on the CPU. [`GpuTracer::adapter_line`] says which traversal runs. That path is compiled and
+//! its shaders pass naga's validator, but it has not run yet: no adapter available to this
+//! project's machines offers ray queries (lavapipe does not), and its test skips, saying so.
+//! The debug pixel's BVH node count is 0 there (the hardware's traversal is not observable).
 //!
 //! # How the app should use this
 //!
@@ -33,7 +39,7 @@
 //! ui.code(gpu.wgsl());                        // the generated shader
 //! let pick = gpu.debug_pixel(x, y)?;         // hit object, t, u, v, discriminant, BVH nodes
 //! // CPU against GPU: render both and compare the linear images.
-//! let frame = gpu.render(GpuPath::Compute)?;
+//! let frame = gpu.render(GpuPath::Compute)?;   // linear pixels; gpu.read_display() gives the RGBA8
 //! let diff = difference(frame.width, frame.height, &cpu.pixels, &frame.pixels)?;
 //! ```
 //!

@@ -31,6 +31,9 @@ pub struct ShaderConfig {
     pub bvh: bool,
     /// The brute-force loop.
     pub brute: bool,
+    /// Hardware ray queries instead of `bvh` and `brute` (only on a device with
+    /// `EXPERIMENTAL_RAY_QUERY`; the tracer sets it).
+    pub ray_query: bool,
     /// Lights: the shadow-ray loop and Phong.
     pub shadows: bool,
     /// Reflection rays.
@@ -80,6 +83,7 @@ impl ShaderConfig {
             triangles: f.triangles > 0,
             bvh,
             brute: !bvh,
+            ray_query: false,
             shadows: f.lights > 0,
             reflection: f.reflective,
             refraction: f.transparent,
@@ -98,18 +102,29 @@ impl ShaderConfig {
         ShaderConfig::for_scene(scene).all_on()
     }
 
-    /// This config with every feature switched on.
+    /// This config with every feature switched on (the traversal stays as chosen when it is
+    /// hardware ray queries).
     pub fn all_on(self) -> ShaderConfig {
         ShaderConfig {
             spheres: true,
             planes: true,
             triangles: true,
-            bvh: true,
-            brute: true,
+            bvh: !self.ray_query,
+            brute: !self.ray_query,
             shadows: true,
             reflection: true,
             refraction: true,
             full: true,
+            ..self
+        }
+    }
+
+    /// This config tracing with hardware ray queries instead of the WGSL traversal.
+    pub fn with_ray_query(self) -> ShaderConfig {
+        ShaderConfig {
+            ray_query: true,
+            bvh: false,
+            brute: false,
             ..self
         }
     }
@@ -134,6 +149,7 @@ impl ShaderConfig {
             "REFLECTION" => self.reflection,
             "REFRACTION" => self.refraction,
             "FULL" => self.full,
+            "RAY_QUERY" => self.ray_query,
             _ => return None,
         })
     }
@@ -157,6 +173,7 @@ mod pieces {
     pub const ANY_HIT: &str = include_str!("wgsl/any_hit.wgsl");
     pub const TRAVERSAL_BRUTE: &str = include_str!("wgsl/traversal_brute.wgsl");
     pub const TRAVERSAL_BVH: &str = include_str!("wgsl/traversal_bvh.wgsl");
+    pub const TRAVERSAL_RAY_QUERY: &str = include_str!("wgsl/traversal_ray_query.wgsl");
     pub const MISS: &str = include_str!("wgsl/miss.wgsl");
     pub const INTERACTION: &str = include_str!("wgsl/interaction.wgsl");
     pub const OFFSET_NONE: &str = include_str!("wgsl/offset_none.wgsl");
@@ -183,6 +200,10 @@ pub fn full_wgsl(scene: &Scene) -> String {
 /// Assembles the shader for `config`.
 pub fn wgsl(config: &ShaderConfig) -> String {
     let mut out = String::new();
+    if config.ray_query {
+        // An enable directive must come before every declaration.
+        out += "enable wgpu_ray_query;\n\n";
+    }
     let on = |b: bool| if b { "yes" } else { "no" };
     out += &format!(
         "// raystep GPU tracer, {} shader.\n// spheres: {}, planes: {}, triangles: {}, accelerator: {}, \
@@ -195,9 +216,10 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         on(config.spheres),
         on(config.planes),
         on(config.triangles),
-        match (config.bvh, config.brute) {
-            (true, true) => "BVH or brute force (chosen at run time)",
-            (true, false) => "BVH",
+        match (config.ray_query, config.bvh, config.brute) {
+            (true, _, _) => "hardware ray queries",
+            (_, true, true) => "BVH or brute force (chosen at run time)",
+            (_, true, false) => "BVH",
             _ => "brute force",
         },
         on(config.shadows),
@@ -257,6 +279,9 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     if config.bvh {
         add(pieces::TRAVERSAL_BVH);
     }
+    if config.ray_query {
+        add(pieces::TRAVERSAL_RAY_QUERY);
+    }
     add(&traversal_dispatch(config));
     add(pieces::MISS);
     add(pieces::INTERACTION);
@@ -296,6 +321,7 @@ fn intersection_dispatch(c: &ShaderConfig) -> String {
 /// uniform, in the full shader).
 fn traversal_dispatch(c: &ShaderConfig) -> String {
     let pick = |kind: &str| match (c.bvh, c.brute) {
+        _ if c.ray_query => format!("    return rq_{kind}(r);\n"),
         (true, true) => format!(
             "    if params.use_bvh != 0u {{\n        return bvh_{kind}(r);\n    }}\n    return brute_{kind}(r);\n"
         ),
@@ -345,12 +371,13 @@ fn preprocess(src: &str, config: &ShaderConfig) -> String {
 }
 
 /// Parses and validates WGSL with naga (the compiler wgpu itself uses), without any adapter.
+/// Ray queries are allowed (a shader that uses them needs a device with the feature anyway).
 pub fn validate(wgsl: &str) -> Result<(), String> {
     use eframe::wgpu::naga;
     let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| e.emit_to_string(wgsl))?;
     naga::valid::Validator::new(
         naga::valid::ValidationFlags::all(),
-        naga::valid::Capabilities::default(),
+        naga::valid::Capabilities::default() | naga::valid::Capabilities::RAY_QUERY,
     )
     .validate(&module)
     .map_err(|e| e.emit_to_string(wgsl))?;

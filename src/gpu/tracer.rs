@@ -60,8 +60,9 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// The adapter's name, backend and type.
     pub info: wgpu::AdapterInfo,
-    /// Whether the adapter offers hardware ray queries (`EXPERIMENTAL_RAY_QUERY`). raystep's
-    /// tracer is the software (WGSL) one either way; this is reported in the adapter line.
+    /// Whether the adapter offers hardware ray queries (`EXPERIMENTAL_RAY_QUERY`). They are used
+    /// when the device was also created with the feature ([`GpuContext::headless`] asks for it
+    /// where the adapter has it); otherwise the WGSL traversal runs.
     pub ray_query: bool,
 }
 
@@ -77,10 +78,22 @@ impl GpuContext {
             ..Default::default()
         }))
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let ray_query = adapter
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("raystep gpu"),
-            required_features: wgpu::Features::empty(),
+            required_features: if ray_query {
+                wgpu::Features::EXPERIMENTAL_RAY_QUERY
+            } else {
+                wgpu::Features::empty()
+            },
             required_limits: adapter.limits(),
+            experimental_features: if ray_query {
+                experimental_features()
+            } else {
+                wgpu::ExperimentalFeatures::disabled()
+            },
             ..Default::default()
         }))
         .map_err(|e| GpuError::Device(e.to_string()))?;
@@ -146,6 +159,16 @@ impl GpuContext {
     }
 }
 
+/// wgpu's token for experimental features, needed to request `EXPERIMENTAL_RAY_QUERY`.
+#[allow(unsafe_code)]
+fn experimental_features() -> wgpu::ExperimentalFeatures {
+    // SAFETY: `enabled()` is unsafe only because experimental features may have bugs in wgpu
+    // (wgpu's words: "may be unsound"). It is called only when the adapter reports ray queries,
+    // and the feature is used only through wgpu's own safe API (BLAS/TLAS builds and WGSL ray
+    // queries); no raw pointers or driver handles are involved.
+    unsafe { wgpu::ExperimentalFeatures::enabled() }
+}
+
 /// One GPU frame read back: linear RGB, like [`crate::render::RenderOutput::pixels`].
 #[derive(Debug, Clone)]
 pub struct GpuFrame {
@@ -187,6 +210,76 @@ pub struct PixelDebug {
     pub color: Vec3,
 }
 
+/// Everything [`GpuTracer::build`] creates.
+struct Built {
+    params: wgpu::Buffer,
+    scene_group: wgpu::BindGroup,
+    output_layout: wgpu::BindGroupLayout,
+    display_layout: wgpu::BindGroupLayout,
+    fragment: wgpu::RenderPipeline,
+    compute: wgpu::ComputePipeline,
+    debug_pipeline: wgpu::ComputePipeline,
+    display_pipeline: wgpu::RenderPipeline,
+    debug: wgpu::Buffer,
+    debug_readback: wgpu::Buffer,
+    target: Target,
+    acceleration: Option<(wgpu::Blas, wgpu::Tlas)>,
+}
+
+/// Builds the acceleration structures for hardware ray queries: one BLAS whose `count`
+/// procedural primitives are the finite objects' boxes (`aabbs`: min xyz, max xyz as f32), one TLAS
+/// with a single identity instance of it.
+fn build_acceleration(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    aabbs: &[u8],
+    count: u32,
+) -> (wgpu::Blas, wgpu::Tlas) {
+    use wgpu::util::DeviceExt;
+    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("raystep aabbs"),
+        contents: aabbs,
+        usage: wgpu::BufferUsages::BLAS_INPUT,
+    });
+    let size = wgpu::BlasAABBGeometrySizeDescriptor {
+        primitive_count: count,
+        flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+    };
+    let blas = device.create_blas(
+        &wgpu::CreateBlasDescriptor {
+            label: Some("raystep blas"),
+            flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+            update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+        },
+        wgpu::BlasGeometrySizeDescriptors::AABBs {
+            descriptors: vec![size.clone()],
+        },
+    );
+    let mut tlas = device.create_tlas(&wgpu::CreateTlasDescriptor {
+        label: Some("raystep tlas"),
+        max_instances: 1,
+        flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+        update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+    });
+    let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    tlas[0] = Some(wgpu::TlasInstance::new(&blas, identity, 0, 0xff));
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.build_acceleration_structures(
+        std::iter::once(&wgpu::BlasBuildEntry {
+            blas: &blas,
+            geometry: wgpu::BlasGeometries::AabbGeometries(vec![wgpu::BlasAabbGeometry {
+                size: &size,
+                stride: wgpu::AABB_GEOMETRY_MIN_STRIDE,
+                aabb_buffer: &buffer,
+                primitive_offset: 0,
+            }]),
+        }),
+        std::iter::once(&tlas),
+    );
+    queue.submit([encoder.finish()]);
+    (blas, tlas)
+}
+
 /// The per-size resources: the linear image, the display texture, their bind groups.
 struct Target {
     width: u32,
@@ -220,6 +313,8 @@ pub struct GpuTracer {
     debug_pipeline: wgpu::ComputePipeline,
     display_pipeline: wgpu::RenderPipeline,
     target: Target,
+    /// The BLAS and TLAS when tracing with hardware ray queries (kept alive while bound).
+    acceleration: Option<(wgpu::Blas, wgpu::Tlas)>,
 }
 
 const LINEAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -230,7 +325,13 @@ impl GpuTracer {
     /// Uploads `scene` (building its BVH when the CPU would use one), generates and compiles its
     /// shader (`variant`), and prepares both paths at the scene camera's size.
     pub fn new(ctx: GpuContext, scene: &Scene, variant: ShaderVariant) -> Result<Self, GpuError> {
-        let use_bvh = SceneAccel::resolve(scene) == AccelChoice::Bvh;
+        let finite = scene.objects.iter().any(|o| !o.shape.is_infinite());
+        let ray_query = finite
+            && ctx
+                .device
+                .features()
+                .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+        let use_bvh = !ray_query && SceneAccel::resolve(scene) == AccelChoice::Bvh;
         let bvh = use_bvh.then(|| Bvh::build(scene));
         if let Some(b) = &bvh
             && b.max_depth + 2 > MAX_BVH_STACK as usize
@@ -240,31 +341,31 @@ impl GpuTracer {
                 b.max_depth
             )));
         }
-        let data = buffers::scene_data(scene, bvh.as_ref());
-        let config = ShaderConfig::variant(scene, bvh.as_ref(), variant);
+        let (data, aabbs) = if ray_query {
+            let (d, a) = buffers::ray_query_data(scene);
+            (d, Some(a))
+        } else {
+            (buffers::scene_data(scene, bvh.as_ref()), None)
+        };
+        let mut config = ShaderConfig::variant(scene, bvh.as_ref(), variant);
+        if ray_query {
+            config = config.with_ray_query();
+        }
         let wgsl = shader::wgsl(&config);
         shader::validate(&wgsl).map_err(GpuError::Shader)?;
         let device = ctx.device.clone();
-        let built = ctx.checked("creating the GPU tracer", || {
+        let queue = ctx.queue.clone();
+        let b = ctx.checked("creating the GPU tracer", || {
             Self::build(
                 &device,
+                &queue,
                 &data,
+                aabbs.as_deref(),
                 &wgsl,
                 scene.camera.width,
                 scene.camera.height,
             )
         })?;
-        let (
-            params,
-            scene_group,
-            output_layout,
-            display_layout,
-            pipelines,
-            debug,
-            debug_readback,
-            target,
-        ) = built;
-        let (fragment, compute, debug_pipeline, display_pipeline) = pipelines;
         let mut tracer = GpuTracer {
             ctx,
             scene: scene.clone(),
@@ -274,44 +375,34 @@ impl GpuTracer {
             wgsl,
             camera: scene.camera.clone(),
             debug_pixel: [0, 0],
-            params,
-            scene_group,
-            output_layout,
-            display_layout,
-            debug,
-            debug_readback,
-            fragment,
-            compute,
-            debug_pipeline,
-            display_pipeline,
-            target,
+            params: b.params,
+            scene_group: b.scene_group,
+            output_layout: b.output_layout,
+            display_layout: b.display_layout,
+            debug: b.debug,
+            debug_readback: b.debug_readback,
+            fragment: b.fragment,
+            compute: b.compute,
+            debug_pipeline: b.debug_pipeline,
+            display_pipeline: b.display_pipeline,
+            target: b.target,
+            acceleration: b.acceleration,
         };
         tracer.write_params();
         Ok(tracer)
     }
 
-    #[allow(clippy::type_complexity)]
+    /// Creates every GPU object. `aabbs`: the finite objects' boxes when tracing with hardware
+    /// ray queries (then the BLAS and TLAS are built and bound at binding 7).
     fn build(
         device: &wgpu::Device,
+        queue: &wgpu::Queue,
         data: &SceneData,
+        aabbs: Option<&[u8]>,
         wgsl: &str,
         width: u32,
         height: u32,
-    ) -> (
-        wgpu::Buffer,
-        wgpu::BindGroup,
-        wgpu::BindGroupLayout,
-        wgpu::BindGroupLayout,
-        (
-            wgpu::RenderPipeline,
-            wgpu::ComputePipeline,
-            wgpu::ComputePipeline,
-            wgpu::RenderPipeline,
-        ),
-        wgpu::Buffer,
-        wgpu::Buffer,
-        Target,
-    ) {
+    ) -> Built {
         use wgpu::util::DeviceExt;
         let storage = |label: &str, bytes: &[u8]| {
             device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -357,6 +448,17 @@ impl GpuTracer {
                 count: None,
             });
         }
+        let acceleration = aabbs.map(|a| build_acceleration(device, queue, a, data.n_nodes));
+        if acceleration.is_some() {
+            entries.push(wgpu::BindGroupLayoutEntry {
+                binding: 7,
+                visibility: both,
+                ty: wgpu::BindingType::AccelerationStructure {
+                    vertex_return: false,
+                },
+                count: None,
+            });
+        }
         let scene_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("raystep scene"),
             entries: &entries,
@@ -369,6 +471,12 @@ impl GpuTracer {
             group_entries.push(wgpu::BindGroupEntry {
                 binding: k as u32 + 1,
                 resource: b.as_entire_binding(),
+            });
+        }
+        if let Some((_, tlas)) = &acceleration {
+            group_entries.push(wgpu::BindGroupEntry {
+                binding: 7,
+                resource: wgpu::BindingResource::AccelerationStructure(tlas),
             });
         }
         let scene_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -475,16 +583,15 @@ impl GpuTracer {
                 cache: None,
             })
         };
-        let pipelines = (
-            render_pipeline("raystep fragment", &fragment_layout, &module, LINEAR_FORMAT),
-            compute_pipeline("cs_main"),
-            compute_pipeline("debug_main"),
-            render_pipeline(
-                "raystep display",
-                &display_pipeline_layout,
-                &display_module,
-                DISPLAY_FORMAT,
-            ),
+        let fragment =
+            render_pipeline("raystep fragment", &fragment_layout, &module, LINEAR_FORMAT);
+        let compute = compute_pipeline("cs_main");
+        let debug_pipeline = compute_pipeline("debug_main");
+        let display_pipeline = render_pipeline(
+            "raystep display",
+            &display_pipeline_layout,
+            &display_module,
+            DISPLAY_FORMAT,
         );
         let debug = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("raystep debug pixel"),
@@ -506,16 +613,20 @@ impl GpuTracer {
             width,
             height,
         );
-        (
+        Built {
             params,
             scene_group,
             output_layout,
             display_layout,
-            pipelines,
+            fragment,
+            compute,
+            debug_pipeline,
+            display_pipeline,
             debug,
             debug_readback,
             target,
-        )
+            acceleration,
+        }
     }
 
     fn make_target(
@@ -653,17 +764,22 @@ impl GpuTracer {
     /// The line the GPU view shows: the adapter, its backend, and which path runs.
     pub fn adapter_line(&self, path: GpuPath) -> String {
         format!(
-            "{} — software ray tracing in WGSL ({} path, {} shader); hardware ray queries: {}",
+            "{} — {} ({} path, {} shader); hardware ray queries: {}",
             self.ctx.adapter_name(),
+            if self.acceleration.is_some() {
+                "hardware ray queries (BLAS/TLAS), WGSL intersection and shading"
+            } else {
+                "software ray tracing in WGSL"
+            },
             path.name(),
             match self.variant {
                 ShaderVariant::Generated => "generated",
                 ShaderVariant::Full => "full",
             },
-            if self.ctx.ray_query {
-                "offered by the adapter, not used by raystep yet"
-            } else {
-                "not offered by this adapter"
+            match (self.acceleration.is_some(), self.ctx.ray_query) {
+                (true, _) => "in use",
+                (false, true) => "offered by the adapter, not enabled on this device",
+                (false, false) => "not offered by this adapter",
             }
         )
     }
@@ -867,6 +983,45 @@ impl GpuTracer {
             for x in 0..w as usize {
                 let i = y * row as usize + x * 16;
                 pixels.push(Vec3::new(f(i), f(i + 4), f(i + 8)));
+            }
+        }
+        Ok(pixels)
+    }
+
+    /// Reads back the display texture ([`Self::display_view`]: sRGB-encoded RGBA8, encoded on
+    /// the GPU), row-major from the top-left.
+    pub fn read_display(&self) -> Result<Vec<[u8; 4]>, GpuError> {
+        let (w, h) = (self.target.width, self.target.height);
+        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.target.display,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        })?;
+        let mut pixels = Vec::with_capacity((w * h) as usize);
+        for y in 0..h as usize {
+            for x in 0..w as usize {
+                let i = y * row as usize + x * 4;
+                pixels.push([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
             }
         }
         Ok(pixels)
