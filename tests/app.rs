@@ -808,3 +808,71 @@ fn the_gpu_view_agrees_with_the_cpu() {
     assert!(d.rmse < 1.0 / 255.0, "{}", d.summary());
     assert!(labels(&h).iter().any(|t| t.starts_with("RMSE")));
 }
+
+/// The lab window: the selected pixel's recorded numbers against their exact values (the far
+/// sphere with the textbook quadratic: the discriminant millions of ulps off; the stable one
+/// within a few), a row click goes to its step, and the suite button runs the lab in the
+/// background and shows its table (a small run here: the suite itself is tested in
+/// tests/stability.rs).
+#[test]
+fn the_lab_window_compares_a_pixel_with_exact_values_and_runs_the_suite() {
+    let path = scene_path("far-sphere.toml");
+    let mut h = harness(Some(&path));
+    wait_for(&mut h, "the render", rendered);
+    let mut s = h.state().state.settings.clone();
+    s.sphere_method = raystep::shapes::SphereMethod::Textbook;
+    h.state_mut().state.apply(Command::SetSettings(s));
+    wait_for(&mut h, "the textbook render", rendered);
+    h.state_mut().state.apply(Command::SelectPixel([32, 32]));
+    h.get_by_label("Lab").click();
+    h.run_steps(3);
+    assert!(h.state().views.lab.open);
+    let all = labels(&h);
+    assert!(
+        all.iter().any(|t| t == "discriminant"),
+        "the pixel's numbers are listed: {all:?}"
+    );
+    assert!(
+        all.iter()
+            .any(|t| t.ends_with("e6 ulps") || t.ends_with("e7 ulps") || t.ends_with("e5 ulps")),
+        "the textbook discriminant is far off: {all:?}"
+    );
+    // The first row's step button goes to that step.
+    let k = h.state().state.stepping.as_ref().unwrap().len() - 1;
+    h.state_mut().state.apply(Command::Step(StepMove::To(k)));
+    h.run_steps(2);
+    // (One button per number: the sphere test of step 1 has Δ, t₀ and t₁.)
+    h.query_all_by_label("step 1")
+        .next()
+        .expect("a row of step 1")
+        .click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().state.step,
+        1,
+        "a row's step button jumps to its step"
+    );
+
+    h.state_mut().views.lab.options.rays = 4;
+    h.get_by_label("Run the quick suite").click();
+    h.run_steps(2);
+    let start = Instant::now();
+    while h.state().views.lab.report.is_none() {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "the suite finished"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+        h.step();
+    }
+    h.run_steps(3);
+    let report = h.state().views.lab.report.as_ref().unwrap();
+    assert!(!report.rows.is_empty() && !report.points.is_empty());
+    let all = labels(&h);
+    for method in ["textbook f32", "stable f32"] {
+        assert!(
+            all.iter().any(|t| t == method),
+            "{method} is in the table: {all:?}"
+        );
+    }
+}

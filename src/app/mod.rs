@@ -10,6 +10,7 @@
 
 pub mod gpu_view;
 pub mod job;
+pub mod lab;
 pub mod learn;
 pub mod panels;
 pub mod state;

@@ -116,6 +116,7 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
         }
     });
     dialogs(ui, state, cmds);
+    super::lab::window(ui.ctx(), state, &mut views.lab, cmds);
 }
 
 fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
@@ -224,6 +225,8 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
             p.show_settings = !learn;
             cmds.push(Command::SetPrefs(p));
         }
+        ui.toggle_value(&mut views.lab.open, "Lab")
+            .on_hover_text("the stability lab: the selected pixel's numbers against exact values, and every method on the stiff cases");
         ui.separator();
         let title = match &state.doc {
             Document::Scene { scene, path } => format!(

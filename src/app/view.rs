@@ -38,6 +38,8 @@ pub struct Views {
     pub markdown: egui_commonmark::CommonMarkCache,
     /// The GPU view (and which tab the central panel shows).
     pub gpu: super::gpu_view::GpuView,
+    /// The stability lab window.
+    pub lab: super::lab::LabView,
 }
 
 /// What a cached diagram texture shows.

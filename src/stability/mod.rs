@@ -26,6 +26,7 @@ pub mod cases;
 pub mod converge;
 pub mod exact;
 mod measure;
+pub mod pixel;
 pub mod plot;
 pub mod report;
 

@@ -1,0 +1,288 @@
+//! The stability lab in the app: a window that runs the quick suite of [`crate::stability`] on a
+//! background thread and shows its table and its error-against-cost plots (egui_plot), and, for
+//! the selected pixel, every number the tracer recorded beside its exact value and the error in
+//! ulps (click a row to go to its step).
+
+use super::state::{AppState, Command, StepMove};
+use crate::stability::pixel::{ExactValue, exact_values};
+use crate::stability::{self, CostPoint, Precision, Primitive, Report};
+use egui::{Color32, RichText};
+use egui_plot::{Legend, Plot, PlotPoints, Points};
+use std::sync::mpsc::Receiver;
+use std::time::Instant;
+
+/// The lab window's state (part of [`super::view::Views`]).
+pub struct LabView {
+    /// The window is open.
+    pub open: bool,
+    /// What the suite button runs (the quick suite, on one worker thread).
+    pub options: stability::Options,
+    /// The quick suite running in the background, and when it started.
+    running: Option<(Receiver<Report>, Instant)>,
+    /// The last report.
+    pub report: Option<Report>,
+    /// The exact values of the selected pixel's trace (for the trace generation they were made
+    /// for).
+    pixel: Option<(u64, Vec<ExactValue>)>,
+}
+
+impl Default for LabView {
+    fn default() -> Self {
+        LabView {
+            open: false,
+            // One worker: the render and the UI keep the other core.
+            options: stability::Options {
+                threads: Some(1),
+                ..stability::Options::quick()
+            },
+            running: None,
+            report: None,
+            pixel: None,
+        }
+    }
+}
+
+impl LabView {
+    /// Starts the quick suite on a background thread (unless it is running).
+    pub fn start(&mut self, ctx: &egui::Context) {
+        if self.running.is_some() {
+            return;
+        }
+        let (tx, rx) = std::sync::mpsc::channel();
+        let repaint = ctx.clone();
+        let opts = self.options.clone();
+        std::thread::spawn(move || {
+            let _ = tx.send(stability::run(&opts));
+            repaint.request_repaint();
+        });
+        self.running = Some((rx, Instant::now()));
+    }
+
+    /// Whether the suite is running.
+    pub fn running(&self) -> bool {
+        self.running.is_some()
+    }
+
+    /// Takes a finished run.
+    fn poll(&mut self) {
+        if let Some((rx, _)) = &self.running
+            && let Ok(r) = rx.try_recv()
+        {
+            self.report = Some(r);
+            self.running = None;
+        }
+    }
+}
+
+/// The lab window (when open).
+pub fn window(ctx: &egui::Context, state: &AppState, lab: &mut LabView, cmds: &mut Vec<Command>) {
+    lab.poll();
+    if !lab.open {
+        return;
+    }
+    let mut open = lab.open;
+    egui::Window::new("Stability lab")
+        .open(&mut open)
+        .default_size([760.0, 620.0])
+        .vscroll(true)
+        .show(ctx, |ui| {
+            pixel_section(ui, state, lab, cmds);
+            ui.separator();
+            suite_section(ui, lab);
+        });
+    lab.open = open;
+    if lab.running() {
+        ctx.request_repaint_after(std::time::Duration::from_millis(250));
+    }
+}
+
+fn pixel_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView, cmds: &mut Vec<Command>) {
+    let Some(s) = &state.stepping else {
+        ui.label("Click a pixel: its numbers are compared with their exact values here.");
+        return;
+    };
+    let generation = state.trace_generation;
+    if lab.pixel.as_ref().is_none_or(|(g, _)| *g != generation) {
+        let scene = state.prepared.as_ref().map(|p| p.scene.as_ref());
+        lab.pixel = Some((generation, exact_values(&s.trace, scene)));
+    }
+    let values = &lab.pixel.as_ref().expect("made above").1;
+    ui.label(
+        RichText::new(format!(
+            "Pixel ({}, {}): each recorded f32 number against its exact value",
+            s.trace.pixel[0], s.trace.pixel[1]
+        ))
+        .strong(),
+    );
+    ui.label(
+        "Exact = rational arithmetic on the very f32 inputs the test saw (square roots to 400 \
+         bits); the error is in f32 ulps of the exact value. Click a row to see its step.",
+    );
+    if values.is_empty() {
+        ui.label("This trace has no sphere, plane or triangle numbers to compare.");
+        return;
+    }
+    egui::ScrollArea::vertical()
+        .id_salt("lab-pixel")
+        .max_height(220.0)
+        .show(ui, |ui| {
+            egui::Grid::new("lab-pixel-grid")
+                .striped(true)
+                .num_columns(6)
+                .show(ui, |ui| {
+                    for h in ["", "object", "quantity", "recorded (f32)", "exact", "error"] {
+                        ui.label(RichText::new(h).strong());
+                    }
+                    ui.end_row();
+                    for v in values {
+                        if ui
+                            .selectable_label(state.step == v.step, format!("step {}", v.step))
+                            .clicked()
+                        {
+                            cmds.push(Command::Step(StepMove::To(v.step)));
+                        }
+                        ui.label(&v.object);
+                        ui.label(v.quantity);
+                        ui.monospace(crate::trace::describe::num(v.recorded));
+                        ui.monospace(format!("{:.10e}", v.exact));
+                        let color = if v.ulps <= 2.0 {
+                            ui.visuals().text_color()
+                        } else if v.ulps <= 64.0 {
+                            Color32::from_rgb(200, 130, 0)
+                        } else {
+                            Color32::from_rgb(210, 40, 40)
+                        };
+                        ui.label(RichText::new(ulps_text(v.ulps)).color(color));
+                        ui.end_row();
+                    }
+                });
+        });
+}
+
+fn ulps_text(u: f64) -> String {
+    if u == 0.0 {
+        "exact".into()
+    } else if u < 100.0 {
+        format!("{u:.2} ulps")
+    } else {
+        format!("{u:.2e} ulps")
+    }
+}
+
+fn suite_section(ui: &mut egui::Ui, lab: &mut LabView) {
+    ui.horizontal(|ui| {
+        let label = if lab.report.is_some() {
+            "Run the quick suite again"
+        } else {
+            "Run the quick suite"
+        };
+        if ui
+            .add_enabled(!lab.running(), egui::Button::new(label))
+            .on_hover_text("every method in f32 and f64 on the stiff cases S1–S25 (as `raystep stability --quick`)")
+            .clicked()
+        {
+            lab.start(ui.ctx());
+        }
+        if let Some((_, started)) = &lab.running {
+            ui.spinner();
+            ui.label(format!("running… {:.0} s", started.elapsed().as_secs_f64()));
+        }
+    });
+    let Some(report) = &lab.report else {
+        ui.label(
+            "The suite measures, for every method and precision, how often it is wrong outside \
+             the rounding band, how far off t is in ulps, leaks at shared edges, self-hits of \
+             spawned rays and NaNs — and what each test costs.",
+        );
+        return;
+    };
+    ui.label(format!(
+        "{} rays, {} rows, {:.1} s{}",
+        report.rays,
+        report.rows.len(),
+        report.seconds,
+        if report.quick { " (quick suite)" } else { "" }
+    ));
+    for prim in [
+        Primitive::Sphere,
+        Primitive::Triangle,
+        Primitive::Plane,
+        Primitive::Box,
+        Primitive::Spawn,
+    ] {
+        let points: Vec<&CostPoint> = report
+            .points
+            .iter()
+            .filter(|p| p.primitive == prim)
+            .collect();
+        if points.is_empty() {
+            continue;
+        }
+        egui::CollapsingHeader::new(RichText::new(prim.name()).strong())
+            .id_salt(("lab-prim", prim.name()))
+            .default_open(prim == Primitive::Sphere || prim == Primitive::Triangle)
+            .show(ui, |ui| {
+                summary_grid(ui, prim, &points);
+                error_plot(ui, prim, &points);
+            });
+    }
+}
+
+fn summary_grid(ui: &mut egui::Ui, prim: Primitive, points: &[&CostPoint]) {
+    egui::Grid::new(("lab-summary", prim.name()))
+        .striped(true)
+        .show(ui, |ui| {
+            for h in [
+                "method",
+                "ns/test",
+                "t p99",
+                "t max",
+                "misclassified",
+                "leaks",
+                "self-hits",
+                "NaN/∞",
+            ] {
+                ui.label(RichText::new(h).strong());
+            }
+            ui.end_row();
+            for p in points {
+                ui.label(p.label());
+                ui.monospace(format!("{:.1}", p.ns_per_test));
+                ui.monospace(ulps_text(p.p99_ulps));
+                ui.monospace(ulps_text(p.max_ulps));
+                for n in [p.misclassified, p.leaks, p.self_hits, p.nonfinite] {
+                    let text = RichText::new(n.to_string()).monospace();
+                    ui.label(if n > 0 {
+                        text.color(Color32::from_rgb(210, 40, 40))
+                    } else {
+                        text
+                    });
+                }
+                ui.end_row();
+            }
+        });
+}
+
+/// Error against cost: x = ns per test, y = log₁₀ of the p99 t error in ulps (0.01 ulps for an
+/// exact method, so it stays on the plot). One point per method × precision.
+fn error_plot(ui: &mut egui::Ui, prim: Primitive, points: &[&CostPoint]) {
+    Plot::new(("lab-plot", prim.name()))
+        .height(180.0)
+        .legend(Legend::default())
+        .x_axis_label("ns per test")
+        .y_axis_label("log₁₀ p99 error (ulps)")
+        .show(ui, |plot| {
+            for p in points {
+                let y = p.p99_ulps.max(0.01).log10();
+                let shape = match p.precision {
+                    Precision::F32 => egui_plot::MarkerShape::Circle,
+                    Precision::F64 => egui_plot::MarkerShape::Square,
+                };
+                plot.points(
+                    Points::new(p.label(), PlotPoints::from(vec![[p.ns_per_test, y]]))
+                        .shape(shape)
+                        .radius(6.0),
+                );
+            }
+        });
+}
