@@ -55,6 +55,12 @@ pub enum OffsetPolicy {
     Fixed,
     /// pbrt-v4 `OffsetRayOrigin`: move by the hit point's rounding-error bound along the normal,
     /// then one float further. Scale-independent; the default.
+    // Why the default (`raystep stability`, full suite, through the renderer's own `interact`
+    // and `spawn_origin`): reflected rays from spheres, planes and triangles at scales
+    // 1e-3…1e6 (S19) hit their own surface 2271 times in 16 000 with no offset, 530 with the
+    // fixed ε = 1e-4 (at large scales), 0 with this offset; rays leaving a sphere towards a
+    // second one 4e-5 away (S7) skip it 4000 times in 4000 with the fixed ε, never with this
+    // offset. scenes/acne.toml shows the acne.
     #[default]
     Robust,
 }

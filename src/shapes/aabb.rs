@@ -11,6 +11,10 @@ pub enum BoxMethod {
     Plain,
     /// True IEEE reciprocals with the order taken from the reciprocal's sign (Williams et al. 2005),
     /// t_far enlarged by 1 + 2γ₃ (pbrt-v4 / Ize 2013), `<=` so zero-thickness boxes are hit.
+    // Why the default (`raystep stability`, full suite, f32 and f64 alike): the plain test
+    // misses all 4000 oblique rays through a zero-thickness box (S22) and 1677 of 4000 rays
+    // starting on a face or running along an edge with a ±0 direction component (S20); the
+    // robust test misses none, t within 1 ulp, for about 1–2 ns more per test.
     #[default]
     Robust,
 }

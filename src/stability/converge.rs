@@ -316,8 +316,14 @@ pub fn markdown(r: &ConvergeReport, load_seconds: f64) -> String {
     let _ = writeln!(s, "|---:|---:|---:|---:|");
     let t0 = r.levels.first().map_or(0.0, |l| l.seconds).max(1e-6);
     let t1 = r.levels.last().map_or(0.0, |l| l.seconds);
-    let mut budget = t0;
-    while budget <= t1 * 1.0001 + 1e-12 {
+    let mut budgets = vec![];
+    let mut b = t0;
+    while b < t1 {
+        budgets.push(b);
+        b *= 2.0;
+    }
+    budgets.push(t1);
+    for budget in budgets {
         if let Some(l) = r.levels.iter().rev().find(|l| l.seconds <= budget) {
             let _ = writeln!(
                 s,
@@ -328,7 +334,6 @@ pub fn markdown(r: &ConvergeReport, load_seconds: f64) -> String {
                 num(l.relmse[1])
             );
         }
-        budget *= 2.0;
     }
     s
 }

@@ -199,6 +199,8 @@ pub struct TriangleRef {
     pub v: Option<Dd>,
     /// In the rounding band (see [`triangle`]).
     pub band: bool,
+    /// Which edges the band comes from: edge i is the one opposite vertex i.
+    pub band_edges: [bool; 3],
 }
 
 /// Ray O + t·d against the triangle P0 P1 P2, exactly: Cramer's rule in rationals,
@@ -228,6 +230,7 @@ pub fn triangle(p: [[f64; 3]; 3], o: [f64; 3], d: [f64; 3], u: f64) -> TriangleR
             u: None,
             v: None,
             band: false,
+            band_edges: [false; 3],
         };
     }
     let tv = sub(&oq, &pq[0]);
@@ -250,12 +253,13 @@ pub fn triangle(p: [[f64; 3]; 3], o: [f64; 3], d: [f64; 3], u: f64) -> TriangleR
     }
     let d0f = to_f64(&d0).abs();
     let bary = [to_f64(&b0), to_f64(&bu), to_f64(&bv)];
-    let band = (0..3).any(|i| {
+    let band_edges: [bool; 3] = std::array::from_fn(|i| {
         let (j, k) = ((i + 1) % 3, (i + 2) % 3);
         let m =
             dlen * (2.0 * lateral[j] * lateral[k] + axial[j] * lateral[k] + axial[k] * lateral[j]);
         bary[i].abs() * d0f <= 16.0 * u * m
     });
+    let band = band_edges.iter().any(|b| *b);
     let pos = t > zero;
     TriangleRef {
         hit,
@@ -263,6 +267,7 @@ pub fn triangle(p: [[f64; 3]; 3], o: [f64; 3], d: [f64; 3], u: f64) -> TriangleR
         u: pos.then(|| Dd::of(&bu)),
         v: pos.then(|| Dd::of(&bv)),
         band,
+        band_edges,
     }
 }
 

@@ -299,6 +299,25 @@ pub(super) fn run_case(case: &Case, opts: &Options, samples: &mut Samples) -> Ve
     }
 }
 
+/// Whether a leak-test ray is within rounding of an edge that no other triangle of the query
+/// shares (the surface's outline, not a shared edge): missing there is not a leak.
+fn outer_band(q: &Query, r: &Ref) -> bool {
+    let (Geometry::Triangles(ts), Ref::Tris(refs)) = (&q.geometry, r) else {
+        return false;
+    };
+    let shared = |a: [f64; 3], b: [f64; 3], me: usize| {
+        ts.iter()
+            .enumerate()
+            .any(|(k, t)| k != me && t.contains(&a) && t.contains(&b))
+    };
+    ts.iter().zip(refs).enumerate().any(|(k, (t, tr))| {
+        tr.band_edges
+            .iter()
+            .enumerate()
+            .any(|(i, &b)| b && !shared(t[(i + 1) % 3], t[(i + 2) % 3], k))
+    })
+}
+
 #[allow(clippy::too_many_arguments)]
 fn rays_row<T: Real>(
     case: &Case,
@@ -379,7 +398,7 @@ fn rays_row<T: Real>(
             // A leak: the exact surface is hit, the method finds nothing (rays aimed near the
             // ends of an edge, or through a gap of rounded, no longer coplanar vertices, can
             // miss both triangles exactly: not leaks). A crack (S24): any ray finding nothing.
-            if kind == Kind::Crack || (kind == Kind::Leak && hit) {
+            if kind == Kind::Crack || (kind == Kind::Leak && hit && !outer_band(&queries[*i], r)) {
                 row.leak_rays += 1;
                 if o.t.is_none() {
                     row.leaks += 1;
