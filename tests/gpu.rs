@@ -592,3 +592,58 @@ fn display_texture_holds_the_srgb_image() {
         .unwrap();
     assert!(worst <= 1, "the display texture is {worst} steps off");
 }
+
+/// `raystep converge --gpu`: the levels rendered on the GPU against the CPU's reference. The
+/// GPU places samples exactly as the CPU does (the same hash), so each level's error must match
+/// the CPU run's to within rounding — an independent check that the GPU converges to the same
+/// image at the same rate.
+#[test]
+fn cli_converge_gpu_measures_the_gpu_against_the_cpu_reference() {
+    if context("cli_converge_gpu_measures_the_gpu_against_the_cpu_reference").is_none() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scene_file("first-sphere.toml"))
+        .unwrap()
+        .replace("width = 320", "width = 64")
+        .replace("height = 240", "height = 48");
+    let scene = dir.path().join("small.toml");
+    std::fs::write(&scene, text).unwrap();
+    let mse_by_spp = |gpu: bool| -> Vec<(u32, f64)> {
+        let out = dir.path().join(if gpu { "gpu" } else { "cpu" });
+        let mut cmd = raystep_cmd();
+        cmd.arg("converge")
+            .arg(&scene)
+            .args(["--max-spp", "4", "--seeds", "1", "--out"])
+            .arg(&out);
+        if gpu {
+            cmd.arg("--gpu");
+        }
+        cmd.assert().success();
+        let md = std::fs::read_to_string(out.join("converge.md")).unwrap();
+        assert_eq!(
+            md.contains("Levels rendered on: CPU"),
+            !gpu,
+            "the report names the device: {md}"
+        );
+        std::fs::read_to_string(out.join("converge.csv"))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                (f[0].parse().unwrap(), f[3].parse().unwrap())
+            })
+            .collect()
+    };
+    let cpu = mse_by_spp(false);
+    let gpu = mse_by_spp(true);
+    assert_eq!(cpu.len(), 3, "levels 1, 2, 4");
+    for ((s1, m1), (s2, m2)) in cpu.iter().zip(&gpu) {
+        assert_eq!(s1, s2);
+        assert!(
+            (m1 - m2).abs() <= 0.02 * m1.max(*m2) + 1e-9,
+            "spp {s1}: CPU MSE {m1}, GPU MSE {m2}"
+        );
+    }
+}

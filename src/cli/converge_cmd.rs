@@ -25,6 +25,13 @@ pub struct ConvergeArgs {
     /// (created if missing).
     #[arg(long, default_value = "converge")]
     pub out: PathBuf,
+    /// Render the levels on the GPU (the reference stays the CPU's): the same figures for the
+    /// GPU, to set beside the CPU's.
+    #[arg(long)]
+    pub gpu: bool,
+    /// With --gpu: how the GPU makes primary rays.
+    #[arg(long, value_enum, default_value_t = crate::gpu::GpuPath::Compute, requires = "gpu")]
+    pub gpu_path: crate::gpu::GpuPath,
 }
 
 /// Runs `raystep converge`.
@@ -40,7 +47,25 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
         reference_factor: args.reference_factor,
         threads: args.threads.map(|t| t as usize),
     };
-    let rep = run(&scene, &opts)?;
+    let rep = if args.gpu {
+        use crate::gpu::{GpuContext, GpuTracer, ShaderVariant};
+        let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
+        let mut level = |spp: u32, seed: u32| -> Result<(Vec<glam::Vec3>, f64), String> {
+            let mut s = scene.clone();
+            s.settings.spp = spp;
+            s.settings.seed = seed;
+            let mut tracer = GpuTracer::new(ctx.clone(), &s, ShaderVariant::Generated)
+                .map_err(|e| e.to_string())?;
+            let frame = tracer.render(args.gpu_path).map_err(|e| e.to_string())?;
+            Ok((frame.pixels, frame.time.as_secs_f64()))
+        };
+        let line = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated)
+            .map_err(|e| e.to_string())?
+            .adapter_line(args.gpu_path);
+        crate::stability::converge::run_on(&scene, &opts, &line, &mut level)?
+    } else {
+        run(&scene, &opts)?
+    };
     let md = markdown(&rep, load);
     crate::io::write_atomic(&args.out.join("converge.md"), md.as_bytes())?;
     crate::io::write_atomic(&args.out.join("converge.csv"), csv(&rep).as_bytes())?;

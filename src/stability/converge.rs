@@ -91,6 +91,9 @@ pub struct Level {
 pub struct ConvergeReport {
     /// The scene's name.
     pub scene: String,
+    /// What rendered the levels: "CPU" or the GPU's adapter line (the reference is always the
+    /// CPU's).
+    pub device: String,
     /// Image size.
     pub size: [u32; 2],
     /// Seconds to build the accelerator (BVH or brute force), once.
@@ -158,8 +161,31 @@ pub fn slope(points: &[(f64, f64)]) -> f64 {
     if sxx == 0.0 { 0.0 } else { sxy / sxx }
 }
 
-/// Renders the levels and the reference and measures every level's error.
+/// Renders the levels and the reference on the CPU and measures every level's error.
 pub fn run(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport, String> {
+    run_levels_with(scene, opts, None)
+}
+
+/// A renderer of the levels other than the CPU's: `(spp, seed)` → the linear image (row-major,
+/// the scene camera's size) and its trace seconds. `raystep converge --gpu` passes the GPU.
+pub type LevelRenderer<'a> = dyn FnMut(u32, u32) -> Result<(Vec<Vec3>, f64), String> + 'a;
+
+/// As [`run`], with the levels rendered by `levels` (`device` names it) instead of the CPU; the
+/// reference stays the CPU's, so both devices are measured against the same truth.
+pub fn run_on(
+    scene: &Scene,
+    opts: &ConvergeOptions,
+    device: &str,
+    levels: &mut LevelRenderer<'_>,
+) -> Result<ConvergeReport, String> {
+    run_levels_with(scene, opts, Some((device, levels)))
+}
+
+fn run_levels_with(
+    scene: &Scene,
+    opts: &ConvergeOptions,
+    mut other: Option<(&str, &mut LevelRenderer<'_>)>,
+) -> Result<ConvergeReport, String> {
     if opts.max_spp == 0 || opts.seeds == 0 {
         return Err("converge needs --max-spp ≥ 1 and --seeds ≥ 1".into());
     }
@@ -200,12 +226,25 @@ pub fn run(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport, Stri
     while spp <= top {
         let mut here = vec![];
         for seed in 1..=opts.seeds {
-            let out = render_with(spp, seed)?;
-            let (mse, relmse, nan, inf) = errors(&out.pixels, &reference.pixels);
+            let (pixels, seconds) = match &mut other {
+                Some((_, f)) => f(spp, seed)?,
+                None => {
+                    let out = render_with(spp, seed)?;
+                    (out.pixels, out.stats.trace.as_secs_f64())
+                }
+            };
+            if pixels.len() != reference.pixels.len() {
+                return Err(format!(
+                    "a level rendered {} pixels, the reference {}",
+                    pixels.len(),
+                    reference.pixels.len()
+                ));
+            }
+            let (mse, relmse, nan, inf) = errors(&pixels, &reference.pixels);
             here.push(Sample {
                 spp,
                 seed,
-                seconds: out.stats.trace.as_secs_f64(),
+                seconds,
                 mse,
                 rmse: mse.sqrt(),
                 relmse,
@@ -232,6 +271,7 @@ pub fn run(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport, Stri
         .collect();
     Ok(ConvergeReport {
         scene: scene.name.clone(),
+        device: other.map_or("CPU".into(), |(d, _)| d.to_string()),
         size: [reference.width, reference.height],
         build_seconds: build.as_secs_f64(),
         reference_spp,
@@ -265,6 +305,11 @@ pub fn csv(r: &ConvergeReport) -> String {
 pub fn markdown(r: &ConvergeReport, load_seconds: f64) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# raystep converge: {}\n", r.scene);
+    let _ = writeln!(
+        s,
+        "Levels rendered on: {} (the reference on the CPU).\n",
+        r.device
+    );
     let _ = writeln!(
         s,
         "{}×{} pixels. Load {:.3} s and accelerator build {:.3} s are excluded from the times \
