@@ -289,6 +289,19 @@ fn settle_layout(h: &mut Harness<'static, RaystepApp>) {
     h.run_steps(6);
 }
 
+/// Masks the timing figures (they change every run) in the next snapshot; returns how many.
+fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
+    let masks: Vec<egui::Rect> = ["rendered in", "recorded in"]
+        .iter()
+        .filter_map(|l| h.query_by_label_contains(l).map(|n| n.rect()))
+        .collect();
+    let n = masks.len();
+    for r in masks {
+        h.mask(r);
+    }
+    n
+}
+
 /// Whether wgpu finds an adapter (lavapipe on a machine without a GPU).
 fn have_adapter() -> bool {
     let instance = eframe::wgpu::Instance::new(
@@ -351,14 +364,11 @@ fn snapshots_of_the_main_views() {
             .expect("the step kind is in the trace");
         h.state_mut().state.apply(Command::Step(StepMove::To(k)));
         settle_layout(&mut h);
-        let masks: Vec<egui::Rect> = ["rendered in", "recorded in"]
-            .iter()
-            .filter_map(|l| h.query_by_label_contains(l).map(|n| n.rect()))
-            .collect();
-        assert_eq!(masks.len(), 2, "the timing labels are there to mask");
-        for r in masks {
-            h.mask(r);
-        }
+        assert_eq!(
+            mask_timings(&mut h),
+            2,
+            "the timing labels are there to mask"
+        );
         if let Err(e) = h.try_snapshot_options(
             name,
             &egui_kittest::SnapshotOptions::new()
@@ -661,16 +671,7 @@ fn snapshots_of_the_lesson_and_exercise_panels() {
         rendered(a) && a.state.stepping.is_some()
     });
     settle_layout(&mut h);
-    let mask = |h: &mut Harness<'static, RaystepApp>| {
-        let masks: Vec<egui::Rect> = ["rendered in", "recorded in"]
-            .iter()
-            .filter_map(|l| h.query_by_label_contains(l).map(|n| n.rect()))
-            .collect();
-        for r in masks {
-            h.mask(r);
-        }
-    };
-    mask(&mut h);
+    mask_timings(&mut h);
     let options = egui_kittest::SnapshotOptions::new()
         .threshold(2.0)
         .max_failed_pixels(200);
@@ -689,7 +690,7 @@ fn snapshots_of_the_lesson_and_exercise_panels() {
         h.state_mut().state.apply(Command::Learn(c));
     }
     settle_layout(&mut h);
-    mask(&mut h);
+    mask_timings(&mut h);
     if let Err(e) = h.try_snapshot_options("app-exercise", &options) {
         failures.push(e.to_string());
     }

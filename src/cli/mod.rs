@@ -107,30 +107,20 @@ pub struct SettingsArgs {
 }
 
 impl SettingsArgs {
-    /// Applies the overrides to a scene's settings.
-    pub fn apply(&self, scene: &mut Scene) {
-        let s = &mut scene.settings;
-        if let Some(v) = self.spp {
-            s.spp = v;
-        }
-        if let Some(v) = self.max_depth {
-            s.max_depth = v;
-        }
-        if let Some(v) = self.sphere_method {
-            s.sphere_method = v;
-        }
-        if let Some(v) = self.triangle_method {
-            s.triangle_method = v;
-        }
-        if let Some(v) = self.offset {
-            s.offset = v;
-        }
-        if let Some(v) = self.accel {
-            s.accel = v;
-        }
-        if let Some(v) = self.seed {
-            s.seed = v;
-        }
+    /// Applies the overrides to a scene's settings, with the lessons' `[settings]` rules (a value
+    /// out of range is an error naming the setting).
+    pub fn apply(&self, scene: &mut Scene) -> Result<(), String> {
+        let overrides = crate::lesson::LessonSettings {
+            spp: self.spp,
+            max_depth: self.max_depth,
+            sphere_method: self.sphere_method,
+            triangle_method: self.triangle_method,
+            offset: self.offset,
+            accel: self.accel,
+            seed: self.seed,
+            ..Default::default()
+        };
+        overrides.apply(scene)
     }
 }
 
@@ -172,7 +162,7 @@ pub fn load_scene(path: Option<&PathBuf>, overrides: &SettingsArgs) -> Result<Sc
         Some(p) => crate::scene::load_file(p).map_err(|e| e.to_string())?,
         None => crate::scene::default_scene(),
     };
-    overrides.apply(&mut scene);
+    overrides.apply(&mut scene)?;
     Ok(scene)
 }
 

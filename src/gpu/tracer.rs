@@ -950,14 +950,16 @@ impl GpuTracer {
         Ok(bytes)
     }
 
-    fn read_linear(&self) -> Result<Vec<Vec3>, GpuError> {
+    /// Copies `texture` (the target's size, `texel` bytes per pixel) into a buffer and returns
+    /// its rows tightly packed, row-major from the top-left.
+    fn read_texture(&self, texture: &wgpu::Texture, texel: u32) -> Result<Vec<u8>, GpuError> {
         let (w, h) = (self.target.width, self.target.height);
-        let row = (w * 16).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+        let row = (w * texel).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
         let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
             encoder.copy_texture_to_buffer(
                 wgpu::TexelCopyTextureInfo {
-                    texture: &self.target.linear,
+                    texture,
                     mip_level: 0,
                     origin: wgpu::Origin3d::ZERO,
                     aspect: wgpu::TextureAspect::All,
@@ -977,54 +979,32 @@ impl GpuTracer {
                 },
             );
         })?;
-        let f = |i: usize| f32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
-        let mut pixels = Vec::with_capacity((w * h) as usize);
-        for y in 0..h as usize {
-            for x in 0..w as usize {
-                let i = y * row as usize + x * 16;
-                pixels.push(Vec3::new(f(i), f(i + 4), f(i + 8)));
-            }
-        }
-        Ok(pixels)
+        let used = (w * texel) as usize;
+        Ok(bytes
+            .chunks(row as usize)
+            .take(h as usize)
+            .flat_map(|r| &r[..used])
+            .copied()
+            .collect())
+    }
+
+    fn read_linear(&self) -> Result<Vec<Vec3>, GpuError> {
+        let bytes = self.read_texture(&self.target.linear, 16)?;
+        let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+        Ok(bytes
+            .chunks_exact(16)
+            .map(|p| Vec3::new(f(&p[0..4]), f(&p[4..8]), f(&p[8..12])))
+            .collect())
     }
 
     /// Reads back the display texture ([`Self::display_view`]: sRGB-encoded RGBA8, encoded on
     /// the GPU), row-major from the top-left.
     pub fn read_display(&self) -> Result<Vec<[u8; 4]>, GpuError> {
-        let (w, h) = (self.target.width, self.target.height);
-        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
-            encoder.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &self.target.display,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row),
-                        rows_per_image: Some(h),
-                    },
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-            );
-        })?;
-        let mut pixels = Vec::with_capacity((w * h) as usize);
-        for y in 0..h as usize {
-            for x in 0..w as usize {
-                let i = y * row as usize + x * 4;
-                pixels.push([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
-            }
-        }
-        Ok(pixels)
+        let bytes = self.read_texture(&self.target.display, 4)?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect())
     }
 
     /// Traces pixel (x, y) alone on the GPU (compute, the CPU's exact primary ray) into the
