@@ -87,10 +87,29 @@ fn gpu_matches_cpu_on_every_shipped_scene() {
         .map(|p| small(load_file(p).unwrap()))
         .collect();
     scenes.push(small(sphereflake()));
+    // A scene that shows acne on purpose (offset = "none") speckles wherever a shadow ray's
+    // origin rounds below the surface: a chaotic function of the ray direction's last bit. The
+    // compute path computes the direction as the CPU does and must match it; the fragment path's
+    // rasterizer-interpolated directions legitimately speckle elsewhere, so it is held to the
+    // bounds on the same scene with the robust offset (no acne) instead.
+    let mut extra = vec![];
+    for scene in &scenes {
+        if scene.settings.offset == raystep::scene::OffsetPolicy::None {
+            let mut robust = scene.clone();
+            robust.settings.offset = raystep::scene::OffsetPolicy::Robust;
+            robust.name = format!("{} with the robust offset", scene.name);
+            extra.push(robust);
+        }
+    }
+    scenes.extend(extra);
     for scene in &scenes {
         let cpu = cpu_pixels(scene);
         let mut gpu = GpuTracer::new(ctx.clone(), scene, ShaderVariant::Generated).unwrap();
+        let acne = scene.settings.offset == raystep::scene::OffsetPolicy::None;
         for path in [GpuPath::Fragment, GpuPath::Compute] {
+            if acne && path == GpuPath::Fragment {
+                continue;
+            }
             let frame = gpu.render(path).unwrap();
             let d = gpu::difference(frame.width, frame.height, &cpu, &frame.pixels).unwrap();
             // Pixels off by more than 2 steps.
