@@ -310,21 +310,42 @@ fn have_adapter() -> bool {
     !pollster::block_on(instance.enumerate_adapters(eframe::wgpu::Backends::all())).is_empty()
 }
 
+/// The whole app rendered through wgpu at 1400×860 on `file` (with the GPU view when
+/// `gpu_view`), or None — after saying why — where wgpu finds no adapter. Under CI a missing
+/// adapter fails the test: .ci/run installs lavapipe.
+fn wgpu_harness(
+    test: &str,
+    file: Option<PathBuf>,
+    gpu_view: bool,
+) -> Option<Harness<'static, RaystepApp>> {
+    if !have_adapter() {
+        assert!(
+            std::env::var("CI").is_err(),
+            "CI must run {test}: install Mesa's lavapipe (mesa-vulkan-drivers)"
+        );
+        eprintln!("SKIPPED {test}: wgpu found no adapter (install mesa-vulkan-drivers)");
+        return None;
+    }
+    Some(
+        Harness::builder()
+            .with_size(egui::vec2(1400.0, 860.0))
+            .wgpu()
+            .build_eframe(move |cc| {
+                let app = RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), file.clone());
+                if gpu_view {
+                    app.with_wgpu(cc.wgpu_render_state.clone())
+                } else {
+                    app
+                }
+            }),
+    )
+}
+
 /// Snapshots of the main views rendered with wgpu on the software adapter. The thresholds
 /// tolerate driver noise in antialiased edges but catch a moved or missing panel; the timing
 /// figures (which change every run) are masked.
 #[test]
 fn snapshots_of_the_main_views() {
-    if !have_adapter() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must run the snapshots: install Mesa's lavapipe (mesa-vulkan-drivers)"
-        );
-        eprintln!(
-            "SKIPPED snapshots_of_the_main_views: wgpu found no adapter (install mesa-vulkan-drivers)"
-        );
-        return;
-    }
     let mut failures = vec![];
     for (scene, name, pixel, kind) in [
         (
@@ -343,13 +364,10 @@ fn snapshots_of_the_main_views() {
         // A relative path (tests run in the crate root): the window title shows it, and an
         // absolute one would differ between checkouts.
         let path = Path::new("scenes").join(scene);
-        let file = Some(path.clone());
-        let mut h = Harness::builder()
-            .with_size(egui::vec2(1400.0, 860.0))
-            .wgpu()
-            .build_eframe(move |cc| {
-                RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), file.clone())
-            });
+        let Some(mut h) = wgpu_harness("snapshots_of_the_main_views", Some(path.clone()), false)
+        else {
+            return;
+        };
         wait_for(&mut h, "the render", rendered);
         h.state_mut().state.apply(Command::SelectPixel(pixel));
         // Show the first test of the wanted kind.
@@ -645,18 +663,10 @@ fn an_exercise_is_marked_and_explained() {
 /// after a wrong answer and a hint, on the software adapter.
 #[test]
 fn snapshots_of_the_lesson_and_exercise_panels() {
-    if !have_adapter() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must run the snapshots: install Mesa's lavapipe (mesa-vulkan-drivers)"
-        );
-        eprintln!("SKIPPED snapshots_of_the_lesson_and_exercise_panels: wgpu found no adapter");
+    let Some(mut h) = wgpu_harness("snapshots_of_the_lesson_and_exercise_panels", None, false)
+    else {
         return;
-    }
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1400.0, 860.0))
-        .wgpu()
-        .build_eframe(|cc| RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), None));
+    };
     wait_for(&mut h, "the built-in render", rendered);
     open_learn(&mut h);
     use raystep::app::learn::LearnCmd;
@@ -707,24 +717,12 @@ fn snapshots_of_the_lesson_and_exercise_panels() {
 /// difference tab finds the two renders within the bound (RMSE under one 8-bit step).
 #[test]
 fn the_gpu_view_agrees_with_the_cpu() {
-    if !have_adapter() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must run the GPU view: install Mesa's lavapipe (mesa-vulkan-drivers)"
-        );
-        eprintln!("SKIPPED the_gpu_view_agrees_with_the_cpu: wgpu found no adapter");
-        return;
-    }
     use raystep::app::gpu_view::{CentralTab, Orbit};
     let path = scene_path("three-spheres.toml");
-    let file = Some(path.clone());
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1400.0, 860.0))
-        .wgpu()
-        .build_eframe(move |cc| {
-            RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), file.clone())
-                .with_wgpu(cc.wgpu_render_state.clone())
-        });
+    let Some(mut h) = wgpu_harness("the_gpu_view_agrees_with_the_cpu", Some(path.clone()), true)
+    else {
+        return;
+    };
     wait_for(&mut h, "the render", rendered);
     let p = [150, 110];
     h.state_mut().state.apply(Command::SelectPixel(p));

@@ -795,24 +795,13 @@ impl GpuTracer {
     fn encode_trace(&self, encoder: &mut wgpu::CommandEncoder, path: GpuPath) {
         let t = &self.target;
         match path {
-            GpuPath::Fragment => {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("raystep trace (fragment)"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &t.linear_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    ..Default::default()
-                });
-                pass.set_pipeline(&self.fragment);
-                pass.set_bind_group(0, &self.scene_group, &[]);
-                pass.draw(0..3, 0..1);
-            }
+            GpuPath::Fragment => full_screen_pass(
+                encoder,
+                "raystep trace (fragment)",
+                &t.linear_view,
+                &self.fragment,
+                &self.scene_group,
+            ),
             GpuPath::Compute => {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some("raystep trace (compute)"),
@@ -828,22 +817,13 @@ impl GpuTracer {
 
     fn encode_display(&self, encoder: &mut wgpu::CommandEncoder) {
         let t = &self.target;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("raystep display"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &t.display_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
-        pass.set_pipeline(&self.display_pipeline);
-        pass.set_bind_group(0, &t.display_group, &[]);
-        pass.draw(0..3, 0..1);
+        full_screen_pass(
+            encoder,
+            "raystep display",
+            &t.display_view,
+            &self.display_pipeline,
+            &t.display_group,
+        );
     }
 
     /// The sRGB-encoded image of the last frame, `Rgba8Unorm`: register it with
@@ -1053,4 +1033,31 @@ impl GpuTracer {
             color: Vec3::new(f(32), f(36), f(40)),
         })
     }
+}
+
+/// One full-screen triangle drawn into `view` (cleared to black) with `pipeline` and its one
+/// bind group: the fragment trace path, and the sRGB display pass.
+fn full_screen_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    view: &wgpu::TextureView,
+    pipeline: &wgpu::RenderPipeline,
+    group: &wgpu::BindGroup,
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        ..Default::default()
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, group, &[]);
+    pass.draw(0..3, 0..1);
 }
