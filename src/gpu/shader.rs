@@ -172,6 +172,7 @@ mod pieces {
     pub const TRIANGLE_WATERTIGHT: &str = include_str!("wgsl/triangle_watertight.wgsl");
     pub const ANY_HIT: &str = include_str!("wgsl/any_hit.wgsl");
     pub const TRAVERSAL_BRUTE: &str = include_str!("wgsl/traversal_brute.wgsl");
+    pub const TRAVERSAL_PLANES: &str = include_str!("wgsl/traversal_planes.wgsl");
     pub const TRAVERSAL_BVH: &str = include_str!("wgsl/traversal_bvh.wgsl");
     pub const TRAVERSAL_RAY_QUERY: &str = include_str!("wgsl/traversal_ray_query.wgsl");
     pub const MISS: &str = include_str!("wgsl/miss.wgsl");
@@ -275,6 +276,9 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     add(pieces::ANY_HIT);
     if config.brute {
         add(pieces::TRAVERSAL_BRUTE);
+    }
+    if config.bvh || config.ray_query {
+        add(pieces::TRAVERSAL_PLANES);
     }
     if config.bvh {
         add(pieces::TRAVERSAL_BVH);

@@ -14,14 +14,9 @@ fn rq_desc(r: Ray, flags: u32) -> RayDesc {
 
 fn rq_closest(ray: Ray) -> Hit {
     var r = ray;
-    var best = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
-    for (var i = 0u; i < params.n_planes; i++) {
-        let id = planes[i];
-        let c = intersection(id, r);
-        if any_hit(c) {
-            r.t_max = c.t;
-            best = Hit(id, c.t, c.u, c.v, c.aux);
-        }
+    var best = planes_closest(r);
+    if best.object != NO_OBJECT {
+        r.t_max = best.t;
     }
     if params.n_nodes == 0u {
         return best;
@@ -46,10 +41,8 @@ fn rq_closest(ray: Ray) -> Hit {
 
 //#if SHADOWS
 fn rq_any(r: Ray) -> bool {
-    for (var i = 0u; i < params.n_planes; i++) {
-        if any_hit(intersection(planes[i], r)) {
-            return true;
-        }
+    if planes_any(r) {
+        return true;
     }
     if params.n_nodes == 0u {
         return false;

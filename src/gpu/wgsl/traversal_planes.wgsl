@@ -1,0 +1,27 @@
+// ---- traversal: the infinite planes, tested before the tree (a plane has no bounding box, so
+// it stays out of the BVH and out of the hardware's acceleration structure, as on the CPU) ----
+
+fn planes_closest(ray: Ray) -> Hit {
+    var r = ray;
+    var best = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
+    for (var i = 0u; i < params.n_planes; i++) {
+        let id = planes[i];
+        let c = intersection(id, r);
+        if any_hit(c) {
+            r.t_max = c.t;
+            best = Hit(id, c.t, c.u, c.v, c.aux);
+        }
+    }
+    return best;
+}
+
+//#if SHADOWS
+fn planes_any(r: Ray) -> bool {
+    for (var i = 0u; i < params.n_planes; i++) {
+        if any_hit(intersection(planes[i], r)) {
+            return true;
+        }
+    }
+    return false;
+}
+//#endif
