@@ -134,9 +134,9 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<BarycentricLayout> {
     let tl = trace.timeline();
     let (ray, record) = tl[k];
     let interval = interval_at(ray, record);
-    let c = Canvas::new(opts.width, opts.height, opts.theme);
+    let c = Canvas::for_view(opts);
     let (w, h, s) = (c.width(), c.height(), c.text_size);
-    let small = (s * 0.85).max(10.5);
+    let small = (s * 0.85).max(13.0 * c.scale);
 
     // Regions: title, then drawing | panel, then the steps strip across the bottom.
     let top = s * 0.6 + s * 1.15 * 1.5;
@@ -303,13 +303,13 @@ fn strip_text_size(c: &Canvas, method: TriangleMethod, width: f32, small: f32) -
 
 /// Draws the diagram.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
-    let mut c = Canvas::new(opts.width, opts.height, opts.theme);
+    let mut c = Canvas::for_view(opts);
     let Some(l) = layout(trace, opts) else {
         title(&mut c, "barycentric: this trace has no ray–triangle test");
         return c;
     };
     let s = c.text_size;
-    let small = (s * 0.85).max(10.5);
+    let small = (s * 0.85).max(13.0 * c.scale);
     let tl = trace.timeline();
     let tests = tl
         .iter()

@@ -184,7 +184,7 @@ pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> TreeLayout {
 
 /// Draws the tree.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
-    let mut c = Canvas::new(opts.width, opts.height, opts.theme);
+    let mut c = Canvas::for_view(opts);
     let th = c.theme;
     let ts = c.text_size;
     let shown = shown_ray(trace, opts.focus);

@@ -110,14 +110,25 @@ impl Anchor {
     }
 }
 
+/// The largest side of a diagram in pixels: a larger request is drawn at this size (8192 × 8192
+/// RGBA is 256 MiB, and tiny-skia's rasterizer works in tiles of up to 8191 pixels).
+pub const MAX_SIDE: u32 = 8192;
+
+/// The smallest base text size at UI scale 1, in pixels: labels (0.8–0.85 of it) stay at about
+/// 13 px, readable on a classroom screen, however small the diagram.
+pub const MIN_TEXT: f32 = 16.0;
+
 /// A pixmap with drawing helpers.
 pub struct Canvas {
     /// The pixels.
     pub pixmap: Pixmap,
     /// The colours.
     pub theme: Theme,
-    /// Base text size in pixels (scales with the canvas).
+    /// Base text size in pixels (scales with the canvas and with [`Canvas::scale`]).
     pub text_size: f32,
+    /// The UI scale the diagram is drawn for (the app's pixels per point): text and lines grow
+    /// with it.
+    pub scale: f32,
     font: FontRef<'static>,
 }
 
@@ -133,17 +144,34 @@ fn paint(c: Rgba) -> Paint<'static> {
 }
 
 impl Canvas {
-    /// A blank canvas of `width`×`height` pixels (at least 16×16).
+    /// A blank canvas of `width`×`height` pixels at UI scale 1.
     pub fn new(width: u32, height: u32, theme: Theme) -> Canvas {
-        let (w, h) = (width.max(16), height.max(16));
-        let mut pixmap = Pixmap::new(w, h).expect("non-zero size");
+        Canvas::scaled(width, height, theme, 1.0)
+    }
+
+    /// A blank canvas for a diagram's view options (size, theme and UI scale).
+    pub fn for_view(opts: &super::ViewOptions) -> Canvas {
+        Canvas::scaled(opts.width, opts.height, opts.theme, opts.scale)
+    }
+
+    /// A blank canvas of `width`×`height` pixels (each side kept within 1 … [`MAX_SIDE`]) whose
+    /// text and lines are drawn for UI scale `scale` (kept within 0.25 … 8; 1 when not finite).
+    pub fn scaled(width: u32, height: u32, theme: Theme, scale: f32) -> Canvas {
+        let (w, h) = (width.clamp(1, MAX_SIDE), height.clamp(1, MAX_SIDE));
+        let scale = sane_scale(scale);
+        let mut pixmap = match Pixmap::new(w, h) {
+            Some(p) => p,
+            // Unreachable: both sides are within 1 … 8192, which tiny-skia accepts.
+            None => Pixmap::new(1, 1).unwrap_or_else(|| unreachable!("a 1×1 pixmap")),
+        };
         pixmap.fill(color(theme.background));
         let font = FontRef::try_from_slice(epaint_default_fonts::HACK_REGULAR)
-            .expect("the bundled font parses");
+            .unwrap_or_else(|_| unreachable!("the bundled font parses"));
         Canvas {
             pixmap,
             theme,
-            text_size: (w.min(h * 4 / 3) as f32 / 42.0).clamp(11.0, 40.0),
+            text_size: text_size_for(w, h, scale),
+            scale,
             font,
         }
     }
@@ -173,9 +201,10 @@ impl Canvas {
         if pts.len() < 2 || pts.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
             return;
         }
-        let Some(path) = path_through(pts, false) else {
+        if !(width.is_finite() && width > 0.0) {
             return;
-        };
+        }
+        let width = width.min(self.width().max(self.height()));
         let mut stroke = Stroke {
             width,
             line_cap: LineCap::Round,
@@ -184,8 +213,27 @@ impl Canvas {
         if dashed {
             stroke.dash = StrokeDash::new(vec![width * 3.0, width * 2.5], 0.0);
         }
-        self.pixmap
-            .stroke_path(&path, &paint(c), &stroke, Transform::identity(), None);
+        let view = self.view(width);
+        for run in clip_polyline(pts, view) {
+            let Some(path) = path_through(&run, false) else {
+                continue;
+            };
+            self.pixmap
+                .stroke_path(&path, &paint(c), &stroke, Transform::identity(), None);
+        }
+    }
+
+    /// The canvas grown by a margin wider than any stroke of `width` (so clipped ends and edges
+    /// stay out of sight): everything handed to tiny-skia is first clipped to it, which keeps
+    /// its fixed-point rasterizer within range whatever the geometry.
+    fn view(&self, width: f32) -> [f64; 4] {
+        let m = f64::from(width.max(1.0)) * 2.0 + 4.0;
+        [
+            -m,
+            -m,
+            f64::from(self.width()) + m,
+            f64::from(self.height()) + m,
+        ]
     }
 
     /// A line from `a` to `b` with an arrowhead at `b`.
@@ -223,7 +271,32 @@ impl Canvas {
         if pts.len() < 3 || pts.iter().any(|p| !p[0].is_finite() || !p[1].is_finite()) {
             return;
         }
-        let Some(path) = path_through(pts, true) else {
+        let pts: Vec<[f64; 2]> = pts
+            .iter()
+            .map(|p| [f64::from(p[0]), f64::from(p[1])])
+            .collect();
+        self.clipped_polygon(&pts, fill, stroke, width);
+    }
+
+    /// Draws a closed polygon given in f64 after clipping it to [`Canvas::view`].
+    fn clipped_polygon(
+        &mut self,
+        pts: &[[f64; 2]],
+        fill: Option<Rgba>,
+        stroke: Option<Rgba>,
+        width: f32,
+    ) {
+        let width = if width.is_finite() {
+            width.clamp(0.0, self.width().max(self.height()))
+        } else {
+            0.0
+        };
+        let clipped = clip_polygon(pts, self.view(width));
+        if clipped.len() < 3 {
+            return;
+        }
+        let pts: Vec<[f32; 2]> = clipped.iter().map(|p| [p[0] as f32, p[1] as f32]).collect();
+        let Some(path) = path_through(&pts, true) else {
             return;
         };
         self.fill_and_stroke(&path, fill, stroke, width);
@@ -268,15 +341,89 @@ impl Canvas {
         if r.is_nan() || r <= 0.0 || !c[0].is_finite() || !c[1].is_finite() || !r.is_finite() {
             return;
         }
-        let Some(path) = PathBuilder::from_circle(c[0], c[1], r) else {
-            return;
+        let width = if width.is_finite() {
+            width.clamp(0.0, self.width().max(self.height()))
+        } else {
+            0.0
         };
-        self.fill_and_stroke(&path, fill, stroke, width);
+        let view = self.view(width);
+        let (cx, cy, r64) = (f64::from(c[0]), f64::from(c[1]), f64::from(r));
+        // Nearest and farthest points of the view from the centre.
+        let nx = cx.clamp(view[0], view[2]) - cx;
+        let ny = cy.clamp(view[1], view[3]) - cy;
+        let near = nx.hypot(ny);
+        let fx = (cx - view[0]).abs().max((cx - view[2]).abs());
+        let fy = (cy - view[1]).abs().max((cy - view[3]).abs());
+        let far = fx.hypot(fy);
+        if near > r64 {
+            return; // the circle is all outside the view
+        }
+        if far < r64 {
+            // The circle covers the whole view (its outline runs outside it, beyond the
+            // margin that a stroke's half width cannot cross).
+            if fill.is_some() {
+                let v = view;
+                let all = [[v[0], v[1]], [v[2], v[1]], [v[2], v[3]], [v[0], v[3]]];
+                self.clipped_polygon(&all, fill, None, 0.0);
+            }
+            return;
+        }
+        let size = (view[2] - view[0]).max(view[3] - view[1]);
+        if r64 <= 4.0 * size && cx.abs() <= 8.0 * size && cy.abs() <= 8.0 * size {
+            let Some(path) = PathBuilder::from_circle(c[0], c[1], r) else {
+                return;
+            };
+            self.fill_and_stroke(&path, fill, stroke, width);
+            return;
+        }
+        // A circle far larger than the canvas: only an arc of it crosses the view, and at that
+        // scale the arc is almost straight. Walk the arc around the point of the circle nearest
+        // the view's centre, in a local frame (p0, along u towards the view, t along the arc)
+        // where no large number is subtracted, then close the region inward and clip it.
+        let (vx, vy) = ((view[0] + view[2]) / 2.0, (view[1] + view[3]) / 2.0);
+        let (dx, dy) = (vx - cx, vy - cy);
+        let d = dx.hypot(dy);
+        let (ux, uy) = if d > 0.0 {
+            (dx / d, dy / d)
+        } else {
+            (0.0, -1.0)
+        };
+        let (tx, ty) = (-uy, ux);
+        // p0 = c + r·u, written as the view centre moved back by (d − r).
+        let (p0x, p0y) = (vx - (d - r64) * ux, vy - (d - r64) * uy);
+        let half = 2.0 * size;
+        let n = 256;
+        let mut pts: Vec<[f64; 2]> = (0..=n)
+            .map(|k| {
+                let s = -half + 2.0 * half * f64::from(k) / f64::from(n);
+                let a = s / r64;
+                // r(cos a − 1) = −2r sin²(a/2), without cancellation.
+                let back = -2.0 * r64 * (a / 2.0).sin().powi(2);
+                let side = r64 * a.sin();
+                [p0x + back * ux + side * tx, p0y + back * uy + side * ty]
+            })
+            .collect();
+        let inward = 4.0 * size;
+        if let (Some(&last), Some(&first)) = (pts.last(), pts.first()) {
+            pts.push([last[0] - inward * ux, last[1] - inward * uy]);
+            pts.push([first[0] - inward * ux, first[1] - inward * uy]);
+        }
+        self.clipped_polygon(&pts, fill, stroke, width);
     }
 
     /// A filled axis-aligned rectangle.
     pub fn rect(&mut self, x: f32, y: f32, w: f32, h: f32, fill: Rgba) {
-        if let Some(r) = Rect::from_xywh(x, y, w.max(0.01), h.max(0.01)) {
+        if !(x.is_finite() && y.is_finite() && w.is_finite() && h.is_finite()) {
+            return;
+        }
+        // Clipped to the canvas (plus a pixel) first: tiny-skia is not asked to fill 1e30 px.
+        let (cw, ch) = (self.width() + 1.0, self.height() + 1.0);
+        let (x0, y0) = (x.max(-1.0), y.max(-1.0));
+        let (x1, y1) = ((x + w.max(0.01)).min(cw), (y + h.max(0.01)).min(ch));
+        if x1 <= x0 || y1 <= y0 {
+            return;
+        }
+        if let Some(r) = Rect::from_ltrb(x0, y0, x1, y1) {
             self.pixmap
                 .fill_rect(r, &paint(fill), Transform::identity(), None);
         }
@@ -314,6 +461,15 @@ impl Canvas {
         let scaled = self.font.as_scaled(PxScale::from(size));
         let h = scaled.ascent() - scaled.descent();
         let (x0, y0) = anchor.top_left(x, y, w, h);
+        if !(size.is_finite() && size > 0.0 && x0.is_finite() && y0.is_finite())
+            || x0 > self.width()
+            || y0 > self.height()
+            || x0 + w < 0.0
+            || y0 + h < 0.0
+            || size > 4.0 * MAX_SIDE as f32
+        {
+            return w; // nothing of it would show
+        }
         let baseline = y0 + scaled.ascent();
         let mut caret = x0;
         let (pw, ph) = (self.pixmap.width() as i32, self.pixmap.height() as i32);
@@ -423,16 +579,17 @@ impl Canvas {
         })
     }
 
-    /// Encodes the canvas as PNG.
+    /// Encodes the canvas as PNG (empty only if the in-memory encoder failed, which it does
+    /// not for a valid pixmap).
     pub fn png(&self) -> Vec<u8> {
-        self.pixmap.encode_png().expect("an in-memory PNG encodes")
+        self.pixmap.encode_png().unwrap_or_default()
     }
 
     /// Converts to an RGBA image (for animated GIFs and comparisons).
     pub fn to_rgba_image(&self) -> image::RgbaImage {
+        let (w, h) = (self.pixmap.width(), self.pixmap.height());
         let data = self.pixmap.clone().take_demultiplied();
-        image::RgbaImage::from_raw(self.pixmap.width(), self.pixmap.height(), data)
-            .expect("sizes match")
+        image::RgbaImage::from_raw(w, h, data).unwrap_or_else(|| image::RgbaImage::new(w, h))
     }
 }
 
@@ -468,6 +625,176 @@ fn path_through(pts: &[[f32; 2]], close: bool) -> Option<tiny_skia::Path> {
         pb.close();
     }
     pb.finish()
+}
+
+/// The base text size of a `width`×`height` canvas at UI scale `scale`: a 42nd of the
+/// canvas, at least [`MIN_TEXT`]·scale, at most 40·scale pixels.
+pub fn text_size_for(width: u32, height: u32, scale: f32) -> f32 {
+    let scale = sane_scale(scale);
+    let (w, h) = (width.clamp(1, MAX_SIDE), height.clamp(1, MAX_SIDE));
+    let fit = w.min(h.saturating_mul(4) / 3) as f32 / 42.0;
+    fit.max(MIN_TEXT * scale).min(40.0 * scale.max(1.0))
+}
+
+/// A UI scale kept within 0.25 … 8 (1 when not finite).
+pub fn sane_scale(scale: f32) -> f32 {
+    if scale.is_finite() {
+        scale.clamp(0.25, 8.0)
+    } else {
+        1.0
+    }
+}
+
+/// The part of segment a→b inside `r` = [x0, y0, x1, y1], in f64. Segments with an end
+/// beyond ±10⁶ are first re-based on the point of their line nearest the rectangle, so that one
+/// from −10³⁰ to 10³⁰ still clips to the pixels it crosses instead of collapsing to a point.
+pub fn clip_segment(r: [f64; 4], a: [f64; 2], b: [f64; 2]) -> Option<([f64; 2], [f64; 2])> {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    if !(d[0].is_finite() && d[1].is_finite()) {
+        return None;
+    }
+    if a.iter().chain(&b).all(|v| v.abs() <= 1e6) {
+        return liang_barsky(r, a, d, 0.0, 1.0);
+    }
+    let l = d[0].hypot(d[1]);
+    if !(l > 0.0 && l.is_finite()) {
+        return None;
+    }
+    let u = [d[0] / l, d[1] / l];
+    let n = [-u[1], u[0]];
+    // The line is {p : n·p = c}; c from the end nearer the origin (less rounding).
+    let near = if a[0].hypot(a[1]) <= b[0].hypot(b[1]) {
+        a
+    } else {
+        b
+    };
+    let c = n[0] * near[0] + n[1] * near[1];
+    let vc = [(r[0] + r[2]) / 2.0, (r[1] + r[3]) / 2.0];
+    let off = c - (n[0] * vc[0] + n[1] * vc[1]);
+    let p0 = [vc[0] + n[0] * off, vc[1] + n[1] * off];
+    let s = |p: [f64; 2]| u[0] * (p[0] - p0[0]) + u[1] * (p[1] - p0[1]);
+    liang_barsky(r, p0, u, s(a), s(b))
+}
+
+/// Liang–Barsky: the part of base + t·d, t in [t0, t1], inside `r` = [x0, y0, x1, y1].
+fn liang_barsky(
+    r: [f64; 4],
+    base: [f64; 2],
+    d: [f64; 2],
+    t0: f64,
+    t1: f64,
+) -> Option<([f64; 2], [f64; 2])> {
+    let (mut t0, mut t1) = (t0, t1);
+    for (p, q) in [
+        (-d[0], base[0] - r[0]),
+        (d[0], r[2] - base[0]),
+        (-d[1], base[1] - r[1]),
+        (d[1], r[3] - base[1]),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+    }
+    (t0 <= t1).then(|| {
+        (
+            [base[0] + d[0] * t0, base[1] + d[1] * t0],
+            [base[0] + d[0] * t1, base[1] + d[1] * t1],
+        )
+    })
+}
+
+/// The runs of an open polyline inside `view`, each a polyline of its own.
+fn clip_polyline(pts: &[[f32; 2]], view: [f64; 4]) -> Vec<Vec<[f32; 2]>> {
+    let mut runs: Vec<Vec<[f32; 2]>> = vec![];
+    let mut cur: Vec<[f32; 2]> = vec![];
+    let to32 = |p: [f64; 2]| [p[0] as f32, p[1] as f32];
+    for w in pts.windows(2) {
+        let a = [f64::from(w[0][0]), f64::from(w[0][1])];
+        let b = [f64::from(w[1][0]), f64::from(w[1][1])];
+        match clip_segment(view, a, b) {
+            Some((p, q)) => {
+                let p = to32(p);
+                if cur.last() != Some(&p) {
+                    if cur.len() > 1 {
+                        runs.push(std::mem::take(&mut cur));
+                    }
+                    cur.clear();
+                    cur.push(p);
+                }
+                let q32 = to32(q);
+                cur.push(q32);
+                if q32 != w[1] {
+                    runs.push(std::mem::take(&mut cur));
+                }
+            }
+            None => {
+                if cur.len() > 1 {
+                    runs.push(std::mem::take(&mut cur));
+                }
+                cur.clear();
+            }
+        }
+    }
+    if cur.len() > 1 {
+        runs.push(cur);
+    }
+    runs
+}
+
+/// Sutherland–Hodgman: a closed polygon clipped to the rectangle `r` = [x0, y0, x1, y1]. The
+/// result fills the same pixels inside `r` for any simple polygon; outside it, edges run along
+/// the rectangle (which the canvas's margin keeps out of sight).
+pub fn clip_polygon(pts: &[[f64; 2]], r: [f64; 4]) -> Vec<[f64; 2]> {
+    // Each edge: (axis, bound, keep the side >= bound?).
+    let edges = [
+        (0, r[0], true),
+        (0, r[2], false),
+        (1, r[1], true),
+        (1, r[3], false),
+    ];
+    let mut poly: Vec<[f64; 2]> = pts
+        .iter()
+        .copied()
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+        .collect();
+    for (axis, bound, ge) in edges {
+        if poly.is_empty() {
+            break;
+        }
+        let inside = |p: &[f64; 2]| {
+            if ge {
+                p[axis] >= bound
+            } else {
+                p[axis] <= bound
+            }
+        };
+        let mut out = Vec::with_capacity(poly.len() + 4);
+        for i in 0..poly.len() {
+            let a = poly[i];
+            let b = poly[(i + 1) % poly.len()];
+            let (ia, ib) = (inside(&a), inside(&b));
+            if ia != ib {
+                let t = (bound - a[axis]) / (b[axis] - a[axis]);
+                let mut p = [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t];
+                p[axis] = bound;
+                out.push(p);
+            }
+            if ib {
+                out.push(b);
+            }
+        }
+        poly = out;
+    }
+    poly
 }
 
 /// A colour with its alpha replaced.

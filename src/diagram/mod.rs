@@ -13,7 +13,7 @@ pub mod quadratic;
 pub mod ray_tree;
 pub mod slice;
 
-pub use canvas::{Anchor, Canvas, Theme};
+pub use canvas::{Anchor, Canvas, MAX_SIDE, Theme};
 
 use crate::trace::{Step, Trace};
 use serde::{Deserialize, Serialize};
@@ -71,6 +71,23 @@ pub struct ViewOptions {
     pub slice_angle: f32,
     /// Slice: look from above (the world's y axis) instead of along the ray's plane.
     pub top_down: bool,
+    /// The UI scale to draw text and lines for: the app passes its pixels per point (1.6 and
+    /// more in presentation mode), so labels read as large as the app's own text. Kept within
+    /// 0.25 … 8.
+    pub scale: f32,
+}
+
+impl ViewOptions {
+    /// These options with each side kept within 1 … [`MAX_SIDE`] pixels and the scale within
+    /// 0.25 … 8: what [`draw`] actually draws.
+    pub fn sane(&self) -> ViewOptions {
+        ViewOptions {
+            width: self.width.clamp(1, MAX_SIDE),
+            height: self.height.clamp(1, MAX_SIDE),
+            scale: canvas::sane_scale(self.scale),
+            ..self.clone()
+        }
+    }
 }
 
 impl Default for ViewOptions {
@@ -82,6 +99,7 @@ impl Default for ViewOptions {
             focus: None,
             slice_angle: 0.0,
             top_down: false,
+            scale: 1.0,
         }
     }
 }
@@ -127,8 +145,10 @@ pub fn kinds_for_step(trace: &Trace, k: usize) -> Vec<DiagramKind> {
 }
 
 /// Draws one diagram of `trace`. Fails (with a message) only when the trace has nothing of that
-/// kind to show, e.g. a barycentric view of a sphere-only trace.
+/// kind to show, e.g. a barycentric view of a sphere-only trace. Any size draws: each side is
+/// kept within 1 … [`MAX_SIDE`] pixels (see [`ViewOptions::sane`]).
 pub fn draw(trace: &Trace, kind: DiagramKind, opts: &ViewOptions) -> Result<Canvas, String> {
+    let opts = &opts.sane();
     if !available(trace).contains(&kind) {
         return Err(format!(
             "this trace has no {} diagram (it has: {})",
@@ -190,47 +210,76 @@ pub fn title(c: &mut Canvas, text: &str) -> f32 {
     c.text_size * 0.6 + size * 1.5
 }
 
-/// Every step of `trace` drawn in order, one frame per timeline step, each focused on its step:
-/// of `kind` when given, else of the kind that best explains that step ([`kinds_for_step`]).
-pub fn frames(
+/// Timeline step `k` of `trace` drawn as one animation frame, focused on its step: of `kind`
+/// when given, else of the kind that best explains that step ([`kinds_for_step`]).
+pub fn frame(
     trace: &Trace,
     kind: Option<DiagramKind>,
     base: &ViewOptions,
-) -> Result<Vec<Canvas>, String> {
-    (0..trace.timeline().len())
-        .map(|k| {
-            let kind = kind.unwrap_or_else(|| kinds_for_step(trace, k)[0]);
-            draw(
-                trace,
-                kind,
-                &ViewOptions {
-                    focus: Some(k),
-                    ..base.clone()
-                },
-            )
-        })
-        .collect()
+    k: usize,
+) -> Result<Canvas, String> {
+    let kind = kind.unwrap_or_else(|| kinds_for_step(trace, k)[0]);
+    draw(
+        trace,
+        kind,
+        &ViewOptions {
+            focus: Some(k),
+            ..base.clone()
+        },
+    )
 }
 
-/// Encodes frames as an endlessly looping GIF, 0.8 s per step (the last held for 3 s).
-pub fn gif(frames: &[Canvas]) -> Result<Vec<u8>, String> {
+/// The GIF frame delay when none is chosen: 0.8 s per step.
+pub const DEFAULT_DELAY_MS: u32 = 800;
+
+/// The shortest and longest GIF frame delays, in ms (GIF counts hundredths of a second, and
+/// many viewers show a delay below 20 ms as 100 ms).
+pub const DELAY_RANGE_MS: std::ops::RangeInclusive<u32> = 20..=60_000;
+
+/// Draws every step of `trace` in order, one frame at a time (only one is in memory: a trace of
+/// thousands of steps needs no more memory than one of ten), and hands each frame with its
+/// index to `each` (to write it as a PNG, say). With `gif_delay_ms`, each frame is also encoded
+/// at once into an endlessly looping GIF that shows each step for that long (kept within
+/// [`DELAY_RANGE_MS`]) and holds the last one for at least 3 s. Returns the GIF's bytes (empty
+/// without a delay) and the number of frames.
+pub fn animate(
+    trace: &Trace,
+    kind: Option<DiagramKind>,
+    base: &ViewOptions,
+    gif_delay_ms: Option<u32>,
+    mut each: impl FnMut(usize, &Canvas) -> Result<(), String>,
+) -> Result<(Vec<u8>, usize), String> {
     use image::codecs::gif::{GifEncoder, Repeat};
+    let n = trace.timeline().len();
     let mut bytes = vec![];
     {
-        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
-        enc.set_repeat(Repeat::Infinite)
-            .map_err(|e| format!("cannot encode GIF: {e}"))?;
-        for (k, f) in frames.iter().enumerate() {
-            let delay = if k + 1 == frames.len() { 3000 } else { 800 };
-            let frame = image::Frame::from_parts(
-                f.to_rgba_image(),
-                0,
-                0,
-                image::Delay::from_numer_denom_ms(delay, 1),
-            );
-            enc.encode_frame(frame)
-                .map_err(|e| format!("cannot encode GIF: {e}"))?;
+        let mut enc = match gif_delay_ms {
+            Some(_) => {
+                let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
+                enc.set_repeat(Repeat::Infinite)
+                    .map_err(|e| format!("cannot encode GIF: {e}"))?;
+                Some(enc)
+            }
+            None => None,
+        };
+        let delay = gif_delay_ms
+            .unwrap_or(DEFAULT_DELAY_MS)
+            .clamp(*DELAY_RANGE_MS.start(), *DELAY_RANGE_MS.end());
+        for k in 0..n {
+            let f = frame(trace, kind, base, k)?;
+            each(k, &f)?;
+            if let Some(enc) = enc.as_mut() {
+                let ms = if k + 1 == n { delay.max(3000) } else { delay };
+                let frame = image::Frame::from_parts(
+                    f.to_rgba_image(),
+                    0,
+                    0,
+                    image::Delay::from_numer_denom_ms(ms, 1),
+                );
+                enc.encode_frame(frame)
+                    .map_err(|e| format!("cannot encode GIF: {e}"))?;
+            }
         }
     }
-    Ok(bytes)
+    Ok((bytes, n))
 }
