@@ -186,9 +186,9 @@ fn unit_sphere_by_hand() {
             assert_eq!(get(&e, "b").substituted, "2·(0, 0, -5)·(0, 0, 1)");
             assert_eq!(get(&e, "Δ").substituted, "(-10)² − 4·1·24");
             assert_eq!(get(&e, "√Δ").value, "2");
-            assert_eq!(get(&e, "t₁").substituted, "(10 − 2)/(2·1)");
-            assert_eq!(get(&e, "t₁").value, "4");
-            assert_eq!(get(&e, "t₂").value, "6");
+            assert_eq!(get(&e, "t₀").substituted, "(10 − 2)/(2·1)");
+            assert_eq!(get(&e, "t₀").value, "4");
+            assert_eq!(get(&e, "t₁").value, "6");
         } else {
             assert!(e.title.contains("stable"));
             assert_eq!(get(&e, "b′").value, "5");
@@ -198,7 +198,7 @@ fn unit_sphere_by_hand() {
             assert_eq!(get(&e, "q").value, "6");
             assert_eq!(get(&e, "c/q").value, "4");
             assert_eq!(get(&e, "q/a").value, "6");
-            assert_eq!(get(&e, "t₁, t₂").value, "4, 6");
+            assert_eq!(get(&e, "t₀, t₁").value, "4, 6");
         }
         assert!(e.conclusion.contains("near root"), "{}", e.conclusion);
     }
@@ -258,8 +258,8 @@ fn every_sphere_step_prints_its_record_and_consistent_substitutions() {
                     }
                     if let Some([lo, hi]) = test.roots {
                         if method == SphereMethod::Textbook {
-                            assert_eq!(get(&e, "t₁").value, num(lo));
-                            assert_eq!(get(&e, "t₂").value, num(hi));
+                            assert_eq!(get(&e, "t₀").value, num(lo));
+                            assert_eq!(get(&e, "t₁").value, num(hi));
                         } else {
                             let q = parse(&get(&e, "q").value);
                             if q != 0.0 {

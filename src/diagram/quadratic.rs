@@ -143,6 +143,32 @@ pub(super) fn rich_label(
 pub(super) struct Placer {
     bounds: [f32; 4],
     taken: Vec<[f32; 4]>,
+    /// Every label placed so far: its markup and its box.
+    placed: Vec<PlacedLabel>,
+}
+
+/// A label as drawn: its text (markup: `t_0` is t with subscript 0) and its box
+/// [x0, y0, x1, y1] in pixels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlacedLabel {
+    /// The label's markup, e.g. `t_0 ≈ 4.000`.
+    pub text: String,
+    /// Its box [x0, y0, x1, y1].
+    pub rect: [f32; 4],
+}
+
+impl Rich {
+    /// The markup this text would be written with (subscripts as `_{…}`).
+    pub(super) fn markup(&self) -> String {
+        self.0
+            .iter()
+            .map(
+                |(s, sub)| {
+                    if *sub { format!("_{{{s}}}") } else { s.clone() }
+                },
+            )
+            .collect()
+    }
 }
 
 impl Placer {
@@ -151,6 +177,7 @@ impl Placer {
         Placer {
             bounds,
             taken: vec![],
+            placed: vec![],
         }
     }
 
@@ -204,15 +231,38 @@ impl Placer {
             .iter()
             .map(|&(x, y, a)| label_box(c, x, y, size, r, a))
             .collect();
+        // How far a box reaches outside the bounds (0 when it fits).
+        let over = |b: &[f32; 4]| {
+            (self.bounds[0] - b[0]).max(0.0)
+                + (self.bounds[1] - b[1]).max(0.0)
+                + (b[2] - self.bounds[2]).max(0.0)
+                + (b[3] - self.bounds[3]).max(0.0)
+        };
         let pick = (0..boxes.len())
             .find(|&i| fits(&boxes[i]) && free(&boxes[i]))
             .or_else(|| (0..boxes.len()).find(|&i| fits(&boxes[i])))
+            .or_else(|| {
+                (0..boxes.len()).min_by(|&i, &j| over(&boxes[i]).total_cmp(&over(&boxes[j])))
+            })
             .unwrap_or(0);
-        let (x, y, a) = candidates[pick];
+        let Some(&(x, y, a)) = candidates.get(pick) else {
+            return [0.0; 4];
+        };
         rich_label(c, x, y, size, r, color, a);
         self.taken.push(boxes[pick]);
+        self.placed.push(PlacedLabel {
+            text: r.markup(),
+            rect: boxes[pick],
+        });
         boxes[pick]
     }
+}
+
+/// The distance from point `p` to the box `b` = [x0, y0, x1, y1] (0 inside it).
+fn rect_dist(b: [f32; 4], p: [f32; 2]) -> f32 {
+    let dx = (b[0] - p[0]).max(p[0] - b[2]).max(0.0);
+    let dy = (b[1] - p[1]).max(p[1] - b[3]).max(0.0);
+    dx.hypot(dy)
 }
 
 /// Splits `markup` into lines no wider than `width` at `size` (breaking at spaces).
@@ -342,7 +392,8 @@ fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
     let decimals = (-(step.log10().floor())).max(0.0) as usize;
     let first = (lo / step).ceil() as i64;
     let last = (hi / step).floor() as i64;
-    let out = (first..=last).map(|k| k as f64 * step).collect();
+    // At most a few hundred ticks, whatever the rounding of first and last.
+    let out = (first..=last).take(500).map(|k| k as f64 * step).collect();
     (out, decimals.min(9))
 }
 
@@ -493,17 +544,19 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<QuadraticLayout> {
     let tl = trace.timeline();
     let (ray, record) = tl[k];
     let interval = interval_at(ray, record);
-    let c = Canvas::new(opts.width, opts.height, opts.theme);
+    let c = Canvas::for_view(opts);
     let (w, h, s) = (c.width(), c.height(), c.text_size);
     let top = s * 0.6 + s * 1.15 * 1.5;
     let panel_w = (w * 0.37).max(150.0).min(w * 0.5);
     let panel = [w - panel_w, top, w - s * 0.5, h - s * 0.5];
-    let small = (s * 0.85).max(10.5);
+    let small = (s * 0.85).max(13.0 * c.scale);
     let ytick_w = c.text_width("-0000.0", small);
     let left = s * 0.6 + ytick_w + s * 0.3;
-    let right = panel[0] - s * 1.2;
+    // On a canvas too small for the plot and the panel the frame shrinks to a pixel (never to a
+    // negative size: everything below maps t and f through it).
+    let right = (panel[0] - s * 1.2).max(left + 1.0);
     let plot_top = top + small * 1.6;
-    let bottom = h - small * 2.6;
+    let bottom = (h - small * 2.6).max(plot_top + 1.0);
     let frame = ranges(test, interval).map(|(t_range, f_range)| PlotFrame {
         left,
         top: plot_top,
@@ -596,14 +649,21 @@ fn choice_words(test: &SphereTest<f32>) -> (&'static str, &'static str) {
 
 /// Draws the diagram.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
-    let mut c = Canvas::new(opts.width, opts.height, opts.theme);
+    draw_labelled(trace, opts).0
+}
+
+/// Draws the diagram; returns it with the labels placed on the plot (for tests: which label
+/// sits next to which marker).
+pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLabel>) {
+    let opts = &opts.sane();
+    let mut c = Canvas::for_view(opts);
     let Some(l) = layout(trace, opts) else {
         title(&mut c, "quadratic: this trace has no ray–sphere test");
-        return c;
+        return (c, vec![]);
     };
     let th = c.theme;
     let s = c.text_size;
-    let small = (s * 0.85).max(10.5);
+    let small = (s * 0.85).max(13.0 * c.scale);
     let tests = trace
         .timeline()
         .iter()
@@ -628,8 +688,9 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     fit_title(&mut c, &heading);
     let test = &l.test;
 
+    let mut labels = vec![];
     if let Some(f) = l.frame {
-        draw_plot(&mut c, &l, &f, small);
+        labels = draw_plot(&mut c, &l, &f, small);
     } else {
         let r = Rich::new("cannot plot: the coefficients are not finite");
         let y = c.height() / 2.0;
@@ -694,7 +755,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     }
     let heading = Rich::new("sphere ").plain(&format!("\"{}\"", l.name));
     draw_panel(&mut c, l.panel, small, heading, &rows);
-    c
+    (c, labels)
 }
 
 /// Draws a text panel: a heading, then rows of markup, each wrapped to the panel's width (a row
@@ -752,7 +813,7 @@ pub(super) fn draw_panel(
 }
 
 /// The plot: shaded interval, grid and ticks, axes, curve, roots, vertex, chosen root.
-fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) {
+fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) -> Vec<PlacedLabel> {
     let th = c.theme;
     let s = c.text_size;
     let test = &l.test;
@@ -760,9 +821,11 @@ fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) {
     let line_w = (s / 9.0).max(1.5);
 
     // The allowed interval (t_min, t_max): in front of the origin, before the closest hit so far.
-    let xa = f.x(t_min as f64).clamp(f.left, f.right);
+    // min/max, not clamp: on a narrow canvas the frame may be a single pixel wide.
+    let within = |x: f32| x.max(f.left).min(f.right);
+    let xa = within(f.x(t_min as f64));
     let xb = if t_max.is_finite() {
-        f.x(t_max as f64).clamp(f.left, f.right)
+        within(f.x(t_max as f64))
     } else {
         f.right
     };
@@ -922,14 +985,28 @@ fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) {
                     (right, left)
                 };
                 // Near side first; then above the axis between the roots (the curve is below it
-                // there); then lower down; the far side below the axis last.
-                let cands: Vec<_> = near
+                // there); then lower down; the far side below the axis last. A label must sit
+                // nearer its own dot than the other root's, or it reads as the other's name.
+                let other = if tangent {
+                    None
+                } else {
+                    Some(if i == 0 { p1 } else { p0 })
+                };
+                let own = |&&(x, y, a): &&(f32, f32, Anchor)| {
+                    let b = label_box(c, x, y, small, &label, a);
+                    other.is_none_or(|o| rect_dist(b, p) < rect_dist(b, o))
+                };
+                let mut cands: Vec<_> = near
                     .iter()
                     .chain([&far[1]])
                     .chain(lower.iter())
                     .chain([&far[0]])
+                    .filter(own)
                     .cloned()
                     .collect();
+                if cands.is_empty() {
+                    cands.push(near[0]);
+                }
                 placer.place(c, &cands, small, &label, col);
             }
             // Dots last so they sit on top.
@@ -1079,4 +1156,5 @@ fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) {
             th.reflect,
         );
     }
+    placer.placed
 }

@@ -685,14 +685,14 @@ impl Ctx<'_> {
                     None,
                 ));
                 lines.push(line(
-                    "t₁",
+                    "t₀",
                     "(−b − √Δ)/2a",
                     format!("({} − {})/(2·{})", num(-test.b), num(sq), num(test.a)),
                     num(lo),
                     Some("the near root".into()),
                 ));
                 lines.push(line(
-                    "t₂",
+                    "t₁",
                     "(−b + √Δ)/2a",
                     format!("({} + {})/(2·{})", num(-test.b), num(sq), num(test.a)),
                     num(hi),
@@ -715,7 +715,7 @@ impl Ctx<'_> {
                 ));
                 if q == 0.0 {
                     lines.push(line(
-                        "t₁ = t₂",
+                        "t₀ = t₁",
                         "0",
                         "",
                         "0",
@@ -740,7 +740,7 @@ impl Ctx<'_> {
                     ));
                 }
                 lines.push(line(
-                    "t₁, t₂",
+                    "t₀, t₁",
                     "the two roots, in order",
                     "",
                     format!("{}, {}", num(lo), num(hi)),
@@ -749,17 +749,17 @@ impl Ctx<'_> {
             }
             let (choice, sub, val) = match test.choice {
                 RootChoice::NearRoot => (
-                    "t_min < t₁ < t_max",
+                    "t_min < t₀ < t_max",
                     format!("{} < {} < {}", num(rmin), num(lo), num(rmax)),
                     num(lo),
                 ),
                 RootChoice::FarRoot => (
-                    "t₁ ≤ t_min < t₂ < t_max",
+                    "t₀ ≤ t_min < t₁ < t_max",
                     format!("{} ≤ {} < {} < {}", num(lo), num(rmin), num(hi), num(rmax)),
                     num(hi),
                 ),
                 RootChoice::Behind => (
-                    "t₂ ≤ t_min",
+                    "t₁ ≤ t_min",
                     format!("{} ≤ {}", num(hi), num(rmin)),
                     "none".into(),
                 ),
