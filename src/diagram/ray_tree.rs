@@ -1,5 +1,14 @@
-//! The ray tree: primary → shadow / reflection / refraction rays, each with its kind, depth,
-//! weight and the colour it contributed, laid out by depth.
+//! The ray tree: primary → reflection / refraction rays, each box with its kind, depth, what it
+//! hit, its shadow rays' verdicts and the colour it contributed; each edge with the weight the
+//! child's colour is multiplied by.
+//!
+//! The boxes are laid out as a tidy tree (Reingold and Tilford, "Tidier drawings of trees",
+//! 1981): one row per depth, each subtree placed as close to its left sibling as their contours
+//! allow, parents centred over their children. Boxes never overlap, and a chain of rays does not
+//! widen the tree as a leaf-per-column layout would. When the tree is larger than the canvas
+//! everything (boxes, text, gaps) shrinks by one factor, so the picture stays free of overlaps.
+//! (Hand-written: the layout crates on crates.io lay out general graphs, not boxes of one size
+//! in depth rows, and this is a few dozen lines.)
 
 use super::bvh_tree::kind_name;
 use super::canvas::{Anchor, Canvas, Rgba};
@@ -7,93 +16,296 @@ use super::{ViewOptions, title};
 use crate::render::image::srgb8;
 use crate::trace::describe::num;
 use crate::trace::{RayKind, RayRecord, Trace};
+use std::collections::HashMap;
 
 /// One ray box as drawn.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RayBox {
-    /// Depth-first index of the ray in the trace (0 = primary).
+    /// Depth-first index of the ray among the colour rays (0 = primary).
     pub index: usize,
     /// Index of the parent ray.
     pub parent: Option<usize>,
-    /// Box centre.
+    /// The centre of the box's top edge.
     pub pos: [f32; 2],
+    /// The box: [x0, y0, x1, y1].
+    pub rect: [f32; 4],
     /// Whether the ray had started by the focused step.
     pub shown: bool,
     /// Whether it owns the focused step.
     pub current: bool,
 }
 
-/// Lays out the colour rays (shadow rays are folded into their parent's box): one row per
-/// depth, leaves spread evenly, parents centred over their children.
-pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> Vec<RayBox> {
-    let all = trace.rays();
-    let rays: Vec<&RayRecord> = all
-        .iter()
-        .copied()
+/// Sizes shared by every box (they shrink together when the tree does not fit).
+#[derive(Debug, Clone, Copy)]
+struct Metrics {
+    /// Text size inside the boxes.
+    text: f32,
+    /// Box width and height.
+    bw: f32,
+    bh: f32,
+    /// Gap between neighbouring boxes of a row, and between rows.
+    hgap: f32,
+    vgap: f32,
+}
+
+/// The colour rays (shadow rays are folded into their parent's box), their parents and depths.
+fn colour_rays(trace: &Trace) -> (Vec<&RayRecord>, Vec<Option<usize>>, Vec<usize>) {
+    let rays: Vec<&RayRecord> = trace
+        .rays()
+        .into_iter()
         .filter(|r| r.kind != RayKind::Shadow)
         .collect();
-    let tl = trace.timeline();
-    let first_step = |r: &RayRecord| tl.iter().position(|(rr, _)| std::ptr::eq(*rr, r));
-    let focus_ray = opts
-        .focus
-        .and_then(|k| tl.get(k))
-        .map(|(r, _)| *r as *const RayRecord);
+    let index: HashMap<*const RayRecord, usize> = rays
+        .iter()
+        .enumerate()
+        .map(|(i, r)| (*r as *const RayRecord, i))
+        .collect();
     let mut parent = vec![None; rays.len()];
     let mut depth = vec![0usize; rays.len()];
+    // Pre-order: a parent comes before its children, so its depth is known.
     for (i, r) in rays.iter().enumerate() {
         for c in &r.children {
-            if let Some(j) = rays.iter().position(|x| std::ptr::eq(*x, c)) {
+            if let Some(&j) = index.get(&(c as *const RayRecord)) {
                 parent[j] = Some(i);
                 depth[j] = depth[i] + 1;
             }
         }
     }
-    let mut xs = vec![0.0f32; rays.len()];
-    let mut order = 0usize;
-    fn place(i: usize, parent: &[Option<usize>], xs: &mut [f32], order: &mut usize) -> f32 {
-        let kids: Vec<usize> = (0..parent.len())
-            .filter(|j| parent[*j] == Some(i))
-            .collect();
-        let x = if kids.is_empty() {
-            *order += 1;
-            *order as f32 - 1.0
-        } else {
-            let v: Vec<f32> = kids.iter().map(|k| place(*k, parent, xs, order)).collect();
-            v.iter().sum::<f32>() / v.len() as f32
+    (rays, parent, depth)
+}
+
+/// A subtree's contour: per depth below its root (0 = the root's row), the leftmost and the
+/// rightmost box edge, relative to the root's centre.
+struct Contour {
+    left: Vec<f32>,
+    right: Vec<f32>,
+}
+
+/// Reingold–Tilford: the x offset of every node from its parent (`rel`), in units where a box
+/// is `bw` wide and neighbours keep `gap` apart; returns the contour of the subtree at `i`.
+fn tidy(i: usize, kids: &[Vec<usize>], bw: f32, gap: f32, rel: &mut [f32]) -> Contour {
+    let half = bw / 2.0;
+    let children = &kids[i];
+    if children.is_empty() {
+        return Contour {
+            left: vec![-half],
+            right: vec![half],
         };
-        xs[i] = x;
-        x
     }
-    place(0, &parent, &mut xs, &mut order);
-    let slots = order.max(1) as f32;
-    let max_depth = depth.iter().copied().max().unwrap_or(0).max(1) as f32;
-    let (w, h) = (opts.width as f32, opts.height as f32);
-    let bottom = h * 0.78;
-    rays.iter()
+    let mut pos: Vec<f32> = Vec::with_capacity(children.len());
+    let mut acc = Contour {
+        left: vec![],
+        right: vec![],
+    };
+    for &k in children {
+        let ck = tidy(k, kids, bw, gap, rel);
+        // As far left as the rows both subtrees reach allow.
+        let x = if pos.is_empty() {
+            0.0
+        } else {
+            acc.right
+                .iter()
+                .zip(&ck.left)
+                .map(|(r, l)| r + gap - l)
+                .fold(f32::NEG_INFINITY, f32::max)
+        };
+        for (d, (l, r)) in ck.left.iter().zip(&ck.right).enumerate() {
+            if d < acc.left.len() {
+                acc.right[d] = x + r;
+            } else {
+                acc.left.push(x + l);
+                acc.right.push(x + r);
+            }
+        }
+        pos.push(x);
+    }
+    let mid = (pos[0] + pos[pos.len() - 1]) / 2.0;
+    for (&k, &x) in children.iter().zip(&pos) {
+        rel[k] = x - mid;
+    }
+    let mut out = Contour {
+        left: vec![-half],
+        right: vec![half],
+    };
+    out.left.extend(acc.left.iter().map(|x| x - mid));
+    out.right.extend(acc.right.iter().map(|x| x - mid));
+    out
+}
+
+/// The box text size and sizes for a canvas: text as large as the canvas's labels, boxes wide
+/// enough for their widest line (within limits).
+fn metrics(c: &Canvas, rays: &[&RayRecord]) -> Metrics {
+    let text = (c.text_size * 0.85).max(13.0 * c.scale);
+    let widest = rays
+        .iter()
+        .flat_map(|r| box_lines(r))
+        .map(|(s, _)| c.text_width(&s, text))
+        .fold(0.0, f32::max);
+    let bw = (widest + text).clamp(text * 9.0, text * 20.0);
+    let lights = rays.iter().map(|r| shadow_lines(r)).max().unwrap_or(0);
+    Metrics {
+        text,
+        bw,
+        bh: box_height(text, lights),
+        hgap: text * 1.0,
+        vgap: text * 1.9,
+    }
+}
+
+/// Box height for `lights` shadow lines: header, hit line, the lights, the colour line (the
+/// line pitches of [`draw`]).
+fn box_height(text: f32, lights: usize) -> f32 {
+    text * (0.15 + HEADER + LINE * (1 + lights) as f32 + 1.3)
+}
+
+/// The header band's height and the pitch of the lines below it, in text sizes.
+const HEADER: f32 = 1.45;
+const LINE: f32 = 1.2;
+
+/// How many shadow-ray lines a box shows (at most three).
+fn shadow_lines(r: &RayRecord) -> usize {
+    r.children
+        .iter()
+        .filter(|c| c.kind == RayKind::Shadow)
+        .count()
+        .min(3)
+}
+
+/// The lines of a box's text (after the header), with whether each is a shadow line.
+fn box_lines(r: &RayRecord) -> Vec<(String, bool)> {
+    let mut out = vec![(format!("{} · depth {}", kind_name(r.kind), r.depth), false)];
+    out.push((
+        match &r.hit {
+            Some(h) => format!("{} t={}", h.name, short(h.t)),
+            None => "miss: background".into(),
+        },
+        false,
+    ));
+    for sh in r
+        .children
+        .iter()
+        .filter(|c| c.kind == RayKind::Shadow)
+        .take(3)
+    {
+        out.push((
+            match &sh.hit {
+                Some(h) => format!("light blocked by {}", h.name),
+                None => "light visible".into(),
+            },
+            true,
+        ));
+    }
+    out.push((format!("■ {}", colour_text(r.color)), false));
+    out
+}
+
+fn colour_text(c: [f32; 3]) -> String {
+    format!("({}, {}, {})", short(c[0]), short(c[1]), short(c[2]))
+}
+
+/// The tree's layout on canvas `c` below `top`, above `bottom`: the boxes and the metrics they
+/// were sized with.
+fn layout_on(
+    c: &Canvas,
+    w: f32,
+    trace: &Trace,
+    opts: &ViewOptions,
+    top: f32,
+    bottom: f32,
+) -> (Vec<RayBox>, Metrics) {
+    let (rays, parent, depth) = colour_rays(trace);
+    let mut m = metrics(c, &rays);
+    let n = rays.len();
+    let mut kids = vec![vec![]; n];
+    for (j, p) in parent.iter().enumerate() {
+        if let Some(p) = p {
+            kids[*p].push(j);
+        }
+    }
+    let mut rel = vec![0.0f32; n];
+    let mut x = vec![0.0f32; n];
+    if n > 0 {
+        tidy(0, &kids, m.bw, m.hgap, &mut rel);
+        // Pre-order: parents first.
+        for i in 1..n {
+            x[i] = parent[i].map_or(0.0, |p| x[p]) + rel[i];
+        }
+    }
+    let lo = x.iter().copied().fold(f32::INFINITY, f32::min) - m.bw / 2.0;
+    let hi = x.iter().copied().fold(f32::NEG_INFINITY, f32::max) + m.bw / 2.0;
+    let rows = depth.iter().copied().max().unwrap_or(0) as f32 + 1.0;
+    let need_w = (hi - lo).max(m.bw);
+    let need_h = rows * m.bh + (rows - 1.0) * m.vgap;
+    let h = (bottom - top).max(1.0);
+    let margin = m.text * 0.6;
+    let k = ((w - 2.0 * margin).max(1.0) / need_w)
+        .min(h / need_h)
+        .min(1.0);
+    m = Metrics {
+        text: m.text * k,
+        bw: m.bw * k,
+        bh: m.bh * k,
+        hgap: m.hgap * k,
+        vgap: m.vgap * k,
+    };
+    // Centred across the canvas.
+    let x0 = (w - need_w * k) / 2.0 - lo * k;
+    let tl = trace.timeline();
+    let first_step: HashMap<*const RayRecord, usize> = tl
+        .iter()
+        .enumerate()
+        .rev()
+        .map(|(k, (r, _))| (*r as *const RayRecord, k))
+        .collect();
+    let focus_ray = opts
+        .focus
+        .and_then(|k| tl.get(k))
+        .map(|(r, _)| *r as *const RayRecord);
+    let boxes = rays
+        .iter()
         .enumerate()
         .map(|(i, r)| {
-            let shown = match (opts.focus, first_step(r)) {
-                (Some(k), Some(f)) => f <= k,
+            let ptr = *r as *const RayRecord;
+            let shown = match (opts.focus, first_step.get(&ptr)) {
+                (Some(k), Some(f)) => *f <= k,
                 (Some(_), None) => false,
                 (None, _) => true,
             };
             // A shadow ray's steps count as its parent's for highlighting.
-            let owns_focus = focus_ray == Some(*r as *const RayRecord)
+            let current = focus_ray == Some(ptr)
                 || r.children
                     .iter()
                     .any(|c| c.kind == RayKind::Shadow && focus_ray == Some(c as *const RayRecord));
+            let cx = x0 + x[i] * k;
+            let y = top + depth[i] as f32 * (m.bh + m.vgap);
             RayBox {
                 index: i,
                 parent: parent[i],
-                pos: [
-                    w * 0.04 + (xs[i] + 0.5) / slots * w * 0.92,
-                    top + depth[i] as f32 / max_depth * (bottom - top),
-                ],
+                pos: [cx, y],
+                rect: [cx - m.bw / 2.0, y, cx + m.bw / 2.0, y + m.bh],
                 shown,
-                current: owns_focus,
+                current,
             }
         })
-        .collect()
+        .collect();
+    (boxes, m)
+}
+
+/// Lays out the colour rays below `top` on the canvas `opts` describes (the title's height,
+/// the legend at the bottom): one row per depth, a tidy tree, boxes that never overlap.
+pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> Vec<RayBox> {
+    let opts = opts.sane();
+    // Measuring text needs the font and sizes, not the pixels: a 1×1 canvas with this one's
+    // text size.
+    let mut c = Canvas::scaled(1, 1, opts.theme, opts.scale);
+    c.text_size = super::canvas::text_size_for(opts.width, opts.height, opts.scale);
+    let bottom = legend_top(&c, opts.height as f32);
+    layout_on(&c, opts.width as f32, trace, &opts, top, bottom).0
+}
+
+/// Where the legend starts: everything above it is the tree's.
+fn legend_top(c: &Canvas, height: f32) -> f32 {
+    height - c.text_size * 2.0
 }
 
 fn kind_color(c: &Canvas, k: RayKind) -> Rgba {
@@ -107,18 +319,18 @@ fn kind_color(c: &Canvas, k: RayKind) -> Rgba {
 
 /// Shortens `text` with an ellipsis until it fits `width` at `size`.
 fn fit(c: &Canvas, text: &str, size: f32, width: f32) -> String {
-    let mut line = text.to_string();
-    while c.text_width(&line, size) > width && line.chars().count() > 2 {
-        line.pop();
-        line.pop();
-        line.push('…');
+    let mut line: Vec<char> = text.chars().collect();
+    let mut out = text.to_string();
+    while c.text_width(&out, size) > width && line.len() > 2 {
+        line.truncate(line.len() - 2);
+        out = line.iter().collect::<String>() + "…";
     }
-    line
+    out
 }
 
 /// Draws the ray tree.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
-    let mut c = Canvas::new(opts.width, opts.height, opts.theme);
+    let mut c = Canvas::for_view(opts);
     let th = c.theme;
     let ts = c.text_size;
     let top = title(
@@ -127,184 +339,113 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             "Ray tree of pixel ({}, {}), sample {}",
             trace.pixel[0], trace.pixel[1], trace.sample
         ),
-    ) + ts * 1.2;
-    let rays: Vec<&RayRecord> = trace
-        .rays()
-        .into_iter()
-        .filter(|r| r.kind != RayKind::Shadow)
-        .collect();
-    let boxes = layout(trace, opts, top);
-    let leaves = boxes
-        .iter()
-        .filter(|b| !boxes.iter().any(|o| o.parent == Some(b.index)))
-        .count()
-        .max(1);
-    let levels = boxes
-        .iter()
-        .map(|b| b.pos[1])
-        .fold(Vec::<f32>::new(), |mut v, y| {
-            if !v.iter().any(|u| (u - y).abs() < 0.5) {
-                v.push(y);
-            }
-            v
-        });
-    // Boxes shrink to fit the columns and rows; text shrinks with them.
-    let col_w = opts.width as f32 * 0.92 / leaves as f32;
-    let row_h = if levels.len() > 1 {
-        (opts.height as f32 * 0.78 - top) / (levels.len() - 1) as f32
-    } else {
-        ts * 6.0
-    };
-    let small = (ts * 0.72).min(col_w / 11.0).min(row_h / 5.2).max(6.0);
-    let bw = (col_w * 0.92).min(small * 17.0);
-    let max_lights = rays
-        .iter()
-        .map(|r| {
-            r.children
-                .iter()
-                .filter(|c| c.kind == RayKind::Shadow)
-                .count()
-        })
-        .max()
-        .unwrap_or(0);
-    // Header 1.45, hit line 1.2, a line per light 1.1, the colour swatch 1.3 (in text heights).
-    let bh = small * (4.3 + 1.1 * max_lights.min(3) as f32);
-    let top_of = |b: &RayBox| b.pos[1] - small * 0.2;
+    ) + ts * 0.4;
+    let (rays, _, _) = colour_rays(trace);
+    let bottom = legend_top(&c, c.height());
+    let (boxes, m) = layout_on(&c, c.width(), trace, opts, top, bottom);
+    let small = m.text;
+    let line_w = (small / 6.0).max(1.6);
+    // Edges first, under the boxes; the weight on each edge's middle.
     for b in &boxes {
-        if let Some(p) = b.parent
-            && b.shown
-        {
-            let (a, z) = (boxes[p].pos, b.pos);
-            let col = kind_color(&c, rays[b.index].kind);
-            c.arrow(
-                [a[0], top_of(&boxes[p]) + bh],
-                [z[0], top_of(b)],
+        let Some(p) = b.parent.and_then(|p| boxes.get(p)) else {
+            continue;
+        };
+        if !b.shown {
+            continue;
+        }
+        let col = kind_color(&c, rays[b.index].kind);
+        let from = [p.pos[0], p.rect[3]];
+        let to = [b.pos[0], b.rect[1]];
+        c.arrow(from, to, col, line_w);
+        let w = rays[b.index].weight;
+        if w != 1.0 {
+            // Beside the edge's middle, on its outer side, so the edge stays in sight.
+            let mid = [(from[0] + to[0]) / 2.0, (from[1] + to[1]) / 2.0];
+            let (x, anchor) = if to[0] < from[0] {
+                (mid[0] - small * 0.5 - 4.0, Anchor::MiddleRight)
+            } else {
+                (mid[0] + small * 0.5 + 4.0, Anchor::MiddleLeft)
+            };
+            c.label(
+                x,
+                mid[1],
+                small * 0.95,
+                &format!("× {}", short(w)),
                 col,
-                (small / 5.0).max(1.2),
+                anchor,
             );
-            let w = rays[b.index].weight;
-            if w != 0.0 && w != 1.0 {
-                let mid = [
-                    (a[0] + z[0]) / 2.0,
-                    (top_of(&boxes[p]) + bh + top_of(b)) / 2.0,
-                ];
-                c.label(
-                    mid[0],
-                    mid[1],
-                    small * 0.95,
-                    &format!("× {}", short(w)),
-                    col,
-                    Anchor::Center,
-                );
-            }
         }
     }
     for b in boxes.iter().filter(|b| b.shown) {
         let r = rays[b.index];
         let col = kind_color(&c, r.kind);
-        let (x0, y0) = (b.pos[0] - bw / 2.0, top_of(b));
+        let [x0, y0, x1, y1] = b.rect;
+        let (bw, bh) = (x1 - x0, y1 - y0);
         c.rect(x0, y0, bw, bh, th.background);
+        c.rect(x0, y0, bw, small * HEADER, col);
         c.rect_outline(
             x0,
             y0,
             bw,
             bh,
             if b.current { th.ink } else { col },
-            if b.current { 3.0 } else { 1.5 },
+            if b.current { line_w * 2.2 } else { line_w },
             false,
         );
-        c.rect(x0, y0, bw, small * 1.45, col);
-        let head = fit(
-            &c,
-            &format!("{} · depth {}", kind_name(r.kind), r.depth),
-            small,
-            bw - 4.0,
-        );
-        c.text(
-            b.pos[0],
-            y0 + small * 0.18,
-            small,
-            &head,
-            th.background,
-            Anchor::TopCenter,
-        );
-        let what = match &r.hit {
-            Some(h) => format!("{} t={}", h.name, short(h.t)),
-            None => "miss: background".into(),
-        };
-        let line = fit(&c, &what, small, bw - 6.0);
-        c.text(
-            b.pos[0],
-            y0 + small * 1.65,
-            small,
-            &line,
-            th.ink,
-            Anchor::TopCenter,
-        );
-        let mut y = y0 + small * 2.85;
-        for sh in r
-            .children
-            .iter()
-            .filter(|c| c.kind == RayKind::Shadow)
-            .take(3)
-        {
-            let (mark, mc) = match &sh.hit {
-                Some(h) => (format!("light blocked by {}", h.name), th.blocked),
-                None => ("light visible".to_string(), th.shadow),
+        let lines = box_lines(r);
+        let inner = bw - small * 0.6;
+        let mut y = y0 + small * 0.15;
+        for (i, (text, shadow)) in lines.iter().enumerate() {
+            let (size, ink) = if i == 0 {
+                (small, th.background)
+            } else if *shadow {
+                let blocked = text.starts_with("light blocked");
+                (small * 0.92, if blocked { th.blocked } else { th.shadow })
+            } else if i + 1 == lines.len() {
+                (small * 0.92, th.muted)
+            } else {
+                (small, th.ink)
             };
-            let t = fit(&c, &mark, small * 0.9, bw - 6.0);
-            c.text(b.pos[0], y, small * 0.9, &t, mc, Anchor::TopCenter);
-            y += small * 1.1;
+            if i + 1 == lines.len() {
+                // The colour line: a swatch of the ray's colour, then its numbers.
+                let sw = small * 0.9;
+                let label = fit(&c, &colour_text(r.color), size, inner - sw - small * 0.4);
+                let tw = c.text_width(&label, size);
+                let x = b.pos[0] - (sw + small * 0.4 + tw) / 2.0;
+                let rgb = [srgb8(r.color[0]), srgb8(r.color[1]), srgb8(r.color[2]), 255];
+                let yy = y + small * 0.15;
+                c.rect(x, yy, sw, sw, rgb);
+                c.rect_outline(x, yy, sw, sw, th.muted, 1.0, false);
+                c.text(x + sw + small * 0.4, y, size, &label, ink, Anchor::TopLeft);
+            } else {
+                let t = fit(&c, text, size, inner);
+                c.text(b.pos[0], y, size, &t, ink, Anchor::TopCenter);
+            }
+            y += if i == 0 { small * HEADER } else { small * LINE };
         }
-        let sw = small;
-        let rgb = [srgb8(r.color[0]), srgb8(r.color[1]), srgb8(r.color[2]), 255];
-        let label = fit(
-            &c,
-            &format!(
-                "({}, {}, {})",
-                short(r.color[0]),
-                short(r.color[1]),
-                short(r.color[2])
-            ),
-            small * 0.9,
-            bw - sw - 10.0,
-        );
-        let tw = c.text_width(&label, small * 0.9);
-        let x = b.pos[0] - (sw + 4.0 + tw) / 2.0;
-        c.rect(x, y, sw, sw, rgb);
-        c.rect_outline(x, y, sw, sw, th.muted, 1.0, false);
-        c.text(
-            x + sw + 4.0,
-            y,
-            small * 0.9,
-            &label,
-            th.muted,
-            Anchor::TopLeft,
-        );
     }
     // Legend and the final colour.
-    let y = opts.height as f32 - ts * 1.6;
-    let mut x = ts;
+    let y = bottom + ts * 0.4;
+    let mut x = ts * 0.6;
+    let size = ts * 0.8;
     for k in [RayKind::Primary, RayKind::Reflection, RayKind::Refraction] {
         let col = kind_color(&c, k);
-        c.rect(x, y + ts * 0.15, ts * 0.8, ts * 0.8, col);
-        x += ts * 1.1;
-        x += c.text(x, y, ts * 0.8, kind_name(k), th.ink, Anchor::TopLeft) + ts * 1.0;
+        c.rect(x, y + size * 0.15, size, size, col);
+        x += size * 1.3;
+        x += c.text(x, y, size, kind_name(k), th.ink, Anchor::TopLeft) + size;
     }
     let col = trace.color;
-    c.text(
-        opts.width as f32 - ts,
-        y,
-        ts * 0.8,
-        &format!(
-            "pixel colour ({}, {}, {})",
-            short(col[0]),
-            short(col[1]),
-            short(col[2])
-        ),
-        th.ink,
-        Anchor::TopRight,
-    );
+    let text = format!("pixel colour {}", colour_text(col));
+    if x + c.text_width(&text, size) < c.width() - ts * 0.6 {
+        c.text(
+            c.width() - ts * 0.6,
+            y,
+            size,
+            &text,
+            th.ink,
+            Anchor::TopRight,
+        );
+    }
     c
 }
 
