@@ -225,7 +225,8 @@ fn the_hit_lies_on_the_drawn_ray_and_the_ray_is_drawn_there() {
             let ray = o.theme.ray;
             let (dx, dy) = (p.start[0] - hit[0], p.start[1] - hit[1]);
             let l = (dx * dx + dy * dy).sqrt();
-            let found = (8..30).any(|k| {
+            // (Up to 80 px: a normal nearly along the ray covers its last few dozen pixels.)
+            let found = (8..80).any(|k| {
                 let q = [hit[0] + dx / l * k as f32, hit[1] + dy / l * k as f32];
                 c.pixel(q[0].round() as u32, q[1].round() as u32)
                     .is_some_and(|px| (0..3).all(|ch| px[ch].abs_diff(ray[ch]) <= 40))

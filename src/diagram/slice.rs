@@ -147,7 +147,7 @@ impl SliceLayout {
 
 /// Computes where everything goes, without drawing.
 pub fn layout(trace: &Trace, opts: &ViewOptions) -> SliceLayout {
-    let c = Canvas::new(opts.width, opts.height, opts.theme);
+    let c = Canvas::for_view(opts);
     let info = RayInfos::new(trace, opts.focus);
     let legend = legend_entries(trace, &info, opts);
     let (legend_rows, _) = legend_flow(&c, &legend);
@@ -156,7 +156,7 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> SliceLayout {
 
 /// Draws the slice.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
-    let mut c = Canvas::new(opts.width, opts.height, opts.theme);
+    let mut c = Canvas::for_view(opts);
     let info = RayInfos::new(trace, opts.focus);
     let legend = legend_entries(trace, &info, opts);
     let (legend_rows, legend_h) = legend_flow(&c, &legend);
@@ -865,6 +865,10 @@ fn image_plane_ends(frame: &Frame, cam: &CameraRays, sy: f32) -> [Vec3; 2] {
     [pts[best.0], pts[best.1]]
 }
 
+/// Above this many objects in a trace, the slice draws only the objects its plane cuts (and the
+/// ones hit) and labels only the ones hit.
+const CROWDED: usize = 300;
+
 fn object(trace: &Trace, id: u32) -> Option<&TraceObject> {
     trace.objects.iter().find(|o| o.id == id)
 }
@@ -1322,8 +1326,64 @@ impl Drawer<'_, '_> {
             .filter_map(|r| r.ray.hit.as_ref().map(|h| h.object))
             .collect();
         let mut named_groups: Vec<String> = vec![];
+        let circles: std::collections::HashMap<&str, &CircleLayout> =
+            lay.circles.iter().map(|c| (c.name.as_str(), c)).collect();
+        // Only what the view shows is drawn: a trace of a brute-force loop over 200,000
+        // objects names them all. Objects the cutting plane misses (drawn as faint outlines)
+        // and labels of objects no ray hit are left out when there are many.
+        let plot = lay.plot;
+        let in_view = |b: [f32; 4]| {
+            b[2] >= plot[0]
+                && b[0] <= plot[0] + plot[2]
+                && b[3] >= plot[1]
+                && b[1] <= plot[1] + plot[3]
+        };
+        let crowded = self.trace.objects.len() > CROWDED;
         // Planes first (under), then triangles, then spheres.
-        let mut objs: Vec<&TraceObject> = self.trace.objects.iter().collect();
+        let mut objs: Vec<&TraceObject> = self
+            .trace
+            .objects
+            .iter()
+            .filter(|o| {
+                if focus_obj == Some(o.id) || hit_objs.contains(&o.id) {
+                    return true;
+                }
+                match o.shape {
+                    Shape::Sphere { .. } => circles.get(o.name.as_str()).is_some_and(|c| {
+                        let r = c.radius;
+                        (c.cut || !crowded)
+                            && in_view([
+                                c.center[0] - r,
+                                c.center[1] - r,
+                                c.center[0] + r,
+                                c.center[1] + r,
+                            ])
+                    }),
+                    Shape::Triangle { p } => {
+                        let proj: Vec<Px> = p.iter().map(|v| lay.px(*v)).collect();
+                        let b = proj.iter().fold(
+                            [
+                                f32::INFINITY,
+                                f32::INFINITY,
+                                f32::NEG_INFINITY,
+                                f32::NEG_INFINITY,
+                            ],
+                            |b, q| {
+                                [
+                                    b[0].min(q[0]),
+                                    b[1].min(q[1]),
+                                    b[2].max(q[0]),
+                                    b[3].max(q[1]),
+                                ]
+                            },
+                        );
+                        in_view(b)
+                            && (!crowded || lay.top_down || triangle_cut(&lay.frame, p).is_some())
+                    }
+                    Shape::Plane { .. } | Shape::AxisPlane { .. } => true,
+                }
+            })
+            .collect();
         objs.sort_by_key(|o| match o.shape {
             Shape::Plane { .. } | Shape::AxisPlane { .. } => 0,
             Shape::Triangle { .. } => 1,
@@ -1345,7 +1405,7 @@ impl Drawer<'_, '_> {
             let mut label_at: Option<(Px, Vec<Px>)> = None;
             match o.shape {
                 Shape::Sphere { center, radius } => {
-                    let Some(circ) = lay.circles.iter().find(|c| c.name == o.name) else {
+                    let Some(circ) = circles.get(o.name.as_str()).copied() else {
                         continue;
                     };
                     if circ.cut {
@@ -1409,6 +1469,9 @@ impl Drawer<'_, '_> {
                         label_at = self.plane_label_point(n, offset);
                     }
                 }
+            }
+            if crowded && !focus && !hit_objs.contains(&o.id) {
+                continue;
             }
             if let Some((at, prefs)) = label_at {
                 if label_name != o.name {
