@@ -45,6 +45,13 @@ pub struct DiagramArgs {
     /// Every step as numbered PNGs in this directory.
     #[arg(long)]
     pub frames: Option<PathBuf>,
+    /// With --animate: how long the GIF shows each step, in milliseconds (20 … 60000; the last
+    /// step is held for at least 3 s).
+    #[arg(long, default_value_t = diagram::DEFAULT_DELAY_MS, value_parser = parse_delay)]
+    pub delay_ms: u32,
+    /// Text and line scale (1 = normal; 1.6 reads from the back of a classroom), 0.25 … 8.
+    #[arg(long, default_value_t = 1.0, value_parser = parse_scale)]
+    pub scale: f32,
     /// Setting overrides (scenes only).
     #[command(flatten)]
     pub settings: SettingsArgs,
@@ -59,6 +66,32 @@ pub enum ThemeArg {
     Dark,
 }
 
+fn parse_delay(s: &str) -> Result<u32, String> {
+    let ms: u32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{s}\" is not a whole number of milliseconds"))?;
+    if !diagram::DELAY_RANGE_MS.contains(&ms) {
+        return Err(format!(
+            "{ms} ms: the frame delay must be between {} and {} ms",
+            diagram::DELAY_RANGE_MS.start(),
+            diagram::DELAY_RANGE_MS.end()
+        ));
+    }
+    Ok(ms)
+}
+
+fn parse_scale(s: &str) -> Result<f32, String> {
+    let k: f32 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{s}\" is not a number"))?;
+    if !(0.25..=8.0).contains(&k) {
+        return Err(format!("{s}: the scale must be between 0.25 and 8"));
+    }
+    Ok(k)
+}
+
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
@@ -71,9 +104,10 @@ fn parse_size(s: &str) -> Result<[u32; 2], String> {
         .trim()
         .parse()
         .map_err(|_| format!("\"{h}\" is not a height"))?;
-    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
+    let max = diagram::MAX_SIDE;
+    if !(64..=max).contains(&w) || !(64..=max).contains(&h) {
         return Err(format!(
-            "{w}x{h}: each side must be between 64 and 8192 pixels"
+            "{w}x{h}: each side must be between 64 and {max} pixels"
         ));
     }
     Ok([w, h])
@@ -134,6 +168,7 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         focus: args.step,
         slice_angle: args.angle,
         top_down: args.top_down,
+        scale: args.scale,
     };
     let kind_for = |k: Option<usize>| -> DiagramKind {
         args.kind.unwrap_or_else(|| match k {
@@ -147,20 +182,15 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         return diagram::draw(&trace, kind, &base).map(|_| ());
     }
     if args.animate || args.frames.is_some() {
-        let frames = diagram::frames(&trace, args.kind, &base)?;
-        if let Some(dir) = &args.frames {
-            if !dir.is_dir() {
-                return Err(format!(
-                    "--frames {}: not an existing directory",
-                    dir.display()
-                ));
-            }
-            for (k, f) in frames.iter().enumerate() {
-                crate::io::write_atomic(&dir.join(format!("step-{k:04}.png")), &f.png())?;
-            }
-            super::emit(&format!("wrote {steps} frames to {}\n", dir.display()))?;
+        if let Some(dir) = &args.frames
+            && !dir.is_dir()
+        {
+            return Err(format!(
+                "--frames {}: not an existing directory",
+                dir.display()
+            ));
         }
-        if args.animate {
+        let out = if args.animate {
             let out = args.output.as_ref().ok_or("--animate needs -o OUT.gif")?;
             if !out
                 .extension()
@@ -171,8 +201,29 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
                     out.display()
                 ));
             }
-            crate::io::write_atomic(out, &diagram::gif(&frames)?)?;
-            super::emit(&format!("wrote {} ({steps} frames)\n", out.display()))?;
+            Some(out)
+        } else {
+            None
+        };
+        // One frame at a time: each is written (and encoded) as soon as it is drawn.
+        let (gif, n) = diagram::animate(
+            &trace,
+            args.kind,
+            &base,
+            out.map(|_| args.delay_ms),
+            |k, f| match &args.frames {
+                Some(dir) => {
+                    crate::io::write_atomic(&dir.join(format!("step-{k:04}.png")), &f.png())
+                }
+                None => Ok(()),
+            },
+        )?;
+        if let Some(dir) = &args.frames {
+            super::emit(&format!("wrote {n} frames to {}\n", dir.display()))?;
+        }
+        if let Some(out) = out {
+            crate::io::write_atomic(out, &gif)?;
+            super::emit(&format!("wrote {} ({n} frames)\n", out.display()))?;
         }
         return Ok(());
     }
