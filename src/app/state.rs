@@ -841,6 +841,7 @@ impl AppState {
             focus: Some(self.step),
             slice_angle: self.prefs.slice_angle,
             top_down: self.prefs.top_down,
+            scale: 1.0,
         }
     }
 
@@ -940,14 +941,17 @@ impl AppState {
         };
         let trace = Arc::clone(&s.trace);
         let opts = self.view_options(800, 600);
+        // The GIF plays at the app's play speed.
+        let delay_ms = (1000.0 / self.prefs.speed.clamp(0.1, 60.0)).round() as u32;
         let path = path.to_path_buf();
         let (tx, rx) = std::sync::mpsc::channel();
         let repaint = Arc::clone(&self.repaint);
         std::thread::spawn(move || {
-            let result = diagram::frames(&trace, fixed, &opts).and_then(|frames| {
-                crate::io::write_atomic(&path, &diagram::gif(&frames)?)?;
-                Ok(frames.len())
-            });
+            let result = diagram::animate(&trace, fixed, &opts, Some(delay_ms), |_, _| Ok(()))
+                .and_then(|(gif, n)| {
+                    crate::io::write_atomic(&path, &gif)?;
+                    Ok(n)
+                });
             let _ = tx.send(match result {
                 Ok(n) => Message {
                     text: format!("wrote {} ({n} frames)", path.display()),

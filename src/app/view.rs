@@ -52,6 +52,7 @@ struct DiagramKey {
     theme: super::state::ThemeChoice,
     angle: f32,
     top_down: bool,
+    scale: f32,
 }
 
 impl Views {
@@ -168,13 +169,19 @@ impl Views {
             theme: state.prefs.effective_theme(),
             angle: state.prefs.slice_angle,
             top_down: state.prefs.top_down,
+            scale: ctx.pixels_per_point(),
         };
         if let Some((t, k)) = &self.diagram_tex
             && *k == key
         {
             return Some(t.clone());
         }
-        match crate::diagram::draw(&s.trace, kind, &state.view_options(size[0], size[1])) {
+        // Diagram text follows the UI scale (presentation mode included).
+        let opts = crate::diagram::ViewOptions {
+            scale: ctx.pixels_per_point(),
+            ..state.view_options(size[0], size[1])
+        };
+        match crate::diagram::draw(&s.trace, kind, &opts) {
             Ok(c) => {
                 self.diagram_error = None;
                 let img = ColorImage::from_rgba_premultiplied(
