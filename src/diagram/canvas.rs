@@ -159,11 +159,10 @@ impl Canvas {
     pub fn scaled(width: u32, height: u32, theme: Theme, scale: f32) -> Canvas {
         let (w, h) = (width.clamp(1, MAX_SIDE), height.clamp(1, MAX_SIDE));
         let scale = sane_scale(scale);
-        let mut pixmap = match Pixmap::new(w, h) {
-            Some(p) => p,
-            // Unreachable: both sides are within 1 … 8192, which tiny-skia accepts.
-            None => Pixmap::new(1, 1).unwrap_or_else(|| unreachable!("a 1×1 pixmap")),
-        };
+        // Both sides are within 1 … 8192, which tiny-skia accepts.
+        let mut pixmap = Pixmap::new(w, h)
+            .or_else(|| Pixmap::new(1, 1))
+            .unwrap_or_else(|| unreachable!("a 1×1 pixmap"));
         pixmap.fill(color(theme.background));
         let font = FontRef::try_from_slice(epaint_default_fonts::HACK_REGULAR)
             .unwrap_or_else(|_| unreachable!("the bundled font parses"));

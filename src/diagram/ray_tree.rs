@@ -227,8 +227,8 @@ fn layout_on(
     if n > 0 {
         tidy(0, &kids, m.bw, m.hgap, &mut rel);
         // Pre-order: parents first.
-        for i in 1..n {
-            x[i] = parent[i].map_or(0.0, |p| x[p]) + rel[i];
+        for (i, (p, r)) in parent.iter().zip(&rel).enumerate().skip(1) {
+            x[i] = p.map_or(0.0, |p| x[p]) + r;
         }
     }
     let lo = x.iter().copied().fold(f32::INFINITY, f32::min) - m.bw / 2.0;
