@@ -992,22 +992,42 @@ fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) -> 
                 } else {
                     Some(if i == 0 { p1 } else { p0 })
                 };
-                let own = |&&(x, y, a): &&(f32, f32, Anchor)| {
-                    let b = label_box(c, x, y, small, &label, a);
-                    other.is_none_or(|o| rect_dist(b, p) < rect_dist(b, o))
-                };
-                let mut cands: Vec<_> = near
+                let own_side =
+                    |lab: &Rich, extra: &[(f32, f32, Anchor)]| -> Vec<(f32, f32, Anchor)> {
+                        near.iter()
+                            .chain([&far[1]])
+                            .chain(lower.iter())
+                            .chain([&far[0]])
+                            .chain(extra.iter())
+                            .filter(|&&(x, y, a)| {
+                                let b = label_box(c, x, y, small, lab, a);
+                                other.is_none_or(|o| rect_dist(b, p) < rect_dist(b, o))
+                            })
+                            .cloned()
+                            .collect()
+                    };
+                let cands = own_side(&label, &[]);
+                let fits = cands
                     .iter()
-                    .chain([&far[1]])
-                    .chain(lower.iter())
-                    .chain([&far[0]])
-                    .filter(own)
-                    .cloned()
-                    .collect();
-                if cands.is_empty() {
-                    cands.push(near[0]);
+                    .any(|&(x, y, a)| placer.inside(&label_box(c, x, y, small, &label, a)));
+                if fits {
+                    placer.place(c, &cands, small, &label, col);
+                } else {
+                    // No room by its own dot for name and value: the name alone (the panel
+                    // has the value), right above or below the dot if need be.
+                    let name_only = Rich::new(name);
+                    let mut cands = own_side(
+                        &name_only,
+                        &[
+                            (p[0], above - small * 0.2, Anchor::Center),
+                            (p[0], below + small * 0.2, Anchor::Center),
+                        ],
+                    );
+                    if cands.is_empty() {
+                        cands.push(near[0]);
+                    }
+                    placer.place(c, &cands, small, &name_only, col);
                 }
-                placer.place(c, &cands, small, &label, col);
             }
             // Dots last so they sit on top.
             let dots: Vec<(f32, [f32; 2])> = if tangent {
