@@ -1,53 +1,336 @@
-//! Writing output files safely: whole or not at all.
+//! Files in and out, safely. Inputs are read only from regular files and never past a stated size
+//! ([`read_input`], [`read_text`], [`limits`]); outputs are written whole or not at all
+//! ([`write_atomic`]), through symbolic links, and leave no temporary file behind when the write
+//! fails or the process is stopped by SIGINT, SIGTERM or SIGHUP.
 
-use std::io::Write;
-use std::path::Path;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, OnceLock};
 
-/// Writes `bytes` to `path` atomically: into a temporary file beside it, then renamed over it, so
-/// a reader never sees a half-written file and a failure leaves any old file untouched.
+/// The largest file of each kind raystep reads (bytes). A larger file is refused with an error
+/// that states the limit; nothing past the limit is ever read (a file that grows while it is
+/// read, or a device such as `/dev/zero`, cannot make raystep use more memory than this).
+pub mod limits {
+    const MIB: u64 = 1 << 20;
+    /// A scene file (TOML).
+    pub const SCENE: u64 = 16 * MIB;
+    /// An OBJ mesh named by a scene.
+    pub const OBJ: u64 = 128 * MIB;
+    /// A material library (`mtllib`) named by an OBJ file.
+    pub const MTL: u64 = 16 * MIB;
+    /// A saved step trace (JSON).
+    pub const TRACE: u64 = 256 * MIB;
+    /// An exercise sheet (TOML).
+    pub const SHEET: u64 = 4 * MIB;
+    /// A student's answers file (TOML).
+    pub const ANSWERS: u64 = 4 * MIB;
+    /// A class's submissions (CSV).
+    pub const CSV: u64 = 64 * MIB;
+    /// A lesson (Markdown).
+    pub const LESSON: u64 = 4 * MIB;
+
+    /// A limit in words (`16 MiB`, `512 bytes`).
+    pub fn describe(limit: u64) -> String {
+        if limit >= MIB && limit.is_multiple_of(MIB) {
+            format!("{} MiB", limit / MIB)
+        } else {
+            format!("{limit} bytes")
+        }
+    }
+}
+
+/// What a non-regular file is, in words.
+fn kind_of(ft: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if ft.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if ft.is_char_device() {
+            return "a character device";
+        }
+        if ft.is_block_device() {
+            return "a block device";
+        }
+        if ft.is_socket() {
+            return "a socket";
+        }
+    }
+    if ft.is_dir() {
+        return "a directory";
+    }
+    "not a regular file"
+}
+
+/// Reads the whole of `path` (`what` names the kind of file in errors, in the singular: "scene file"), but only
+/// if it is a regular file (after following symbolic links) of at most `limit` bytes.
+///
+/// FIFOs, devices, sockets and directories are refused without being opened (opening a FIFO would
+/// block until a writer appears). The file is opened non-blocking and checked again (so one
+/// swapped in after the check is refused too), and read through `take(limit + 1)`, so a file that
+/// grows while it is read cannot exceed the limit either. Errors are `io::Error`s whose message
+/// says what is wrong (`InvalidInput` for a file of the wrong kind, `FileTooLarge` past the
+/// limit), so callers format them as they would any read error.
+pub fn read_input(path: &Path, limit: u64, what: &str) -> std::io::Result<Vec<u8>> {
+    use std::io::{Error, ErrorKind};
+    let wrong_kind = |ft: &std::fs::FileType| {
+        Error::new(
+            ErrorKind::InvalidInput,
+            format!(
+                "is {}, not a regular file: {what}s are read only from regular files",
+                kind_of(ft)
+            ),
+        )
+    };
+    let too_large = |size: Option<u64>| {
+        Error::new(
+            ErrorKind::FileTooLarge,
+            match size {
+                Some(s) => format!(
+                    "is {s} bytes, more than the limit of {} for {what}s",
+                    limits::describe(limit)
+                ),
+                None => format!(
+                    "is larger than the limit of {} for {what}s",
+                    limits::describe(limit)
+                ),
+            },
+        )
+    };
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        return Err(wrong_kind(&meta.file_type()));
+    }
+    if meta.len() > limit {
+        return Err(too_large(Some(meta.len())));
+    }
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        // Non-blocking, so a FIFO put in the file's place after the check above cannot hang the
+        // open; it changes nothing for a regular file.
+        use std::os::unix::fs::OpenOptionsExt;
+        options.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = options.open(path)?;
+    let meta = file.metadata()?;
+    if !meta.is_file() {
+        return Err(wrong_kind(&meta.file_type()));
+    }
+    let mut bytes = Vec::with_capacity(meta.len().min(limit) as usize);
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_large(None));
+    }
+    Ok(bytes)
+}
+
+/// [`read_input`] for a text file: the bytes must be UTF-8.
+pub fn read_text(path: &Path, limit: u64, what: &str) -> std::io::Result<String> {
+    let bytes = read_input(path, limit, what)?;
+    String::from_utf8(bytes).map_err(|e| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "is not UTF-8 text (byte {} is not valid UTF-8): {what}s must be UTF-8",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
+/// Temporary files being written now: removed by the signal thread if the process is stopped.
+static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Keeps a temporary file's name in [`PENDING`] while it lives.
+struct Pending(PathBuf);
+
+impl Pending {
+    fn new(path: &Path) -> Self {
+        lock_pending().push(path.to_path_buf());
+        Pending(path.to_path_buf())
+    }
+}
+
+impl Drop for Pending {
+    fn drop(&mut self) {
+        let mut p = lock_pending();
+        if let Some(i) = p.iter().position(|x| *x == self.0) {
+            p.swap_remove(i);
+        }
+    }
+}
+
+fn lock_pending() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while the list was held leaves it valid: it is only pushed to and removed from.
+    PENDING.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Starts (once) the thread that, on SIGINT, SIGTERM or SIGHUP, removes the temporary files being
+/// written and then ends the process as the signal's default action would (so the exit status
+/// still says "killed by SIGTERM"). SIGXFSZ (a file-size limit reached) is caught so the write
+/// fails with an error, which removes the temporary file, instead of killing the process.
+/// SIGKILL cannot be caught: a process killed by it may leave a `.tmpXXXXXX` file beside the
+/// output (never a half-written output).
+fn install_cleanup() {
+    static INSTALLED: OnceLock<()> = OnceLock::new();
+    INSTALLED.get_or_init(|| {
+        #[cfg(unix)]
+        {
+            use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM, SIGXFSZ};
+            // If the handlers cannot be installed, writes still work; only the clean-up on a
+            // signal is lost.
+            if let Ok(mut signals) =
+                signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP, SIGXFSZ])
+            {
+                let _ = std::thread::Builder::new()
+                    .name("raystep-signals".into())
+                    .spawn(move || {
+                        for sig in signals.forever() {
+                            if sig == SIGXFSZ {
+                                continue;
+                            }
+                            for p in lock_pending().drain(..) {
+                                let _ = std::fs::remove_file(p);
+                            }
+                            let _ = signal_hook::low_level::emulate_default_handler(sig);
+                            // Not reached unless the default action could not be restored.
+                            std::process::exit(128 + sig);
+                        }
+                    });
+            }
+        }
+    });
+}
+
+/// Writes `bytes` to `path`, whole or not at all.
+///
+/// - A regular file (or a new name) is written atomically: into a temporary file beside it, then
+///   renamed over it, so a reader never sees a half-written file and a failure leaves any old file
+///   untouched. A symbolic link is followed: its final target is replaced and the link is kept.
+/// - A character device or a FIFO (`/dev/stdout`, `/dev/null`, a named pipe) is written to
+///   directly, as the shell's `>` would: replacing it by a regular file would destroy it, and
+///   `-o /dev/stdout | …` is what a user means by naming one.
+/// - Anything else (a directory, a block device, a socket) is refused.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    let dir = match path.parent() {
+    let shown = path.display();
+    match std::fs::metadata(path) {
+        Ok(m) if m.is_dir() => Err(format!("{shown}: is a directory, not a file name")),
+        Ok(m) if m.is_file() => {
+            let target = std::fs::canonicalize(path)
+                .map_err(|e| format!("{shown}: cannot resolve the path: {e}"))?;
+            replace_file(path, &target, bytes)
+        }
+        Ok(m) => write_special(path, &m.file_type(), bytes),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let target = final_target(path)?;
+            replace_file(path, &target, bytes)
+        }
+        Err(e) => Err(format!("{shown}: cannot write: {e}")),
+    }
+}
+
+/// The name a new file at `path` gets: `path` itself, or the (missing) target its chain of
+/// symbolic links ends at.
+fn final_target(path: &Path) -> Result<PathBuf, String> {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let t = std::fs::read_link(&p)
+                    .map_err(|e| format!("{}: cannot read the link: {e}", path.display()))?;
+                p = if t.is_absolute() {
+                    t
+                } else {
+                    p.parent().unwrap_or(Path::new(".")).join(t)
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(format!(
+        "{}: too many levels of symbolic links",
+        path.display()
+    ))
+}
+
+/// Writes a character device or FIFO in place; refuses other special files.
+fn write_special(path: &Path, ft: &std::fs::FileType, bytes: &[u8]) -> Result<(), String> {
+    let shown = path.display();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if ft.is_char_device() || ft.is_fifo() {
+            let mut f = std::fs::OpenOptions::new()
+                .write(true)
+                .open(path)
+                .map_err(|e| format!("{shown}: cannot open for writing: {e}"))?;
+            f.write_all(bytes)
+                .and_then(|()| f.flush())
+                .map_err(|e| format!("{shown}: cannot write: {e}"))?;
+            return Ok(());
+        }
+    }
+    Err(format!(
+        "{shown}: is {}: raystep writes only regular files, character devices and FIFOs",
+        kind_of(ft)
+    ))
+}
+
+/// The atomic write of a regular file: `target` is `path` with its symbolic links resolved.
+fn replace_file(path: &Path, target: &Path, bytes: &[u8]) -> Result<(), String> {
+    let shown = path.display();
+    let dir = match target.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    if path.is_dir() {
-        return Err(format!(
-            "{}: is a directory, not a file name",
-            path.display()
-        ));
-    }
     if !dir.is_dir() {
         return Err(format!(
-            "{}: the directory {} does not exist",
-            path.display(),
+            "{shown}: the directory {} does not exist",
             dir.display()
         ));
     }
-    // A temporary file is private (0600); the file the user asked for gets the usual mode:
-    // an existing file's own, else 0666 less the umask, as `File::create` would give it.
-    let mut builder = tempfile::Builder::new();
+    // The file the user asked for gets the usual mode: an existing file's own, else 0666 less
+    // the umask, as `File::create` would give it (not the 0600 of a private temporary file).
     #[cfg(unix)]
-    {
+    let mode = {
         use std::os::unix::fs::PermissionsExt;
-        let mode = std::fs::metadata(path)
+        std::fs::metadata(target)
             .map(|m| m.permissions().mode() & 0o7777)
-            .unwrap_or_else(|_| 0o666 & !current_umask());
-        builder.permissions(std::fs::Permissions::from_mode(mode));
-    }
-    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
-        format!(
-            "{}: cannot create a file in {}: {e}",
-            path.display(),
-            dir.display()
-        )
-    })?;
-    tmp.write_all(bytes)
-        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+            .unwrap_or_else(|_| 0o666 & !current_umask())
+    };
+    install_cleanup();
+    // The temporary name is registered for removal before the file is created, so a signal
+    // arriving at any moment finds it listed; `tmp` (dropped on every error path below) removes
+    // the file when the write fails.
+    let mut pending = None;
+    let mut tmp = tempfile::Builder::new()
+        .make_in(dir, |p| {
+            pending = Some(Pending::new(p));
+            let f = std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(p)?;
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::PermissionsExt;
+                f.set_permissions(std::fs::Permissions::from_mode(mode))?;
+            }
+            Ok(f)
+        })
+        .map_err(|e| format!("{shown}: cannot create a file in {}: {e}", dir.display()))?;
+    tmp.as_file_mut()
+        .write_all(bytes)
+        .map_err(|e| format!("{shown}: cannot write: {e}"))?;
     tmp.as_file()
         .sync_all()
-        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
-    tmp.persist(path)
-        .map_err(|e| format!("{}: cannot write: {}", path.display(), e.error))?;
+        .map_err(|e| format!("{shown}: cannot write: {e}"))?;
+    tmp.persist(target)
+        .map_err(|e| format!("{shown}: cannot write: {}", e.error))?;
+    // Renamed: nothing is left to remove.
+    drop(pending);
     Ok(())
 }
 
@@ -86,5 +369,126 @@ mod tests {
         let mode = std::fs::metadata(&p).unwrap().permissions().mode() & 0o777;
         assert_eq!(mode, 0o640);
         assert_eq!(std::fs::read(&p).unwrap(), b"[]");
+    }
+
+    fn mkfifo(p: &Path) {
+        let ok = std::process::Command::new("mkfifo").arg(p).status().unwrap();
+        assert!(ok.success(), "mkfifo");
+    }
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_symlink_is_written_through_and_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let sub = dir.path().join("real");
+        std::fs::create_dir(&sub).unwrap();
+        let target = sub.join("out.json");
+        std::fs::write(&target, b"old").unwrap();
+        let link = dir.path().join("link.json");
+        std::os::unix::fs::symlink("real/out.json", &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        // The temporary file went beside the target, and is gone.
+        assert_eq!(names(&sub), ["out.json"]);
+        assert_eq!(names(dir.path()), ["link.json", "real"]);
+        // A dangling link (through a second link) creates its target.
+        let missing = sub.join("new.json");
+        std::os::unix::fs::symlink(&missing, dir.path().join("a")).unwrap();
+        std::os::unix::fs::symlink("a", dir.path().join("b")).unwrap();
+        write_atomic(&dir.path().join("b"), b"x").unwrap();
+        assert_eq!(std::fs::read(&missing).unwrap(), b"x");
+        assert!(
+            std::fs::symlink_metadata(dir.path().join("b"))
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert!(
+            std::fs::symlink_metadata(dir.path().join("a"))
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+    }
+
+    #[test]
+    fn a_fifo_is_written_into_not_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe.png");
+        mkfifo(&fifo);
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read(fifo).unwrap())
+        };
+        write_atomic(&fifo, b"through the pipe").unwrap();
+        assert_eq!(reader.join().unwrap(), b"through the pipe");
+        assert!(
+            std::fs::symlink_metadata(&fifo)
+                .unwrap()
+                .file_type()
+                .is_fifo()
+        );
+        assert_eq!(names(dir.path()), ["pipe.png"]);
+    }
+
+    #[test]
+    fn special_inputs_are_refused_without_opening_them() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("scene.toml");
+        mkfifo(&fifo);
+        // Opening a FIFO with no writer would block forever: this returns at once.
+        let e = read_input(&fifo, 1000, "scene file").unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+        assert_eq!(
+            e.to_string(),
+            "is a FIFO (named pipe), not a regular file: scene files are read only from regular files"
+        );
+        let e = read_input(dir.path(), 1000, "scene file").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("is a directory, not a regular file"),
+            "{e}"
+        );
+        // Through a symlink, the target's kind counts.
+        std::os::unix::fs::symlink(&fifo, dir.path().join("link.toml")).unwrap();
+        assert!(read_input(&dir.path().join("link.toml"), 1000, "scene file").is_err());
+    }
+
+    #[test]
+    fn inputs_are_read_up_to_the_limit_and_no_further() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.obj");
+        std::fs::write(&p, vec![b'v'; 100]).unwrap();
+        assert_eq!(read_input(&p, 100, "OBJ file").unwrap().len(), 100);
+        let e = read_input(&p, 99, "OBJ file").unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::FileTooLarge);
+        assert_eq!(
+            e.to_string(),
+            "is 100 bytes, more than the limit of 99 bytes for OBJ files"
+        );
+        assert_eq!(limits::describe(16 << 20), "16 MiB");
+        std::fs::write(&p, b"ok \xff").unwrap();
+        let e = read_text(&p, 100, "scene file").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "is not UTF-8 text (byte 3 is not valid UTF-8): scene files must be UTF-8"
+        );
+        let e = read_input(&dir.path().join("none"), 100, "scene file").unwrap_err();
+        assert_eq!(e.kind(), std::io::ErrorKind::NotFound);
     }
 }
