@@ -170,7 +170,7 @@ pub fn run_check(args: &CheckArgs) -> Result<(), String> {
     let sheet = load(&args.sheet)?;
     let student = student_id(&args.student)?;
     let file = args.answers.display().to_string();
-    let text = std::fs::read_to_string(&args.answers)
+    let text = crate::io::read_text(&args.answers, crate::io::limits::ANSWERS, "answers file")
         .map_err(|e| format!("{file}: cannot read the answers: {e}"))?;
     let ids: Vec<&str> = sheet.questions.iter().map(|q| q.id.as_str()).collect();
     let answers = lesson::parse_answers(&text, &file, &ids)?;
@@ -232,8 +232,12 @@ pub fn run_check(args: &CheckArgs) -> Result<(), String> {
 pub fn run_grade(args: &GradeArgs) -> Result<(), String> {
     let sheet = load(&args.sheet)?;
     let file = args.submissions.display().to_string();
-    let text = std::fs::read_to_string(&args.submissions)
-        .map_err(|e| format!("{file}: cannot read the submissions: {e}"))?;
+    let text = crate::io::read_text(
+        &args.submissions,
+        crate::io::limits::CSV,
+        "submissions file",
+    )
+    .map_err(|e| format!("{file}: cannot read the submissions: {e}"))?;
     let report = lesson::grade_class(&sheet, &text, &file)?;
     crate::io::write_atomic(&args.output, report.csv.as_bytes())?;
     for w in &report.warnings {

@@ -187,7 +187,7 @@ pub fn load_lessons(dir: &Path) -> Result<Vec<Lesson>, String> {
     files
         .iter()
         .map(|p| {
-            let text = std::fs::read_to_string(p)
+            let text = crate::io::read_text(p, crate::io::limits::LESSON, "lesson")
                 .map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
             parse_lesson(&text, p)
         })

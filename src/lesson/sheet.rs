@@ -162,13 +162,16 @@ const RESERVED: [&str; 4] = ["student", "score", "out_of", "notes"];
 /// Reads a sheet file.
 pub fn load_sheet(path: &Path) -> Result<Sheet, SheetError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SheetError {
-        file: file.clone(),
-        line: None,
-        column: None,
-        field: None,
-        message: format!("cannot read the exercise sheet: {e}"),
-    })?;
+    let text =
+        crate::io::read_text(path, crate::io::limits::SHEET, "exercise sheet").map_err(|e| {
+            SheetError {
+                file: file.clone(),
+                line: None,
+                column: None,
+                field: None,
+                message: format!("cannot read the exercise sheet: {e}"),
+            }
+        })?;
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())

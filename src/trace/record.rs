@@ -470,10 +470,12 @@ impl Trace {
     /// Reads a trace file.
     pub fn load(path: &Path) -> Result<Trace, TraceError> {
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|source| TraceError::Io {
-            file: file.clone(),
-            source,
-        })?;
+        let text = crate::io::read_text(path, crate::io::limits::TRACE, "trace file").map_err(
+            |source| TraceError::Io {
+                file: file.clone(),
+                source,
+            },
+        )?;
         Self::from_json(&text, &file)
     }
 
