@@ -46,12 +46,14 @@ impl LocatedError {
 /// Loads a scene file (and the OBJ files it names, relative to it).
 pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-        file: file.clone(),
-        line: None,
-        column: None,
-        field: None,
-        message: format!("cannot read the scene file: {e}"),
+    let text = crate::io::read_text(path, crate::io::limits::SCENE, "scene file").map_err(|e| {
+        SceneError {
+            file: file.clone(),
+            line: None,
+            column: None,
+            field: None,
+            message: format!("cannot read the scene file: {e}"),
+        }
     })?;
     let mut scene = load_str(&text, &file, path.parent())?;
     scene.path = Some(path.to_path_buf());
@@ -120,20 +122,16 @@ impl Loc<'_> {
     }
 
     fn num(&self, field: &str, x: f64) -> Result<f32, SceneError> {
-        let v = x as f32;
         if !x.is_finite() {
             return Err(self.err(field, format!("must be a finite number, got {x}")));
         }
-        if !v.is_finite() {
+        if x.abs() > MAX_MAGNITUDE {
             return Err(self.err(
                 field,
-                format!(
-                    "{x:e} is too large for single precision (at most {:e})",
-                    f32::MAX
-                ),
+                format!("{x:e} is too large: scene numbers lie within ±{MAX_MAGNITUDE:e}, where single-precision (f32) tracing stays finite"),
             ));
         }
-        Ok(v)
+        Ok(x as f32)
     }
 
     fn nonneg(&self, field: &str, x: f64) -> Result<f32, SceneError> {
@@ -153,20 +151,16 @@ impl Loc<'_> {
     }
 
     fn vec3(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
-        let v = Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
         if a.iter().any(|c| !c.is_finite()) {
             return Err(self.err(field, format!("must be three finite numbers, got {a:?}")));
         }
-        if !v.is_finite() {
+        if a.iter().any(|c| c.abs() > MAX_MAGNITUDE) {
             return Err(self.err(
                 field,
-                format!(
-                    "{a:?} has a component too large for single precision (at most {:e})",
-                    f32::MAX
-                ),
+                format!("{a:?} has a component too large: scene numbers lie within ±{MAX_MAGNITUDE:e}, where single-precision (f32) tracing stays finite"),
             ));
         }
-        Ok(v)
+        Ok(Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32))
     }
 
     fn color(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
@@ -203,12 +197,29 @@ impl Loc<'_> {
 const MAX_DIMENSION: i64 = 16384;
 const MAX_PIXELS: i64 = 40_000_000;
 
+/// The largest magnitude of any number in a scene (coordinates, radii, offsets, colours,
+/// coefficients), and of every mesh vertex after scaling. The tracer works in f32, and its
+/// highest-degree terms are cubic in coordinate differences: the watertight triangle test's
+/// scaled distance e·z sums three products of a 2D edge function (≤ 2·(4C)² after the shear)
+/// and a scaled z (≤ 2C·√3), at most ≈ 333·C³ for coordinates within ±C, and Möller–Trumbore's
+/// 3×3 determinants are ≤ 48·C³. With C = 1e11 these stay below 3.4e35, a thousand times under
+/// f32::MAX (3.4e38); at 1e12 they would reach it. Squared terms (sphere c = f·f − r², lengths)
+/// are far smaller. Colours and coefficients multiply at most three deep (light × colour ×
+/// coefficient ≤ 1e33), so one bound serves every number.
+pub const MAX_MAGNITUDE: f64 = 1e11;
+
+/// The most primitives a scene may hold, meshes expanded to triangles (about 100 MB of objects,
+/// and as much again for the BVH).
+pub const MAX_OBJECTS: usize = 2_000_000;
+
 impl<'a> Ctx<'a> {
     fn line_col(&self, pos: usize) -> (usize, usize) {
-        let pos = pos.min(self.text.len());
+        let pos = self.text.floor_char_boundary(pos);
         let before = &self.text[..pos];
         let line = before.matches('\n').count() + 1;
-        let col = before.rfind('\n').map_or(pos, |nl| pos - nl - 1) + 1;
+        // Columns count characters, as an editor does, not bytes.
+        let line_start = before.rfind('\n').map_or(0, |nl| nl + 1);
+        let col = before[line_start..].chars().count() + 1;
         (line, col)
     }
 
@@ -239,6 +250,7 @@ impl<'a> Ctx<'a> {
 
     /// The byte offset where the table header after `pos` starts (or the end of the text).
     fn next_header(&self, pos: usize) -> usize {
+        let pos = self.text.floor_char_boundary(pos);
         let mut offset = pos;
         for line in self.text[pos..].split_inclusive('\n') {
             if offset > pos && is_header(line) {
@@ -250,35 +262,53 @@ impl<'a> Ctx<'a> {
     }
 
     /// For a position inside a table: the table's description (`sphere "ball"`, `camera`) and the
-    /// key written at the start of the position's line, if any.
+    /// key written at the start of the position's line, if any. The position's own line counts:
+    /// an error reported at a table's header (a required field missing) belongs to that table,
+    /// not the one before it, and one on the name inside a header (`[[spheres]]`, an unknown
+    /// table) is described by the header itself.
     fn describe_position(&self, pos: usize) -> (Option<String>, Option<String>) {
-        let before = &self.text[..pos.min(self.text.len())];
+        let pos = self.text.floor_char_boundary(pos);
+        let line_start = self.text[..pos].rfind('\n').map_or(0, |i| i + 1);
+        let line_end = self.text[pos..]
+            .find('\n')
+            .map_or(self.text.len(), |i| pos + i);
+        let this_line = &self.text[line_start..line_end];
+        if is_header(this_line) {
+            let lead = this_line.len() - this_line.trim_start().len();
+            let brackets = if this_line.trim_start().starts_with("[[") {
+                2
+            } else {
+                1
+            };
+            if pos >= line_start + lead + brackets {
+                let h = this_line.split('#').next().unwrap_or("").trim();
+                return (Some(h.to_string()), None);
+            }
+        }
+        let upto = &self.text[..line_end];
         let mut header = None;
         let mut header_at = 0;
         let mut offset = 0;
-        for line in before.split_inclusive('\n') {
+        for line in upto.split_inclusive('\n') {
             if is_header(line) {
-                header = Some(line.trim().to_string());
+                header = Some(line.split('#').next().unwrap_or("").trim().to_string());
                 header_at = offset;
             }
             offset += line.len();
         }
-        let key = {
-            let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-            let line = self.text[line_start..].lines().next().unwrap_or("");
-            line.split_once('=')
-                .map(|(k, _)| k.trim().trim_matches('"').to_string())
-                .filter(|k| !k.is_empty())
-        };
+        let key = this_line
+            .split_once('=')
+            .map(|(k, _)| k.trim().trim_matches('"').to_string())
+            .filter(|k| !k.is_empty() && !is_header(this_line));
         let Some(h) = header else { return (None, key) };
-        let kind = h.trim_matches(|c| c == '[' || c == ']').to_string();
+        let kind = h.trim_matches(|c| c == '[' || c == ']').trim().to_string();
         if !h.starts_with("[[") {
             return (Some(kind), key);
         }
         // Which entry of that kind, and its name if the body gives one.
-        let index = before[..header_at]
+        let index = self.text[..header_at]
             .lines()
-            .filter(|l| l.trim() == h)
+            .filter(|l| is_header(l) && l.split('#').next().unwrap_or("").trim() == h)
             .count();
         let body_end = self.next_header(header_at + 1);
         let name = self.text[header_at..body_end].lines().find_map(|l| {
@@ -306,12 +336,20 @@ impl<'a> Ctx<'a> {
         let camera = self.camera(f.camera.as_ref())?;
         let settings = self.settings(f.render.as_ref())?;
 
-        let mut lights = vec![];
+        let mut lights: Vec<Light> = vec![];
         for (i, l) in f.light.iter().enumerate() {
-            let loc = self.loc(format!("light {i}"), l);
             let d = l.get_ref();
+            let name = d.name.clone().unwrap_or_else(|| format!("light {i}"));
+            let loc = self.loc(format!("light \"{name}\""), l);
+            // Traces, sheets and the app refer to lights by name: two with one name are ambiguous.
+            if lights.iter().any(|x| x.name == name) {
+                return Err(loc.err(
+                    "name",
+                    format!("a light named \"{name}\" is already defined"),
+                ));
+            }
             lights.push(Light {
-                name: d.name.clone().unwrap_or_else(|| format!("light {i}")),
+                name,
                 position: loc.vec3("position", d.position)?,
                 color: loc.color("color", d.color)?,
             });
@@ -386,31 +424,43 @@ impl<'a> Ctx<'a> {
         let mut objects: Vec<Object> = vec![];
         let mut groups: Vec<Group> = vec![];
         let mut names: HashMap<String, usize> = HashMap::new();
-        let mut add_group =
-            |loc: &Loc, name: String, shapes: Vec<Shape>, mat: u32| -> Result<(), SceneError> {
-                // Keep the byte offset; the line is counted only when a duplicate is reported (counting
-                // lines for every object made loading quadratic in the file's size).
-                if let Some(first) = names.get(&name) {
-                    let line = self.line_col(*first).0;
-                    return Err(loc.err(
-                        "name",
-                        format!("an object defined at line {line} is already named \"{name}\""),
+        let mut add_group = |loc: &Loc,
+                             name: String,
+                             shapes: Vec<Shape>,
+                             mat: u32|
+         -> Result<(), SceneError> {
+            // Keep the byte offset; the line is counted only when a duplicate is reported (counting
+            // lines for every object made loading quadratic in the file's size).
+            if let Some(first) = names.get(&name) {
+                let line = self.line_col(*first).0;
+                return Err(loc.err(
+                    "name",
+                    format!("an object defined at line {line} is already named \"{name}\""),
+                ));
+            }
+            if objects.len() + shapes.len() > MAX_OBJECTS {
+                return Err(loc.err(
+                        if loc.what.starts_with("mesh") { "obj" } else { "" },
+                        format!(
+                            "the scene would hold {} objects, more than the limit of {MAX_OBJECTS} (a mesh counts one per triangle)",
+                            objects.len() + shapes.len()
+                        ),
                     ));
-                }
-                names.insert(name.clone(), loc.span.as_ref().map_or(0, |s| s.start));
-                let g = groups.len() as u32;
-                groups.push(Group {
-                    name,
-                    first: objects.len() as u32,
-                    count: shapes.len() as u32,
-                });
-                objects.extend(shapes.into_iter().map(|shape| Object {
-                    shape,
-                    material: mat,
-                    group: g,
-                }));
-                Ok(())
-            };
+            }
+            names.insert(name.clone(), loc.span.as_ref().map_or(0, |s| s.start));
+            let g = groups.len() as u32;
+            groups.push(Group {
+                name,
+                first: objects.len() as u32,
+                count: shapes.len() as u32,
+            });
+            objects.extend(shapes.into_iter().map(|shape| Object {
+                shape,
+                material: mat,
+                group: g,
+            }));
+            Ok(())
+        };
 
         // Objects are processed in file order (whatever their kind), so ids follow the file and a
         // duplicate name is reported where it repeats.
@@ -607,14 +657,51 @@ impl<'a> Ctx<'a> {
         if up.as_dvec3().length() == 0.0 || up.as_dvec3().normalize().cross(w).length() < 1e-6 {
             return Err(loc.err("up", format!("{:?} is parallel to the view direction (or zero): the camera's roll is undefined", d.up)));
         }
-        Ok(Camera {
+        let camera = Camera {
             from,
             at,
             up,
             fov,
             width: d.width as u32,
             height: d.height as u32,
-        })
+        };
+        // The checks above are in f64; the tracer builds its basis in f32, where a tiny
+        // `from − at` or `up × w` underflows to zero and turns every ray into NaN. Build the
+        // basis exactly as the tracer does and check it, and the rays through the corners.
+        let rays = crate::trace::camera::CameraRays::new(&camera);
+        let unit = |v: Vec3| v.is_finite() && (v.length() - 1.0).abs() < 1e-3;
+        if !unit(rays.w) {
+            return Err(loc.err(
+                "at",
+                format!(
+                    "`from` {:?} and `at` {:?} are too close together for single precision: the view direction is not defined",
+                    d.from, d.at
+                ),
+            ));
+        }
+        if !unit(rays.u) || !unit(rays.v) {
+            return Err(loc.err(
+                "up",
+                format!("{:?} is too short (or too close to the view direction) for single precision: the camera's roll is undefined", d.up),
+            ));
+        }
+        let (w, h) = (camera.width, camera.height);
+        for (x, y) in [
+            (0, 0),
+            (w - 1, 0),
+            (0, h - 1),
+            (w - 1, h - 1),
+            (w / 2, h / 2),
+        ] {
+            let (ray, _) = rays.ray(x, y, [0.5, 0.5]);
+            if !ray.dir.is_finite() || !ray.origin.is_finite() {
+                return Err(loc.err(
+                    "fov",
+                    format!("the ray through pixel ({x}, {y}) is not finite: the field of view {} cannot be traced", d.fov),
+                ));
+            }
+        }
+        Ok(camera)
     }
 
     fn settings(&self, r: Option<&Spanned<RenderDef>>) -> Result<Settings, SceneError> {
@@ -679,8 +766,7 @@ fn is_header(line: &str) -> bool {
 
 /// tobj reports what is wrong with an OBJ file but not where; find the first line it would
 /// reject (a vertex that does not parse, a face index out of range) to say so.
-fn locate_obj_problem(path: &Path) -> Option<String> {
-    let text = std::fs::read_to_string(path).ok()?;
+fn locate_obj_problem(path: &Path, text: &str) -> Option<String> {
     let mut vertices: i64 = 0;
     for (n, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
@@ -721,21 +807,74 @@ fn locate_obj_problem(path: &Path) -> Option<String> {
 }
 
 /// Loads an OBJ file's faces (triangulated) as triangles, scaled then translated.
+///
+/// The OBJ file and any material library it names (`mtllib`) are read through
+/// [`crate::io::read_input`]: regular files only, within [`crate::io::limits`]. raystep takes
+/// materials from the scene, so a material library that is missing or does not parse is ignored
+/// (as tobj does), but one that is not a regular file or is too large is an error.
 fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, String> {
-    if !path.is_file() {
-        return Err(format!("OBJ file {} does not exist", path.display()));
-    }
+    use crate::io::{limits, read_input};
+    let bytes = read_input(path, limits::OBJ, "OBJ file").map_err(|e| {
+        if e.kind() == std::io::ErrorKind::NotFound {
+            format!("OBJ file {} does not exist", path.display())
+        } else {
+            format!("cannot read OBJ file {}: {e}", path.display())
+        }
+    })?;
     let opts = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _) = tobj::load_obj(path, &opts).map_err(|e| match locate_obj_problem(path) {
-        Some(at) => format!("cannot load OBJ file: {at} ({e})"),
-        None => format!("cannot load OBJ file {}: {e}", path.display()),
-    })?;
-    let mut tris = vec![];
+    let dir = path.parent();
+    let mtl_problem: std::cell::RefCell<Option<(std::path::PathBuf, String)>> = None.into();
+    let material_loader = |mtl: &Path| -> tobj::MTLLoadResult {
+        let full = dir.map_or_else(|| mtl.to_path_buf(), |d| d.join(mtl));
+        match read_input(&full, limits::MTL, "material library") {
+            Ok(b) => tobj::load_mtl_buf(&mut b.as_slice()),
+            Err(e) => {
+                if e.kind() != std::io::ErrorKind::NotFound {
+                    mtl_problem
+                        .borrow_mut()
+                        .get_or_insert((mtl.to_path_buf(), e.to_string()));
+                }
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
+    };
+    let loaded = tobj::load_obj_buf(&mut bytes.as_slice(), &opts, material_loader);
+    if let Some((mtl, e)) = mtl_problem.into_inner() {
+        let text = String::from_utf8_lossy(&bytes);
+        let line = text
+            .lines()
+            .position(|l| {
+                l.trim_start()
+                    .strip_prefix("mtllib")
+                    .is_some_and(|r| Path::new(r.trim()) == mtl)
+            })
+            .map_or(String::new(), |n| format!(":{}", n + 1));
+        return Err(format!(
+            "{}{line}: material library {}: {e}",
+            path.display(),
+            mtl.display()
+        ));
+    }
+    let (models, _) =
+        loaded.map_err(
+            |e| match locate_obj_problem(path, &String::from_utf8_lossy(&bytes)) {
+                Some(at) => format!("cannot load OBJ file: {at} ({e})"),
+                None => format!("cannot load OBJ file {}: {e}", path.display()),
+            },
+        )?;
+    let faces: usize = models.iter().map(|m| m.mesh.indices.len() / 3).sum();
+    if faces > MAX_OBJECTS {
+        return Err(format!(
+            "{} has {faces} triangles, more than the limit of {MAX_OBJECTS} objects in a scene",
+            path.display()
+        ));
+    }
+    let mut tris = Vec::with_capacity(faces);
     for model in &models {
         let m = &model.mesh;
         let pos = |i: u32| -> Result<Vec3, String> {
@@ -749,9 +888,9 @@ fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, Stri
                 )
             })?;
             let v = Vec3::new(p[0], p[1], p[2]) * scale + translate;
-            if !v.is_finite() {
+            if !v.is_finite() || v.abs().max_element() as f64 > MAX_MAGNITUDE {
                 return Err(format!(
-                    "{}: vertex {} is not finite: {p:?}",
+                    "{}: vertex {} {p:?} is too large once scaled and moved ({v:?}): vertices lie within ±{MAX_MAGNITUDE:e}",
                     path.display(),
                     i / 3 + 1
                 ));

@@ -41,8 +41,11 @@ pub struct SceneFile {
 #[serde(deny_unknown_fields, default)]
 #[allow(missing_docs)]
 pub struct CameraDef {
+    #[serde(deserialize_with = "exact::vec3")]
     pub from: [f64; 3],
+    #[serde(deserialize_with = "exact::vec3")]
     pub at: [f64; 3],
+    #[serde(deserialize_with = "exact::vec3")]
     pub up: [f64; 3],
     pub fov: f64,
     pub width: i64,
@@ -69,6 +72,7 @@ impl Default for CameraDef {
 pub struct RenderDef {
     pub max_depth: i64,
     pub spp: i64,
+    #[serde(deserialize_with = "exact::vec3")]
     pub background: [f64; 3],
     pub sphere_method: String,
     pub triangle_method: String,
@@ -100,7 +104,9 @@ impl Default for RenderDef {
 #[allow(missing_docs)]
 pub struct LightDef {
     pub name: Option<String>,
+    #[serde(deserialize_with = "exact::vec3")]
     pub position: [f64; 3],
+    #[serde(deserialize_with = "exact::vec3")]
     pub color: [f64; 3],
 }
 
@@ -120,6 +126,7 @@ impl Default for LightDef {
 #[allow(missing_docs)]
 pub struct MaterialDef {
     pub name: Option<String>,
+    #[serde(deserialize_with = "exact::vec3")]
     pub color: [f64; 3],
     pub ambient: f64,
     pub diffuse: f64,
@@ -152,6 +159,7 @@ impl Default for MaterialDef {
 #[allow(missing_docs)]
 pub struct SphereDef {
     pub name: Option<String>,
+    #[serde(deserialize_with = "exact::vec3")]
     pub center: [f64; 3],
     pub radius: f64,
     pub material: Option<String>,
@@ -174,7 +182,9 @@ impl Default for SphereDef {
 #[allow(missing_docs)]
 pub struct PlaneDef {
     pub name: Option<String>,
+    #[serde(deserialize_with = "exact::opt_vec3")]
     pub point: Option<[f64; 3]>,
+    #[serde(deserialize_with = "exact::opt_vec3")]
     pub normal: Option<[f64; 3]>,
     pub axis: Option<String>,
     pub offset: Option<f64>,
@@ -187,6 +197,7 @@ pub struct PlaneDef {
 #[allow(missing_docs)]
 pub struct TriangleDef {
     pub name: Option<String>,
+    #[serde(deserialize_with = "exact::triangle")]
     pub vertices: [[f64; 3]; 3],
     pub material: Option<String>,
 }
@@ -198,7 +209,7 @@ pub struct TriangleDef {
 pub struct MeshDef {
     pub name: Option<String>,
     pub obj: String,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact::vec3")]
     pub translate: [f64; 3],
     #[serde(default = "one")]
     pub scale: f64,
@@ -207,4 +218,44 @@ pub struct MeshDef {
 
 fn one() -> f64 {
     1.0
+}
+
+/// Arrays of an exact length. serde's own `[f64; 3]` reads the first three elements and toml
+/// does not complain about the rest, so `center = [0, 0, 0, 99]` would load as `[0, 0, 0]`;
+/// these read the whole array and reject any other length (toml then reports the array's line
+/// and column).
+mod exact {
+    use serde::de::Error;
+    use serde::{Deserialize, Deserializer};
+
+    fn three<E: Error>(v: Vec<f64>, what: &str) -> Result<[f64; 3], E> {
+        <[f64; 3]>::try_from(v.as_slice())
+            .map_err(|_| E::custom(format!("expected {what}, found {} values", v.len())))
+    }
+
+    /// Exactly three numbers.
+    pub fn vec3<'de, D: Deserializer<'de>>(d: D) -> Result<[f64; 3], D::Error> {
+        three(Vec::<f64>::deserialize(d)?, "3 numbers [x, y, z]")
+    }
+
+    /// Exactly three numbers, when present.
+    pub fn opt_vec3<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
+        vec3(d).map(Some)
+    }
+
+    /// Exactly three points of exactly three numbers.
+    pub fn triangle<'de, D: Deserializer<'de>>(d: D) -> Result<[[f64; 3]; 3], D::Error> {
+        let v = Vec::<Vec<f64>>::deserialize(d)?;
+        let mut out = [[0.0; 3]; 3];
+        if v.len() != 3 {
+            return Err(D::Error::custom(format!(
+                "expected 3 vertices [[x, y, z], [x, y, z], [x, y, z]], found {} values",
+                v.len()
+            )));
+        }
+        for (k, (p, o)) in v.into_iter().zip(out.iter_mut()).enumerate() {
+            *o = three(p, &format!("3 numbers [x, y, z] in vertex {}", k + 1))?;
+        }
+        Ok(out)
+    }
 }
