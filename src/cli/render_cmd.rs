@@ -110,6 +110,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         c.node_visits as f64 / rays
     );
     println!("  speed    {:.2} Mrays/s", s.mrays_per_s());
+    if s.nan_rays > 0 || s.nan_pixels > 0 {
+        println!(
+            "  warning  {} rays and {} pixels are NaN (not finite)",
+            s.nan_rays, s.nan_pixels
+        );
+    }
     println!("wrote {}", args.output.display());
     if let Some(h) = &args.heatmap {
         println!("wrote {}", h.display());

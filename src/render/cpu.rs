@@ -3,7 +3,9 @@
 //! sample), so the image is identical whatever the thread count.
 
 use crate::accel::Accelerator;
-use crate::trace::{Counter, Silent, Tracer};
+use crate::math::Ray;
+use crate::trace::record::{HitRecord, NodeVisit, RayKind, Step};
+use crate::trace::{Counter, Observer, Silent, Tracer};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::io::IsTerminal;
@@ -75,6 +77,45 @@ pub struct RenderStats {
     pub counts: Counter,
     /// Threads used.
     pub threads: usize,
+    /// Rays (of any kind) whose origin or direction has a NaN or infinite component (zero unless
+    /// `count` was set). A validated scene should give none.
+    pub nan_rays: u64,
+    /// Pixels with a NaN channel (always counted).
+    pub nan_pixels: u64,
+}
+
+/// The counting observer of a render: [`Counter`]'s figures, and the rays that are not finite.
+#[derive(Debug, Default, Clone, Copy)]
+struct StatsObserver {
+    counts: Counter,
+    nan_rays: u64,
+}
+
+impl Observer for StatsObserver {
+    const RECORDS: bool = false;
+    #[inline(always)]
+    fn begin_ray(&mut self, kind: RayKind, depth: u32, ray: &Ray<f32>, weight: f32) {
+        if !(ray.origin.is_finite() && ray.dir.is_finite()) {
+            self.nan_rays += 1;
+        }
+        self.counts.begin_ray(kind, depth, ray, weight);
+    }
+    #[inline(always)]
+    fn prim_test(&mut self, step: impl FnOnce() -> Step) {
+        self.counts.prim_test(step);
+    }
+    #[inline(always)]
+    fn node_visit(&mut self, visit: impl FnOnce() -> NodeVisit) {
+        self.counts.node_visit(visit);
+    }
+    #[inline(always)]
+    fn step(&mut self, step: impl FnOnce() -> Step) {
+        self.counts.step(step);
+    }
+    #[inline(always)]
+    fn end_ray(&mut self, hit: impl FnOnce() -> Option<HitRecord>, color: Vec3) {
+        self.counts.end_ray(hit, color);
+    }
 }
 
 impl RenderStats {
@@ -147,22 +188,22 @@ pub fn render<A: Accelerator>(
     let count = opts.count;
     let live = opts.live.as_deref();
     let cancelled = || live.is_some_and(|l| l.cancel.load(Ordering::Relaxed));
-    let results: Vec<(Vec<Vec3>, Vec<u32>, Counter)> = pool.install(|| {
+    let results: Vec<(Vec<Vec3>, Vec<u32>, StatsObserver)> = pool.install(|| {
         tiles
             .par_iter()
             .map(|t| {
                 if cancelled() {
-                    return (vec![], vec![], Counter::default());
+                    return (vec![], vec![], StatsObserver::default());
                 }
                 let mut px = Vec::with_capacity((t.w * t.h) as usize);
                 let mut visits = vec![];
-                let mut counter = Counter::default();
+                let mut counter = StatsObserver::default();
                 for y in t.y0..t.y0 + t.h {
                     for x in t.x0..t.x0 + t.w {
                         if count {
-                            let before = counter.node_visits;
+                            let before = counter.counts.node_visits;
                             px.push(tracer.trace_pixel(x, y, &mut counter));
-                            visits.push((counter.node_visits - before) as u32);
+                            visits.push((counter.counts.node_visits - before) as u32);
                         } else {
                             px.push(tracer.trace_pixel(x, y, &mut Silent));
                         }
@@ -188,9 +229,12 @@ pub fn render<A: Accelerator>(
     let mut pixels = vec![Vec3::ZERO; (width * height) as usize];
     let mut node_visits = count.then(|| vec![0u32; (width * height) as usize]);
     let mut counts = Counter::default();
+    let (mut nan_rays, mut nan_pixels) = (0, 0);
     for (t, (px, visits, c)) in tiles.iter().zip(results) {
-        counts.merge(&c);
+        counts.merge(&c.counts);
+        nan_rays += c.nan_rays;
         for (k, p) in px.into_iter().enumerate() {
+            nan_pixels += p.is_nan() as u64;
             let (dx, dy) = (k as u32 % t.w, k as u32 / t.w);
             let i = ((t.y0 + dy) * width + t.x0 + dx) as usize;
             pixels[i] = p;
@@ -208,6 +252,8 @@ pub fn render<A: Accelerator>(
             trace,
             counts,
             threads: pool.current_num_threads(),
+            nan_rays,
+            nan_pixels,
         },
     })
 }
