@@ -711,3 +711,329 @@ fn directory_as_scene_file() {
     assert!(e.to_string().starts_with(&format!("{file}: ")), "{e}");
     assert_says(&e, &["cannot read"]);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Arrays of the wrong length are errors, not silently cut or padded
+
+#[test]
+fn a_centre_with_four_numbers_is_refused() {
+    let (w, e) = fail(&[
+        "[[sphere]]",             // 1
+        "name = \"ball\"",        // 2
+        "center = [0, 0, 0, 99]", // 3: the array starts at column 10
+    ]);
+    check(
+        &w,
+        &e,
+        (3, 10),
+        "sphere \"ball\"",
+        "center",
+        &["3 numbers", "found 4"],
+    );
+}
+
+#[test]
+fn a_colour_with_five_numbers_is_refused() {
+    let (w, e) = fail(&[
+        "[[material]]",                 // 1
+        "name = \"red\"",               // 2
+        "color = [1, 0, 0, 0.5, 0.25]", // 3: the array starts at column 9
+    ]);
+    check(
+        &w,
+        &e,
+        (3, 9),
+        "material \"red\"",
+        "color",
+        &["3 numbers", "found 5"],
+    );
+}
+
+#[test]
+fn a_colour_with_two_numbers_is_refused() {
+    let (w, e) = fail(&[
+        "[[light]]",      // 1
+        "name = \"key\"", // 2
+        "color = [1, 1]", // 3
+    ]);
+    check(
+        &w,
+        &e,
+        (3, 9),
+        "light \"key\"",
+        "color",
+        &["3 numbers", "found 2"],
+    );
+}
+
+#[test]
+fn a_triangle_vertex_with_four_numbers_is_refused() {
+    let (w, e) = fail(&[
+        "[[triangle]]",                                     // 1
+        "name = \"t\"",                                     // 2
+        "vertices = [[0, 1, 0], [-1, 0, 0, 7], [1, 0, 0]]", // 3: the array is column 12
+    ]);
+    check(
+        &w,
+        &e,
+        (3, 12),
+        "triangle \"t\"",
+        "vertices",
+        &["3 numbers", "vertex 2", "found 4"],
+    );
+}
+
+#[test]
+fn a_triangle_with_four_vertices_is_refused() {
+    let (w, e) = fail(&[
+        "[[triangle]]",                                             // 1
+        "vertices = [[0, 1, 0], [-1, 0, 0], [1, 0, 0], [0, 0, 1]]", // 2: column 12
+    ]);
+    check(
+        &w,
+        &e,
+        (2, 12),
+        "triangle",
+        "vertices",
+        &["3 vertices", "found 4"],
+    );
+}
+
+#[test]
+fn a_plane_normal_with_two_numbers_is_refused() {
+    let (w, e) = fail(&[
+        "[[plane]]",        // 1
+        "name = \"floor\"", // 2
+        "normal = [0, 1]",  // 3: column 10
+    ]);
+    check(
+        &w,
+        &e,
+        (3, 10),
+        "plane \"floor\"",
+        "normal",
+        &["3 numbers", "found 2"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Errors name the table they are in, not the one before it
+
+#[test]
+fn a_triangle_without_vertices_is_blamed_on_the_triangle() {
+    let (w, e) = fail(&[
+        "[[light]]",      // 1
+        "name = \"key\"", // 2
+        "",               // 3
+        "[[triangle]]",   // 4
+        "name = \"t\"",   // 5
+    ]);
+    assert_eq!(e.line, Some(4), "{e}");
+    assert_field(&e, "triangle \"t\"", "triangle");
+    assert!(!e.to_string().contains("light"), "{e}");
+    assert_says(&e, &["vertices"]);
+    assert_at(&w, &e, 4, 1);
+}
+
+#[test]
+fn a_misspelt_table_after_the_camera_is_named_itself() {
+    let (w, e) = fail(&[
+        "[camera]",    // 1
+        "fov = 40",    // 2
+        "",            // 3
+        "[[spheres]]", // 4: `spheres` starts at column 3
+        "radius = 2",  // 5
+    ]);
+    assert_at(&w, &e, 4, 3);
+    let f = e.field.as_deref().unwrap_or("");
+    assert!(f.contains("spheres"), "{e}");
+    assert!(!f.contains("camera"), "{e}");
+    assert_says(&e, &["spheres"]);
+}
+
+#[test]
+fn a_mesh_without_obj_is_blamed_on_the_mesh() {
+    let (w, e) = fail(&[
+        "[[sphere]]",       // 1
+        "name = \"ball\"",  // 2
+        "[[mesh]]",         // 3
+        "name = \"bunny\"", // 4
+        "scale = 2",        // 5
+    ]);
+    assert_at(&w, &e, 3, 1);
+    assert_field(&e, "mesh \"bunny\"", "mesh");
+    assert!(!e.to_string().contains("ball"), "{e}");
+    assert_says(&e, &["obj"]);
+}
+
+#[test]
+fn duplicate_light_names_are_refused_where_they_repeat() {
+    let (w, e) = fail(&[
+        "[[light]]",            // 1
+        "name = \"key\"",       // 2
+        "[[light]]",            // 3
+        "name = \"key\"",       // 4
+        "position = [1, 2, 3]", // 5
+    ]);
+    check(
+        &w,
+        &e,
+        (4, 1),
+        "light \"key\"",
+        "name",
+        &["already defined"],
+    );
+}
+
+#[test]
+fn columns_count_characters_not_bytes() {
+    // Each of 球, é is one character (three and two bytes in UTF-8).
+    let (w, e) = fail(&[
+        "title = \"é\"",                                       // 1
+        "sphere = [{ name = \"球\", center = [0, 0, 0, 9] }]", // 2: the array is character 34
+    ]);
+    // An inline table has no header: the error names the key its line starts with.
+    check(&w, &e, (2, 34), "sphere", "sphere", &["found 4"]);
+    let (w, e) = fail(&["title = \"héllo\" x"]); // the stray `x` is character 17 (byte 18)
+    assert_at(&w, &e, 1, 17);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Numbers where single-precision tracing stays finite
+
+/// A scene with one camera line (the rest default) must fail naming `field` of the camera.
+fn camera_fails(lines: &[&str], field: &str, says: &[&str]) {
+    let mut all = vec!["[camera]"];
+    all.extend_from_slice(lines);
+    let (w, e) = fail(&all);
+    let line = lines
+        .iter()
+        .position(|l| l.starts_with(field))
+        .map_or(1, |i| i + 2);
+    check(&w, &e, (line, 1), "camera", field, says);
+}
+
+#[test]
+fn cameras_whose_rays_would_be_nan_are_refused() {
+    // `at` 1e-30 from `from`: fine in f64, but |from − at|² underflows to 0 in f32.
+    camera_fails(
+        &["from = [0, 0, 0]", "at = [0, 0, 1e-30]"],
+        "at",
+        &["too close"],
+    );
+    // `up` of length 1e-30: up × w underflows the same way.
+    camera_fails(&["up = [0, 1e-30, 0]"], "up", &["too short"]);
+    // |from − at|² = 4e38 overflows f32.
+    camera_fails(&["from = [2e19, 0, 0]"], "from", &["too large", "1e11"]);
+    camera_fails(
+        &["from = [3e38, 0, 0]", "at = [-3e38, 0, 0]"],
+        "from",
+        &["too large"],
+    );
+}
+
+#[test]
+fn a_sphere_too_large_to_trace_is_refused() {
+    let (w, e) = fail(&[
+        "[[sphere]]",     // 1
+        "name = \"sky\"", // 2
+        "radius = 1e20",  // 3
+    ]);
+    check(
+        &w,
+        &e,
+        (3, 1),
+        "sphere \"sky\"",
+        "radius",
+        &["too large", "1e11"],
+    );
+}
+
+#[test]
+fn numbers_at_the_bound_load_and_past_it_do_not() {
+    let ok = write(
+        &["[[sphere]]", "center = [1e11, 0, 0]", "radius = 1e11"],
+        &[],
+    );
+    assert!(load_file(&ok.path).is_ok());
+    let (w, e) = fail(&["[[light]]", "color = [1.00001e11, 1, 1]"]);
+    check(&w, &e, (2, 1), "light", "color", &["too large"]);
+}
+
+#[test]
+fn a_mesh_scaled_out_of_range_is_refused() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let (w, e) = fail_with(
+        &[
+            "[[mesh]]",                 // 1
+            "name = \"big\"",           // 2
+            "obj = \"bad.obj\"",        // 3
+            "scale = 1e11",             // 4
+            "translate = [5e10, 0, 0]", // 5: vertex 2 lands at x = 1.5e11
+        ],
+        &[("bad.obj", obj)],
+    );
+    check(
+        &w,
+        &e,
+        (3, 1),
+        "mesh \"big\"",
+        "obj",
+        &["bad.obj", "vertex 2", "too large"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files that are not regular files, or too large
+
+#[cfg(unix)]
+#[test]
+fn a_device_as_obj_or_scene_is_refused_without_reading_it() {
+    // /dev/zero is only read (or rather, not): it would otherwise be read until memory runs out.
+    let (w, e) = fail(&["[[mesh]]", "name = \"z\"", "obj = \"/dev/zero\""]);
+    check(
+        &w,
+        &e,
+        (3, 1),
+        "mesh \"z\"",
+        "obj",
+        &["/dev/zero", "character device"],
+    );
+    let e = load_file(Path::new("/dev/zero")).unwrap_err();
+    assert_says(&e, &["character device", "regular file"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_device_as_material_library_is_refused() {
+    let obj = "mtllib /dev/zero\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let (w, e) = fail_with(&mesh_scene(), &[("bad.obj", obj)]);
+    check(
+        &w,
+        &e,
+        (3, 1),
+        "mesh \"teapot\"",
+        "obj",
+        &["material library", "character device"],
+    );
+    says_obj_line(&e, 1);
+}
+
+#[test]
+fn a_missing_material_library_is_ignored_as_before() {
+    let obj = "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let w = write(&mesh_scene(), &[("bad.obj", obj)]);
+    let scene = load_file(&w.path).unwrap();
+    assert_eq!(scene.objects.len(), 1);
+}
+
+#[test]
+fn a_scene_file_past_the_limit_is_refused_with_the_limit() {
+    let dir = TempDir::new().unwrap();
+    let path = dir.path().join("huge.toml");
+    let limit = raystep::io::limits::SCENE;
+    let f = std::fs::File::create(&path).unwrap();
+    f.set_len(limit + 1).unwrap(); // sparse: no disk used
+    let e = load_file(&path).unwrap_err();
+    assert_says(&e, &["more than the limit of 16 MiB for scene files"]);
+}
