@@ -372,7 +372,10 @@ mod tests {
     }
 
     fn mkfifo(p: &Path) {
-        let ok = std::process::Command::new("mkfifo").arg(p).status().unwrap();
+        let ok = std::process::Command::new("mkfifo")
+            .arg(p)
+            .status()
+            .unwrap();
         assert!(ok.success(), "mkfifo");
     }
 
@@ -436,13 +439,14 @@ mod tests {
             std::thread::spawn(move || std::fs::read(fifo).unwrap())
         };
         write_atomic(&fifo, b"through the pipe").unwrap();
-        assert_eq!(reader.join().unwrap(), b"through the pipe");
+        // Checked before joining the reader, which would wait forever had the FIFO been replaced.
         assert!(
             std::fs::symlink_metadata(&fifo)
                 .unwrap()
                 .file_type()
                 .is_fifo()
         );
+        assert_eq!(reader.join().unwrap(), b"through the pipe");
         assert_eq!(names(dir.path()), ["pipe.png"]);
     }
 

@@ -110,13 +110,14 @@ fn a_fifo_output_is_written_into_not_replaced() {
         .timeout(Duration::from_secs(60))
         .assert()
         .success();
-    assert!(reader.join().unwrap().starts_with(PNG_MAGIC));
+    // Checked before joining the reader, which would wait forever had the FIFO been replaced.
     assert!(
         std::fs::symlink_metadata(&fifo)
             .unwrap()
             .file_type()
             .is_fifo()
     );
+    assert!(reader.join().unwrap().starts_with(PNG_MAGIC));
     assert_eq!(names(dir.path()), ["pipe.png", "scene.toml"]);
 }
 
