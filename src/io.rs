@@ -210,9 +210,9 @@ fn install_cleanup() {
 /// - A regular file (or a new name) is written atomically: into a temporary file beside it, then
 ///   renamed over it, so a reader never sees a half-written file and a failure leaves any old file
 ///   untouched. A symbolic link is followed: its final target is replaced and the link is kept.
-/// - A character device or a FIFO (`/dev/stdout`, `/dev/null`, a named pipe) is written to
-///   directly, as the shell's `>` would: replacing it by a regular file would destroy it, and
-///   `-o /dev/stdout | …` is what a user means by naming one.
+/// - A character device or a FIFO (`/dev/null`, a terminal, a named pipe another program reads)
+///   is written to directly, as the shell's `>` would: replacing it by a regular file would
+///   destroy it, and writing into it is what a user means by naming one.
 /// - Anything else (a directory, a block device, a socket) is refused.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
     let shown = path.display();

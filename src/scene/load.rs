@@ -831,7 +831,7 @@ fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, Stri
     let mtl_problem: std::cell::RefCell<Option<(std::path::PathBuf, String)>> = None.into();
     let material_loader = |mtl: &Path| -> tobj::MTLLoadResult {
         let full = dir.map_or_else(|| mtl.to_path_buf(), |d| d.join(mtl));
-        match read_input(&full, limits::MTL, "material library") {
+        match read_input(&full, limits::MTL, "MTL file") {
             Ok(b) => tobj::load_mtl_buf(&mut b.as_slice()),
             Err(e) => {
                 if e.kind() != std::io::ErrorKind::NotFound {
