@@ -406,3 +406,34 @@ fn the_object_limit_holds_under_the_cap() {
         ],
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// NaN rays are counted
+
+#[test]
+fn render_statistics_count_nan_rays() {
+    let mut scene = raystep::scene::load_str(
+        "[camera]\nwidth = 4\nheight = 3\n\n[[sphere]]\n",
+        "s.toml",
+        None,
+    )
+    .unwrap();
+    let render = |scene: &raystep::scene::Scene| {
+        let (accel, _) = raystep::accel::SceneAccel::build(scene);
+        let tracer = raystep::trace::Tracer::new(scene, &accel);
+        let opts = raystep::render::RenderOptions {
+            threads: Some(1),
+            count: true,
+            ..Default::default()
+        };
+        raystep::render::render(&tracer, &opts).unwrap().stats
+    };
+    let s = render(&scene);
+    assert_eq!((s.nan_rays, s.nan_pixels), (0, 0));
+    // A camera the loader refuses (from = at): w = 0/0, so all 12 primary rays are NaN. They hit
+    // nothing and show the background, so no pixel is NaN: only the ray count tells.
+    scene.camera.at = scene.camera.from;
+    let s = render(&scene);
+    assert_eq!(s.counts.primary, 12);
+    assert_eq!((s.nan_rays, s.nan_pixels), (12, 0));
+}
