@@ -924,7 +924,13 @@ fn cameras_whose_rays_would_be_nan_are_refused() {
     // `up` of length 1e-30: up × w underflows the same way.
     camera_fails(&["up = [0, 1e-30, 0]"], "up", &["too short"]);
     // |from − at|² = 4e38 overflows f32.
-    camera_fails(&["from = [2e19, 0, 0]"], "from", &["too large", "1e11"]);
+    camera_fails(&["from = [2e19, 0, 0]"], "from", &["too large", "1e19"]);
+    // Within the bound, but |from − at|² = 4e38 overflows f32: the basis check catches it.
+    camera_fails(
+        &["from = [1e19, 0, 0]", "at = [-1e19, 0, 0]"],
+        "at",
+        &["too close"],
+    );
     camera_fails(
         &["from = [3e38, 0, 0]", "at = [-3e38, 0, 0]"],
         "from",
@@ -945,17 +951,37 @@ fn a_sphere_too_large_to_trace_is_refused() {
         (3, 1),
         "sphere \"sky\"",
         "radius",
-        &["too large", "1e11"],
+        &["too large", "1e19"],
     );
 }
 
 #[test]
 fn numbers_at_the_bound_load_and_past_it_do_not() {
     let ok = write(
-        &["[[sphere]]", "center = [1e11, 0, 0]", "radius = 1e11"],
+        &["[[sphere]]", "center = [1e19, 0, 0]", "radius = 1e19"],
         &[],
     );
     assert!(load_file(&ok.path).is_ok());
+    let ok = write(
+        &[
+            "[[triangle]]",
+            "vertices = [[1e11, 0, 0], [0, 1, 0], [0, 0, 1]]",
+        ],
+        &[],
+    );
+    assert!(load_file(&ok.path).is_ok());
+    let (w, e) = fail(&[
+        "[[triangle]]",
+        "vertices = [[2e11, 0, 0], [0, 1, 0], [0, 0, 1]]",
+    ]);
+    check(
+        &w,
+        &e,
+        (2, 1),
+        "triangle",
+        "vertices",
+        &["too large", "1e11"],
+    );
     let (w, e) = fail(&["[[light]]", "color = [1.00001e11, 1, 1]"]);
     check(&w, &e, (2, 1), "light", "color", &["too large"]);
 }

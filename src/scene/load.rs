@@ -163,6 +163,34 @@ impl Loc<'_> {
         Ok(Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32))
     }
 
+    /// A position or length of a sphere, plane, light or camera: within ±[`MAX_COORD`].
+    fn coord(&self, field: &str, x: f64) -> Result<f32, SceneError> {
+        if x.is_finite() && x.abs() > MAX_COORD {
+            return Err(self.err(
+                field,
+                format!("{x:e} is too large: positions and radii lie within ±{MAX_COORD:e}, where their squares stay finite in single precision (f32)"),
+            ));
+        }
+        if x.is_finite() {
+            return Ok(x as f32);
+        }
+        self.num(field, x)
+    }
+
+    /// A point of a sphere, plane, light or camera: within ±[`MAX_COORD`].
+    fn coord3(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
+        if a.iter().all(|c| c.is_finite()) {
+            if a.iter().any(|c| c.abs() > MAX_COORD) {
+                return Err(self.err(
+                    field,
+                    format!("{a:?} has a component too large: positions lie within ±{MAX_COORD:e}, where their squares stay finite in single precision (f32)"),
+                ));
+            }
+            return Ok(Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32));
+        }
+        self.vec3(field, a)
+    }
+
     fn color(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
         let v = self.vec3(field, a)?;
         if v.min_element() < 0.0 {
@@ -207,6 +235,14 @@ const MAX_PIXELS: i64 = 40_000_000;
 /// are far smaller. Colours and coefficients multiply at most three deep (light × colour ×
 /// coefficient ≤ 1e33), so one bound serves every number.
 pub const MAX_MAGNITUDE: f64 = 1e11;
+
+/// The largest magnitude of a sphere's centre and radius, a plane's point and offset, a light's
+/// position and the camera's points. These enter the kernels only through squares and
+/// products of two (sphere: f·f and r², with |f| ≤ 2C), which stay finite in f32 up to
+/// C = 1e19 (r² = 1e38 < 3.4e38). A triangle's vertices stay within [`MAX_MAGNITUDE`]: its
+/// tests are cubic. (Far-apart geometry past 1e11 may then miss a triangle's test, which
+/// overflows to a clean miss, never NaN.)
+pub const MAX_COORD: f64 = 1e19;
 
 /// The most primitives a scene may hold, meshes expanded to triangles (about 100 MB of objects,
 /// and as much again for the BVH).
@@ -350,7 +386,7 @@ impl<'a> Ctx<'a> {
             }
             lights.push(Light {
                 name,
-                position: loc.vec3("position", d.position)?,
+                position: loc.coord3("position", d.position)?,
                 color: loc.color("color", d.color)?,
             });
         }
@@ -502,8 +538,8 @@ impl<'a> Ctx<'a> {
                     let d = s.get_ref();
                     let name = d.name.clone().unwrap_or_else(|| format!("sphere {i}"));
                     let loc = self.loc(format!("sphere \"{name}\""), s);
-                    let center = loc.vec3("center", d.center)?;
-                    let radius = loc.num("radius", d.radius)?;
+                    let center = loc.coord3("center", d.center)?;
+                    let radius = loc.coord("radius", d.radius)?;
                     if radius <= 0.0 {
                         return Err(
                             loc.err("radius", format!("must be positive, got {}", d.radius))
@@ -533,13 +569,13 @@ impl<'a> Ctx<'a> {
                         };
                         Shape::AxisPlane {
                             axis,
-                            offset: loc.num("offset", d.offset.unwrap_or(0.0))?,
+                            offset: loc.coord("offset", d.offset.unwrap_or(0.0))?,
                         }
                     } else {
                         if d.offset.is_some() {
                             return Err(loc.err("offset", "`offset` goes with `axis`; a general plane takes `point` and `normal`"));
                         }
-                        let point = loc.vec3("point", d.point.unwrap_or([0.0; 3]))?;
+                        let point = loc.coord3("point", d.point.unwrap_or([0.0; 3]))?;
                         let n = d.normal.unwrap_or([0.0, 1.0, 0.0]);
                         loc.vec3("normal", n)?;
                         let Some(unit) = crate::math::unit_f64(n) else {
@@ -548,7 +584,7 @@ impl<'a> Ctx<'a> {
                             );
                         };
                         let normal = Vec3::new(unit[0] as f32, unit[1] as f32, unit[2] as f32);
-                        let offset = loc.num("point", point.as_dvec3().dot(normal.as_dvec3()))?;
+                        let offset = loc.coord("point", point.as_dvec3().dot(normal.as_dvec3()))?;
                         Shape::Plane { normal, offset }
                     };
                     let m = material(&loc, &d.material)?;
@@ -617,9 +653,9 @@ impl<'a> Ctx<'a> {
                 &default,
             ),
         };
-        let from = loc.vec3("from", d.from)?;
-        let at = loc.vec3("at", d.at)?;
-        let up = loc.vec3("up", d.up)?;
+        let from = loc.coord3("from", d.from)?;
+        let at = loc.coord3("at", d.at)?;
+        let up = loc.coord3("up", d.up)?;
         let fov = loc.num("fov", d.fov)?;
         if !(fov > 0.0 && fov < 180.0) {
             return Err(loc.err(

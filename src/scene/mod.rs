@@ -8,7 +8,9 @@ mod model;
 pub mod spd;
 
 pub use features::Features;
-pub use load::{LocatedError, MAX_MAGNITUDE, MAX_OBJECTS, SceneError, load_file, load_str};
+pub use load::{
+    LocatedError, MAX_COORD, MAX_MAGNITUDE, MAX_OBJECTS, SceneError, load_file, load_str,
+};
 pub use model::SceneFile;
 
 use crate::shapes::{SphereMethod, TriangleMethod};
