@@ -82,8 +82,8 @@ struct Traced {
     frame: Option<(Orbit, GpuPath, Duration)>,
     /// The debug pixel of (pixel, path), at the scene camera.
     pick: Option<([u32; 2], Result<PixelDebug, String>)>,
-    /// The comparison with the CPU render (for the render it was made against).
-    diff: Option<(u64, Result<Compared, String>)>,
+    /// The comparison with the CPU render, for (the render it was made against, the GPU path).
+    diff: Option<((u64, GpuPath), Result<Compared, String>)>,
 }
 
 /// The GPU view's state (part of [`super::view::Views`]).
@@ -128,10 +128,15 @@ impl GpuView {
         self.traced.as_ref()?.pick.as_ref().map(|(_, r)| r)
     }
 
-    /// The CPU − GPU comparison, once made.
+    /// The CPU − GPU comparison, once made, and the GPU path it compares.
     pub fn difference(&self) -> Option<Result<&Difference, &String>> {
         let d = &self.traced.as_ref()?.diff.as_ref()?.1;
         Some(d.as_ref().map(|(d, _)| d))
+    }
+
+    /// The GPU path of the comparison [`GpuView::difference`] holds.
+    pub fn difference_path(&self) -> Option<GpuPath> {
+        Some(self.traced.as_ref()?.diff.as_ref()?.0.1)
     }
 
     /// The tracer for the prepared scene, made (shader generated and compiled, scene uploaded)
@@ -248,7 +253,10 @@ impl GpuView {
         let Ok(t) = self.tracer_for(scene) else {
             return;
         };
-        if t.diff.as_ref().is_some_and(|(k, _)| *k == render_id) {
+        if t.diff
+            .as_ref()
+            .is_some_and(|(k, _)| *k == (render_id, path))
+        {
             return;
         }
         let out = &rendered.output;
@@ -266,7 +274,7 @@ impl GpuView {
             let tex = ctx.load_texture("gpu-difference", img, egui::TextureOptions::NEAREST);
             Ok((d, tex))
         })();
-        t.diff = Some((render_id, result));
+        t.diff = Some(((render_id, path), result));
     }
 }
 
@@ -527,8 +535,8 @@ pub fn difference_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         return;
     };
     match &t.diff {
-        Some((_, Ok((d, tex)))) => {
-            ui.label(RichText::new(d.summary()).strong());
+        Some(((_, path), Ok((d, tex)))) => {
+            ui.label(RichText::new(format!("{} path: {}", path.name(), d.summary())).strong());
             ui.label(
                 "Equal pixels are dim grey; differing ones run from dark red (one 8-bit step) to \
                  yellow (16 or more). Both sides compute in f32; the GPU's pow, FMA contraction \

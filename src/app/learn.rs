@@ -338,7 +338,9 @@ fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut
         }
         egui::ComboBox::from_id_salt("lesson-choice")
             .selected_text(format!("{}. {}", i + 1, l.title))
-            .width(ui.available_width() - 30.0)
+            // Room for the ▶ button after it (the combo's icon comes on top of its width):
+            // the row must not be wider than the panel, which clips it.
+            .width((ui.available_width() - 3.0 * ui.spacing().interact_size.y).max(40.0))
             .show_ui(ui, |ui| {
                 for (k, other) in lessons.iter().enumerate() {
                     if ui
@@ -570,7 +572,7 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
             ui.add_space(6.0);
             let mut answer = a.answer.clone();
             let mut submit = false;
-            ui.horizontal(|ui| {
+            ui.horizontal_wrapped(|ui| {
                 let label = ui.label("Answer:");
                 let r = ui.add(
                     egui::TextEdit::singleline(&mut answer)

@@ -8,9 +8,11 @@
 //! frame into any [`egui::Ui`], so tests (egui_kittest) and the benchmark drive the very UI
 //! the window shows.
 
+pub mod crash;
 pub mod gpu_view;
 pub mod job;
 pub mod lab;
+pub mod layout;
 pub mod learn;
 pub mod panels;
 pub mod state;
@@ -76,6 +78,7 @@ impl RaystepApp {
     /// else the last file opened (if it still loads), else the built-in scene.
     pub fn with_context(ctx: &egui::Context, prefs: Prefs, file: Option<PathBuf>) -> RaystepApp {
         install_fonts(ctx);
+        let prefs = prefs.validated();
         let repaint_ctx = ctx.clone();
         let mut state = AppState::new(prefs, move || repaint_ctx.request_repaint());
         // A file that fails to load shows its error over the built-in scene.
@@ -95,11 +98,37 @@ impl RaystepApp {
 
     /// The app as eframe creates it.
     pub fn new(cc: &eframe::CreationContext<'_>, file: Option<PathBuf>) -> RaystepApp {
-        let prefs = cc
+        let mut prefs = cc
             .storage
             .and_then(|s| eframe::get_value::<Prefs>(s, PREFS_KEY))
             .unwrap_or_default();
-        Self::with_context(&cc.egui_ctx, prefs, file).with_wgpu(cc.wgpu_render_state.clone())
+        // The place a crash saved last time, if any, wins over the remembered preferences.
+        let dir = crash::state_dir();
+        let place = dir.as_deref().and_then(crash::recover);
+        let mut file = file;
+        if let Some(p) = &place {
+            prefs = p.prefs.clone();
+            if file.is_none() {
+                file = p.file.clone();
+            }
+        }
+        let mut app = Self::with_context(&cc.egui_ctx, prefs, file.clone())
+            .with_wgpu(cc.wgpu_render_state.clone());
+        if let (Some(p), Some(dir)) = (place, dir) {
+            if let (Some(f), Some(pixel)) = (&p.file, p.pixel)
+                && file.as_ref() == Some(f)
+            {
+                app.state.open_prepared(f, None, Some(pixel), p.step);
+            }
+            app.state.message = Some(state::Message {
+                text: format!(
+                    "raystep stopped on an error last time: your place was taken back; the report is {}",
+                    dir.join(crash::REPORT_FILE).display()
+                ),
+                error: true,
+            });
+        }
+        app
     }
 
     /// Gives the app eframe's wgpu device, which turns on the GPU view (the tabs "GPU render"
@@ -128,6 +157,7 @@ impl RaystepApp {
             }
             self.state.apply(c);
         }
+        crash::remember(&self.state);
         if std::mem::take(&mut self.views.toggle_fullscreen) {
             fullscreen_toggle = true;
         }
@@ -228,20 +258,24 @@ impl RaystepApp {
             return;
         }
         use egui::Key;
+        // Every press event counts (auto-repeat included), not "was it pressed this frame":
+        // two quick presses that land in one frame are two steps.
         let pressed: Vec<Key> = ctx.input(|i| {
-            let keys = [
-                Key::ArrowLeft,
-                Key::ArrowRight,
-                Key::ArrowUp,
-                Key::ArrowDown,
-                Key::Home,
-                Key::End,
-                Key::Space,
-                Key::F11,
-                Key::Escape,
-            ];
-            keys.into_iter().filter(|k| i.key_pressed(*k)).collect()
+            i.events
+                .iter()
+                .filter_map(|e| match e {
+                    egui::Event::Key {
+                        key,
+                        pressed: true,
+                        modifiers,
+                        ..
+                    } if !modifiers.ctrl && !modifiers.command && !modifiers.alt => Some(*key),
+                    _ => None,
+                })
+                .collect()
         });
+        // Two moves of the same kind in one frame are applied in order; the step is clamped
+        // by the state, so a long burst at the end stays on the last step.
         for k in pressed {
             match k {
                 Key::ArrowLeft | Key::ArrowUp => cmds.push(Command::Step(StepMove::Previous)),
@@ -252,6 +286,7 @@ impl RaystepApp {
                 Key::F11 => self.views.toggle_fullscreen = true,
                 Key::Escape if self.state.dialog.is_some() => cmds.push(Command::CloseDialog),
                 Key::Escape if self.state.prefs.presentation => {
+                    // The state puts the layout from before presentation back.
                     let mut p = self.state.prefs.clone();
                     p.presentation = false;
                     cmds.push(Command::SetPrefs(p));
@@ -322,6 +357,9 @@ pub fn run(file: Option<PathBuf>, screenshot: Option<ScreenshotPlan>) -> Result<
         && !p.exists()
     {
         return Err(format!("{}: no such file", p.display()));
+    }
+    if let Some(dir) = crash::state_dir() {
+        crash::install(dir);
     }
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

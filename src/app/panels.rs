@@ -2,6 +2,7 @@
 //! that do not apply to the open scene are left out, not greyed (no triangle method for a
 //! sphere-only scene, no recursion depth without mirrors or glass, no heatmap without a BVH).
 
+use super::layout::Side;
 use super::state::{AppState, Command, DiagramChoice, Dialog, Document, SaveKind, StepMove};
 use super::view::{self, Views};
 use crate::diagram::DiagramKind;
@@ -33,8 +34,14 @@ pub enum Row {
     },
 }
 
-/// Draws the whole window.
+/// Draws the whole window. The side panels take the widths [`Layout::widths`] computes from
+/// the window's width every frame (so they follow the window and can never squeeze the render
+/// below its share); their edges are dragged with handles drawn here.
 pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    let window = ui.available_rect_before_wrap();
+    let width = window.width();
+    views.window_rect = Some(window);
+    let mut rects: Vec<(&'static str, egui::Rect)> = vec![];
     egui::Panel::top("menu").show(ui, |ui| menu_bar(ui, state, views, cmds));
     if let Some(e) = &state.load_error {
         egui::Panel::top("load-error").show(ui, |ui| error_banner(ui, e, cmds));
@@ -43,45 +50,123 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
     if state.stepping.is_some() {
         egui::Panel::bottom("steps").show(ui, |ui| step_controls(ui, state, cmds));
     }
+    let layout = state.prefs.layout;
+    let mut shown = vec![];
     if state.prefs.show_learn {
-        egui::Panel::left("learn")
-            .resizable(true)
-            .default_size(360.0)
-            .show(ui, |ui| super::learn::panel(ui, state, views, cmds));
+        shown.push(Side::Learn);
     }
     if state.prefs.show_settings {
-        egui::Panel::left("settings")
-            .resizable(true)
-            .default_size(250.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical()
-                    .id_salt("settings-scroll")
-                    .auto_shrink([false, false])
-                    .show(ui, |ui| settings_panel(ui, state, views, cmds));
-            });
+        shown.push(Side::Settings);
     }
-    let right_width = (ui.available_width() * 0.42).max(320.0);
-    egui::Panel::right("explain")
-        .resizable(true)
-        .default_size(right_width)
-        .show(ui, |ui| {
-            egui::Panel::bottom("math")
-                .resizable(true)
-                .default_size(ui.available_height() * 0.5)
-                .show(ui, |ui| {
-                    egui::ScrollArea::vertical()
-                        .id_salt("math-scroll")
-                        .auto_shrink([false, false])
-                        .show(ui, |ui| math_panel(ui, state));
-                });
-            egui::CentralPanel::default().show(ui, |ui| diagram_panel(ui, state, views, cmds));
-        });
     if state.prefs.show_tree {
-        egui::Panel::left("tree")
-            .resizable(true)
-            .default_size(300.0)
-            .show(ui, |ui| tree_panel(ui, state, views, cmds));
+        shown.push(Side::Tree);
     }
+    shown.push(Side::Explain);
+    let widths = layout.widths(width, &shown);
+    let width_of = |side: Side| {
+        shown
+            .iter()
+            .position(|s| *s == side)
+            .and_then(|i| widths.get(i).copied())
+            .unwrap_or(0.0)
+    };
+    let others = |side: Side| widths.iter().sum::<f32>() - width_of(side);
+    let mut drag: Option<(Side, f32)> = None;
+    let mut left_panel = |ui: &mut egui::Ui,
+                          side: Side,
+                          id: &'static str,
+                          resizable: bool,
+                          add: &mut dyn FnMut(&mut egui::Ui)| {
+        let r = egui::Panel::left(id)
+            .resizable(false)
+            .exact_size(width_of(side))
+            .show(ui, |ui| contained(ui, |ui| add(ui)));
+        let rect = r.response.rect;
+        rects.push((id, rect));
+        if resizable && let Some(x) = resize_handle(ui, id, rect.right(), rect, true) {
+            drag = Some((side, x - rect.left()));
+        }
+    };
+    if state.prefs.show_learn {
+        left_panel(ui, Side::Learn, "learn", true, &mut |ui| {
+            super::learn::panel(ui, state, views, cmds)
+        });
+    }
+    if state.prefs.show_settings {
+        left_panel(ui, Side::Settings, "settings", true, &mut |ui| {
+            egui::ScrollArea::vertical()
+                .id_salt("settings-scroll")
+                .auto_shrink([false, false])
+                .show(ui, |ui| settings_panel(ui, state, views, cmds));
+        });
+    }
+    let mut math_drag = None;
+    let r = egui::Panel::right("explain")
+        .resizable(false)
+        .exact_size(width_of(Side::Explain))
+        .show(ui, |ui| {
+            contained(ui, |ui| {
+                let height = ui.available_height();
+                let r = egui::Panel::bottom("math")
+                    .resizable(false)
+                    .exact_size(layout.math_height(height))
+                    .show(ui, |ui| {
+                        egui::ScrollArea::vertical()
+                            .id_salt("math-scroll")
+                            .auto_shrink([false, false])
+                            .show(ui, |ui| math_panel(ui, state));
+                    });
+                let rect = r.response.rect;
+                if let Some(y) = resize_handle(ui, "math", rect.top(), rect, false) {
+                    math_drag = Some((rect.bottom() - y, height));
+                }
+                egui::CentralPanel::default().show(ui, |ui| diagram_panel(ui, state, views, cmds));
+            })
+        });
+    let rect = r.response.rect;
+    rects.push(("explain", rect));
+    if let Some(x) = resize_handle(ui, "explain", rect.left(), rect, true) {
+        drag = Some((Side::Explain, rect.right() - x));
+    }
+    if state.prefs.show_tree {
+        let collapsed = layout.tree_collapsed;
+        let r = egui::Panel::left("tree")
+            .resizable(false)
+            .exact_size(width_of(Side::Tree))
+            .show(ui, |ui| {
+                contained(ui, |ui| {
+                    if collapsed {
+                        let b = ui
+                            .button("▸")
+                            .on_hover_text("show the trace tree (every step of the pixel's trace)");
+                        if b.clicked() {
+                            let mut p = state.prefs.clone();
+                            p.layout.tree_collapsed = false;
+                            cmds.push(Command::SetPrefs(p));
+                        }
+                    } else {
+                        tree_panel(ui, state, views, cmds);
+                    }
+                })
+            });
+        let rect = r.response.rect;
+        rects.push(("tree", rect));
+        if !collapsed && let Some(x) = resize_handle(ui, "tree", rect.right(), rect, true) {
+            drag = Some((Side::Tree, x - rect.left()));
+        }
+    }
+    let mut p = state.prefs.clone();
+    if let Some((side, wanted)) = drag {
+        p.layout.drag(side, wanted, width, others(side));
+    }
+    if let Some((wanted, height)) = math_drag {
+        p.layout.drag_math(wanted, height);
+    }
+    if p != state.prefs {
+        cmds.push(Command::SetPrefs(p));
+    }
+    views.centre_rect = Some(ui.available_rect_before_wrap());
+    views.panel_rects = rects;
     egui::CentralPanel::default().show(ui, |ui| match &state.doc {
         Document::Trace { path } => {
             ui.vertical_centered(|ui| {
@@ -117,6 +202,53 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
     });
     dialogs(ui, state, cmds);
     super::lab::window(ui.ctx(), state, &mut views.lab, cmds);
+}
+
+/// Runs `add` in a child of `ui` that cannot grow it: content wider than the panel (a row of
+/// widgets that does not wrap) is clipped instead of widening the panel — the creep that a
+/// panel remembering its content's width had.
+fn contained(ui: &mut egui::Ui, add: impl FnOnce(&mut egui::Ui)) {
+    let rect = ui.max_rect();
+    let mut child = ui.new_child(
+        egui::UiBuilder::new()
+            .max_rect(rect)
+            .layout(egui::Layout::top_down(egui::Align::Min)),
+    );
+    child.shrink_clip_rect(rect);
+    add(&mut child);
+}
+
+/// A handle on a panel's edge at `at` (x for a vertical edge, y for a horizontal one) along
+/// `rect`; returns where the pointer is while it is being dragged.
+fn resize_handle(
+    ui: &mut egui::Ui,
+    id: &str,
+    at: f32,
+    rect: egui::Rect,
+    vertical: bool,
+) -> Option<f32> {
+    let r = if vertical {
+        egui::Rect::from_x_y_ranges(at - 4.0..=at + 4.0, rect.y_range())
+    } else {
+        egui::Rect::from_x_y_ranges(rect.x_range(), at - 4.0..=at + 4.0)
+    };
+    let resp = ui.interact(r, ui.scope_id().with(("panel-edge", id)), Sense::drag());
+    if resp.hovered() || resp.dragged() {
+        ui.ctx().set_cursor_icon(if vertical {
+            egui::CursorIcon::ResizeHorizontal
+        } else {
+            egui::CursorIcon::ResizeVertical
+        });
+        let stroke = ui.visuals().widgets.active.fg_stroke;
+        if vertical {
+            ui.painter().vline(at, rect.y_range(), stroke);
+        } else {
+            ui.painter().hline(rect.x_range(), at, stroke);
+        }
+    }
+    let pos = resp.interact_pointer_pos()?;
+    resp.dragged()
+        .then_some(if vertical { pos.x } else { pos.y })
 }
 
 fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
@@ -165,25 +297,36 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
         });
         ui.menu_button("View", |ui| {
             let mut p = state.prefs.clone();
-            ui.label("Theme");
+            // The theme in force: presentation mode has its own.
+            ui.label(if p.presentation {
+                "Theme (presentation mode)"
+            } else {
+                "Theme"
+            });
             for t in [
                 super::state::ThemeChoice::Light,
                 super::state::ThemeChoice::Dark,
                 super::state::ThemeChoice::HighContrast,
             ] {
-                ui.radio_value(&mut p.theme, t, t.label());
+                ui.radio_value(p.theme_in_force_mut(), t, t.label());
             }
             ui.separator();
             ui.horizontal(|ui| {
                 let l = ui.label("Scale");
                 ui.add(egui::Slider::new(&mut p.scale, 0.75..=3.0).step_by(0.05))
-                    .labelled_by(l.id);
+                    .labelled_by(l.id)
+                    .on_hover_text("the size of everything outside presentation mode");
             });
-            ui.checkbox(&mut p.presentation, "Presentation mode (Esc leaves)");
+            ui.checkbox(&mut p.presentation, "Presentation mode (Esc leaves)")
+                .on_hover_text(
+                    "for a projector: high contrast, large text, a large render, diagram and \
+                     math panel, the trace tree folded; leaving puts your layout back",
+                );
             ui.horizontal(|ui| {
                 let l = ui.label("Presentation scale");
                 ui.add(egui::Slider::new(&mut p.presentation_scale, 1.0..=3.0).step_by(0.05))
-                    .labelled_by(l.id);
+                    .labelled_by(l.id)
+                    .on_hover_text("the size of everything in presentation mode");
             });
             if ui.button("Full screen (F11)").clicked() {
                 views.toggle_fullscreen = true;
@@ -195,12 +338,22 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
             if Views::has_heatmap(state) {
                 ui.checkbox(&mut p.heatmap, "BVH heatmap over the render");
             }
+            if p.show_tree {
+                ui.checkbox(&mut p.layout.tree_collapsed, "Fold the trace tree");
+            }
             if ui.button("Reset zoom").clicked() {
                 views.zoom = 1.0;
                 views.pan = Vec2::ZERO;
             }
+            let reset = ui
+                .button("Reset layout")
+                .on_hover_text("the panels back to their default sizes, fitted to the window")
+                .clicked();
             if p != state.prefs {
                 cmds.push(Command::SetPrefs(p));
+            }
+            if reset {
+                cmds.push(Command::ResetLayout);
             }
         });
         ui.menu_button("Help", |ui| {
@@ -242,28 +395,38 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
     });
 }
 
+/// The load error: one bar that never takes more than a few lines (the message scrolls), with
+/// Reload and × (hide it until the next error).
 fn error_banner(ui: &mut egui::Ui, e: &str, cmds: &mut Vec<Command>) {
     egui::Frame::new()
         .fill(Color32::from_rgb(120, 20, 20))
-        .inner_margin(8.0)
+        .inner_margin(6.0)
         .show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.label(
                     RichText::new("The file did not load")
                         .strong()
                         .color(Color32::WHITE),
+                )
+                .on_hover_text(
+                    "What was open before stays shown; fix the file and it reloads by itself.",
                 );
                 if ui.button("Reload").clicked() {
                     cmds.push(Command::Reload);
                 }
+                ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+                    if ui.button("×").on_hover_text("hide this message").clicked() {
+                        cmds.push(Command::DismissError);
+                    }
+                });
             });
-            ui.label(RichText::new(e).monospace().color(Color32::WHITE));
-            ui.label(
-                RichText::new(
-                    "What was open before stays shown; fix the file and it reloads by itself.",
-                )
-                .color(Color32::from_gray(230)),
-            );
+            let line = ui.text_style_height(&egui::TextStyle::Monospace);
+            egui::ScrollArea::vertical()
+                .id_salt("load-error-scroll")
+                .max_height(line * 4.0)
+                .show(ui, |ui| {
+                    ui.label(RichText::new(e).monospace().color(Color32::WHITE));
+                });
         });
 }
 
@@ -353,20 +516,25 @@ fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut
     ui.horizontal(|ui| {
         let l = ui.label("Samples per pixel");
         ui.add(egui::DragValue::new(&mut s.spp).range(1..=256))
-            .labelled_by(l.id);
+            .labelled_by(l.id)
+            .on_hover_text("rays traced per pixel, averaged (jittered inside the pixel)");
     });
     if f.reflective || f.transparent {
         ui.horizontal(|ui| {
             let l = ui.label("Recursion depth");
             ui.add(egui::DragValue::new(&mut s.max_depth).range(0..=16))
-                .labelled_by(l.id);
+                .labelled_by(l.id)
+                .on_hover_text("how many mirror or glass bounces a ray may make");
         });
     }
     ui.label(RichText::new("Acceleration").strong());
     ui.horizontal_wrapped(|ui| {
-        ui.radio_value(&mut s.accel, AccelChoice::Auto, "auto");
-        ui.radio_value(&mut s.accel, AccelChoice::None, "naive loop");
-        ui.radio_value(&mut s.accel, AccelChoice::Bvh, "BVH");
+        ui.radio_value(&mut s.accel, AccelChoice::Auto, "auto")
+            .on_hover_text("a BVH when the scene is large enough to gain from one");
+        ui.radio_value(&mut s.accel, AccelChoice::None, "naive loop")
+            .on_hover_text("test every primitive for every ray");
+        ui.radio_value(&mut s.accel, AccelChoice::Bvh, "BVH")
+            .on_hover_text("a bounding volume hierarchy: skip what a ray's boxes miss");
     });
     if let Some(p) = &state.prepared {
         ui.label(match p.accel_choice {
@@ -377,8 +545,14 @@ fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut
     if f.spheres > 0 {
         ui.label(RichText::new("Ray–sphere").strong());
         ui.horizontal_wrapped(|ui| {
-            ui.radio_value(&mut s.sphere_method, SphereMethod::Textbook, "textbook");
-            ui.radio_value(&mut s.sphere_method, SphereMethod::Stable, "stable");
+            ui.radio_value(&mut s.sphere_method, SphereMethod::Textbook, "textbook")
+                .on_hover_text(
+                    "t = (−b ± √Δ) / 2a as written: loses a far sphere's radius to cancellation",
+                );
+            ui.radio_value(&mut s.sphere_method, SphereMethod::Stable, "stable")
+                .on_hover_text(
+                    "Ray Tracing Gems ch. 7: neither root subtracts nearly equal numbers",
+                );
         });
     }
     if f.triangles > 0 {
@@ -388,20 +562,27 @@ fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut
                 &mut s.triangle_method,
                 TriangleMethod::MollerTrumbore,
                 "Möller–Trumbore",
-            );
+            )
+            .on_hover_text("the classic test: rays through a shared edge can slip between");
             ui.radio_value(
                 &mut s.triangle_method,
                 TriangleMethod::Watertight,
                 "watertight",
-            );
+            )
+            .on_hover_text("Woop, Benthin and Wald's test: no ray slips through a shared edge");
         });
     }
     if f.lights > 0 || f.reflective || f.transparent {
         ui.label(RichText::new("Ray-origin offset").strong());
         ui.horizontal_wrapped(|ui| {
-            ui.radio_value(&mut s.offset, OffsetPolicy::None, "no offset");
-            ui.radio_value(&mut s.offset, OffsetPolicy::Fixed, "fixed ε");
-            ui.radio_value(&mut s.offset, OffsetPolicy::Robust, "robust");
+            ui.radio_value(&mut s.offset, OffsetPolicy::None, "no offset")
+                .on_hover_text("secondary rays start exactly on the surface: shadow acne");
+            ui.radio_value(&mut s.offset, OffsetPolicy::Fixed, "fixed ε")
+                .on_hover_text("secondary rays start ε along the normal");
+            ui.radio_value(&mut s.offset, OffsetPolicy::Robust, "robust")
+                .on_hover_text(
+                    "pbrt's offset: the hit point's rounding-error bound along the normal",
+                );
         });
         if s.offset == OffsetPolicy::Fixed {
             ui.horizontal(|ui| {
@@ -411,14 +592,17 @@ fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut
                         .range(1e-7..=1.0)
                         .speed(1e-5),
                 )
-                .labelled_by(l.id);
+                .labelled_by(l.id)
+                .on_hover_text("the fixed offset, in scene units");
             });
         }
     }
     if s.spp > 1 {
         ui.horizontal(|ui| {
             let l = ui.label("Jitter seed");
-            ui.add(egui::DragValue::new(&mut s.seed)).labelled_by(l.id);
+            ui.add(egui::DragValue::new(&mut s.seed))
+                .labelled_by(l.id)
+                .on_hover_text("the seed of the jitter inside each pixel");
         });
     }
     if scene.settings != s && ui.button("Back to the file's settings").clicked() {
@@ -432,7 +616,8 @@ fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut
         ui.horizontal(|ui| {
             let l = ui.label("Traced sample");
             ui.add(egui::DragValue::new(&mut sample).range(0..=state.settings.spp - 1))
-                .labelled_by(l.id);
+                .labelled_by(l.id)
+                .on_hover_text("which of the pixel's samples the trace shows");
         });
         if sample != state.sample {
             cmds.push(Command::SetSample(sample));
@@ -441,7 +626,8 @@ fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut
     if Views::has_heatmap(state) {
         ui.separator();
         let mut p = state.prefs.clone();
-        ui.checkbox(&mut p.heatmap, "BVH heatmap");
+        ui.checkbox(&mut p.heatmap, "BVH heatmap")
+            .on_hover_text("how many BVH nodes each pixel's rays visited");
         if p.heatmap {
             ui.label(format!(
                 "node visits per pixel, dark purple = 0 … yellow ≥ {}",
@@ -455,13 +641,31 @@ fn settings_panel(ui: &mut egui::Ui, state: &AppState, views: &Views, cmds: &mut
 }
 
 fn settings_summary(ui: &mut egui::Ui, s: &Settings) {
+    let sphere = match s.sphere_method {
+        SphereMethod::Textbook => "textbook",
+        SphereMethod::Stable => "stable",
+    };
+    let triangle = match s.triangle_method {
+        TriangleMethod::MollerTrumbore => "Möller–Trumbore",
+        TriangleMethod::Watertight => "watertight",
+    };
+    let offset = match s.offset {
+        OffsetPolicy::None => "none".to_string(),
+        OffsetPolicy::Fixed => format!("fixed ε = {}", num(s.epsilon)),
+        OffsetPolicy::Robust => "robust".to_string(),
+    };
+    let accel = match s.accel {
+        AccelChoice::Auto => "automatic",
+        AccelChoice::None => "naive loop",
+        AccelChoice::Bvh => "BVH",
+    };
     for line in [
-        format!("samples per pixel {}", s.spp),
-        format!("recursion depth {}", s.max_depth),
-        format!("sphere method {:?}", s.sphere_method),
-        format!("triangle method {:?}", s.triangle_method),
-        format!("offset {:?}", s.offset),
-        format!("acceleration {:?}", s.accel),
+        format!("samples per pixel: {}", s.spp),
+        format!("recursion depth: {}", s.max_depth),
+        format!("ray–sphere test: {sphere}"),
+        format!("ray–triangle test: {triangle}"),
+        format!("ray-origin offset: {offset}"),
+        format!("acceleration: {accel}"),
     ] {
         ui.label(line);
     }
@@ -512,9 +716,18 @@ fn tree_rows(state: &AppState) -> Vec<Row> {
 }
 
 fn tree_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
-    // Fill the panel whatever the content, so its width does not depend on the first frame's.
-    ui.set_min_width(ui.available_width());
-    ui.heading("Trace");
+    ui.horizontal(|ui| {
+        if ui
+            .small_button("◂")
+            .on_hover_text("fold the trace tree away (View → Fold the trace tree)")
+            .clicked()
+        {
+            let mut p = state.prefs.clone();
+            p.layout.tree_collapsed = true;
+            cmds.push(Command::SetPrefs(p));
+        }
+        ui.heading("Trace");
+    });
     let Some(s) = &state.stepping else {
         ui.label("Click a pixel of the render to trace it.");
         return;
@@ -542,8 +755,15 @@ fn tree_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut
     {
         views.tree = Some((state.trace_generation, tree_rows(state)));
     }
-    let rows = &views.tree.as_ref().expect("just built").1;
-    let row_h = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
+    let Some((_, rows)) = views.tree.as_ref() else {
+        return;
+    };
+    // Every row is exactly `inner` high (a selectable button's height), so the offset of row i
+    // is i · row_h and the current step can be scrolled to before it is laid out.
+    let inner = (ui.text_style_height(&egui::TextStyle::Button)
+        + 2.0 * ui.spacing().button_padding.y)
+        .max(ui.spacing().interact_size.y);
+    let row_h = inner + ui.spacing().item_spacing.y;
     let mut area = egui::ScrollArea::both()
         .id_salt("tree-scroll")
         .auto_shrink([false, false]);
@@ -556,28 +776,37 @@ fn tree_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut
         {
             let h = ui.available_height();
             area = area.vertical_scroll_offset((i as f32 * row_h - h * 0.4).max(0.0));
+            views.tree_scroll_row = Some(i);
         }
     }
-    area.show_rows(ui, row_h, rows.len(), |ui, range| {
+    // show_rows takes the height without the spacing, which it adds itself.
+    area.show_rows(ui, inner, rows.len(), |ui, range| {
         for row in &rows[range] {
-            match row {
-                Row::Ray { depth, text } => {
-                    ui.horizontal(|ui| {
-                        ui.add_space(*depth as f32 * 14.0);
-                        ui.add(egui::Label::new(RichText::new(text).strong()).extend());
-                    });
-                }
-                Row::Step { k, depth, text } => {
-                    ui.horizontal(|ui| {
-                        ui.add_space(*depth as f32 * 14.0 + 10.0);
+            let size = Vec2::new(ui.available_width(), inner);
+            // Deep nesting indents at most a third of the panel: the text stays readable.
+            let indent_max = size.x / 3.0;
+            let row_layout = egui::Layout::left_to_right(egui::Align::Center);
+            ui.allocate_ui_with_layout(size, row_layout, |ui| {
+                ui.set_min_size(size);
+                ui.set_max_height(inner);
+                match row {
+                    Row::Ray { depth, text } => {
+                        ui.add_space((*depth as f32 * 14.0).min(indent_max));
+                        ui.add(egui::Label::new(RichText::new(text).strong()).truncate())
+                            .on_hover_text(text);
+                    }
+                    Row::Step { k, depth, text } => {
+                        ui.add_space((*depth as f32 * 14.0).min(indent_max) + 10.0);
                         let sel = *k == state.step;
-                        let r = ui.add(egui::Button::selectable(sel, text.as_str()).truncate());
+                        let r = ui
+                            .add(egui::Button::selectable(sel, text.as_str()).truncate())
+                            .on_hover_text(text);
                         if r.clicked() {
                             cmds.push(Command::Step(StepMove::To(*k)));
                         }
-                    });
+                    }
                 }
-            }
+            });
         }
     });
 }
@@ -681,14 +910,16 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         for c in 0..cols {
             let k = c * n / cols.max(1);
             let x0 = rect.left() + c as f32;
-            painter.rect_filled(
-                egui::Rect::from_min_max(
-                    egui::pos2(x0, rect.top()),
-                    egui::pos2(x0 + 1.0, rect.bottom()),
-                ),
-                0.0,
-                stage_colour(stages[k]),
-            );
+            if let Some(st) = stages.get(k) {
+                painter.rect_filled(
+                    egui::Rect::from_min_max(
+                        egui::pos2(x0, rect.top()),
+                        egui::pos2(x0 + 1.0, rect.bottom()),
+                    ),
+                    0.0,
+                    stage_colour(*st),
+                );
+            }
         }
     }
     let xk = rect.left() + (state.step as f32 + 0.5) * rect.width() / n.max(1) as f32;
@@ -699,11 +930,25 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         ],
         egui::Stroke::new(3.0, ui.visuals().strong_text_color()),
     );
+    let cell_at = |x: f32| {
+        let k = (((x - rect.left()) / rect.width().max(1.0)) * n as f32).floor();
+        (k.max(0.0) as usize).min(n - 1)
+    };
+    if let Some(p) = resp.hover_pos() {
+        let k = cell_at(p.x);
+        if let Some((ray, step)) = s.at(k) {
+            resp.clone().on_hover_text_at_pointer(format!(
+                "step {k}: {} · {}\n{}",
+                describe::stage_name(step.stage),
+                kind_label(ray.kind),
+                describe::describe(&step.step)
+            ));
+        }
+    }
     if (resp.clicked() || resp.dragged())
         && let Some(p) = resp.interact_pointer_pos()
     {
-        let k = (((p.x - rect.left()) / rect.width()) * n as f32).floor() as isize;
-        let k = k.clamp(0, n as isize - 1) as usize;
+        let k = cell_at(p.x);
         if k != state.step {
             cmds.push(Command::Step(StepMove::To(k)));
         }
@@ -734,6 +979,8 @@ fn math_panel(ui: &mut egui::Ui, state: &AppState) {
         return;
     };
     let e = crate::trace::formula::explain(&s.trace, ray, &step.step);
+    // On a projector the formulas are what the room reads: larger still than the UI's scale.
+    let math_size = if state.prefs.presentation { 1.3 } else { 1.1 };
     ui.heading(&e.title);
     ui.label(
         RichText::new(format!(
@@ -760,7 +1007,7 @@ fn math_panel(ui: &mut egui::Ui, state: &AppState) {
             ui.label(
                 RichText::new(line)
                     .monospace()
-                    .size(ui.text_style_height(&egui::TextStyle::Body) * 1.1),
+                    .size(ui.text_style_height(&egui::TextStyle::Body) * math_size),
             );
             if let Some(n) = &f.note {
                 ui.label(RichText::new(n).italics());
@@ -789,7 +1036,7 @@ fn diagram_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &
         }
     });
     if state.diagram_kind() == Some(DiagramKind::Slice) {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             let l = ui.label("Slice angle");
             ui.add(egui::Slider::new(&mut p.slice_angle, -180.0..=180.0).suffix("°"))
                 .labelled_by(l.id);

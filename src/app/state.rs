@@ -3,6 +3,7 @@
 //! read it and return [`Command`]s; [`AppState::apply`] is the only place that changes it.
 
 use super::job::{JobEvent, Prepared, RenderJob, is_cancelled};
+use super::layout::Layout;
 use super::learn::{Learn, LearnCmd};
 use crate::diagram::{self, DiagramKind, ViewOptions};
 use crate::lesson::LessonSettings;
@@ -89,6 +90,28 @@ pub struct Prefs {
     pub show_learn: bool,
     /// The student id the exercises are drawn for.
     pub student: String,
+    /// The panel sizes (fractions of the window) in force.
+    pub layout: Layout,
+    /// The colour scheme of presentation mode.
+    pub presentation_theme: ThemeChoice,
+    /// The panel sizes presentation mode uses (remembered from the last presentation).
+    pub presentation_layout: Layout,
+    /// The layout and panels to restore when presentation mode ends.
+    pub before_presentation: Option<SavedLayout>,
+}
+
+/// The panels shown and their sizes, kept while presentation mode replaces them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(default)]
+pub struct SavedLayout {
+    /// The panel sizes.
+    pub layout: Layout,
+    /// The lessons panel was shown.
+    pub show_learn: bool,
+    /// The settings panel was shown.
+    pub show_settings: bool,
+    /// The trace tree was shown.
+    pub show_tree: bool,
 }
 
 impl Default for Prefs {
@@ -109,18 +132,99 @@ impl Default for Prefs {
             show_settings: true,
             show_learn: false,
             student: String::new(),
+            layout: Layout::default(),
+            presentation_theme: ThemeChoice::HighContrast,
+            presentation_layout: Layout::presentation(),
+            before_presentation: None,
         }
     }
 }
 
 impl Prefs {
-    /// The theme in force (presentation mode forces high contrast).
+    /// The theme in force (presentation mode has its own, high contrast unless changed).
     pub fn effective_theme(&self) -> ThemeChoice {
         if self.presentation {
-            ThemeChoice::HighContrast
+            self.presentation_theme
         } else {
             self.theme
         }
+    }
+
+    /// The theme the View menu changes: the one in force.
+    pub fn theme_in_force_mut(&mut self) -> &mut ThemeChoice {
+        if self.presentation {
+            &mut self.presentation_theme
+        } else {
+            &mut self.theme
+        }
+    }
+
+    /// The preferences with everything a damaged or foreign preferences file could spoil made
+    /// safe: scales, speed and angle finite and in range, panel fractions valid for any window,
+    /// paths absolute (relative ones are dropped: they depended on the folder the app was started
+    /// from), at most 8 recent files, a student id of reasonable length.
+    pub fn validated(mut self) -> Prefs {
+        let d = Prefs::default();
+        let fin = |x: f32, lo: f32, hi: f32, default: f32| {
+            if x.is_finite() {
+                x.max(lo).min(hi)
+            } else {
+                default
+            }
+        };
+        self.scale = fin(self.scale, 0.5, 3.0, d.scale);
+        self.presentation_scale = fin(self.presentation_scale, 0.5, 3.0, d.presentation_scale);
+        self.speed = fin(self.speed, 0.25, 30.0, d.speed);
+        self.slice_angle = fin(self.slice_angle, -180.0, 180.0, d.slice_angle);
+        self.layout = self.layout.validated();
+        self.presentation_layout = self.presentation_layout.validated();
+        if let Some(b) = &mut self.before_presentation {
+            b.layout = b.layout.validated();
+        }
+        if !self.presentation {
+            self.before_presentation = None;
+        }
+        self.last_file = self.last_file.filter(|p| p.is_absolute());
+        self.recent.retain(|p| p.is_absolute());
+        self.recent.truncate(8);
+        if self.student.chars().count() > 64 {
+            self.student = self.student.chars().take(64).collect();
+        }
+        self
+    }
+
+    /// These preferences with presentation mode turned to `on`: turning it on keeps the
+    /// panels shown and their sizes and puts presentation's own in their place (a large render,
+    /// diagram and math panel; no settings or lessons panel; the trace tree folded); turning it
+    /// off puts back exactly what was there before.
+    pub fn with_presentation(mut self, on: bool) -> Prefs {
+        if on == self.presentation {
+            return self;
+        }
+        if on {
+            self.before_presentation = Some(SavedLayout {
+                layout: self.layout,
+                show_learn: self.show_learn,
+                show_settings: self.show_settings,
+                show_tree: self.show_tree,
+            });
+            self.layout = self.presentation_layout.validated();
+            self.show_learn = false;
+            self.show_settings = false;
+            self.show_tree = true;
+        } else {
+            self.presentation_layout = self.layout;
+            if let Some(b) = self.before_presentation.take() {
+                self.layout = b.layout;
+                self.show_learn = b.show_learn;
+                self.show_settings = b.show_settings;
+                self.show_tree = b.show_tree;
+            } else {
+                self.layout = Layout::default();
+            }
+        }
+        self.presentation = on;
+        self
     }
 
     /// The UI scale in force.
@@ -235,6 +339,10 @@ pub enum Command {
     CloseDialog,
     /// Lessons and exercises.
     Learn(LearnCmd),
+    /// Hide the load error banner (until the next error).
+    DismissError,
+    /// Put the panels back to their default sizes (for the mode in force).
+    ResetLayout,
 }
 
 /// A message for the status line.
@@ -372,7 +480,9 @@ pub struct AppState {
     last_play: Option<Instant>,
     loading: Option<Loading>,
     exports: Vec<std::sync::mpsc::Receiver<Message>>,
-    watch: Option<(PathBuf, Option<SystemTime>, Instant)>,
+    watch: Option<Watch>,
+    /// The status message last seen by [`AppState::tick`] and when it appeared.
+    message_seen: Option<(Message, Instant)>,
     repaint: Arc<dyn Fn() + Send + Sync>,
 }
 
@@ -412,6 +522,7 @@ impl AppState {
             loading: None,
             exports: vec![],
             watch: None,
+            message_seen: None,
             repaint: Arc::new(repaint),
         }
     }
@@ -478,7 +589,25 @@ impl AppState {
                 }
                 self.last_play = None;
             }
-            Command::SetPrefs(p) => self.prefs = p,
+            Command::SetPrefs(p) => {
+                let on = p.presentation;
+                let mut p = p;
+                // The presentation switch goes through `with_presentation` from the old prefs,
+                // so the layout it saves is the one that was on screen.
+                if on != self.prefs.presentation {
+                    p.presentation = self.prefs.presentation;
+                    p = p.with_presentation(on);
+                }
+                self.prefs = p;
+            }
+            Command::DismissError => self.load_error = None,
+            Command::ResetLayout => {
+                self.prefs.layout = if self.prefs.presentation {
+                    Layout::presentation()
+                } else {
+                    Layout::default()
+                };
+            }
             Command::Save(kind, path) => self.save(kind, &path),
             Command::ShowDialog(d) => self.dialog = Some(d),
             Command::CloseDialog => self.dialog = None,
@@ -531,7 +660,7 @@ impl AppState {
         overrides: Option<LessonSettings>,
     ) {
         self.dialog = None;
-        self.watch = Some((path.to_path_buf(), modified(path), Instant::now()));
+        self.watch = Some(Watch::start(path, Arc::clone(&self.repaint)));
         let is_trace = path
             .extension()
             .is_some_and(|e| e.eq_ignore_ascii_case("json"));
@@ -570,9 +699,11 @@ impl AppState {
         match result {
             Ok(()) => {
                 self.load_error = None;
-                self.prefs.last_file = Some(path.to_path_buf());
-                self.prefs.recent.retain(|p| p != path);
-                self.prefs.recent.insert(0, path.to_path_buf());
+                // Remembered absolute: the next start may be in another folder.
+                let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+                self.prefs.last_file = Some(abs.clone());
+                self.prefs.recent.retain(|p| *p != abs);
+                self.prefs.recent.insert(0, abs);
                 self.prefs.recent.truncate(8);
             }
             Err(e) => {
@@ -616,7 +747,7 @@ impl AppState {
 
     /// Opens again the file last asked for (the one a load error is about, else the open one).
     fn reload(&mut self) {
-        let watched = self.watch.as_ref().map(|(p, ..)| p.clone());
+        let watched = self.watch.as_ref().map(|w| w.path.clone());
         match watched.or_else(|| self.path().map(Path::to_path_buf)) {
             Some(p) => {
                 let same = self.path() == Some(p.as_path());
@@ -783,22 +914,38 @@ impl AppState {
             Err(std::sync::mpsc::TryRecvError::Empty) => true,
             Err(std::sync::mpsc::TryRecvError::Disconnected) => false,
         });
-        self.check_file(now);
+        self.check_file();
+        self.expire_message(now);
     }
 
-    /// Reloads the open file when it changed on disk.
-    fn check_file(&mut self, now: Instant) {
-        let Some((path, stamp, checked)) = &mut self.watch else {
+    /// Drops the status message once it has been shown long enough (an error longer).
+    fn expire_message(&mut self, now: Instant) {
+        let Some(m) = &self.message else {
+            self.message_seen = None;
             return;
         };
-        if now.duration_since(*checked) < WATCH_INTERVAL {
-            return;
+        match &self.message_seen {
+            Some((seen, since)) if seen == m => {
+                if now.saturating_duration_since(*since) >= message_life(m) {
+                    self.message = None;
+                    self.message_seen = None;
+                }
+            }
+            _ => self.message_seen = Some((m.clone(), now)),
         }
-        *checked = now;
-        let m = modified(path);
-        if m != *stamp {
-            *stamp = m;
-            if m.is_some() {
+    }
+
+    /// Reloads the open file when its watcher saw it change on disk.
+    fn check_file(&mut self) {
+        let Some(w) = &self.watch else {
+            return;
+        };
+        let mut changed = false;
+        while w.changed.try_recv().is_ok() {
+            changed = true;
+        }
+        if changed {
+            if modified(&w.path).is_some() {
                 self.reload();
                 if self.load_error.is_none() {
                     self.message = Some(Message {
@@ -816,8 +963,12 @@ impl AppState {
             Some(Duration::from_secs_f32(
                 1.0 / self.prefs.speed.clamp(0.1, 60.0) / 2.0,
             ))
-        } else if self.watch.is_some() {
-            Some(WATCH_INTERVAL)
+        } else if let Some((m, since)) = &self.message_seen {
+            Some(
+                message_life(m)
+                    .saturating_sub(since.elapsed())
+                    .max(Duration::from_millis(50)),
+            )
         } else {
             None
         }
@@ -974,6 +1125,58 @@ impl AppState {
     /// Whether a background export is still running.
     pub fn exporting(&self) -> bool {
         !self.exports.is_empty()
+    }
+}
+
+/// How long a status message stays: errors longer than news.
+fn message_life(m: &Message) -> Duration {
+    if m.error {
+        Duration::from_secs(20)
+    } else {
+        Duration::from_secs(8)
+    }
+}
+
+/// Watches a file on a thread of its own, which wakes the UI only when the file changed: an
+/// idle app does not repaint to poll it. The thread ends when the watch is dropped.
+struct Watch {
+    path: PathBuf,
+    changed: std::sync::mpsc::Receiver<()>,
+    stop: Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl Watch {
+    fn start(path: &Path, repaint: Arc<dyn Fn() + Send + Sync>) -> Watch {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        let (tx, rx) = std::sync::mpsc::channel();
+        let stop = Arc::new(AtomicBool::new(false));
+        let stopped = Arc::clone(&stop);
+        let file = path.to_path_buf();
+        let mut stamp = modified(&file);
+        std::thread::spawn(move || {
+            while !stopped.load(Ordering::Relaxed) {
+                std::thread::sleep(WATCH_INTERVAL);
+                let m = modified(&file);
+                if m != stamp {
+                    stamp = m;
+                    if stopped.load(Ordering::Relaxed) || tx.send(()).is_err() {
+                        break;
+                    }
+                    repaint();
+                }
+            }
+        });
+        Watch {
+            path: path.to_path_buf(),
+            changed: rx,
+            stop,
+        }
+    }
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
     }
 }
 

@@ -30,10 +30,21 @@ pub struct Views {
     pub diagram_error: Option<String>,
     /// Tree rows for the current trace.
     pub tree: Option<(u64, Vec<super::panels::Row>)>,
+    /// The row the tree last scrolled to (tests check it is the current step's).
+    pub tree_scroll_row: Option<usize>,
     /// The step the tree last scrolled to.
     pub tree_scrolled: Option<(u64, usize)>,
     /// The F11 key or the menu asked to toggle full screen.
     pub toggle_fullscreen: bool,
+    /// A click on the render waiting to become a selection: (pixel, time of the click). It
+    /// waits out the double-click delay, so that a double-click (fit to view) selects nothing.
+    pub pending_click: Option<([u32; 2], f64)>,
+    /// The space the central view (the render) had last frame, in points.
+    pub centre_rect: Option<Rect>,
+    /// The whole window last frame, in points.
+    pub window_rect: Option<Rect>,
+    /// The side panels' rects last frame (name, rect), in points.
+    pub panel_rects: Vec<(&'static str, Rect)>,
     /// The lesson viewer's cache (Markdown layout).
     pub markdown: egui_commonmark::CommonMarkCache,
     /// The GPU view (and which tab the central panel shows).
@@ -240,9 +251,11 @@ pub fn render_view(
     if resp.dragged() {
         views.pan += resp.drag_delta();
     }
+    let now = ui.input(|i| i.time);
     if resp.double_clicked() {
         views.zoom = 1.0;
         views.pan = Vec2::ZERO;
+        views.pending_click = None;
     }
     let scale = fit * views.zoom;
     let img_rect = Rect::from_center_size(rect.center() + views.pan, Vec2::new(w, h) * scale);
@@ -291,10 +304,23 @@ pub fn render_view(
             egui::StrokeKind::Outside,
         );
     }
-    if resp.clicked()
-        && let Some(p) = resp.interact_pointer_pos().and_then(to_pixel)
-    {
-        cmds.push(Command::SelectPixel(p));
+    if resp.clicked() && !resp.double_clicked() {
+        views.pending_click = resp
+            .interact_pointer_pos()
+            .and_then(to_pixel)
+            .map(|p| (p, now));
+    }
+    if let Some((p, at)) = views.pending_click {
+        let delay = ctx.options(|o| o.input_options.max_double_click_delay);
+        let waited = now - at;
+        if !(0.0..delay).contains(&waited) {
+            views.pending_click = None;
+            cmds.push(Command::SelectPixel(p));
+        } else {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(
+                (delay - waited).max(0.01),
+            ));
+        }
     }
 }
 
