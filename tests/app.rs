@@ -59,6 +59,13 @@ fn click_pixel(h: &mut Harness<'static, RaystepApp>, p: [u32; 2]) {
         });
         h.step();
     }
+    // A click selects once the double-click time (0.3 s) has passed without a second click.
+    for _ in 0..40 {
+        if h.state().state.pixel == Some(p) {
+            break;
+        }
+        h.step();
+    }
 }
 
 /// The text of every label on screen.
@@ -805,7 +812,24 @@ fn the_gpu_view_agrees_with_the_cpu() {
         .clone();
     assert_eq!(d.pixels, 320 * 240);
     assert!(d.rmse < 1.0 / 255.0, "{}", d.summary());
-    assert!(labels(&h).iter().any(|t| t.starts_with("RMSE")));
+    assert!(
+        labels(&h)
+            .iter()
+            .any(|t| t.starts_with("fragment path: RMSE"))
+    );
+    // The compute path: the figures shown are the compute path's own comparison.
+    h.get_by_label("compute").click();
+    h.run_steps(4);
+    assert_eq!(
+        h.state().views.gpu.difference_path(),
+        Some(raystep::gpu::GpuPath::Compute)
+    );
+    assert!(
+        labels(&h)
+            .iter()
+            .any(|t| t.starts_with("compute path: RMSE")),
+        "the summary names the compute path"
+    );
 }
 
 /// The lab window: the selected pixel's recorded numbers against their exact values (the far
