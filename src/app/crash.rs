@@ -67,10 +67,10 @@ pub fn state_dir() -> Option<PathBuf> {
 /// Remembers the place to save if the app panics (called once per frame).
 pub fn remember(state: &AppState) {
     let place = Place::of(state);
-    if let Ok(mut l) = LATEST.try_lock() {
-        if l.as_ref() != Some(&place) {
-            *l = Some(place);
-        }
+    if let Ok(mut l) = LATEST.try_lock()
+        && l.as_ref() != Some(&place)
+    {
+        *l = Some(place);
     }
 }
 

@@ -80,7 +80,7 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
         let r = egui::Panel::left(id)
             .resizable(false)
             .exact_size(width_of(side))
-            .show(ui, |ui| contained(ui, |ui| add(ui)));
+            .show(ui, |ui| contained(ui, add));
         let rect = r.response.rect;
         rects.push((id, rect));
         if resizable && let Some(x) = resize_handle(ui, id, rect.right(), rect, true) {

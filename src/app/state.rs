@@ -944,15 +944,13 @@ impl AppState {
         while w.changed.try_recv().is_ok() {
             changed = true;
         }
-        if changed {
-            if modified(&w.path).is_some() {
-                self.reload();
-                if self.load_error.is_none() {
-                    self.message = Some(Message {
-                        text: "the file changed on disk: reloading".into(),
-                        error: false,
-                    });
-                }
+        if changed && modified(&w.path).is_some() {
+            self.reload();
+            if self.load_error.is_none() {
+                self.message = Some(Message {
+                    text: "the file changed on disk: reloading".into(),
+                    error: false,
+                });
             }
         }
     }
