@@ -49,7 +49,8 @@ fn scenes() -> Vec<PathBuf> {
 /// Buttons the monkey leaves alone: they write files into the working folder or close the app.
 const LEFT_ALONE: [&str; 3] = ["Save", "Quit", "Open"];
 
-const KEYS: [egui::Key; 12] = [
+// No Enter: in a save dialog's path field it would write a file into the working folder.
+const KEYS: [egui::Key; 11] = [
     egui::Key::ArrowLeft,
     egui::Key::ArrowRight,
     egui::Key::ArrowUp,
@@ -59,7 +60,6 @@ const KEYS: [egui::Key; 12] = [
     egui::Key::Space,
     egui::Key::Escape,
     egui::Key::F11,
-    egui::Key::Enter,
     egui::Key::Tab,
     egui::Key::Backspace,
 ];
