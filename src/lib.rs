@@ -30,6 +30,7 @@
 
 pub mod accel;
 pub mod app;
+pub mod assets;
 pub mod bench;
 pub mod cli;
 pub mod diagram;

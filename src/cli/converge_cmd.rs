@@ -39,7 +39,7 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
     let t0 = Instant::now();
-    let scene = crate::scene::load_file(&args.scene).map_err(|e| e.to_string())?;
+    let scene = crate::assets::load_scene(&args.scene)?;
     let load = t0.elapsed().as_secs_f64();
     let opts = ConvergeOptions {
         max_spp: args.max_spp,

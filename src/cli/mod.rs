@@ -6,6 +6,7 @@ mod compare_cmd;
 mod converge_cmd;
 mod diagram_cmd;
 mod diff_cmd;
+mod examples_cmd;
 mod exercise_cmd;
 mod intersect;
 mod render_cmd;
@@ -64,9 +65,12 @@ pub enum Command {
     Check(exercise_cmd::CheckArgs),
     /// Mark a class's answers (CSV) to an exercise sheet; write a grades CSV.
     Grade(exercise_cmd::GradeArgs),
-    /// Open the app on a scene (.toml) or a saved trace (.json).
+    /// List the scenes, lessons and exercise sheets built into raystep, or write them to a folder.
+    Examples(examples_cmd::ExamplesArgs),
+    /// Open the app on a scene (.toml), a built-in scene by name (`cornell`) or a saved trace
+    /// (.json).
     Open {
-        /// The scene or trace file.
+        /// The scene or trace file, or a built-in scene's name.
         file: PathBuf,
         /// Write a screenshot of the window to this PNG once the render is done, then close.
         #[arg(long)]
@@ -156,14 +160,25 @@ pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
     Ok([x, y])
 }
 
-/// Loads a scene file, or the built-in scene for `None`, and applies setting overrides.
+/// Loads a scene file (or a built-in scene by name: `cornell`), or the built-in default scene for
+/// `None`, and applies setting overrides.
 pub fn load_scene(path: Option<&PathBuf>, overrides: &SettingsArgs) -> Result<Scene, String> {
     let mut scene = match path {
-        Some(p) => crate::scene::load_file(p).map_err(|e| e.to_string())?,
+        Some(p) => crate::assets::load_scene(p)?,
         None => crate::scene::default_scene(),
     };
     overrides.apply(&mut scene)?;
     Ok(scene)
+}
+
+/// A written file's path as messages show it: absolute (symbolic links resolved), so "wrote X"
+/// says where X is whatever the working directory.
+pub fn full_path(p: &std::path::Path) -> String {
+    std::fs::canonicalize(p)
+        .or_else(|_| std::path::absolute(p))
+        .unwrap_or_else(|_| p.to_path_buf())
+        .display()
+        .to_string()
 }
 
 /// Checks that an output path ends in `.png` and that its directory exists, before any work.
@@ -212,10 +227,13 @@ pub fn main() -> ExitCode {
             screenshot,
             pixel,
             step,
-        }) => crate::app::run(
-            Some(file),
-            screenshot.map(|p| crate::app::ScreenshotPlan::new(p, pixel, step)),
-        ),
+        }) => crate::assets::resolve_scene(&file).and_then(|file| {
+            crate::app::run(
+                Some(file),
+                screenshot.map(|p| crate::app::ScreenshotPlan::new(p, pixel, step)),
+            )
+        }),
+        Some(Command::Examples(args)) => examples_cmd::run(&args),
         Some(Command::Intersect(shape)) => intersect::run(&shape),
         Some(Command::Trace(args)) => trace_cmd::run(&args),
         Some(Command::Scene(cmd)) => scene_cmd::run(&cmd),

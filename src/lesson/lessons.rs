@@ -194,15 +194,10 @@ pub fn load_lessons(dir: &Path) -> Result<Vec<Lesson>, String> {
         .collect()
 }
 
-/// The lessons folder: `lessons/` in the working directory, else the one next to raystep's
-/// source (a checkout's).
-pub fn lessons_dir() -> Option<PathBuf> {
-    [
-        PathBuf::from("lessons"),
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("lessons"),
-    ]
-    .into_iter()
-    .find(|p| p.is_dir())
+/// The lessons folder: the lessons built into raystep (unpacked by [`crate::assets::unpacked`]),
+/// so the app has them from any working directory.
+pub fn lessons_dir() -> Result<PathBuf, String> {
+    crate::assets::unpacked().map(|root| root.join("lessons"))
 }
 
 impl Lesson {

@@ -1,0 +1,280 @@
+//! The scenes, lessons and exercise sheets that ship with raystep, **built into the binary**, so a
+//! `cargo install`ed raystep has them from any folder.
+//!
+//! Every file of `scenes/`, `lessons/` and `lessons/exercises/` is compiled in with
+//! `include_bytes!` (a test checks the list below against the folders, so a new file cannot be
+//! forgotten). The tracer, the lessons and the sheets refer to one another by relative paths (a
+//! lesson's scene from the repository root, a sheet's scene from the sheet, a scene's OBJ from the
+//! scene), so the built-in copies are unpacked once into a cache folder named after the build's
+//! content hash ([`unpacked`]) and everything is read from there: the app's *Shipped scenes* and
+//! Lessons panel, `raystep render cornell` and the other commands that take a built-in scene by
+//! name. The cache is rewritten from the binary whenever a file there differs, so editing it
+//! changes nothing; `raystep examples --write DIR` writes a copy to edit.
+
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+/// One built-in file: its path from the repository root and its bytes.
+#[derive(Debug, Clone, Copy)]
+pub struct Asset {
+    /// The path from the repository root, with `/` separators (`scenes/cornell.toml`).
+    pub path: &'static str,
+    /// The file's contents.
+    pub bytes: &'static [u8],
+}
+
+macro_rules! assets {
+    ($($p:literal),* $(,)?) => {
+        &[$(Asset { path: $p, bytes: include_bytes!(concat!(env!("CARGO_MANIFEST_DIR"), "/", $p)) }),*]
+    };
+}
+
+/// Every built-in file, scenes first.
+pub static ASSETS: &[Asset] = assets!(
+    "scenes/acne.toml",
+    "scenes/cornell.toml",
+    "scenes/far-sphere.toml",
+    "scenes/first-sphere.toml",
+    "scenes/icosahedron.obj",
+    "scenes/leaky-edge.toml",
+    "scenes/mirror-glass.toml",
+    "scenes/three-spheres.toml",
+    "scenes/triangles.toml",
+    "lessons/README.md",
+    "lessons/01-rays-and-the-camera.md",
+    "lessons/02-ray-sphere.md",
+    "lessons/03-ray-plane.md",
+    "lessons/04-ray-triangle.md",
+    "lessons/05-the-naive-loop.md",
+    "lessons/06-bounding-boxes-and-the-bvh.md",
+    "lessons/07-shadows.md",
+    "lessons/08-reflection.md",
+    "lessons/09-refraction-and-tir.md",
+    "lessons/10-antialiasing.md",
+    "lessons/11-ray-tracing-on-the-gpu.md",
+    "lessons/12-numerical-robustness.md",
+    "lessons/exercises/01-camera.toml",
+    "lessons/exercises/02-sphere.toml",
+    "lessons/exercises/03-plane.toml",
+    "lessons/exercises/04-triangle.toml",
+    "lessons/exercises/05-naive-loop.toml",
+    "lessons/exercises/06-bvh.toml",
+    "lessons/exercises/07-shadows.toml",
+    "lessons/exercises/08-reflection.toml",
+    "lessons/exercises/09-refraction.toml",
+    "lessons/exercises/10-antialiasing.toml",
+    "lessons/exercises/11-gpu.toml",
+    "lessons/exercises/12-robustness.toml",
+);
+
+/// The names of the built-in scenes (`cornell`, `three-spheres`, …), sorted.
+pub fn scene_names() -> Vec<&'static str> {
+    ASSETS
+        .iter()
+        .filter_map(|a| a.path.strip_prefix("scenes/")?.strip_suffix(".toml"))
+        .collect()
+}
+
+/// The built-in scene called `name` (`cornell`, `cornell.toml` or `scenes/cornell.toml`).
+pub fn builtin_scene(name: &str) -> Option<&'static Asset> {
+    let stem = name.strip_prefix("scenes/").unwrap_or(name);
+    let stem = stem.strip_suffix(".toml").unwrap_or(stem);
+    ASSETS
+        .iter()
+        .find(|a| a.path.strip_prefix("scenes/").and_then(|p| p.strip_suffix(".toml")) == Some(stem))
+}
+
+/// A short hash of every built-in file (names the cache folder, so two builds never share one).
+fn content_hash() -> String {
+    let mut h = Sha256::new();
+    for a in ASSETS {
+        h.update(a.path.as_bytes());
+        h.update([0]);
+        h.update((a.bytes.len() as u64).to_le_bytes());
+        h.update(a.bytes);
+    }
+    h.finalize()
+        .iter()
+        .take(6)
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+/// Where the cache folder goes: `$XDG_CACHE_HOME/raystep`, else `~/.cache/raystep`, else the
+/// system's temporary folder.
+fn cache_base() -> PathBuf {
+    let from_env = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    from_env("XDG_CACHE_HOME")
+        .filter(|p| p.is_absolute())
+        .or_else(|| from_env("HOME").map(|h| h.join(".cache")))
+        .unwrap_or_else(std::env::temp_dir)
+        .join("raystep")
+}
+
+/// Writes every built-in file under `root` (keeping its relative path), skipping files whose
+/// contents are already right.
+fn unpack_into(root: &Path) -> Result<(), String> {
+    for a in ASSETS {
+        let path = root.join(a.path);
+        if std::fs::read(&path).is_ok_and(|b| b == a.bytes) {
+            continue;
+        }
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+        }
+        crate::io::write_atomic(&path, a.bytes)?;
+    }
+    Ok(())
+}
+
+/// The folder holding the built-in files (`scenes/`, `lessons/`, `lessons/exercises/`), unpacked
+/// on first use into the user's cache folder (else the temporary folder). The folder's name holds
+/// the version and a hash of the contents.
+pub fn unpacked() -> Result<&'static Path, String> {
+    static ROOT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
+    ROOT.get_or_init(|| {
+        let name = format!("builtin-{}-{}", env!("CARGO_PKG_VERSION"), content_hash());
+        let first = cache_base().join(&name);
+        match unpack_into(&first) {
+            Ok(()) => Ok(first),
+            Err(e1) => {
+                let second = std::env::temp_dir().join("raystep").join(&name);
+                unpack_into(&second).map(|()| second).map_err(|e2| {
+                    format!("cannot unpack the built-in scenes and lessons: {e1}; {e2}")
+                })
+            }
+        }
+    })
+    .as_ref()
+    .map(PathBuf::as_path)
+    .map_err(Clone::clone)
+}
+
+/// The unpacked copy of the built-in scene `name`, if there is one.
+pub fn builtin_scene_path(name: &str) -> Result<Option<PathBuf>, String> {
+    match builtin_scene(name) {
+        Some(a) => Ok(Some(unpacked()?.join(a.path))),
+        None => Ok(None),
+    }
+}
+
+/// The built-in scenes' files (unpacked), sorted by name.
+pub fn builtin_scene_paths() -> Result<Vec<PathBuf>, String> {
+    let root = unpacked()?;
+    Ok(scene_names()
+        .into_iter()
+        .map(|n| root.join("scenes").join(format!("{n}.toml")))
+        .collect())
+}
+
+/// What a command-line scene argument names: the file if it exists, else the built-in scene of
+/// that name (`cornell`), else the file (whose loading then reports that it does not exist).
+pub fn resolve_scene(arg: &Path) -> Result<PathBuf, String> {
+    if arg.exists() {
+        return Ok(arg.to_path_buf());
+    }
+    match arg.to_str().map(builtin_scene_path) {
+        Some(Ok(Some(p))) => Ok(p),
+        Some(Err(e)) => Err(e),
+        _ => Ok(arg.to_path_buf()),
+    }
+}
+
+/// Loads a scene named on the command line: a file, or a built-in scene by name (see
+/// [`resolve_scene`]). A missing file's error lists the built-in names.
+pub fn load_scene(arg: &Path) -> Result<crate::scene::Scene, String> {
+    let path = resolve_scene(arg)?;
+    crate::scene::load_file(&path).map_err(|e| {
+        if path.exists() {
+            e.to_string()
+        } else {
+            format!("{e} (built-in scenes: {})", scene_names().join(", "))
+        }
+    })
+}
+
+/// Writes every built-in file under `dir` (`dir/scenes/…`, `dir/lessons/…`), each atomically.
+/// Refuses, before writing anything, when a file would be replaced and `force` is off. Returns the
+/// absolute paths written.
+pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
+    let dir = std::fs::canonicalize(dir)
+        .map_err(|e| format!("{}: cannot open the folder: {e}", dir.display()))?;
+    let targets: Vec<(PathBuf, &Asset)> = ASSETS.iter().map(|a| (dir.join(a.path), a)).collect();
+    if !force {
+        let existing: Vec<String> = targets
+            .iter()
+            .filter(|(p, _)| p.exists())
+            .map(|(p, _)| p.display().to_string())
+            .collect();
+        if let Some(first) = existing.first() {
+            return Err(format!(
+                "{first}: already exists ({} of the {} files do); nothing was written — pass \
+                 --force to replace them",
+                existing.len(),
+                targets.len()
+            ));
+        }
+    }
+    let mut written = vec![];
+    for (path, a) in targets {
+        if let Some(d) = path.parent() {
+            std::fs::create_dir_all(d)
+                .map_err(|e| format!("{}: cannot create the folder: {e}", d.display()))?;
+        }
+        crate::io::write_atomic(&path, a.bytes)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_file_of_the_shipped_folders_is_built_in() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut on_disk = vec![];
+        for sub in ["scenes", "lessons", "lessons/exercises"] {
+            for e in std::fs::read_dir(root.join(sub)).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_file() {
+                    on_disk.push(format!(
+                        "{sub}/{}",
+                        p.file_name().unwrap().to_string_lossy()
+                    ));
+                }
+            }
+        }
+        on_disk.sort();
+        let mut built_in: Vec<String> = ASSETS.iter().map(|a| a.path.to_string()).collect();
+        built_in.sort();
+        assert_eq!(built_in, on_disk);
+    }
+
+    #[test]
+    fn the_unpacked_copy_is_the_built_in_bytes() {
+        let root = unpacked().unwrap();
+        for a in ASSETS {
+            assert_eq!(std::fs::read(root.join(a.path)).unwrap(), a.bytes, "{}", a.path);
+        }
+        // A built-in scene with an OBJ loads from there (the OBJ beside it).
+        let scene = load_scene(Path::new("triangles")).unwrap();
+        assert_eq!(scene.objects.len(), 25);
+    }
+
+    #[test]
+    fn names_resolve_with_or_without_the_folder_and_extension() {
+        for n in ["cornell", "cornell.toml", "scenes/cornell.toml"] {
+            assert_eq!(builtin_scene(n).map(|a| a.path), Some("scenes/cornell.toml"));
+        }
+        assert!(builtin_scene("icosahedron").is_none());
+        assert!(builtin_scene("nope").is_none());
+        assert!(scene_names().contains(&"three-spheres"));
+        assert!(!scene_names().contains(&"icosahedron"));
+    }
+}
