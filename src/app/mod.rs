@@ -9,6 +9,7 @@
 //! the window shows.
 
 pub mod crash;
+pub mod files;
 pub mod gpu_view;
 pub mod job;
 pub mod lab;
@@ -216,7 +217,7 @@ impl RaystepApp {
                     crate::io::write_atomic(&path, &png)
                 });
             match result {
-                Ok(()) => eprintln!("wrote {} ({w}×{h})", path.display()),
+                Ok(()) => eprintln!("wrote {} ({w}×{h})", crate::cli::full_path(&path)),
                 Err(e) => eprintln!("error: {}: {e}", path.display()),
             }
             close.send_viewport_cmd(egui::ViewportCommand::Close);

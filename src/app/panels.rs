@@ -1077,73 +1077,13 @@ fn diagram_label(k: DiagramKind) -> &'static str {
     }
 }
 
-/// The shipped scenes (scenes/ next to the working directory, else next to the source).
-fn shipped_scenes() -> Vec<PathBuf> {
-    let dirs = [
-        PathBuf::from("scenes"),
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes"),
-    ];
-    for d in dirs {
-        if let Ok(rd) = std::fs::read_dir(&d) {
-            let mut v: Vec<PathBuf> = rd
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-                .collect();
-            v.sort();
-            return v;
-        }
-    }
-    vec![]
-}
-
 fn dialogs(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
     let Some(d) = &state.dialog else {
         return;
     };
     let ctx = ui.ctx().clone();
     match d {
-        Dialog::Open { path } => {
-            let mut path = path.clone();
-            egui::Window::new("Open a scene or a saved trace")
-                .collapsible(false)
-                .anchor(egui::Align2::CENTER_CENTER, Vec2::ZERO)
-                .show(&ctx, |ui| {
-                    let mut go = false;
-                    ui.horizontal(|ui| {
-                        let l = ui.label("Path");
-                        let r = ui
-                            .add(egui::TextEdit::singleline(&mut path).desired_width(420.0))
-                            .labelled_by(l.id);
-                        go |= r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-                    });
-                    ui.horizontal(|ui| {
-                        go |= ui.button("Open").clicked();
-                        if ui.button("Cancel").clicked() {
-                            cmds.push(Command::CloseDialog);
-                        }
-                    });
-                    if go && !path.trim().is_empty() {
-                        cmds.push(Command::Open(PathBuf::from(path.trim())));
-                    }
-                    ui.separator();
-                    ui.label("Shipped scenes:");
-                    for p in shipped_scenes() {
-                        if ui.button(p.display().to_string()).clicked() {
-                            cmds.push(Command::Open(p));
-                        }
-                    }
-                    if ui.button("the built-in scene").clicked() {
-                        cmds.push(Command::OpenBuiltin);
-                        cmds.push(Command::CloseDialog);
-                    }
-                });
-            let opening = cmds
-                .iter()
-                .any(|c| matches!(c, Command::Open(_) | Command::OpenBuiltin));
-            if path != d_path(d) && !opening {
-                cmds.push(Command::ShowDialog(Dialog::Open { path }));
-            }
-        }
+        Dialog::Open { path } => super::files::open_dialog(&ctx, state, path, cmds),
         Dialog::Save { kind, path } => {
             let mut path = path.clone();
             egui::Window::new(kind.title())
