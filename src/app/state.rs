@@ -707,11 +707,16 @@ impl AppState {
                 self.prefs.recent.truncate(8);
             }
             Err(e) => {
-                self.load_error = Some(e);
                 if matches!(self.doc, Document::Empty) {
-                    // Nothing was open yet: show the error over the built-in scene.
+                    // Nothing was open yet: show the error over the built-in scene (still
+                    // watching the file, so fixing it opens it).
+                    let watch = self.watch.take();
                     self.set_scene(Arc::new(crate::scene::default_scene()), None);
+                    self.watch = watch;
                 }
+                // On stderr too: the terminal that started the app sees why it shows something else.
+                eprintln!("error: {e}");
+                self.load_error = Some(e);
             }
         }
     }
@@ -1022,7 +1027,7 @@ impl AppState {
         let result = self.write(kind, path);
         self.message = Some(match result {
             Ok(what) => Message {
-                text: format!("wrote {} ({what})", path.display()),
+                text: format!("wrote {} ({what})", crate::cli::full_path(path)),
                 error: false,
             },
             Err(e) => Message {
@@ -1103,7 +1108,7 @@ impl AppState {
                 });
             let _ = tx.send(match result {
                 Ok(n) => Message {
-                    text: format!("wrote {} ({n} frames)", path.display()),
+                    text: format!("wrote {} ({n} frames)", crate::cli::full_path(&path)),
                     error: false,
                 },
                 Err(e) => Message {
