@@ -84,7 +84,7 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
     );
     if let Some(p) = &args.output {
         image::write_png(p, &d.image)?;
-        println!("wrote {}", p.display());
+        println!("wrote {}", super::full_path(p));
     }
     Ok(())
 }

@@ -219,11 +219,17 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
             },
         )?;
         if let Some(dir) = &args.frames {
-            super::emit(&format!("wrote {n} frames to {}\n", dir.display()))?;
+            super::emit(&format!(
+                "wrote {n} frames to {}\n",
+                super::full_path(dir)
+            ))?;
         }
         if let Some(out) = out {
             crate::io::write_atomic(out, &gif)?;
-            super::emit(&format!("wrote {} ({n} frames)\n", out.display()))?;
+            super::emit(&format!(
+                "wrote {} ({n} frames)\n",
+                super::full_path(out)
+            ))?;
         }
         return Ok(());
     }
@@ -239,5 +245,5 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
     }
     let canvas = diagram::draw(&trace, kind_for(args.step), &base)?;
     crate::io::write_atomic(out, &canvas.png())?;
-    super::emit(&format!("wrote {}\n", out.display()))
+    super::emit(&format!("wrote {}\n", super::full_path(out)))
 }

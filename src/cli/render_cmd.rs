@@ -116,9 +116,9 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             s.nan_rays, s.nan_pixels
         );
     }
-    println!("wrote {}", args.output.display());
+    println!("wrote {}", super::full_path(&args.output));
     if let Some(h) = &args.heatmap {
-        println!("wrote {}", h.display());
+        println!("wrote {}", super::full_path(h));
     }
     Ok(())
 }
@@ -162,6 +162,6 @@ fn run_gpu(
         setup.as_secs_f64() * 1e3,
         frame_time.as_secs_f64() * 1e3
     );
-    println!("wrote {}", args.output.display());
+    println!("wrote {}", super::full_path(&args.output));
     Ok(())
 }

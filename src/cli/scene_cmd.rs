@@ -66,7 +66,7 @@ fn spd(
     crate::io::write_atomic(output, out.toml.as_bytes())?;
     super::emit(&format!(
         "wrote {} ({} primitives{}) in {:.2} s\n",
-        output.display(),
+        super::full_path(output),
         out.primitives,
         out.obj
             .as_ref()

@@ -69,7 +69,7 @@ pub fn run_cmd(args: &StabilityArgs) -> Result<(), String> {
         rep.rays,
         rep.seconds,
         written.join(", "),
-        args.out.display()
+        super::full_path(&args.out)
     );
     super::emit(&summary)
 }
