@@ -12,7 +12,6 @@ use crate::lesson::{
     self, Answer, Lesson, Mark, Question, SceneSource, Sheet, explaining_step, lessons_dir,
     load_lessons, load_sheet,
 };
-use crate::trace::describe::num;
 use egui::{Color32, RichText};
 use std::path::{Path, PathBuf};
 
@@ -96,14 +95,15 @@ impl Learn {
     pub fn load(student: &str) -> Learn {
         let dir = lessons_dir();
         let lessons = match &dir {
-            Some(d) => load_lessons(d),
-            None => Err("no lessons/ folder here (run raystep from its repository)".into()),
+            Ok(d) => load_lessons(d),
+            Err(e) => Err(e.clone()),
         };
         let (lessons, lessons_error) = match lessons {
             Ok(l) => (l, None),
             Err(e) => (vec![], Some(e)),
         };
         let mut sheets: Vec<PathBuf> = dir
+            .ok()
             .map(|d| d.join("exercises"))
             .and_then(|d| std::fs::read_dir(d).ok())
             .map(|entries| {
@@ -332,6 +332,7 @@ fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut
         if ui
             .add_enabled(i > 0, egui::Button::new("◀"))
             .on_hover_text("previous lesson")
+            .on_disabled_hover_text("this is the first lesson")
             .clicked()
         {
             cmds.push(Command::Learn(LearnCmd::Lesson(i - 1)));
@@ -354,6 +355,7 @@ fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut
         if ui
             .add_enabled(i + 1 < lessons.len(), egui::Button::new("▶"))
             .on_hover_text("next lesson")
+            .on_disabled_hover_text("this is the last lesson")
             .clicked()
         {
             cmds.push(Command::Learn(LearnCmd::Lesson(i + 1)));
@@ -592,7 +594,7 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
                 cmds.push(Command::Learn(LearnCmd::Check));
             }
             if let Some(m) = &a.mark {
-                mark_line(ui, m, a);
+                mark_line(ui, m, a, sheet.feedback);
             }
             ui.add_space(6.0);
             ui.horizontal(|ui| {
@@ -602,13 +604,21 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
                         more,
                         egui::Button::new(format!("Hint ({} of {})", a.hints, q.hints.len())),
                     )
+                    .on_hover_text("shows the next hint")
+                    .on_disabled_hover_text(if q.hints.is_empty() {
+                        "this question has no hints"
+                    } else {
+                        "every hint is shown"
+                    })
                     .clicked()
                 {
                     cmds.push(Command::Learn(LearnCmd::Hint));
                 }
                 if ui
                     .add_enabled(a.tries > 0, egui::Button::new("Show me in the tracer"))
-                    .on_disabled_hover_text("check an answer first")
+                    .on_disabled_hover_text(
+                        "check an answer first: the tracer shows the answer after your first try",
+                    )
                     .on_hover_text(
                         "opens this question's scene and pixel on the step with the answer",
                     )
@@ -635,15 +645,46 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
 
 /// An expected answer: the tracer's numbers are f32, so they print as f32 (no f64 noise).
 fn show_answer(a: &Answer) -> String {
-    let f = |x: f64| num(x as f32);
-    match a {
-        Answer::Number(x) => f(*x),
-        Answer::Vector(v) => format!("({}, {}, {})", f(v[0]), f(v[1]), f(v[2])),
-        other => other.to_string(),
-    }
+    lesson::show(a)
 }
 
-/// An error or a point count with three significant digits.
+/// Right or wrong, and what the sheet's feedback policy tells about it.
+fn mark_line(ui: &mut egui::Ui, m: &Mark, a: &Attempt, feedback: lesson::Feedback) {
+    let told = a
+        .expected
+        .as_ref()
+        .map(|e| feedback.explain(m, e, a.tries))
+        .unwrap_or_default();
+    let stale = if a.checked != a.answer {
+        " (for the answer checked before your edit)"
+    } else {
+        ""
+    };
+    let (color, text) = if m.right {
+        let close = if told.is_empty() {
+            String::new()
+        } else {
+            format!(" — {told}")
+        };
+        (
+            Color32::from_rgb(0, 150, 60),
+            format!("✔ Right{close}{stale}"),
+        )
+    } else {
+        let why = if told.is_empty() {
+            "that is not what the tracer found".to_string()
+        } else {
+            told
+        };
+        (
+            Color32::from_rgb(210, 40, 40),
+            format!("✘ Not right: {why}{stale}. Try again, or take a hint."),
+        )
+    };
+    ui.label(RichText::new(text).color(color).strong());
+}
+
+/// A point count with three significant digits.
 fn short(x: f64) -> String {
     if x == 0.0 {
         "0".into()
@@ -658,41 +699,4 @@ fn short(x: f64) -> String {
     } else {
         format!("{x:.2e}")
     }
-}
-
-/// Right or wrong, and how far off.
-fn mark_line(ui: &mut egui::Ui, m: &Mark, a: &Attempt) {
-    let off = match (m.abs_error, m.rel_error) {
-        (Some(0.0), _) => "exactly".into(),
-        (Some(d), Some(r)) => format!("off by {} ({}%)", short(d), short(r * 100.0)),
-        (Some(d), None) => format!("off by {}", short(d)),
-        _ => String::new(),
-    };
-    let stale = if a.checked != a.answer {
-        " (for the answer checked before your edit)"
-    } else {
-        ""
-    };
-    let (color, text) = if m.right {
-        let close = if off.is_empty() {
-            String::new()
-        } else {
-            format!(" — {off}")
-        };
-        (
-            Color32::from_rgb(0, 150, 60),
-            format!("✔ Right{close}{stale}"),
-        )
-    } else {
-        let why = m
-            .note
-            .clone()
-            .or_else(|| (!off.is_empty()).then(|| off.clone()))
-            .unwrap_or_else(|| "that is not what the tracer found".into());
-        (
-            Color32::from_rgb(210, 40, 40),
-            format!("✘ Not right: {why}{stale}. Try again, or take a hint."),
-        )
-    };
-    ui.label(RichText::new(text).color(color).strong());
 }

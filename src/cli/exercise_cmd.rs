@@ -155,16 +155,6 @@ pub fn run_exercise(args: &ExerciseArgs) -> Result<(), String> {
     }
 }
 
-fn fmt_err(x: f64) -> String {
-    if x == 0.0 {
-        "0".into()
-    } else if (1e-3..1e4).contains(&x.abs()) {
-        format!("{}", (x * 1e4).round() / 1e4)
-    } else {
-        format!("{x:.2e}")
-    }
-}
-
 /// Runs `raystep check`.
 pub fn run_check(args: &CheckArgs) -> Result<(), String> {
     let sheet = load(&args.sheet)?;
@@ -188,16 +178,9 @@ pub fn run_check(args: &CheckArgs) -> Result<(), String> {
         if m.right {
             score += q.points;
         }
-        let mut how = String::new();
-        if let Some(a) = m.abs_error {
-            how += &format!("off by {}", fmt_err(a));
-            if let Some(r) = m.rel_error {
-                how += &format!(" (relative {})", fmt_err(r));
-            }
-        }
-        if let Some(n) = &m.note {
-            how = n.clone();
-        }
+        // What the sheet's feedback policy lets a student see (one check: tries = 1).
+        let how = sheet.feedback.explain(&m, &expected, 1);
+        let distance = sheet.feedback == lesson::Feedback::Distance;
         out += &format!(
             "{:width$}  {:5}  {how}\n",
             q.id,
@@ -207,9 +190,10 @@ pub fn run_check(args: &CheckArgs) -> Result<(), String> {
             "id": q.id,
             "right": m.right,
             "answer": given,
-            "abs_error": m.abs_error,
-            "rel_error": m.rel_error,
+            "abs_error": if distance { m.abs_error } else { None },
+            "rel_error": if distance { m.rel_error } else { None },
             "note": m.note,
+            "feedback": how,
             "points": if m.right { q.points } else { 0.0 },
         }));
     }

@@ -64,8 +64,15 @@ pub struct Mark {
     pub abs_error: Option<f64>,
     /// `abs_error / |expected|` (when expected ≠ 0).
     pub rel_error: Option<f64>,
-    /// Why it is wrong when it isn't a matter of distance ("missing", "not a number", …).
+    /// given − expected, per component (one for a number, three for a vector), when both are
+    /// numbers: what the `direction` feedback reads.
+    pub difference: Option<Vec<f64>>,
+    /// Why it is wrong, without giving the answer away (every wrong mark has one): "no answer",
+    /// "not a number", "not within the tolerance", …
     pub note: Option<String>,
+    /// The answer is missing or cannot be read as the kind asked for (a problem with the
+    /// submission, which `grade` reports, rather than a wrong answer).
+    pub unreadable: bool,
 }
 
 impl Mark {
@@ -74,16 +81,137 @@ impl Mark {
             right: false,
             abs_error: None,
             rel_error: None,
+            difference: None,
             note: Some(note.into()),
+            unreadable: false,
         }
     }
-    fn exact(right: bool) -> Mark {
+    fn unreadable(note: impl Into<String>) -> Mark {
         Mark {
-            right,
+            unreadable: true,
+            ..Mark::wrong(note)
+        }
+    }
+    fn right() -> Mark {
+        Mark {
+            right: true,
             abs_error: None,
             rel_error: None,
+            difference: None,
             note: None,
+            unreadable: false,
         }
+    }
+}
+
+/// How much a sheet tells a student about a wrong answer (the sheet's `feedback` key). Every
+/// policy says *why* an answer is wrong when it is not a matter of distance (unreadable, `none`
+/// where the tracer computed a value, …).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Feedback {
+    /// Right or wrong only (the default: it never gives the answer away).
+    #[default]
+    RightWrong,
+    /// Also whether a number is too high or too low (for a vector: its farthest component).
+    Direction,
+    /// Also how far off, absolute and relative (narrows the answer down at once).
+    Distance,
+    /// Right or wrong, and the tracer's answer once the student has tried this many times.
+    ShowAfter(u32),
+}
+
+impl Feedback {
+    /// The name used in sheets (`right_wrong`, `direction`, `distance`, `show_after = N`).
+    pub fn describe(self) -> String {
+        match self {
+            Feedback::RightWrong => "right_wrong".into(),
+            Feedback::Direction => "direction".into(),
+            Feedback::Distance => "distance".into(),
+            Feedback::ShowAfter(n) => format!("show_after = {n}"),
+        }
+    }
+
+    /// What to tell the student about `m` after `tries` checks (the one being reported included)
+    /// of an answer whose expected value is `expected`; empty for a right answer with nothing to add.
+    pub fn explain(self, m: &Mark, expected: &Answer, tries: u32) -> String {
+        let mut parts: Vec<String> = vec![];
+        if let Some(n) = &m.note {
+            parts.push(n.clone());
+        }
+        match self {
+            Feedback::RightWrong => {}
+            Feedback::Direction if !m.right => {
+                if let Some(d) = &m.difference {
+                    parts.push(direction(d));
+                }
+            }
+            Feedback::Direction => {}
+            Feedback::Distance => {
+                if let Some(a) = m.abs_error {
+                    let mut s = format!("off by {}", short(a));
+                    if let Some(r) = m.rel_error {
+                        s += &format!(" ({}%)", short(r * 100.0));
+                    }
+                    parts.push(s);
+                }
+            }
+            Feedback::ShowAfter(n) => {
+                if !m.right && tries >= n {
+                    parts.push(format!("the tracer's answer is {}", show(expected)));
+                } else if !m.right {
+                    let left = n - tries;
+                    parts.push(format!(
+                        "the answer is shown after {left} more tr{}",
+                        if left == 1 { "y" } else { "ies" }
+                    ));
+                }
+            }
+        }
+        parts.join("; ")
+    }
+}
+
+/// "too high" / "too low" for a number; for a vector, its component farthest off.
+fn direction(d: &[f64]) -> String {
+    let word = |x: f64| if x > 0.0 { "too high" } else { "too low" };
+    match d {
+        [x] => word(*x).into(),
+        _ => {
+            let (i, x) = d
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                .map_or((0, 0.0), |(i, x)| (i, *x));
+            let axis = ["x", "y", "z"].get(i).copied().unwrap_or("a component");
+            format!("{axis} is farthest off: {}", word(x))
+        }
+    }
+}
+
+/// An expected answer for a student: the tracer's numbers are f32, so they print as f32.
+pub fn show(a: &Answer) -> String {
+    let f = |x: f64| crate::trace::describe::num(x as f32);
+    match a {
+        Answer::Number(x) => f(*x),
+        Answer::Vector(v) => format!("({}, {}, {})", f(v[0]), f(v[1]), f(v[2])),
+        other => other.to_string(),
+    }
+}
+
+/// A number with three significant digits.
+fn short(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else if (1e-3..1e5).contains(&x.abs()) {
+        let decimals = (2 - x.abs().log10().floor() as i32).clamp(0, 5) as usize;
+        let s = format!("{x:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.2e}")
     }
 }
 
@@ -134,53 +262,80 @@ fn yes_no(s: &str) -> Option<bool> {
     }
 }
 
-fn by_distance(d: f64, scale: f64, tol: Tolerance) -> Mark {
+fn by_distance(d: f64, scale: f64, difference: Vec<f64>, tol: Tolerance) -> Mark {
     let rel = (scale != 0.0).then(|| d / scale);
+    let right = d <= tol.abs || rel.is_some_and(|r| r <= tol.rel);
     Mark {
-        right: d <= tol.abs || rel.is_some_and(|r| r <= tol.rel),
+        right,
         abs_error: Some(d),
         rel_error: rel,
-        note: None,
+        difference: Some(difference),
+        unreadable: false,
+        note: (!right).then(|| {
+            format!(
+                "not within the tolerance (± {} or {}%)",
+                short(tol.abs),
+                short(tol.rel * 100.0)
+            )
+        }),
     }
 }
 
 /// Marks a student's answer (raw text; `None` or blank = missing) against the expected one.
-/// Never fails: a missing or unreadable answer is wrong, with a note saying why.
+/// Never fails: a missing or unreadable answer is wrong, and every wrong mark says why (without
+/// giving the answer away: see [`Feedback`] for what else a student is told).
 pub fn mark(expected: &Answer, kind: AnswerKind, given: Option<&str>, tol: Tolerance) -> Mark {
     let Some(given) = given.map(unquote).filter(|s| !s.is_empty()) else {
-        return Mark::wrong("no answer");
+        return Mark::unreadable("no answer");
     };
     if is_none(given) {
         return match expected {
-            Answer::None => Mark::exact(true),
-            _ => Mark::exact(false),
+            Answer::None => Mark::right(),
+            _ => Mark::wrong(
+                "not none: the tracer does compute this quantity for your pixel (the ray gets \
+                 that far)",
+            ),
         };
     }
-    let unreadable = || Mark::wrong(format!("\"{given}\" is not {}", kind.describe()));
+    let unreadable = || Mark::unreadable(format!("\"{given}\" is not {}", kind.describe()));
+    let readable = match kind {
+        AnswerKind::Number => number(given).is_some(),
+        AnswerKind::Vector => vector(given).is_some(),
+        AnswerKind::YesNo => yes_no(given).is_some(),
+        AnswerKind::Name => true,
+    };
+    if !readable {
+        return unreadable();
+    }
     match expected {
-        Answer::None => match kind {
-            AnswerKind::Number if number(given).is_none() => unreadable(),
-            AnswerKind::Vector if vector(given).is_none() => unreadable(),
-            AnswerKind::YesNo if yes_no(given).is_none() => unreadable(),
-            _ => Mark::exact(false),
-        },
+        Answer::None => Mark::wrong(
+            "the tracer computes no such value for your pixel: check whether its ray gets that \
+             far (a miss, a test that stops early, no such ray) — then the answer is none",
+        ),
         Answer::Number(e) => match number(given) {
-            Some(g) => by_distance((g - e).abs(), e.abs(), tol),
+            Some(g) => by_distance((g - e).abs(), e.abs(), vec![g - e], tol),
             None => unreadable(),
         },
         Answer::Vector(e) => match vector(given) {
             Some(g) => {
-                let d = (0..3).map(|i| (g[i] - e[i]).powi(2)).sum::<f64>().sqrt();
+                let diff: Vec<f64> = (0..3).map(|i| g[i] - e[i]).collect();
+                let d = diff.iter().map(|c| c * c).sum::<f64>().sqrt();
                 let n = e.iter().map(|c| c * c).sum::<f64>().sqrt();
-                by_distance(d, n, tol)
+                by_distance(d, n, diff, tol)
             }
             None => unreadable(),
         },
         Answer::YesNo(e) => match yes_no(given) {
-            Some(g) => Mark::exact(g == *e),
+            Some(g) if g == *e => Mark::right(),
+            Some(_) => Mark::wrong("not what the tracer found"),
             None => unreadable(),
         },
-        Answer::Name(e) => Mark::exact(given.eq_ignore_ascii_case(e.trim())),
+        // Names in any case (`Middle` for `middle`), Unicode included.
+        Answer::Name(e) if given.to_lowercase() == e.trim().to_lowercase() => Mark::right(),
+        Answer::Name(_) => Mark::wrong(format!(
+            "the ray does not hit an object called \"{given}\" (names are the scene's `name`s, \
+             in any case)"
+        )),
     }
 }
 
@@ -192,6 +347,8 @@ pub fn parse_answers(
     known: &[&str],
 ) -> Result<BTreeMap<String, String>, String> {
     let mut out = BTreeMap::new();
+    // A byte-order mark (editors on Windows write one) is not part of the first key.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (i, line) in text.lines().enumerate() {
         let n = i + 1;
         let t = line.trim();
@@ -266,6 +423,64 @@ mod tests {
         assert!(mark(&Answer::None, AnswerKind::Number, Some("none"), t).right);
         assert!(!mark(&Answer::None, AnswerKind::Number, Some("3"), t).right);
         assert!(mark(&Answer::YesNo(true), AnswerKind::YesNo, Some("Yes"), t).right);
+    }
+
+    #[test]
+    fn names_in_any_case_and_every_wrong_mark_says_why() {
+        let t = Tolerance::default();
+        let middle = Answer::Name("middle".into());
+        assert!(mark(&middle, AnswerKind::Name, Some("Middle"), t).right);
+        assert!(mark(&middle, AnswerKind::Name, Some("MIDDLE"), t).right);
+        assert!(mark(&Answer::Name("Kugel-Ä".into()), AnswerKind::Name, Some("kugel-ä"), t).right);
+        let cases = [
+            (middle.clone(), AnswerKind::Name, "floor"),
+            (middle.clone(), AnswerKind::Name, "none"),
+            (Answer::None, AnswerKind::Number, "2.5"),
+            (Answer::None, AnswerKind::Name, "middle"),
+            (Answer::Number(4.0), AnswerKind::Number, "none"),
+            (Answer::Number(4.0), AnswerKind::Number, "5"),
+            (Answer::YesNo(true), AnswerKind::YesNo, "no"),
+            (Answer::Vector([0.0, 0.0, 1.0]), AnswerKind::Vector, "0, 1, 0"),
+        ];
+        for (e, k, g) in cases {
+            let m = mark(&e, k, Some(g), t);
+            assert!(!m.right, "{g} for {e}");
+            let note = m.note.unwrap_or_default();
+            assert!(!note.is_empty(), "no reason for {g} against {e}");
+            // The reason never contains the expected number.
+            if let Answer::Number(x) = e {
+                assert!(!note.contains(&format!("{x}")), "{note}");
+            }
+        }
+    }
+
+    #[test]
+    fn feedback_policies() {
+        let t = Tolerance::default();
+        let e = Answer::Number(3.65);
+        let m = mark(&e, AnswerKind::Number, Some("1"), t);
+        let rw = Feedback::RightWrong.explain(&m, &e, 1);
+        assert!(!rw.contains("2.65") && !rw.contains("3.65") && !rw.contains("72"), "{rw}");
+        assert!(rw.contains("tolerance"), "{rw}");
+        assert!(Feedback::Direction.explain(&m, &e, 1).contains("too low"));
+        let high = mark(&e, AnswerKind::Number, Some("9"), t);
+        assert!(Feedback::Direction.explain(&high, &e, 1).contains("too high"));
+        // 3.65 − 1 = 2.65 off, 72.6 % of 3.65.
+        let d = Feedback::Distance.explain(&m, &e, 1);
+        assert!(d.contains("off by 2.65") && d.contains("72.6%"), "{d}");
+        let s = Feedback::ShowAfter(3);
+        assert!(!s.explain(&m, &e, 2).contains("3.65"));
+        assert!(s.explain(&m, &e, 2).contains("1 more try"));
+        assert!(s.explain(&m, &e, 3).contains("3.65"));
+        let v = Answer::Vector([0.0, 0.0, 1.0]);
+        let mv = mark(&v, AnswerKind::Vector, Some("0, -0.5, 1"), t);
+        assert_eq!(Feedback::Direction.explain(&mv, &v, 1).split("; ").last(), Some("y is farthest off: too low"));
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_not_part_of_the_first_key() {
+        let ok = parse_answers("\u{feff}a = 1\nb = 2\n", "ans.txt", &["a", "b"]).unwrap();
+        assert_eq!(ok["a"], "1");
     }
 
     #[test]

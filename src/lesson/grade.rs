@@ -20,8 +20,8 @@ pub struct GradeReport {
 
 /// Marks every row of a class CSV (header `student,<question ids…>`). Rows with too few or too
 /// many columns and unreadable or empty answers are graded (missing answers are wrong) and
-/// reported in `warnings`; a file that is not CSV, or a header that is not `student` followed by
-/// question ids, is an error. An error from the sheet (a scene that doesn't load) is an error.
+/// reported in `warnings`; a file that is not CSV, a header that is not `student` followed by
+/// question ids, or a student on two rows is an error. An error from the sheet (a scene that doesn't load) is an error.
 pub fn grade_class(sheet: &Sheet, text: &str, file: &str) -> Result<GradeReport, String> {
     let rows = parse_csv(text, file).map_err(|e| e.to_string())?;
     let Some((header, body)) = rows.split_first() else {
@@ -71,6 +71,21 @@ pub fn grade_class(sheet: &Sheet, text: &str, file: &str) -> Result<GradeReport,
         h.extend(["score".into(), "out_of".into(), "notes".into()]);
         h
     }];
+    // A student on two rows would get two grades lines (which one counts?): refuse the file.
+    let mut seen: std::collections::HashMap<&str, usize> = std::collections::HashMap::new();
+    for (ri, row) in body.iter().enumerate() {
+        let student = row.first().map_or("", |s| s.trim());
+        if student.is_empty() {
+            continue;
+        }
+        if let Some(first) = seen.insert(student, ri + 2) {
+            return Err(format!(
+                "{file}: row {}, column 1: student \"{student}\" already has a row (row {first}); \
+                 keep one row per student",
+                ri + 2
+            ));
+        }
+    }
     let mut total = 0.0;
     let mut students = 0;
     for (ri, row) in body.iter().enumerate() {
@@ -114,7 +129,9 @@ pub fn grade_class(sheet: &Sheet, text: &str, file: &str) -> Result<GradeReport,
                 line.push(format!("{}", q.points));
             } else {
                 line.push("0".into());
-                if let (Some(note), Some(c)) = (&m.note, col)
+                // Only answers that cannot be read are reported (a wrong answer is not a
+                // problem with the file).
+                if let (true, Some(note), Some(c)) = (m.unreadable, &m.note, col)
                     && c + 1 < row.len()
                 {
                     notes.push(format!("row {rn}, column {} ({}): {note}", c + 2, q.id));

@@ -8,6 +8,7 @@
 //! ```toml
 //! title = "The ray–sphere quadratic"   # optional; shown above the questions
 //! id = "02-sphere"                     # optional; salts the variants (default: the file stem)
+//! feedback = "right_wrong"             # optional: what a wrong answer is told (see below)
 //!
 //! [[question]]
 //! id = "disc"                          # letters, digits, _ and -: a CSV column, an answers key
@@ -54,6 +55,17 @@
 //! Euclidean distance is within tolerance), yes/no (also true/false), object names (any case), or
 //! `none` (also `miss`, `-`). A missing or unreadable answer is wrong, never an error.
 //!
+//! **Feedback** ([`Feedback`], the sheet's `feedback` key): every wrong answer is told why in
+//! words that do not give the answer away (unreadable, `none` where the tracer computed a value,
+//! not within the tolerance, no object of that name hit). `"right_wrong"` (the default) says no
+//! more; `"direction"` adds too high / too low; `"distance"` adds how far off, absolute and
+//! relative (which narrows the answer down at once); `{ show_after = N }` shows the tracer's answer
+//! after N tries.
+//!
+//! **Validation**: when a sheet is loaded, each question's scene (a file, or the inline scene of a
+//! first variant) is loaded and the question's `object` and `light` must exist in it; a mistake
+//! is an error naming the sheet's line and column.
+//!
 //! **Answers file** (`raystep check`): one `id = value` per line; `#` starts a comment; values
 //! may be quoted. **Class file** (`raystep grade`): CSV with the header `student,<question ids…>`
 //! and one row per student; the grades file has `student,<question ids…>,score,out_of,notes`
@@ -66,7 +78,7 @@ mod grade;
 mod lessons;
 mod sheet;
 
-pub use answer::{Answer, AnswerKind, Mark, mark, parse_answers};
+pub use answer::{Answer, AnswerKind, Feedback, Mark, mark, parse_answers, show};
 pub use csv::{CsvError, parse_csv, write_csv};
 pub use extract::{explaining_step, extract};
 pub use grade::{GradeReport, grade_class};
@@ -318,18 +330,7 @@ impl Sheet {
     /// the renderer would use, records sample 0 of the pixel and reads the quantity. An error
     /// means the sheet (not the student) is wrong: a scene that doesn't load, a pixel outside it.
     pub fn expected(&self, q: &Question, v: &Variant) -> Result<Answer, String> {
-        let scene = match (&q.scene, &v.scene_toml) {
-            (SceneSource::File(p), _) => {
-                crate::scene::load_file(p).map_err(|e| self.question_err(q, "scene", &e))?
-            }
-            (SceneSource::Inline(template), filled) => {
-                let text = filled.as_deref().unwrap_or(template);
-                let name = format!("{} (question \"{}\", scene_toml)", self.file, q.id);
-                let base = std::path::Path::new(&self.file).parent();
-                crate::scene::load_str(text, &name, base)
-                    .map_err(|e| self.question_err(q, "scene_toml", &e))?
-            }
-        };
+        let scene = self.scene_of(q, v)?;
         let [x, y] = v.pixel;
         let c = &scene.camera;
         if x >= c.width || y >= c.height {
@@ -345,6 +346,37 @@ impl Sheet {
         let (accel, _) = SceneAccel::build(&scene);
         let trace = Tracer::new(&scene, &accel).record(x, y, 0);
         Ok(extract(&trace, q))
+    }
+
+    /// The scene of question `q` as one student's variant has it, without locating an error
+    /// (what [`parse_sheet`] checks a question's `object` and `light` against).
+    pub(crate) fn first_scene(&self, q: &Question) -> Result<crate::scene::Scene, String> {
+        let v = self.variant(q, "");
+        match (&q.scene, &v.scene_toml) {
+            (SceneSource::File(p), _) => crate::scene::load_file(p).map_err(|e| e.to_string()),
+            (SceneSource::Inline(template), filled) => {
+                let text = filled.as_deref().unwrap_or(template);
+                let name = format!("{} (question \"{}\", scene_toml)", self.file, q.id);
+                let base = std::path::Path::new(&self.file).parent();
+                crate::scene::load_str(text, &name, base).map_err(|e| e.to_string())
+            }
+        }
+    }
+
+    /// The scene of a variant, its errors naming the sheet and question.
+    fn scene_of(&self, q: &Question, v: &Variant) -> Result<crate::scene::Scene, String> {
+        Ok(match (&q.scene, &v.scene_toml) {
+            (SceneSource::File(p), _) => {
+                crate::scene::load_file(p).map_err(|e| self.question_err(q, "scene", &e))?
+            }
+            (SceneSource::Inline(template), filled) => {
+                let text = filled.as_deref().unwrap_or(template);
+                let name = format!("{} (question \"{}\", scene_toml)", self.file, q.id);
+                let base = std::path::Path::new(&self.file).parent();
+                crate::scene::load_str(text, &name, base)
+                    .map_err(|e| self.question_err(q, "scene_toml", &e))?
+            }
+        })
     }
 
     fn question_err(&self, q: &Question, field: &str, e: &dyn std::fmt::Display) -> String {

@@ -1,6 +1,6 @@
 //! Reading an exercise sheet: TOML with located errors, validated into [`Sheet`].
 
-use super::{Quantity, RaySel, Tolerance};
+use super::{Feedback, Quantity, RaySel, Tolerance};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -116,6 +116,8 @@ pub struct Sheet {
     pub title: String,
     /// The questions in order.
     pub questions: Vec<Question>,
+    /// What a wrong answer is told (the `feedback` key).
+    pub feedback: Feedback,
 }
 
 #[derive(Deserialize)]
@@ -123,6 +125,7 @@ pub struct Sheet {
 struct SheetFile {
     title: Option<String>,
     id: Option<String>,
+    feedback: Option<Spanned<toml::Value>>,
     #[serde(default)]
     question: Vec<Spanned<QuestionDef>>,
 }
@@ -136,7 +139,7 @@ struct QuestionDef {
     scene_toml: Option<Spanned<String>>,
     pixel: Spanned<toml::Value>,
     quantity: Spanned<Quantity>,
-    object: Option<String>,
+    object: Option<Spanned<String>>,
     #[serde(default)]
     ray: RaySel,
     light: Option<Spanned<i64>>,
@@ -201,11 +204,17 @@ pub fn parse_sheet(
     })?;
     let id = parsed.id.unwrap_or_else(|| default_id.to_string());
     let title = parsed.title.unwrap_or_else(|| id.clone());
+    let feedback = match &parsed.feedback {
+        None => Feedback::default(),
+        Some(f) => parse_feedback(f.get_ref())
+            .map_err(|m| ctx.err(Some(f.span()), Some("feedback".into()), m))?,
+    };
     if parsed.question.is_empty() {
         return Err(ctx.err(None, None, "the sheet has no [[question]]"));
     }
     let base = base.unwrap_or(Path::new("."));
     let mut questions: Vec<Question> = vec![];
+    let mut spans = vec![];
     for q in parsed.question {
         let header = q.span();
         let q = q.into_inner();
@@ -353,13 +362,15 @@ pub fn parse_sheet(
                 ));
             }
         };
-        questions.push(Question {
+        let object_span = q.object.as_ref().map(|o| o.span());
+        let light_span = q.light.as_ref().map(|l| l.span());
+        let question = Question {
             id: qid,
             text: q.text,
             scene,
             pixel,
             quantity,
-            object: q.object,
+            object: q.object.map(|o| o.into_inner()),
             ray: q.ray,
             light,
             tolerance,
@@ -368,14 +379,81 @@ pub fn parse_sheet(
             points,
             group: q.group,
             line: ctx.line_col(header.start).0,
-        });
+        };
+        questions.push(question);
+        spans.push((header, object_span, light_span));
     }
-    Ok(Sheet {
+    let sheet = Sheet {
         file: file.into(),
         id,
         title,
         questions,
-    })
+        feedback,
+    };
+    for (q, (header, object_span, light_span)) in sheet.questions.iter().zip(spans) {
+        let what = format!("question \"{}\"", q.id);
+        let at = |span: Range<usize>, field: &str, msg: String| {
+            ctx.err(Some(span), Some(format!("{what} → {field}")), msg)
+        };
+        let scene = sheet.first_scene(q).map_err(|m| {
+            let field = match q.scene {
+                SceneSource::File(_) => "scene",
+                SceneSource::Inline(_) => "scene_toml",
+            };
+            at(header.clone(), field, m)
+        })?;
+        if let Some(o) = &q.object
+            && !(0..scene.objects.len()).any(|i| scene.object_name(i as u32) == *o)
+        {
+            let names: Vec<&str> = scene.groups.iter().map(|g| g.name.as_str()).collect();
+            return Err(at(
+                object_span.unwrap_or(header.clone()),
+                "object",
+                format!(
+                    "the scene has no object \"{o}\" (it has {})",
+                    if names.is_empty() { "none".into() } else { names.join(", ") }
+                ),
+            ));
+        }
+        let needs_light = q.quantity == Quantity::ShadowBlocked || light_span.is_some();
+        if needs_light && q.light as usize >= scene.lights.len() {
+            return Err(at(
+                light_span.unwrap_or(header.clone()),
+                "light",
+                format!(
+                    "the scene has {} light{}, so there is no light {}",
+                    scene.lights.len(),
+                    if scene.lights.len() == 1 { "" } else { "s" },
+                    q.light
+                ),
+            ));
+        }
+    }
+    Ok(sheet)
+}
+
+/// A sheet's `feedback`: `"right_wrong"`, `"direction"`, `"distance"` or `{ show_after = N }`.
+fn parse_feedback(v: &toml::Value) -> Result<Feedback, String> {
+    const EXPECTED: &str =
+        "expected \"right_wrong\", \"direction\", \"distance\" or { show_after = N }";
+    match v {
+        toml::Value::String(s) => match s.as_str() {
+            "right_wrong" => Ok(Feedback::RightWrong),
+            "direction" => Ok(Feedback::Direction),
+            "distance" => Ok(Feedback::Distance),
+            other => Err(format!("unknown feedback \"{other}\"; {EXPECTED}")),
+        },
+        toml::Value::Table(t) if t.len() == 1 => match t.get("show_after") {
+            Some(n) => n
+                .as_integer()
+                .and_then(|n| u32::try_from(n).ok())
+                .filter(|n| *n >= 1)
+                .map(Feedback::ShowAfter)
+                .ok_or_else(|| format!("show_after: expected a number of tries ≥ 1, got {n}")),
+            None => Err(EXPECTED.into()),
+        },
+        _ => Err(format!("{EXPECTED}, got {v}")),
+    }
 }
 
 fn parse_coord(v: &toml::Value, axis: &str) -> Result<Coord, String> {
