@@ -152,20 +152,21 @@ fn pixel_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView, cmds: &
                         } else {
                             Color32::from_rgb(210, 40, 40)
                         };
-                        ui.label(RichText::new(ulps_text(v.ulps)).color(color));
+                        ui.label(RichText::new(precision_ulps(v.ulps, Precision::F32)).color(color));
                         ui.end_row();
                     }
                 });
         });
 }
 
-fn ulps_text(u: f64) -> String {
+/// An error in ulps named by its precision ("2.90e6 f32 ulps", "0.50 f64 ulps").
+fn precision_ulps(u: f64, p: Precision) -> String {
     if u == 0.0 {
         "exact".into()
     } else if u < 100.0 {
-        format!("{u:.2} ulps")
+        format!("{u:.2} {} ulps", p.name())
     } else {
-        format!("{u:.2e} ulps")
+        format!("{u:.2e} {} ulps", p.name())
     }
 }
 
@@ -248,8 +249,9 @@ fn summary_grid(ui: &mut egui::Ui, prim: Primitive, points: &[&CostPoint]) {
             for p in points {
                 ui.label(p.label());
                 ui.monospace(format!("{:.1}", p.ns_per_test));
-                ui.monospace(ulps_text(p.p99_ulps));
-                ui.monospace(ulps_text(p.max_ulps));
+                // Each row's ulps are of its own precision: an f64 ulp is 2²⁹ times smaller.
+                ui.monospace(precision_ulps(p.p99_ulps, p.precision));
+                ui.monospace(precision_ulps(p.max_ulps, p.precision));
                 for n in [p.misclassified, p.leaks, p.self_hits, p.nonfinite] {
                     let text = RichText::new(n.to_string()).monospace();
                     ui.label(if n > 0 {
@@ -263,14 +265,15 @@ fn summary_grid(ui: &mut egui::Ui, prim: Primitive, points: &[&CostPoint]) {
         });
 }
 
-/// Error against cost: x = ns per test, y = log₁₀ of the p99 t error in ulps (0.01 ulps for an
-/// exact method, so it stays on the plot). One point per method × precision.
+/// Error against cost: x = ns per test, y = log₁₀ of the p99 t error in ulps of the point's own
+/// precision (0.01 ulps for an exact method, so it stays on the plot). One point per method ×
+/// precision.
 fn error_plot(ui: &mut egui::Ui, prim: Primitive, points: &[&CostPoint]) {
     Plot::new(("lab-plot", prim.name()))
         .height(180.0)
         .legend(Legend::default())
         .x_axis_label("ns per test")
-        .y_axis_label("log₁₀ p99 error (ulps)")
+        .y_axis_label("log₁₀ p99 error (ulps of its precision: f32 ●, f64 ■)")
         .show(ui, |plot| {
             for p in points {
                 let y = p.p99_ulps.max(0.01).log10();
