@@ -1307,3 +1307,92 @@ fn trace_with_bvh_records_node_visits() {
         "no BVH node steps in a BVH trace"
     );
 }
+
+// ---------------------------------------------------------------------------------------------
+// Built-in scenes and lessons
+// ---------------------------------------------------------------------------------------------
+
+#[test]
+fn examples_write_every_built_in_file_and_refuse_to_overwrite() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = ok(&Cli::with("examples --write @", &[&dir.path()]));
+    let root = std::fs::canonicalize(dir.path()).unwrap();
+    // Every file of the repository's scenes/ and lessons/ folders, byte for byte, named with its
+    // full path.
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut count = 0;
+    for sub in ["scenes", "lessons", "lessons/exercises"] {
+        for e in std::fs::read_dir(repo.join(sub)).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                continue;
+            }
+            let rel = p.strip_prefix(repo).unwrap();
+            let written = root.join(rel);
+            assert_eq!(
+                std::fs::read(&written).unwrap(),
+                std::fs::read(&p).unwrap(),
+                "{}",
+                rel.display()
+            );
+            assert!(
+                out.contains(&format!("wrote {}\n", written.display())),
+                "{out}"
+            );
+            count += 1;
+        }
+    }
+    assert!(count > 30, "{count}");
+    assert!(out.contains(&format!("{count} files written")), "{out}");
+    // A second time: refused, nothing changed; with --force: written again.
+    let lesson = root.join("lessons/02-ray-sphere.md");
+    std::fs::write(&lesson, "mine").unwrap();
+    fails(
+        &Cli::with("examples --write @", &[&dir.path()]),
+        &["already exists", "--force"],
+    );
+    assert_eq!(std::fs::read_to_string(&lesson).unwrap(), "mine");
+    ok(&Cli::with("examples --write @ --force", &[&dir.path()]));
+    assert_ne!(std::fs::read_to_string(&lesson).unwrap(), "mine");
+}
+
+#[test]
+fn a_built_in_scene_by_name_from_any_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    // The triangles scene loads its OBJ from the built-in copy, in a folder with no scenes/.
+    let out = raystep()
+        .current_dir(dir.path())
+        .args(["scene", "check", "triangles", "--json"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let v: Value = serde_json::from_slice(&out).unwrap();
+    // Four triangles, a plane and the 20 faces of icosahedron.obj.
+    assert_eq!(v["primitives"], 25, "{v}");
+    assert_eq!(v["triangles"], 24, "{v}");
+    // `render` writes where it is told and says so with the full path.
+    let out = raystep()
+        .current_dir(dir.path())
+        .args(["render", "first-sphere", "-o", "s.png"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let out = String::from_utf8(out).unwrap();
+    let full = std::fs::canonicalize(dir.path().join("s.png")).unwrap();
+    assert!(out.contains(&format!("wrote {}", full.display())), "{out}");
+    // An unknown name lists the built-in ones.
+    let err = raystep()
+        .current_dir(dir.path())
+        .args(["render", "cornel", "-o", "c.png"])
+        .assert()
+        .failure()
+        .get_output()
+        .stderr
+        .clone();
+    let err = String::from_utf8(err).unwrap();
+    assert!(err.contains("built-in scenes:") && err.contains("cornell"), "{err}");
+}
