@@ -80,9 +80,12 @@ pub fn scene_names() -> Vec<&'static str> {
 pub fn builtin_scene(name: &str) -> Option<&'static Asset> {
     let stem = name.strip_prefix("scenes/").unwrap_or(name);
     let stem = stem.strip_suffix(".toml").unwrap_or(stem);
-    ASSETS
-        .iter()
-        .find(|a| a.path.strip_prefix("scenes/").and_then(|p| p.strip_suffix(".toml")) == Some(stem))
+    ASSETS.iter().find(|a| {
+        a.path
+            .strip_prefix("scenes/")
+            .and_then(|p| p.strip_suffix(".toml"))
+            == Some(stem)
+    })
 }
 
 /// A short hash of every built-in file (names the cache folder, so two builds never share one).
@@ -104,7 +107,11 @@ fn content_hash() -> String {
 /// Where the cache folder goes: `$XDG_CACHE_HOME/raystep`, else `~/.cache/raystep`, else the
 /// system's temporary folder.
 fn cache_base() -> PathBuf {
-    let from_env = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty()).map(PathBuf::from);
+    let from_env = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
     from_env("XDG_CACHE_HOME")
         .filter(|p| p.is_absolute())
         .or_else(|| from_env("HOME").map(|h| h.join(".cache")))
@@ -260,7 +267,12 @@ mod tests {
     fn the_unpacked_copy_is_the_built_in_bytes() {
         let root = unpacked().unwrap();
         for a in ASSETS {
-            assert_eq!(std::fs::read(root.join(a.path)).unwrap(), a.bytes, "{}", a.path);
+            assert_eq!(
+                std::fs::read(root.join(a.path)).unwrap(),
+                a.bytes,
+                "{}",
+                a.path
+            );
         }
         // A built-in scene with an OBJ loads from there (the OBJ beside it).
         let scene = load_scene(Path::new("triangles")).unwrap();
@@ -270,7 +282,10 @@ mod tests {
     #[test]
     fn names_resolve_with_or_without_the_folder_and_extension() {
         for n in ["cornell", "cornell.toml", "scenes/cornell.toml"] {
-            assert_eq!(builtin_scene(n).map(|a| a.path), Some("scenes/cornell.toml"));
+            assert_eq!(
+                builtin_scene(n).map(|a| a.path),
+                Some("scenes/cornell.toml")
+            );
         }
         assert!(builtin_scene("icosahedron").is_none());
         assert!(builtin_scene("nope").is_none());

@@ -189,15 +189,20 @@ pub fn open_dialog(ctx: &egui::Context, state: &AppState, typed: &str, cmds: &mu
                 ui.label("Recent files:");
                 for p in &state.prefs.recent {
                     let r = ui.add_enabled(p.is_file(), egui::Button::new(p.display().to_string()));
-                    if r.on_disabled_hover_text("this file is no longer there").clicked() {
+                    if r.on_disabled_hover_text("this file is no longer there")
+                        .clicked()
+                    {
                         cmds.push(Command::Open(p.clone()));
                     }
                 }
             }
         });
-    let opening = cmds
-        .iter()
-        .any(|c| matches!(c, Command::Open(_) | Command::OpenBuiltin | Command::CloseDialog));
+    let opening = cmds.iter().any(|c| {
+        matches!(
+            c,
+            Command::Open(_) | Command::OpenBuiltin | Command::CloseDialog
+        )
+    });
     if path != typed && !opening {
         cmds.push(Command::ShowDialog(Dialog::Open { path }));
     }

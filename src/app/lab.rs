@@ -152,7 +152,9 @@ fn pixel_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView, cmds: &
                         } else {
                             Color32::from_rgb(210, 40, 40)
                         };
-                        ui.label(RichText::new(precision_ulps(v.ulps, Precision::F32)).color(color));
+                        ui.label(
+                            RichText::new(precision_ulps(v.ulps, Precision::F32)).color(color),
+                        );
                         ui.end_row();
                     }
                 });

@@ -431,7 +431,15 @@ mod tests {
         let middle = Answer::Name("middle".into());
         assert!(mark(&middle, AnswerKind::Name, Some("Middle"), t).right);
         assert!(mark(&middle, AnswerKind::Name, Some("MIDDLE"), t).right);
-        assert!(mark(&Answer::Name("Kugel-Ä".into()), AnswerKind::Name, Some("kugel-ä"), t).right);
+        assert!(
+            mark(
+                &Answer::Name("Kugel-Ä".into()),
+                AnswerKind::Name,
+                Some("kugel-ä"),
+                t
+            )
+            .right
+        );
         let cases = [
             (middle.clone(), AnswerKind::Name, "floor"),
             (middle.clone(), AnswerKind::Name, "none"),
@@ -440,7 +448,11 @@ mod tests {
             (Answer::Number(4.0), AnswerKind::Number, "none"),
             (Answer::Number(4.0), AnswerKind::Number, "5"),
             (Answer::YesNo(true), AnswerKind::YesNo, "no"),
-            (Answer::Vector([0.0, 0.0, 1.0]), AnswerKind::Vector, "0, 1, 0"),
+            (
+                Answer::Vector([0.0, 0.0, 1.0]),
+                AnswerKind::Vector,
+                "0, 1, 0",
+            ),
         ];
         for (e, k, g) in cases {
             let m = mark(&e, k, Some(g), t);
@@ -460,11 +472,18 @@ mod tests {
         let e = Answer::Number(3.65);
         let m = mark(&e, AnswerKind::Number, Some("1"), t);
         let rw = Feedback::RightWrong.explain(&m, &e, 1);
-        assert!(!rw.contains("2.65") && !rw.contains("3.65") && !rw.contains("72"), "{rw}");
+        assert!(
+            !rw.contains("2.65") && !rw.contains("3.65") && !rw.contains("72"),
+            "{rw}"
+        );
         assert!(rw.contains("tolerance"), "{rw}");
         assert!(Feedback::Direction.explain(&m, &e, 1).contains("too low"));
         let high = mark(&e, AnswerKind::Number, Some("9"), t);
-        assert!(Feedback::Direction.explain(&high, &e, 1).contains("too high"));
+        assert!(
+            Feedback::Direction
+                .explain(&high, &e, 1)
+                .contains("too high")
+        );
         // 3.65 − 1 = 2.65 off, 72.6 % of 3.65.
         let d = Feedback::Distance.explain(&m, &e, 1);
         assert!(d.contains("off by 2.65") && d.contains("72.6%"), "{d}");
@@ -474,7 +493,10 @@ mod tests {
         assert!(s.explain(&m, &e, 3).contains("3.65"));
         let v = Answer::Vector([0.0, 0.0, 1.0]);
         let mv = mark(&v, AnswerKind::Vector, Some("0, -0.5, 1"), t);
-        assert_eq!(Feedback::Direction.explain(&mv, &v, 1).split("; ").last(), Some("y is farthest off: too low"));
+        assert_eq!(
+            Feedback::Direction.explain(&mv, &v, 1).split("; ").last(),
+            Some("y is farthest off: too low")
+        );
     }
 
     #[test]

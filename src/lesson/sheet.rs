@@ -411,7 +411,11 @@ pub fn parse_sheet(
                 "object",
                 format!(
                     "the scene has no object \"{o}\" (it has {})",
-                    if names.is_empty() { "none".into() } else { names.join(", ") }
+                    if names.is_empty() {
+                        "none".into()
+                    } else {
+                        names.join(", ")
+                    }
                 ),
             ));
         }
