@@ -1394,5 +1394,8 @@ fn a_built_in_scene_by_name_from_any_folder() {
         .stderr
         .clone();
     let err = String::from_utf8(err).unwrap();
-    assert!(err.contains("built-in scenes:") && err.contains("cornell"), "{err}");
+    assert!(
+        err.contains("built-in scenes:") && err.contains("cornell"),
+        "{err}"
+    );
 }

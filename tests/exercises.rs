@@ -702,7 +702,8 @@ fn unstated(q: &Question, text: &str, scene_toml: &str) -> Vec<String> {
     let named = named.as_ref();
     let same = |kind: &str, name: Option<&str>, key: &str, v: &toml::Value| {
         in_named(named, kind, name, key).is_some_and(|n| {
-            n == *v || (toml_vec(&n).is_some() && toml_vec(&n) == toml_vec(v))
+            n == *v
+                || (toml_vec(&n).is_some() && toml_vec(&n) == toml_vec(v))
                 || (toml_num(&n).is_some() && toml_num(&n) == toml_num(v))
         })
     };
@@ -800,7 +801,9 @@ fn unstated(q: &Question, text: &str, scene_toml: &str) -> Vec<String> {
         let label = name.unwrap_or("plane");
         if let Some(axis) = p.get("axis").and_then(|a| a.as_str()) {
             let off = p.get("offset").and_then(toml_num).unwrap_or(0.0);
-            let stated = p.get("offset").is_some_and(|o| same("plane", name, "offset", o));
+            let stated = p
+                .get("offset")
+                .is_some_and(|o| same("plane", name, "offset", o));
             if !t.contains(&format!("{axis}={}", fmt_num(off))) && !stated {
                 missing.push(format!("{label}: the plane {axis} = {}", fmt_num(off)));
             }
@@ -835,7 +838,12 @@ fn unstated(q: &Question, text: &str, scene_toml: &str) -> Vec<String> {
             && let Some(p) = l.get("position").and_then(toml_vec)
             && !has_vector(&t, &p)
             && !named
-                .and_then(|n| n.get("light")?.as_array()?.get(q.light as usize)?.get("position"))
+                .and_then(|n| {
+                    n.get("light")?
+                        .as_array()?
+                        .get(q.light as usize)?
+                        .get("position")
+                })
                 .is_some_and(|np| toml_vec(np).as_deref() == Some(&p[..]))
         {
             missing.push(format!("light {}: position {p:?}", q.light));
@@ -929,7 +937,10 @@ fn a_sheet_naming_an_object_or_light_its_scene_lacks_is_refused_with_its_place()
     let e = lesson::parse_sheet(&text, "s.toml", None, "s").unwrap_err();
     let msg = e.to_string();
     assert_eq!((e.line, e.column), (Some(13), Some(10)), "{msg}");
-    assert!(msg.contains("object") && msg.contains("\"bal\"") && msg.contains("ball"), "{msg}");
+    assert!(
+        msg.contains("object") && msg.contains("\"bal\"") && msg.contains("ball"),
+        "{msg}"
+    );
     // The light: the scene has one light (index 0), the question asks for light 1.
     let text = small_sheet("", "quantity = \"shadow_blocked\"\nlight = 1");
     let e = lesson::parse_sheet(&text, "s.toml", None, "s").unwrap_err();
@@ -955,7 +966,10 @@ fn error_columns_count_characters_not_bytes() {
     };
     let text = "title = \"Δ–Δ\"; x = 7\n";
     let (byte_col, want) = char_col(text);
-    assert_ne!(byte_col, want, "the test needs multi-byte characters before the error");
+    assert_ne!(
+        byte_col, want,
+        "the test needs multi-byte characters before the error"
+    );
     let e = lesson::parse_sheet(text, "s.toml", None, "s").unwrap_err();
     assert_eq!((e.line, e.column), (Some(1), Some(want)), "{e}");
     // A lesson's front matter (its line 1 is the file's line 2).
@@ -1003,7 +1017,11 @@ fn check_uses_the_sheets_feedback_and_a_byte_order_mark_is_fine() {
     let dir = tempfile::tempdir().unwrap();
     let sheet_path = dir.path().join("hand.toml");
     // The hand sheet with the default feedback: right or wrong and why, no distance.
-    std::fs::write(&sheet_path, HAND_SHEET.replace("feedback = \"distance\"\n", "")).unwrap();
+    std::fs::write(
+        &sheet_path,
+        HAND_SHEET.replace("feedback = \"distance\"\n", ""),
+    )
+    .unwrap();
     let answers = dir.path().join("a.txt");
     std::fs::write(&answers, "\u{feff}disc = 5\nt = none\n").unwrap();
     let out = raystep()
@@ -1018,7 +1036,10 @@ fn check_uses_the_sheets_feedback_and_a_byte_order_mark_is_fine() {
     let out = String::from_utf8(out).unwrap();
     // Δ = 4, the answer 5: wrong, not within the tolerance — and nothing that gives 4 away.
     let disc = out.lines().find(|l| l.starts_with("disc")).unwrap();
-    assert!(disc.contains("wrong") && disc.contains("tolerance"), "{out}");
+    assert!(
+        disc.contains("wrong") && disc.contains("tolerance"),
+        "{out}"
+    );
     assert!(!disc.contains("off by"), "{out}");
     let t = out.lines().find(|l| l.starts_with("t ")).unwrap();
     assert!(t.contains("wrong") && t.contains("not none"), "{out}");
