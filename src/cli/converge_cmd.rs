@@ -74,6 +74,6 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
     crate::io::write_atomic(&args.out.join("converge-time.png"), &b)?;
     super::emit(&format!(
         "{md}\nwrote converge.md, converge.csv, converge-spp.png, converge-time.png in {}\n",
-        args.out.display()
+        super::full_path(&args.out)
     ))
 }

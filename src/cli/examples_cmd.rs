@@ -34,7 +34,7 @@ pub fn run(args: &ExamplesArgs) -> Result<(), String> {
     let written = crate::assets::write_examples(dir, args.force)?;
     let mut out = String::new();
     for p in &written {
-        out += &format!("wrote {}\n", p.display());
+        out += &format!("wrote {}\n", super::full_path(p));
     }
     out += &format!("{} files written\n", written.len());
     super::emit(&out)

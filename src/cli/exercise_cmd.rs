@@ -90,7 +90,7 @@ pub fn run_exercise(args: &ExerciseArgs) -> Result<(), String> {
         if let (Some(dir), Some(toml)) = (&args.scenes, &v.scene_toml) {
             let p = dir.join(format!("{}.toml", q.id));
             crate::io::write_atomic(&p, toml.as_bytes())?;
-            scene_path = Some(p.display().to_string());
+            scene_path = Some(super::full_path(&p));
         }
         let shown: Vec<&String> = q.hints.iter().take(args.hints).collect();
         text += &format!(
@@ -231,7 +231,7 @@ pub fn run_grade(args: &GradeArgs) -> Result<(), String> {
         "graded {} student{} → {} (mean {:.2} / {})\n",
         report.students,
         if report.students == 1 { "" } else { "s" },
-        args.output.display(),
+        super::full_path(&args.output),
         report.mean,
         report.out_of
     ))

@@ -54,6 +54,8 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
     let json = trace.to_json();
     if let Some(path) = &args.save {
         crate::io::write_atomic(path, json.as_bytes())?;
+        // On stderr: stdout is the trace (often piped).
+        eprintln!("wrote {}", super::full_path(path));
     }
     if args.json {
         super::emit(&(json + "\n"))
