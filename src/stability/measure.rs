@@ -229,35 +229,43 @@ fn empty_row(case: &Case, method: Method, precision: Precision) -> Row {
     }
 }
 
-/// Timing windows per row; the fastest one is the row's cost.
+/// How many times `min_s` a row is timed for.
 const WINDOWS: u32 = 5;
 
-/// Times `f` over `n` items, in ns per item: after a warm-up pass, [`WINDOWS`] windows of
-/// repeated passes, each at least `min_s` long, and the **fastest** window. The fastest, not the
-/// mean: a window during which the thread was preempted (in the app, by its own render threads,
-/// the UI and the software GPU driver on the same cores) can only read slower, and with windows
-/// of a fraction of a millisecond one preemption made whole rows 10–40× too slow. The minimum is
-/// the kernel's own cost, the same on a busy machine as on an idle one.
+/// The shortest timing window: far shorter than a scheduler time slice, far longer than the
+/// clock's resolution and the cost of reading it.
+const SHORT_WINDOW_S: f64 = 2e-5;
+
+/// Times `f` over `n` items, in ns per item: after a warm-up pass, short windows of repeated
+/// passes (each at least [`SHORT_WINDOW_S`]) for [`WINDOWS`] × `min_s` in all, and the
+/// **fastest** window. The fastest, not the mean: a window during which the thread was
+/// descheduled (in the app, by its own render threads and UI on the same cores; on a shared
+/// machine, by anything) can only read slower — with long windows one preemption made whole rows
+/// 10–40× too slow in the app — while windows shorter than a time slice are mostly clean. The
+/// minimum is the kernel's own cost, the same on a busy machine as on an idle one.
 fn time_per_item(n: usize, min_s: f64, mut f: impl FnMut()) -> f64 {
     if n == 0 {
         return 0.0;
     }
     f(); // warm up
+    let total = Instant::now();
     let mut best = f64::INFINITY;
-    for _ in 0..WINDOWS {
+    loop {
         let start = Instant::now();
         let mut passes = 0u64;
-        loop {
+        let el = loop {
             f();
             passes += 1;
             let el = start.elapsed().as_secs_f64();
-            if el >= min_s {
-                best = best.min(el * 1e9 / (passes as f64 * n as f64));
-                break;
+            if el >= SHORT_WINDOW_S {
+                break el;
             }
+        };
+        best = best.min(el * 1e9 / (passes as f64 * n as f64));
+        if total.elapsed().as_secs_f64() >= min_s * WINDOWS as f64 {
+            return best;
         }
     }
-    best
 }
 
 pub(super) fn run_case(case: &Case, opts: &Options, samples: &mut Samples) -> Vec<Row> {
