@@ -119,7 +119,7 @@ pub fn open_dialog(ctx: &egui::Context, state: &AppState, typed: &str, cmds: &mu
             ui.horizontal(|ui| {
                 let up = dir.parent().map(Path::to_path_buf);
                 let r = ui
-                    .add_enabled(up.is_some(), egui::Button::new("⬆ Parent folder"))
+                    .add_enabled(up.is_some(), egui::Button::new("↑ Parent folder"))
                     .on_disabled_hover_text("this is the top folder");
                 if r.clicked()
                     && let Some(u) = up
@@ -139,7 +139,7 @@ pub fn open_dialog(ctx: &egui::Context, state: &AppState, typed: &str, cmds: &mu
                         }
                         for e in entries {
                             if e.is_dir {
-                                if ui.button(format!("📁 {}/", e.name)).clicked() {
+                                if ui.button(format!("{}/", e.name)).clicked() {
                                     path = typed_folder(&e.path);
                                 }
                             } else if ui.button(&e.name).clicked() {
