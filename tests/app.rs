@@ -606,8 +606,8 @@ fn an_exercise_is_marked_and_explained() {
     assert!(
         labels(&h)
             .iter()
-            .any(|t| t.starts_with("✘ Not right: off by")),
-        "a wrong answer says how far off: {:?}",
+            .any(|t| t.starts_with("✘ Not right: not within the tolerance")),
+        "a wrong answer says why, not how far off (the sheet's default feedback): {:?}",
         labels(&h)
     );
     // A non-numeric answer is wrong, with the reason.
@@ -898,4 +898,140 @@ fn the_lab_window_compares_a_pixel_with_exact_values_and_runs_the_suite() {
             "{method} is in the table: {all:?}"
         );
     }
+}
+
+#[test]
+fn a_bad_file_named_at_start_shows_its_error_over_the_built_in_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[camera]\nfov = \"wide\"\n").unwrap();
+    let mut h = harness(Some(&bad));
+    wait_for(&mut h, "the built-in scene", rendered);
+    let err = h.state().state.load_error.clone();
+    let err = err.expect("the load error is kept for the banner");
+    // The file, line 2 (the fov), and the field.
+    assert!(err.contains("bad.toml:2:"), "{err}");
+    assert!(err.contains("fov"), "{err}");
+    assert!(
+        labels(&h).iter().any(|l| l.contains("bad.toml:2:")),
+        "the banner shows the error"
+    );
+    // Fixing the file opens it (it is still watched).
+    std::fs::write(&bad, "[camera]\nfov = 50\n").unwrap();
+    h.state_mut().state.apply(Command::Reload);
+    wait_for(&mut h, "the fixed file", |a| {
+        rendered(a) && a.state.load_error.is_none() && a.state.path().is_some()
+    });
+}
+
+#[test]
+fn opened_files_are_remembered_by_their_absolute_path() {
+    // A relative path, as typed on the command line in the repository.
+    let rel = Path::new("scenes/first-sphere.toml");
+    // `cargo test` runs in the package root, where the relative path resolves.
+    assert!(rel.is_file());
+    let mut h = harness(Some(rel));
+    wait_for(&mut h, "the scene", rendered);
+    let prefs = &h.state().state.prefs;
+    let want = std::fs::canonicalize(rel).unwrap();
+    assert_eq!(prefs.last_file.as_deref(), Some(want.as_path()));
+    assert!(prefs.last_file.as_ref().unwrap().is_absolute());
+    assert_eq!(prefs.recent.first(), Some(&want));
+}
+
+#[test]
+fn file_open_lists_folders_and_the_built_in_scenes() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("class")).unwrap();
+    std::fs::write(
+        dir.path().join("mine.toml"),
+        "[[sphere]]\nname = \"mine\"\n",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("notes.txt"), "").unwrap();
+    let mut h = harness(None);
+    wait_for(&mut h, "the built-in scene", rendered);
+    h.state_mut()
+        .state
+        .apply(Command::ShowDialog(raystep::app::state::Dialog::Open {
+            path: format!("{}/", dir.path().display()),
+        }));
+    h.run_steps(4);
+    // The folder's entries: the sub-folder and the scene, not the text file.
+    let buttons: Vec<String> = h
+        .query_all_by_role(Role::Button)
+        .filter_map(|n| n.accesskit_node().label())
+        .collect();
+    assert!(buttons.iter().any(|b| b == "class/"), "{buttons:?}");
+    assert!(h.query_by_label("notes.txt").is_none());
+    // The scenes built into the binary, by name.
+    h.get_by_label("cornell");
+    h.get_by_label("mine.toml").click();
+    h.step();
+    wait_for(&mut h, "the picked scene", |a| {
+        rendered(a) && a.state.scene().is_some_and(|s| s.objects.len() == 1)
+    });
+    assert!(h.state().state.dialog.is_none(), "the dialog closes");
+    // A built-in scene opens from its unpacked copy, whatever the working directory.
+    h.state_mut()
+        .state
+        .apply(Command::ShowDialog(raystep::app::state::Dialog::Open {
+            path: String::new(),
+        }));
+    h.run_steps(4);
+    h.get_by_label("triangles").click();
+    h.step();
+    wait_for(&mut h, "the built-in triangles scene (with its OBJ)", |a| {
+        rendered(a) && a.state.scene().is_some_and(|s| s.objects.len() > 20)
+    });
+}
+
+#[test]
+fn the_lab_windows_costs_agree_with_the_command_lines() {
+    // The lab as a student runs it: the window open over a scene that is still rendering, the
+    // UI drawing frames while the suite runs on its background thread.
+    let mut h = harness(Some(&scene_path("cornell.toml")));
+    h.state_mut().views.lab.open = true;
+    let ctx = h.ctx.clone();
+    h.state_mut().views.lab.start(&ctx);
+    let start = Instant::now();
+    while h.state().views.lab.running() {
+        assert!(
+            start.elapsed() < Duration::from_secs(900),
+            "the lab's quick suite did not finish"
+        );
+        h.step();
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let app = h.state().views.lab.report.clone().expect("a report");
+    // The command line's measure (`raystep stability --quick`), in the same process.
+    let cli = raystep::stability::run(&raystep::stability::Options::quick());
+    let mut compared = 0;
+    for p in &app.points {
+        let c = cli
+            .points
+            .iter()
+            .find(|c| (c.primitive, c.method, c.precision) == (p.primitive, p.method, p.precision))
+            .expect("the same points");
+        let ratio = p.ns_per_test / c.ns_per_test;
+        eprintln!(
+            "{:8} {:22} lab {:8.1} ns  cli {:8.1} ns  ×{ratio:.2}",
+            p.primitive.name(),
+            p.label(),
+            p.ns_per_test,
+            c.ns_per_test
+        );
+        assert!(
+            (0.5..=2.0).contains(&ratio),
+            "{} {}: the lab measured {:.1} ns, the command line {:.1} ns (×{ratio:.2})",
+            p.primitive.name(),
+            p.label(),
+            p.ns_per_test,
+            c.ns_per_test
+        );
+        compared += 1;
+    }
+    // Sphere, triangle, plane and box: two methods in f32 and f64; spawn: three offsets in f32.
+    assert_eq!(compared, 19, "every point compared");
+    assert_eq!(cli.points.len(), 19);
 }
