@@ -640,11 +640,10 @@ fn has_number(text: &str, x: f64) -> bool {
         let digit = |c: Option<u8>| c.is_some_and(|c| c.is_ascii_digit());
         // "-5" must not match inside "-0.5" (a leading minus is part of `n` when negative), nor
         // "2" inside "2.5"; a full stop ending the sentence is fine.
-        !digit(before)
-            && before != Some(b'.')
-            && !(x >= 0.0 && before == Some(b'-'))
-            && !digit(after)
-            && !(after == Some(b'.') && digit(after2))
+        let glued_before =
+            digit(before) || before == Some(b'.') || (x >= 0.0 && before == Some(b'-'));
+        let glued_after = digit(after) || (after == Some(b'.') && digit(after2));
+        !glued_before && !glued_after
     })
 }
 
