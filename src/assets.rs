@@ -167,6 +167,16 @@ pub fn builtin_scene_path(name: &str) -> Result<Option<PathBuf>, String> {
     }
 }
 
+/// A path as the app shows it: a built-in file as `scenes/cornell.toml (built in)` (its unpacked
+/// copy's folder names the user's cache and the build, which say nothing), any other in full.
+pub fn shown_path(p: &Path) -> String {
+    let builtin = unpacked()
+        .ok()
+        .and_then(|root| p.strip_prefix(root).ok())
+        .map(|rel| format!("{} (built in)", rel.display()));
+    builtin.unwrap_or_else(|| p.display().to_string())
+}
+
 /// The built-in scenes' files (unpacked), sorted by name.
 pub fn builtin_scene_paths() -> Result<Vec<PathBuf>, String> {
     let root = unpacked()?;
