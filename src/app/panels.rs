@@ -386,7 +386,7 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
                 "{} — {}",
                 scene.name,
                 path.as_ref()
-                    .map_or("built in".to_string(), |p| p.display().to_string())
+                    .map_or("built in".to_string(), |p| crate::assets::shown_path(p))
             ),
             Document::Trace { path } => format!("trace — {}", path.display()),
             Document::Empty => String::new(),
