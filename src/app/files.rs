@@ -91,6 +91,9 @@ pub fn open_dialog(ctx: &egui::Context, state: &AppState, typed: &str, cmds: &mu
         .collapsible(false)
         .anchor(egui::Align2::CENTER_CENTER, egui::Vec2::ZERO)
         .show(ctx, |ui| {
+            // A fixed width and a fixed-height listing: the dialog keeps its size (and its
+            // buttons their places) whatever folder it shows.
+            ui.set_width(600.0);
             let mut go = false;
             ui.horizontal(|ui| {
                 let l = ui.label("Path");
@@ -131,7 +134,8 @@ pub fn open_dialog(ctx: &egui::Context, state: &AppState, typed: &str, cmds: &mu
             egui::ScrollArea::vertical()
                 .id_salt("files-folder")
                 .max_height(260.0)
-                .auto_shrink([false, true])
+                .min_scrolled_height(260.0)
+                .auto_shrink([false, false])
                 .show(ui, |ui| match list_folder(&dir) {
                     Ok((entries, more)) => {
                         if entries.is_empty() {
@@ -139,10 +143,16 @@ pub fn open_dialog(ctx: &egui::Context, state: &AppState, typed: &str, cmds: &mu
                         }
                         for e in entries {
                             if e.is_dir {
-                                if ui.button(format!("{}/", e.name)).clicked() {
+                                if ui
+                                    .add(egui::Button::new(format!("{}/", e.name)).truncate())
+                                    .clicked()
+                                {
                                     path = typed_folder(&e.path);
                                 }
-                            } else if ui.button(&e.name).clicked() {
+                            } else if ui
+                                .add(egui::Button::new(e.name.as_str()).truncate())
+                                .clicked()
+                            {
                                 cmds.push(Command::Open(e.path));
                             }
                         }
