@@ -219,17 +219,11 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
             },
         )?;
         if let Some(dir) = &args.frames {
-            super::emit(&format!(
-                "wrote {n} frames to {}\n",
-                super::full_path(dir)
-            ))?;
+            super::emit(&format!("wrote {n} frames to {}\n", super::full_path(dir)))?;
         }
         if let Some(out) = out {
             crate::io::write_atomic(out, &gif)?;
-            super::emit(&format!(
-                "wrote {} ({n} frames)\n",
-                super::full_path(out)
-            ))?;
+            super::emit(&format!("wrote {} ({n} frames)\n", super::full_path(out)))?;
         }
         return Ok(());
     }
