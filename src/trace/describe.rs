@@ -105,7 +105,12 @@ pub fn describe(step: &Step) -> String {
         Step::Plane { name, test, .. } => {
             let form = match test.form {
                 PlaneForm::General { .. } => "X·n = c",
-                PlaneForm::Axis { axis, .. } => ["x = c", "y = c", "z = c"][axis],
+                PlaneForm::Axis { axis, .. } => match axis {
+                    0 => "x = c",
+                    1 => "y = c",
+                    2 => "z = c",
+                    _ => "axis = c",
+                },
             };
             if test.parallel {
                 format!(
@@ -255,6 +260,24 @@ pub fn describe(step: &Step) -> String {
         Step::DepthLimit { max_depth } => {
             format!("recursion limit {max_depth} reached: no secondary ray")
         }
+        Step::WeightCutoff {
+            kind,
+            contribution,
+            cutoff,
+        } => format!(
+            "{} ray not spawned: its share of the pixel, {}, is below the cut-off {}",
+            match kind {
+                super::RayKind::Primary => "primary",
+                super::RayKind::Shadow => "shadow",
+                super::RayKind::Reflection => "reflection",
+                super::RayKind::Refraction => "refraction",
+            },
+            num(*contribution),
+            num(*cutoff)
+        ),
+        Step::Truncated { max_steps } => format!(
+            "the trace stops here: it reached its limit of {max_steps} steps (the tracing went on; the colours are exact)"
+        ),
         Step::Spawn { child } => format!("→ child ray {child}"),
         Step::Color { color } => format!("colour {}", v3(*color)),
     }

@@ -1138,15 +1138,18 @@ impl Walker {
                     spawned_e.extend(se[re.clone()].iter().filter_map(child_index));
                     spawned_a.extend(sa[ra.clone()].iter().filter_map(child_index));
                     let first = if re.is_empty() {
-                        &sa[ra.start]
+                        sa.get(ra.start)
                     } else {
-                        &se[re.start]
+                        se.get(re.start)
                     };
                     let loc = Loc {
                         place: label.clone(),
                         step: tl_e.get(re.start).copied(),
                         actual_step: tl_a.get(ra.start).copied(),
-                        stage: first.get("stage").and_then(J::as_str).map(String::from),
+                        stage: first
+                            .and_then(|f| f.get("stage"))
+                            .and_then(J::as_str)
+                            .map(String::from),
                         subject: None,
                     };
                     let ev = J::Arr(se[re.clone()].to_vec());

@@ -9,6 +9,7 @@ pub mod observer;
 pub mod record;
 pub mod sampling;
 pub mod shading;
+pub mod validate;
 pub mod whitted;
 
 pub use observer::{Counter, Observer, Recorder, Silent};

@@ -239,6 +239,25 @@ pub enum Step {
         /// The limit.
         max_depth: u32,
     },
+    /// A reflection or refraction ray was not spawned: its share of the pixel is below the
+    /// cut-off (see [`crate::trace::whitted::WEIGHT_CUTOFF`]); its colour counts as black.
+    WeightCutoff {
+        /// The ray that was not spawned.
+        kind: RayKind,
+        /// Its share of the pixel: the product of the weights from the camera down to it.
+        #[serde(with = "crate::jsonf")]
+        contribution: f32,
+        /// The cut-off.
+        #[serde(with = "crate::jsonf")]
+        cutoff: f32,
+    },
+    /// The recording stops here: the trace reached its step limit. The tracer went on (every
+    /// colour in the trace, and the trace's colour, is the one the render computes), but its
+    /// remaining steps and rays were not kept.
+    Truncated {
+        /// The limit, in steps.
+        max_steps: u32,
+    },
     /// A child ray was traced here: index into the ray's `children`.
     Spawn {
         /// Index into `children`.
@@ -418,6 +437,17 @@ pub enum TraceError {
         /// What serde said.
         message: String,
     },
+    /// A field out of range: an index that points nowhere, an enum stored as a number that has
+    /// no such value, a BVH that is not a tree, a trace larger than raystep writes.
+    #[error("{file}: field `{field}`: {message}")]
+    Invalid {
+        /// The file.
+        file: String,
+        /// The field's JSON path.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A trace of a version this raystep does not read.
     #[error(
         "{file}: field `version`: trace format version {found} is not supported (this raystep reads version {TRACE_VERSION})"
@@ -437,7 +467,8 @@ impl Trace {
     }
 
     /// Parses a trace, checking the version before the rest so that a future format gets a
-    /// version error rather than a confusing field error.
+    /// version error rather than a confusing field error, and every field the readers index with
+    /// or rely on after it (see [`crate::trace::validate`]).
     pub fn from_json(text: &str, file: &str) -> Result<Trace, TraceError> {
         let corrupt = |e: serde_json::Error| TraceError::Corrupt {
             file: file.into(),
@@ -464,7 +495,21 @@ impl Trace {
                 });
             }
         }
-        serde_json::from_str(text).map_err(corrupt)
+        let trace: Trace = serde_json::from_str(text).map_err(corrupt)?;
+        super::validate::validate(&trace).map_err(|e| TraceError::Invalid {
+            file: file.into(),
+            field: e.field,
+            message: e.message,
+        })?;
+        Ok(trace)
+    }
+
+    /// Where the recording was cut (the step limit was reached): the timeline index of the
+    /// [`Step::Truncated`] step, if any.
+    pub fn truncated_at(&self) -> Option<usize> {
+        self.timeline()
+            .iter()
+            .position(|(_, s)| matches!(s.step, Step::Truncated { .. }))
     }
 
     /// Reads a trace file.
