@@ -51,6 +51,12 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
     let (accel, _) = SceneAccel::build(&scene);
     let tracer = Tracer::new(&scene, &accel);
     let trace = tracer.record(x, y, args.sample);
+    if let Some(k) = trace.truncated_at() {
+        eprintln!(
+            "warning: the trace was cut at step {k}: a trace keeps at most {} steps (the colours are exact; lower max_depth to see the whole tree)",
+            crate::trace::observer::MAX_TRACE_STEPS
+        );
+    }
     let json = trace.to_json();
     if let Some(path) = &args.save {
         crate::io::write_atomic(path, json.as_bytes())?;

@@ -2529,6 +2529,9 @@ fn step_caption(ray: &RayRecord, step: &Step) -> String {
         }
         Step::Schlick { reflectance } => format!("Schlick: reflectance R = {}", fmt(*reflectance)),
         Step::DepthLimit { max_depth } => format!("recursion limit {max_depth}: no secondary ray"),
+        Step::WeightCutoff { .. } | Step::Truncated { .. } => {
+            crate::trace::describe::describe(step)
+        }
         Step::Spawn { .. } => format!("{kind} ray spawns a child ray"),
         Step::Color { .. } => format!("{kind} ray: colour summed"),
     }

@@ -232,13 +232,14 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     );
     // Constants computed exactly as the CPU computes them, written in Rust's shortest
     // round-trip form.
-    let constants: [(&str, f32); 6] = [
+    let constants: [(&str, f32); 7] = [
         ("GAMMA2", gamma::<f32>(2)),
         ("GAMMA3", gamma::<f32>(3)),
         ("GAMMA5", gamma::<f32>(5)),
         ("GAMMA7", gamma::<f32>(7)),
         ("BOX_ENLARGE", 1.0 + 2.0 * gamma::<f32>(3)),
         ("SHADOW_T_MAX", 1.0 - crate::trace::whitted::SHADOW_EPSILON),
+        ("WEIGHT_CUTOFF", crate::trace::whitted::WEIGHT_CUTOFF),
     ];
     for (name, v) in constants {
         out += &format!("const {name}: f32 = {v:?};\n");

@@ -148,6 +148,18 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
         ),
         Step::Schlick { reflectance } => cx.schlick(*reflectance),
         Step::DepthLimit { max_depth } => cx.depth_limit(*max_depth),
+        Step::WeightCutoff {
+            kind,
+            contribution,
+            cutoff,
+        } => cx.weight_cutoff(*kind, *contribution, *cutoff),
+        Step::Truncated { max_steps } => Explanation {
+            title: "The trace stops here".into(),
+            lines: vec![],
+            conclusion: format!(
+                "The trace reached its limit of {max_steps} recorded steps. The tracer went on and every colour is exact, but the rest of its work was not kept."
+            ),
+        },
         Step::Spawn { child } => cx.spawn(*child),
         Step::Color { color } => cx.color(*color),
     }
@@ -1860,6 +1872,32 @@ impl Ctx<'_> {
             )],
             conclusion: format!(
                 "This ray is at depth {d}, the limit is {max_depth}: no secondary ray is traced (it contributes black)."
+            ),
+        }
+    }
+
+    fn weight_cutoff(&self, kind: RayKind, contribution: f32, cutoff: f32) -> Explanation {
+        let kind = match kind {
+            RayKind::Refraction => "refraction",
+            RayKind::Shadow => "shadow",
+            RayKind::Primary => "primary",
+            RayKind::Reflection => "reflection",
+        };
+        Explanation {
+            title: "Weight cut-off".into(),
+            lines: vec![line(
+                "spawn?",
+                "share of the pixel ≥ 1/512",
+                format!("{} ≥ {}", num(contribution), num(cutoff)),
+                yes_no(contribution >= cutoff),
+                Some(
+                    "the share is the product of the weights from the camera down to this ray"
+                        .into(),
+                ),
+            )],
+            conclusion: format!(
+                "The {kind} ray would add at most {} of its colour to the pixel, too little to see: it is not traced (it contributes black).",
+                num(contribution)
             ),
         }
     }

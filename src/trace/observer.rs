@@ -92,23 +92,76 @@ impl Observer for Counter {
     }
 }
 
-/// Builds the trace tree.
-#[derive(Debug, Default)]
+/// The most steps a recorded trace keeps (about 40 MB of JSON). Beyond it the recorder stops
+/// with a [`Step::Truncated`] step; the tracing itself goes on, so colours stay exact.
+pub const MAX_TRACE_STEPS: usize = 100_000;
+
+/// Builds the trace tree, up to a step limit.
+#[derive(Debug)]
 pub struct Recorder {
     stack: Vec<RayRecord>,
     root: Option<RayRecord>,
+    /// Steps kept so far.
+    recorded: usize,
+    /// The most steps kept.
+    limit: usize,
+    /// Whether the limit was reached.
+    cut: bool,
+    /// Rays begun after the cut and not ended yet (not recorded).
+    unrecorded: usize,
+}
+
+impl Default for Recorder {
+    fn default() -> Self {
+        Self::with_limit(MAX_TRACE_STEPS)
+    }
 }
 
 impl Recorder {
-    /// A fresh recorder.
+    /// A fresh recorder that keeps up to [`MAX_TRACE_STEPS`] steps.
     pub fn new() -> Self {
         Self::default()
+    }
+    /// A fresh recorder that keeps up to `limit` steps.
+    pub fn with_limit(limit: usize) -> Self {
+        Recorder {
+            stack: vec![],
+            root: None,
+            recorded: 0,
+            limit,
+            cut: false,
+            unrecorded: 0,
+        }
     }
     /// The finished root ray, once the primary ray has ended.
     pub fn finish(self) -> Option<RayRecord> {
         self.root
     }
+    /// Whether one more step may be kept; at the limit, records the cut (once) and says no.
+    fn room(&mut self) -> bool {
+        if self.cut {
+            return false;
+        }
+        if self.recorded < self.limit {
+            self.recorded += 1;
+            return true;
+        }
+        self.cut = true;
+        if let Some(r) = self.stack.last_mut() {
+            let step = Step::Truncated {
+                max_steps: u32::try_from(self.limit).unwrap_or(u32::MAX),
+            };
+            r.steps.push(StepRecord {
+                stage: step.stage(),
+                step,
+            });
+        }
+        false
+    }
     fn push(&mut self, step: Step) {
+        if !self.room() {
+            return;
+        }
         if let Some(r) = self.stack.last_mut() {
             // The colour of a ray that hit nothing comes from the miss shader, not closest-hit.
             let after_miss = matches!(
@@ -134,6 +187,12 @@ fn arr(v: Vec3) -> [f32; 3] {
 impl Observer for Recorder {
     const RECORDS: bool = true;
     fn begin_ray(&mut self, kind: RayKind, depth: u32, ray: &Ray<f32>, weight: f32) {
+        // The primary ray is always kept (a trace has a root); a child only with room for its
+        // spawn step.
+        if self.cut || (!self.stack.is_empty() && !self.room()) {
+            self.unrecorded += 1;
+            return;
+        }
         if let Some(parent) = self.stack.last_mut() {
             let child = parent.children.len() as u32;
             parent.steps.push(StepRecord {
@@ -156,15 +215,25 @@ impl Observer for Recorder {
         });
     }
     fn prim_test(&mut self, step: impl FnOnce() -> Step) {
-        self.push(step());
+        if !self.cut {
+            self.push(step());
+        }
     }
     fn node_visit(&mut self, visit: impl FnOnce() -> NodeVisit) {
-        self.push(Step::Node(visit()));
+        if !self.cut {
+            self.push(Step::Node(visit()));
+        }
     }
     fn step(&mut self, step: impl FnOnce() -> Step) {
-        self.push(step());
+        if !self.cut {
+            self.push(step());
+        }
     }
     fn end_ray(&mut self, hit: impl FnOnce() -> Option<HitRecord>, color: Vec3) {
+        if self.unrecorded > 0 {
+            self.unrecorded -= 1;
+            return;
+        }
         let Some(mut r) = self.stack.pop() else {
             return;
         };

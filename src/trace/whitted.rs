@@ -15,6 +15,13 @@ use glam::Vec3;
 pub const SHADOW_EPSILON: f32 = 1e-4;
 /// How many levels of the BVH a trace carries for the tree diagram.
 const BVH_OUTLINE_DEPTH: u32 = 6;
+/// The ray-tree weight cut-off: a reflection or refraction ray whose contribution to the pixel
+/// (the product of the weights from the camera down to it: reflectivity or transparency, times
+/// Schlick's reflectance where both blend) is below 1/512 is not spawned, and its colour counts
+/// as black. Below half an 8-bit step of a white image it cannot be seen, and it bounds the work
+/// of a sample: the contributions of the rays at one depth sum to at most 1, so at most 512 rays
+/// per depth are traced however deep the recursion may go. The GPU tracer applies the same rule.
+pub const WEIGHT_CUTOFF: f32 = 1.0 / 512.0;
 /// Nesting depth of transparent media a ray can be inside (deeper nesting is ignored).
 const MAX_MEDIA: usize = 8;
 
@@ -249,7 +256,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             screen,
             direction: ray.dir.to_array(),
         });
-        let (color, hit) = self.shade_ray::<O, L, R, T>(&ray, 0, Media::default(), obs);
+        let (color, hit) = self.shade_ray::<O, L, R, T>(&ray, 0, 1.0, Media::default(), obs);
         obs.end_ray(|| self.hit_record(hit), color);
         color
     }
@@ -276,7 +283,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         ray: &Ray<f32>,
         obs: &mut O,
     ) -> Vec3 {
-        self.trace_child::<O, L, R, T>(ray, RayKind::Primary, 0, 1.0, Media::default(), obs)
+        self.trace_child::<O, L, R, T>(ray, RayKind::Primary, 0, 1.0, 1.0, Media::default(), obs)
     }
 
     /// Records the full step trace of one sample of one pixel.
@@ -363,20 +370,23 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         kind: RayKind,
         depth: u32,
         weight: f32,
+        throughput: f32,
         media: Media,
         obs: &mut O,
     ) -> Vec3 {
         obs.begin_ray(kind, depth, ray, weight);
-        let (color, hit) = self.shade_ray::<O, L, R, T>(ray, depth, media, obs);
+        let (color, hit) = self.shade_ray::<O, L, R, T>(ray, depth, throughput, media, obs);
         obs.end_ray(|| self.hit_record(hit), color);
         color
     }
 
-    /// Finds the closest hit and shades it (the body of a colour ray).
+    /// Finds the closest hit and shades it (the body of a colour ray). `throughput`: what the
+    /// ray's colour is multiplied by on its way to the pixel.
     fn shade_ray<O: Observer, const L: bool, const R: bool, const T: bool>(
         &self,
         ray: &Ray<f32>,
         depth: u32,
+        throughput: f32,
         media: Media,
         obs: &mut O,
     ) -> (Vec3, Option<Hit>) {
@@ -391,7 +401,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             });
             return (bg, None);
         };
-        let color = self.shade::<O, L, R, T>(&hit, ray, depth, media, obs);
+        let color = self.shade::<O, L, R, T>(&hit, ray, depth, throughput, media, obs);
         obs.step(|| Step::Color {
             color: color.to_array(),
         });
@@ -404,6 +414,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         hit: &Hit,
         ray: &Ray<f32>,
         depth: u32,
+        throughput: f32,
         media: Media,
         obs: &mut O,
     ) -> Vec3 {
@@ -473,6 +484,32 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         }
 
         let can_recurse = depth < s.max_depth;
+        // Snell and Schlick come first: the reflection's share of the pixel depends on the
+        // reflectance (their steps are recorded where they were, after the reflection).
+        let transparent = T && m.transparency > 0.0;
+        let blend = transparent && R && m.reflective > 0.0;
+        let snell = transparent.then(|| {
+            let (n1, n2) = media.indices(hit.object, m.refractive_index);
+            (n1, n2, refract(it.eye, it.normal, n1, n2))
+        });
+        let reflectance = match snell {
+            Some((n1, n2, refr)) if blend => schlick(refr.cos_i, n1, n2),
+            _ => 1.0,
+        };
+        // Each child's share of the pixel, as the GPU tracer computes it (same operations, same
+        // order, so both cut the same rays).
+        let cut = |kind: RayKind, share: f32, obs: &mut O| -> bool {
+            let contribution = throughput * share;
+            let below = contribution < WEIGHT_CUTOFF;
+            if below {
+                obs.step(|| Step::WeightCutoff {
+                    kind,
+                    contribution,
+                    cutoff: WEIGHT_CUTOFF,
+                });
+            }
+            below
+        };
         // Reflection.
         let mut reflected = Vec3::ZERO;
         if R && m.reflective > 0.0 {
@@ -482,22 +519,30 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     reflective: m.reflective,
                     direction: dir.to_array(),
                 });
-                let o = spawn_origin(s.offset, s.epsilon, &it, dir);
-                // dir is a reflection of a valid direction: finite and non-zero.
-                let r = Ray {
-                    origin: o,
-                    dir,
-                    t_min: 0.0,
-                    t_max: f32::INFINITY,
+                let share = if blend {
+                    m.reflective * reflectance
+                } else {
+                    m.reflective
                 };
-                reflected = self.trace_child::<O, L, R, T>(
-                    &r,
-                    RayKind::Reflection,
-                    depth + 1,
-                    m.reflective,
-                    media,
-                    obs,
-                ) * m.reflective;
+                if !cut(RayKind::Reflection, share, obs) {
+                    let o = spawn_origin(s.offset, s.epsilon, &it, dir);
+                    // dir is a reflection of a valid direction: finite and non-zero.
+                    let r = Ray {
+                        origin: o,
+                        dir,
+                        t_min: 0.0,
+                        t_max: f32::INFINITY,
+                    };
+                    reflected = self.trace_child::<O, L, R, T>(
+                        &r,
+                        RayKind::Reflection,
+                        depth + 1,
+                        m.reflective,
+                        throughput * share,
+                        media,
+                        obs,
+                    ) * m.reflective;
+                }
             } else {
                 obs.step(|| Step::DepthLimit {
                     max_depth: s.max_depth,
@@ -505,9 +550,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             }
         }
         // Refraction.
-        if T && m.transparency > 0.0 {
-            let (n1, n2) = media.indices(hit.object, m.refractive_index);
-            let refr = refract(it.eye, it.normal, n1, n2);
+        if let Some((n1, n2, refr)) = snell {
             let mut refracted = Vec3::ZERO;
             if can_recurse {
                 obs.step(|| Step::Refract {
@@ -519,6 +562,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     total_internal_reflection: refr.direction.is_none(),
                     direction: refr.direction.map(|d| d.to_array()),
                 });
+                let share = if blend {
+                    m.transparency * (1.0 - reflectance)
+                } else {
+                    m.transparency
+                };
                 if let Some(dir) = refr.direction
                     && let Ok(r) = Ray::new(
                         spawn_origin(s.offset, s.epsilon, &it, dir),
@@ -526,6 +574,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                         0.0,
                         f32::INFINITY,
                     )
+                    && !cut(RayKind::Refraction, share, obs)
                 {
                     let inner = media.crossed(hit.object, m.refractive_index);
                     refracted = self.trace_child::<O, L, R, T>(
@@ -533,6 +582,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                         RayKind::Refraction,
                         depth + 1,
                         m.transparency,
+                        throughput * share,
                         inner,
                         obs,
                     ) * m.transparency;
@@ -542,8 +592,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     max_depth: s.max_depth,
                 });
             }
-            if R && m.reflective > 0.0 {
-                let reflectance = schlick(refr.cos_i, n1, n2);
+            if blend {
                 obs.step(|| Step::Schlick { reflectance });
                 return surface + reflected * reflectance + refracted * (1.0 - reflectance);
             }

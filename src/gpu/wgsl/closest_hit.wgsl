@@ -115,7 +115,9 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
 //#endif
         if can_recurse {
             let dir = refract_dir(it.eye, it.normal, n.x, n.y);
-            if valid_dir(dir) {
+            // The weight cut-off (src/trace/whitted.rs WEIGHT_CUTOFF): a ray whose share of the
+            // pixel is below it is not spawned. Written as "not below" so NaN compares as on the CPU.
+            if valid_dir(dir) && !(task.weight * refract_weight < WEIGHT_CUTOFF) {
                 let media = media_crossed(task.media, hit.object);
                 push_ray(Ray(spawn_origin(it, dir), dir, 0.0, params.inf), task.depth + 1u, task.weight * refract_weight, media);
             }
@@ -123,7 +125,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
     }
 //#endif
 //#if REFLECTION
-    if m.reflective > 0.0 && can_recurse {
+    if m.reflective > 0.0 && can_recurse && !(task.weight * reflect_weight < WEIGHT_CUTOFF) {
         let dir = mirror_dir(r.dir, it.normal);
 //#if REFRACTION
         push_ray(Ray(spawn_origin(it, dir), dir, 0.0, params.inf), task.depth + 1u, task.weight * reflect_weight, task.media);
