@@ -24,6 +24,7 @@
 //!   S1–S25 against exact rational references, cost per test, and image error against run time.
 //! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
 //! - [`cli`]: the `raystep` command line.
+//! - [`fuzzing`]: the entry points the fuzzers and the property tests feed hostile input.
 // One function opts in, with its reason: gpu::tracer's request for wgpu's experimental ray queries.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
@@ -34,6 +35,7 @@ pub mod assets;
 pub mod bench;
 pub mod cli;
 pub mod diagram;
+pub mod fuzzing;
 pub mod gpu;
 pub mod io;
 pub mod jsonf;
