@@ -78,7 +78,7 @@ pub fn trace_input(data: &[u8]) -> bool {
         let _ = cmp.to_json(&trace, &shorter, names);
     }
     let steps = trace.timeline().len();
-    let middle = (steps > 0).then(|| steps / 2);
+    let middle = (steps > 0).then_some(steps / 2);
     for kind in diagram::available(&trace) {
         for focus in [None, middle] {
             let opts = ViewOptions {

@@ -643,6 +643,8 @@ fn variant(s: &Step) -> &'static str {
         Step::Refract { .. } => "refract",
         Step::Schlick { .. } => "schlick",
         Step::DepthLimit { .. } => "depth-limit",
+        Step::WeightCutoff { .. } => "weight-cutoff",
+        Step::Truncated { .. } => "truncated",
         Step::Spawn { .. } => "spawn",
         Step::Color { .. } => "color",
     }

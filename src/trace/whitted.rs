@@ -364,6 +364,9 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
     }
 
     /// Traces a secondary ray as a child of the current one.
+    // The recursion's state (depth, weights, media) is passed by value, one argument each, so
+    // every level has its own copy.
+    #[allow(clippy::too_many_arguments)]
     fn trace_child<O: Observer, const L: bool, const R: bool, const T: bool>(
         &self,
         ray: &Ray<f32>,
