@@ -88,6 +88,7 @@ pub fn trace_input(data: &[u8]) -> bool {
                 focus,
                 slice_angle: 0.0,
                 top_down: false,
+                ..ViewOptions::default()
             };
             let _ = diagram::draw(&trace, kind, &opts);
         }
