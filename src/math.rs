@@ -204,7 +204,7 @@ pub enum RayError {
 /// A ray p(t) = S + t·Q with t in (t_min, t_max) — the seeds' notation: S the start, Q the direction.
 ///
 /// A `Ray` can only be built through [`Ray::new`], which rejects non-finite or zero directions:
-/// NaN rays "hit" every slab test (NUMERICS.md, S25), so they must never reach a kernel.
+/// NaN rays "hit" every slab test (docs/NUMERICS.md, S25), so they must never reach a kernel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Ray<T: Real> {
     /// The ray's origin S.
@@ -290,7 +290,7 @@ mod tests {
 
     #[test]
     fn gamma_matches_definition() {
-        // γ₃ in f32: 3u/(1−3u) with u = 2⁻²⁴, ≈ 1.788e-7 (so 1 + 2γ₃ ≈ 1.000000358, NUMERICS.md).
+        // γ₃ in f32: 3u/(1−3u) with u = 2⁻²⁴, ≈ 1.788e-7 (so 1 + 2γ₃ ≈ 1.000000358, docs/NUMERICS.md).
         let g: f32 = gamma(3);
         let u = 2f64.powi(-24);
         assert!((g as f64 - 3.0 * u / (1.0 - 3.0 * u)).abs() < 1e-12);

@@ -296,7 +296,7 @@ fn sphere_tmin_picks_the_far_root() {
     }
 }
 
-/// The far sphere (NUMERICS.md S1): unit sphere at the origin, S = (0.5, 0, −4100),
+/// The far sphere (docs/NUMERICS.md S1): unit sphere at the origin, S = (0.5, 0, −4100),
 /// Q = (0, 0, 1). Exactly: f = S, b = −8200, c = 0.25 + 4100² − 1 = 16 809 999.25,
 /// Δ = 8200² − 4c = 67 240 000 − 67 239 997 = 3, near root (8200 − √3)/2 = 4100 − √0.75
 /// ≈ 4099.13397. f64 holds all of these exactly.

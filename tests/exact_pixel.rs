@@ -1,6 +1,6 @@
 //! A traced pixel's numbers against their exact values (the lab panel's per-pixel view):
 //! hand-computed exact cases, and the far sphere where the textbook quadratic in f32 loses the
-//! radius (NUMERICS.md S1) while the stable form keeps it.
+//! radius (docs/NUMERICS.md S1) while the stable form keeps it.
 
 use raystep::accel::SceneAccel;
 use raystep::scene::{Scene, load_file, load_str};

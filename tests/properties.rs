@@ -1,4 +1,4 @@
-//! Property tests for the intersection kernels (NUMERICS.md): for finite inputs in reasonable
+//! Property tests for the intersection kernels (docs/NUMERICS.md): for finite inputs in reasonable
 //! ranges no kernel reports NaN, and the textbook and robust formulations — and f32 and f64 —
 //! agree wherever the answer is well conditioned.
 //!
@@ -210,7 +210,7 @@ fn run_box<T: Real>(
     let mut fields = vec![("t_near", Some(b.t_near)), ("t_far", Some(b.t_far))];
     for (i, a) in b.axes.iter().enumerate() {
         fields.push(("inv_dir", Some(a.inv_dir)));
-        // NUMERICS.md S20: a ray lying in a face plane with a zero direction component has slab
+        // docs/NUMERICS.md S20: a ray lying in a face plane with a zero direction component has slab
         // distances 0·∞ = NaN by policy (the slab then imposes no limit); anywhere else, never NaN.
         let in_face = d[i] == 0.0 && (o[i] == lo[i] || o[i] == hi[i]);
         if !in_face {
@@ -335,7 +335,7 @@ fn triangle_no_nan(o: P3, d: P3, tm: f64, v: [P3; 3]) -> Result<(), TestCaseErro
     Ok(())
 }
 
-/// `flat` < 3 makes the box zero-thick along that axis (an axis-aligned quad, NUMERICS.md S22).
+/// `flat` < 3 makes the box zero-thick along that axis (an axis-aligned quad, docs/NUMERICS.md S22).
 fn box_no_nan(o: P3, d: P3, tm: f64, c: P3, half: P3, flat: usize) -> Result<(), TestCaseError> {
     let half: P3 = std::array::from_fn(|i| if i == flat { 0.0 } else { half[i] });
     let lo = std::array::from_fn(|i| f32r(c[i] - half[i]));
@@ -641,7 +641,7 @@ proptest! {
         plane_no_nan(o, d, tm, n, offset, k)?;
     }
 
-    /// Now and then a degenerate triangle (NUMERICS.md S15): two equal vertices, or all three.
+    /// Now and then a degenerate triangle (docs/NUMERICS.md S15): two equal vertices, or all three.
     #[test]
     fn triangle_never_nan(
         o in point(), d in direction(), tm in t_max(), v in [point(), point(), point()],

@@ -1,4 +1,4 @@
-//! The stability lab (issue 8): the exact references against hand-computed answers, the
+//! The stability lab: the exact references against hand-computed answers, the
 //! renderer's default methods free of failures on the stiff cases that justify them, the seeds'
 //! methods visibly failing (so a regression either way is caught), no NaN anywhere, the shipped
 //! failure scenes showing their failure, and `raystep stability --quick` / `raystep converge`
@@ -181,7 +181,7 @@ fn the_seeds_methods_show_the_documented_failures() {
     // S1: the textbook quadratic loses the radius of a far sphere in f32.
     let s1 = r.row("S1", Method::SphereTextbook, Precision::F32).unwrap();
     assert!(s1.misclassified * 20 > s1.rays, "{s1:?}");
-    // S12: Möller–Trumbore leaks at shared edges in f32 (NUMERICS.md: 7.4%).
+    // S12: Möller–Trumbore leaks at shared edges in f32 (docs/NUMERICS.md: 7.4%).
     let s12 = r
         .row("S12", Method::MollerTrumbore, Precision::F32)
         .unwrap();

@@ -1,4 +1,4 @@
-//! Stiff cases from NUMERICS.md that justify the renderer's defaults: rays aimed exactly at a
+//! Stiff cases from docs/NUMERICS.md that justify the renderer's defaults: rays aimed exactly at a
 //! shared edge (S12) or a shared vertex (S13) must hit at least one triangle. The watertight test
 //! never leaks; Möller–Trumbore does (so a regression either way is caught).
 
@@ -89,7 +89,7 @@ fn s12_watertight_never_leaks_at_shared_edges() {
 
 #[test]
 fn s12_moller_trumbore_leaks_at_shared_edges() {
-    // NUMERICS.md measured 7.4% in f32. We require the failure to be visible (> 0.5%), not a rate.
+    // docs/NUMERICS.md measured 7.4% in f32. We require the failure to be visible (> 0.5%), not a rate.
     let leaks: usize = [1e-3f32, 1.0, 1e3, 1e5]
         .into_iter()
         .enumerate()

@@ -2,7 +2,7 @@
 //! raystep's own loop so that every node visit can be observed.
 //!
 //! The traversal follows obvhs's `ray_traverse_dynamic` (test both children of a node, visit the
-//! nearer first, push the farther), with NUMERICS.md's robust slab test instead of obvhs's: true
+//! nearer first, push the farther), with docs/NUMERICS.md's robust slab test instead of obvhs's: true
 //! IEEE reciprocals (obvhs clamps tiny components, giving false misses for near-parallel rays,
 //! S21), the ray's own t_min honoured (S23), and `<=` so flat boxes are hit (S22). Infinite planes
 //! stay outside the tree: they are tested first and their hit tightens t_max.

@@ -1,5 +1,5 @@
 //! The WGSL generator: the tracer's shader assembled from the pieces in `src/gpu/wgsl/`, keeping
-//! only what the scene needs (DESIGN.md principle 4).
+//! only what the scene needs (docs/ARCHITECTURE.md, invariant 4).
 //!
 //! Each piece is a WGSL file named after the stage of a hardware ray-tracing pipeline it plays
 //! (ray generation, traversal, intersection, any-hit, closest-hit, miss). Whole pieces are left

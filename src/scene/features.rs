@@ -3,7 +3,7 @@
 use super::{Material, Object, Shape};
 use serde::{Deserialize, Serialize};
 
-/// The scene's features (DESIGN.md principle 4: leave out what a scene does not need).
+/// The scene's features (docs/ARCHITECTURE.md, invariant 4: leave out what a scene does not need).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub struct Features {
     /// Number of spheres.

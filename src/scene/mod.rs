@@ -29,7 +29,7 @@ pub fn default_scene() -> Scene {
     load_str(DEFAULT_SCENE, DEFAULT_SCENE_NAME, None).expect("the built-in scene is valid")
 }
 
-/// The pinhole camera, in the convention of *Ray Tracing in One Weekend* (DESIGN.md).
+/// The pinhole camera, in the convention of *Ray Tracing in One Weekend* (README.md, "The scene format").
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Camera {
     /// Eye position.
@@ -53,7 +53,7 @@ pub enum OffsetPolicy {
     /// Start exactly at the computed hit point: shows shadow acne.
     None,
     /// The Ray Tracer Challenge's `over_point`: move `epsilon` along the normal. Fails at large
-    /// scales (acne) and skips surfaces closer than `epsilon` (NUMERICS.md S7, S19).
+    /// scales (acne) and skips surfaces closer than `epsilon` (docs/NUMERICS.md S7, S19).
     Fixed,
     /// pbrt-v4 `OffsetRayOrigin`: move by the hit point's rounding-error bound along the normal,
     /// then one float further. Scale-independent; the default.

@@ -1,4 +1,4 @@
-//! Ray–box intersection: the slab test, plain (as taught) and robust (NUMERICS.md).
+//! Ray–box intersection: the slab test, plain (as taught) and robust (docs/NUMERICS.md).
 
 use crate::math::{Ray, Real, Vector, gamma};
 use serde::{Deserialize, Serialize};

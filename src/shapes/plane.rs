@@ -94,7 +94,7 @@ pub fn axis<T: Real>(ray: &Ray<T>, axis: usize, offset: T) -> PlaneTest<T> {
 
 #[inline(always)]
 fn finish<T: Real>(ray: &Ray<T>, form: PlaneForm<T>, numerator: T, denominator: T) -> PlaneTest<T> {
-    // −0 == +0 in IEEE comparison, so both signs of zero are "parallel" (NUMERICS.md S9).
+    // −0 == +0 in IEEE comparison, so both signs of zero are "parallel" (docs/NUMERICS.md S9).
     if denominator == T::zero() {
         return PlaneTest {
             form,

@@ -12,7 +12,7 @@ pub enum SphereMethod {
     Textbook,
     /// Ray Tracing Gems ch. 7 (Haines, Günther, Akenine-Möller 2019): Δ′ from a vector difference,
     /// roots from q = b′ + sign(b′)·√(aΔ′) so that neither root subtracts nearly equal numbers.
-    /// The renderer's default: NUMERICS.md S1/S3 show the textbook form misclassifying far spheres
+    /// The renderer's default: docs/NUMERICS.md S1/S3 show the textbook form misclassifying far spheres
     /// and picking wrong near roots in f32, while this form stays within a few ulps.
     // Why the default (the stability lab, `raystep stability`, full suite, f32, exact
     // references): S1 (unit sphere 1e2…1e4 away) — textbook misclassifies 5128 of 16 000 rays
@@ -157,7 +157,7 @@ pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T>
     test
 }
 
-/// Ray Tracing Gems ch. 7, eq. 7.5–7.7 (see NUMERICS.md).
+/// Ray Tracing Gems ch. 7, eq. 7.5–7.7 (see docs/NUMERICS.md).
 #[inline(always)]
 pub fn stable<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
     let f = ray.origin - center;
@@ -310,7 +310,7 @@ mod tests {
 
     #[test]
     fn far_sphere_textbook_fails_stable_holds() {
-        // NUMERICS.md S1: unit sphere at distance 4100 in f32. A ray aimed 0.5 off-centre must hit
+        // docs/NUMERICS.md S1: unit sphere at distance 4100 in f32. A ray aimed 0.5 off-centre must hit
         // (exact: the line passes at distance 0.5 < 1). c = 4100² − 1 rounds to 4100² in f32
         // (4100² = 16 810 000 > 2²⁴, ulp 2), so the textbook discriminant sees a sphere of radius 0.
         let r = ray([0.5, 0.0, -4100.0], [0., 0., 1.]);

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 pub enum TriangleMethod {
     /// Möller–Trumbore via Cramer's rule, no ε on the determinant (the seeds' form).
     MollerTrumbore,
-    /// Woop–Benthin–Wald watertight test. The renderer's default: NUMERICS.md measured 7.4% of
+    /// Woop–Benthin–Wald watertight test. The renderer's default: docs/NUMERICS.md measured 7.4% of
     /// rays aimed exactly at a shared edge slipping between two Möller–Trumbore triangles in f32
     /// (4.1% at a shared vertex), and 0 leaks in 4.4 million such rays with this test; raystep's
     /// own `tests/stiff.rs` repeats the edge measurement (S12) on every test run.
@@ -149,7 +149,7 @@ pub fn moller_trumbore<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     let e1 = p[1] - p[0];
     let e2 = p[2] - p[0];
     let nq = -ray.dir;
-    // 2. (no ε: an ε on D0 rejects head-on hits on small triangles, NUMERICS.md S14/S16)
+    // 2. (no ε: an ε on D0 rejects head-on hits on small triangles, docs/NUMERICS.md S14/S16)
     let d0 = det3::<T>(nq, e1, e2);
     out.det = d0;
     if d0 == T::zero() || !d0.is_finite() {

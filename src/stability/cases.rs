@@ -1,4 +1,4 @@
-//! Generators for the stiff-case catalogue S1–S25 of NUMERICS.md.
+//! Generators for the stiff-case catalogue S1–S25 of docs/NUMERICS.md.
 //!
 //! Every generated number is rounded to f32 (unless the case is *about* f64-only inputs), so the
 //! f32 and f64 kernels see exactly the same inputs and share one exact reference. Where an input
@@ -656,7 +656,7 @@ fn plane_far(rng: &mut Rng, n: usize) -> Case {
 }
 
 /// Rounds each component of `v` to 11 significant bits (the mantissa of an f16; the exponent
-/// range is not modelled): the lossy edge storage of compressed BVH triangles (NUMERICS.md S24).
+/// range is not modelled): the lossy edge storage of compressed BVH triangles (docs/NUMERICS.md S24).
 fn f16ish(v: [f64; 3]) -> [f64; 3] {
     v.map(|x| {
         if x == 0.0 {
@@ -706,7 +706,7 @@ fn edge_leaks(
         let base = Vec3::new(base as f32, (base * 0.75) as f32, (base * 0.5) as f32);
         let s = s as f32;
         for _ in 0..n {
-            // As in tests/stiff.rs (and NUMERICS.md's measurement): triangles (A, B, C1) and
+            // As in tests/stiff.rs (and docs/NUMERICS.md's measurement): triangles (A, B, C1) and
             // (B, A, C2) share the edge A–B; the ray is aimed at A + r(B − A), computed in f32 —
             // on the edge up to that rounding, so the exact reference always hits at least one
             // of the two, and a ray that hits neither is a leak.

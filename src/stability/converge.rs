@@ -1,6 +1,6 @@
 //! Image-level error against run time (`raystep converge`): a scene rendered at spp = 1, 2, 4, …
 //! with K independent seeds, each image compared with a reference rendered at ≥ 16× the top spp
-//! (NUMERICS.md, "Reporting error against run time").
+//! (docs/NUMERICS.md, "Reporting error against run time").
 //!
 //! Per level and seed: trace seconds (the renderer's own [`RenderStats::trace`], which excludes
 //! loading and building the accelerator — both reported once, separately), MSE, RMSE,

@@ -2,12 +2,12 @@
 //! boxes and triangles are solved *exactly* in rationals (`num-rational` over `num-bigint`).
 //! Spheres need one square root: its sign question (hit or miss) is answered exactly from the
 //! rational discriminant, and the root itself is computed with a big-integer square root to at
-//! least 200 bits (NUMERICS.md, "Exact references") — far beyond f64's 53.
+//! least 200 bits (docs/NUMERICS.md, "Exact references") — far beyond f64's 53.
 //!
 //! Each reference also says whether the ray lies in the *rounding band* of its precision: an
 //! exact answer so close to a decision boundary (tangency, an edge, t = 0) that rounding the
 //! inputs by a few units in the last place could flip it. Outside the band a kernel must agree
-//! with the reference; inside, either answer is legitimate (NUMERICS.md: "below the input's own
+//! with the reference; inside, either answer is legitimate (docs/NUMERICS.md: "below the input's own
 //! rounding no formula helps"). The band of each primitive is defined next to its reference.
 
 use num_bigint::BigInt;
@@ -124,11 +124,11 @@ pub struct SphereRef {
 ///
 /// The band, for unit roundoff `u` and S = max(|O|, |G|, |f|):
 /// - *tangency*: |Δ′| ≤ 16·u·(S·(r + ρ) + r²), where Δ′ = D/a = r² − ρ² and ρ is the distance
-///   from G to the ray's line. Rounding f = O − G moves ρ by about u·S (NUMERICS.md: the stable
+///   from G to the ray's line. Rounding f = O − G moves ρ by about u·S (docs/NUMERICS.md: the stable
 ///   form keeps r², so its error in ρ is of that order); 16 covers the handful of operations.
 /// - *origin near the surface*: 0 < ||f| − r| ≤ u·S — the origin lies within the rounding of
 ///   f = O − G itself (u·|f| per component) of the surface, so which side it is on, and so
-///   which root is the first, is below the input's own rounding (NUMERICS.md S4). An origin
+///   which root is the first, is below the input's own rounding (docs/NUMERICS.md S4). An origin
 ///   exactly on the surface (c = 0, S5) is *not* in the band: that is exact, and the kernel
 ///   must get it right.
 pub fn sphere(center: [f64; 3], radius: f64, o: [f64; 3], d: [f64; 3], u: f64) -> SphereRef {
@@ -285,7 +285,7 @@ pub struct PlaneRef {
 /// Ray O + t·d against the plane X·n = c, exactly: t = (c − O·n)/(d·n); d·n = 0 is a miss.
 ///
 /// The band: the origin within rounding of the plane, |c − O·n| ≤ 4·u·(|c| + |O|·|n|) — the
-/// numerator's own cancellation (NUMERICS.md S11), where the side the origin is on (and so the
+/// numerator's own cancellation (docs/NUMERICS.md S11), where the side the origin is on (and so the
 /// sign of t) is below the inputs' rounding.
 pub fn plane(normal: [f64; 3], offset: f64, o: [f64; 3], d: [f64; 3], u: f64) -> PlaneRef {
     let (nq, oq, dq) = (q3(normal), q3(o), q3(d));

@@ -1,5 +1,5 @@
-//! The numerical stability lab (issue 8): every intersection method in both precisions, run on
-//! the stiff cases S1–S25 of NUMERICS.md, each answer measured against an *exact* reference, and
+//! The numerical stability lab: every intersection method in both precisions, run on
+//! the stiff cases S1–S25 of docs/NUMERICS.md, each answer measured against an *exact* reference, and
 //! each method's cost measured on the same inputs.
 //!
 //! One call does it all: [`run`] takes [`Options`] and returns a [`Report`] — plain data the

@@ -1,4 +1,4 @@
-//! Primary rays: the inverse mapping from a pixel to a ray (DESIGN.md's camera convention).
+//! Primary rays: the inverse mapping from a pixel to a ray (the camera convention in README.md, "The scene format").
 
 use crate::math::{Ray, normalize};
 use crate::scene::Camera;

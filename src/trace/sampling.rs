@@ -1,5 +1,5 @@
 //! Deterministic antialiasing: jittered stratified samples seeded by (pixel, sample, seed), so a
-//! render, a trace, a GPU frame and a recorded trace agree exactly (DESIGN.md principle 5).
+//! render, a trace, a GPU frame and a recorded trace agree exactly (docs/ARCHITECTURE.md, invariant 3).
 
 /// The PCG hash of Jarzynski and Olano, "Hash Functions for GPU Rendering" (JCGT 2020): a
 /// stateless 32-bit hash with good avalanche, written the same way in WGSL for the GPU view.

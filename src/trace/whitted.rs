@@ -193,7 +193,7 @@ pub struct Tracer<'s, A: Accelerator> {
     pub camera: CameraRays,
     /// Which optional stages are compiled into the tracing loop: (shadow rays, reflection,
     /// refraction). Set from the scene's features, so an opaque scene runs a tracer with no
-    /// refraction code at all (DESIGN.md principle 4).
+    /// refraction code at all (docs/ARCHITECTURE.md, invariant 4).
     pub stages: (bool, bool, bool),
 }
 

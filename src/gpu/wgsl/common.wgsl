@@ -21,7 +21,7 @@ struct Params {
     n_nodes: u32,
     debug_pixel: vec2u,
     // +∞, uploaded from the CPU: WGSL has no infinity literal (a constant expression may not
-    // overflow), and the slab test needs true IEEE infinities (NUMERICS.md S20/S21).
+    // overflow), and the slab test needs true IEEE infinities (docs/NUMERICS.md S20/S21).
     inf: f32,
     pad: u32,
 }

@@ -1,7 +1,7 @@
 // ---- intersection: ray–plane, general X·n = c and axis-aligned X_axis = c (src/shapes/plane.rs) ----
 
 fn plane_root(r: Ray, numerator: f32, denominator: f32) -> Cand {
-    // Either sign of zero: parallel, a miss (NUMERICS.md S9). An overflowing t fails `accepts`.
+    // Either sign of zero: parallel, a miss (docs/NUMERICS.md S9). An overflowing t fails `accepts`.
     if denominator == 0.0 {
         return no_cand(denominator);
     }

@@ -22,7 +22,7 @@ fn is_nan3(v: vec3f) -> vec3<bool> {
     return (bitcast<vec3u>(v) & vec3u(0x7fffffffu)) > vec3u(0x7f800000u);
 }
 
-// (t_near, t_far) of a node's box: the robust slab test (NUMERICS.md), t_far enlarged by 1 + 2γ₃,
+// (t_near, t_far) of a node's box: the robust slab test (docs/NUMERICS.md), t_far enlarged by 1 + 2γ₃,
 // a NaN slab distance (a ray lying in a face plane, 0·∞) imposing no limit.
 fn box_interval(s: SlabRay, node: Node, t_min: f32, t_max: f32) -> vec2f {
     node_visits += 1u;
