@@ -2087,7 +2087,9 @@ impl Drawer<'_, '_> {
         self.place_labels();
 
         let [x, y] = self.trace.pixel;
-        let y0 = title(self.c, &format!("Scene slice · pixel ({x}, {y})"));
+        let heading = format!("Scene slice · pixel ({x}, {y})");
+        let heading_w = self.c.text_width(&heading, self.c.text_size * 1.15);
+        let y0 = title(self.c, &heading);
         let sub_size = self.c.text_size * 0.85;
         let plane = if let Some((i, step)) = self.info.focused_step() {
             step_caption(self.info.rays[i].ray, step)
@@ -2133,8 +2135,12 @@ impl Drawer<'_, '_> {
         if let Some(k) = self.info.focus {
             let text = format!("step {k} of {}", self.info.len.saturating_sub(1));
             let ts = self.c.text_size;
-            self.c
-                .text(w - ts * 0.8, ts * 0.6, ts, &text, t.ink, Anchor::TopRight);
+            // On a narrow canvas the counter would be drawn over the title: leave it out (the
+            // app's step bar and the GIF's frame order say which step it is).
+            if ts * 0.8 + heading_w + ts + self.c.text_width(&text, ts) + ts * 0.8 <= w {
+                self.c
+                    .text(w - ts * 0.8, ts * 0.6, ts, &text, t.ink, Anchor::TopRight);
+            }
         }
         self.legend(legend, legend_h);
     }
