@@ -1029,19 +1029,58 @@ fn diagram_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &
         return;
     };
     let mut p = state.prefs.clone();
-    ui.horizontal_wrapped(|ui| {
-        ui.selectable_value(&mut p.diagram, DiagramChoice::Auto, "Follow the step");
-        for k in &s.kinds {
-            ui.selectable_value(&mut p.diagram, DiagramChoice::Kind(*k), diagram_label(*k));
-        }
-    });
-    if state.diagram_kind() == Some(DiagramKind::Slice) {
+    let slice = state.diagram_kind() == Some(DiagramKind::Slice);
+    // A short panel (a small window, presentation mode's large text) keeps its height for the
+    // diagram: the kinds in a drop-down and the slice's controls on the same row.
+    if ui.available_height() < COMPACT_DIAGRAM_CONTROLS_BELOW {
         ui.horizontal_wrapped(|ui| {
-            let l = ui.label("Slice angle");
-            ui.add(egui::Slider::new(&mut p.slice_angle, -180.0..=180.0).suffix("°"))
-                .labelled_by(l.id);
-            ui.checkbox(&mut p.top_down, "from above");
+            let l = ui.label("Diagram");
+            let chosen = match p.diagram {
+                DiagramChoice::Auto => "Follow the step",
+                DiagramChoice::Kind(k) => diagram_label(k),
+            };
+            egui::ComboBox::from_id_salt("diagram-kind")
+                .selected_text(chosen)
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut p.diagram, DiagramChoice::Auto, "Follow the step");
+                    for k in &s.kinds {
+                        ui.selectable_value(
+                            &mut p.diagram,
+                            DiagramChoice::Kind(*k),
+                            diagram_label(*k),
+                        );
+                    }
+                })
+                .response
+                .labelled_by(l.id)
+                .on_hover_text("which diagram to show");
+            if slice {
+                let l = ui.label("angle");
+                ui.add(
+                    egui::DragValue::new(&mut p.slice_angle)
+                        .range(-180.0..=180.0)
+                        .suffix("°"),
+                )
+                .labelled_by(l.id)
+                .on_hover_text("turn the slice about the primary ray (drag or type)");
+                ui.checkbox(&mut p.top_down, "from above");
+            }
         });
+    } else {
+        ui.horizontal_wrapped(|ui| {
+            ui.selectable_value(&mut p.diagram, DiagramChoice::Auto, "Follow the step");
+            for k in &s.kinds {
+                ui.selectable_value(&mut p.diagram, DiagramChoice::Kind(*k), diagram_label(*k));
+            }
+        });
+        if slice {
+            ui.horizontal_wrapped(|ui| {
+                let l = ui.label("Slice angle");
+                ui.add(egui::Slider::new(&mut p.slice_angle, -180.0..=180.0).suffix("°"))
+                    .labelled_by(l.id);
+                ui.checkbox(&mut p.top_down, "from above");
+            });
+        }
     }
     if p != state.prefs {
         cmds.push(Command::SetPrefs(p));
@@ -1066,6 +1105,9 @@ fn diagram_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &
         }
     }
 }
+
+/// Below this height (points) the diagram panel puts its controls on one compact row.
+const COMPACT_DIAGRAM_CONTROLS_BELOW: f32 = 420.0;
 
 fn diagram_label(k: DiagramKind) -> &'static str {
     match k {
