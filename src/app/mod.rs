@@ -159,6 +159,14 @@ impl RaystepApp {
             self.state.apply(c);
         }
         crash::remember(&self.state);
+        // A way to check the crash recovery end to end in a real window: debug builds only, and
+        // only when asked for by the environment.
+        #[cfg(debug_assertions)]
+        if std::env::var_os("RAYSTEP_DEBUG_PANIC_KEY").is_some()
+            && ctx.input(|i| i.key_pressed(egui::Key::F12))
+        {
+            panic!("a panic asked for with F12 (RAYSTEP_DEBUG_PANIC_KEY, debug builds only)");
+        }
         if std::mem::take(&mut self.views.toggle_fullscreen) {
             fullscreen_toggle = true;
         }
