@@ -564,7 +564,7 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
                     "Question {} of {} ({} point{})",
                     learn.question + 1,
                     sheet.questions.len(),
-                    short(q.points),
+                    crate::lesson::short(q.points),
                     if q.points == 1.0 { "" } else { "s" }
                 ))
                 .strong(),
@@ -682,21 +682,4 @@ fn mark_line(ui: &mut egui::Ui, m: &Mark, a: &Attempt, feedback: lesson::Feedbac
         )
     };
     ui.label(RichText::new(text).color(color).strong());
-}
-
-/// A point count with three significant digits.
-fn short(x: f64) -> String {
-    if x == 0.0 {
-        "0".into()
-    } else if (1e-3..1e5).contains(&x.abs()) {
-        let decimals = (2 - x.abs().log10().floor() as i32).clamp(0, 5) as usize;
-        let s = format!("{x:.decimals$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
-    } else {
-        format!("{x:.2e}")
-    }
 }

@@ -930,30 +930,12 @@ fn inset_rect(r: [f32; 4], k: f32) -> [f32; 4] {
     ]
 }
 
-/// Liang–Barsky: the part of segment a→b inside `r`.
+/// The part of segment a→b inside `r` = [x, y, width, height]: the canvas's one line clipper.
 fn clip_to_rect(r: [f32; 4], a: Px, b: Px) -> Option<(Px, Px)> {
-    let d = sub(b, a);
-    let (mut t0, mut t1) = (0.0_f32, 1.0_f32);
-    for (p, q) in [
-        (-d[0], a[0] - r[0]),
-        (d[0], r[0] + r[2] - a[0]),
-        (-d[1], a[1] - r[1]),
-        (d[1], r[1] + r[3] - a[1]),
-    ] {
-        if p.abs() < 1e-12 {
-            if q < 0.0 {
-                return None;
-            }
-        } else {
-            let t = q / p;
-            if p < 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-    }
-    (t0 <= t1).then(|| (add(a, mul(d, t0)), add(a, mul(d, t1))))
+    let f = |v: f32| f64::from(v);
+    let rect = [f(r[0]), f(r[1]), f(r[0] + r[2]), f(r[1] + r[3])];
+    let (p, q) = super::canvas::clip_segment(rect, [f(a[0]), f(a[1])], [f(b[0]), f(b[1])])?;
+    Some(([p[0] as f32, p[1] as f32], [q[0] as f32, q[1] as f32]))
 }
 
 /// Where the half-line from `from` along `dir` leaves the plot.

@@ -198,8 +198,8 @@ pub fn show(a: &Answer) -> String {
     }
 }
 
-/// A number with three significant digits.
-fn short(x: f64) -> String {
+/// A number with three significant digits (the exercise feedback's and the app's point counts).
+pub fn short(x: f64) -> String {
     if x == 0.0 {
         "0".into()
     } else if (1e-3..1e5).contains(&x.abs()) {

@@ -78,7 +78,7 @@ mod grade;
 mod lessons;
 mod sheet;
 
-pub use answer::{Answer, AnswerKind, Feedback, Mark, mark, parse_answers, show};
+pub use answer::{Answer, AnswerKind, Feedback, Mark, mark, parse_answers, short, show};
 pub use csv::{CsvError, parse_csv, write_csv};
 pub use extract::{explaining_step, extract};
 pub use grade::{GradeReport, grade_class};
