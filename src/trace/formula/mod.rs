@@ -1,0 +1,445 @@
+//! The math panel: for one step of a recorded trace, the formulas the tracer evaluated, with the
+//! numbers substituted, in the precision the renderer used.
+//!
+//! Every [`Formula`] reads `name = symbolic = substituted = value`. The policy for numbers:
+//!
+//! - Where the kernel **recorded** a value (a sphere's a, b, c and Δ, a triangle's determinants, a
+//!   slab's entry and exit, l·n, the refracted direction, …), the line prints the recorded f32,
+//!   formatted by [`describe::num`](super::describe::num) and
+//!   [`describe::v3`](super::describe::v3) (shortest round-trip form), and `substituted` is
+//!   built from the recorded inputs of that very computation.
+//! - Where an input was **not recorded** (f = S − G, E1 = P1 − P0, the camera basis, the light
+//!   vector l, the watertight test's sheared vertices, …), it is computed here in f32 with the same
+//!   operations in the same order as the kernel (the same glam calls on the same recorded inputs),
+//!   so it is the value the renderer had. The doc comment of each such helper says so.
+//! - What neither the trace nor the kernel's inputs determine (the Phong coefficients k_a, k_d,
+//!   k_s and the shininess, which a trace does not store) stays a symbol.
+//!
+//! Nothing here needs the scene: a loaded trace file is enough.
+
+use super::camera::CameraRays;
+use super::describe::{num, v3};
+use super::record::{NodeAction, RayKind, RayRecord, Step, Trace, TraceObject};
+use crate::math::gamma;
+use crate::scene::{OffsetPolicy, Shape};
+use crate::shapes::{
+    BoxMethod, BoxTest, PlaneForm, PlaneTest, RootChoice, SphereCase, SphereMethod, SphereTest,
+    TriangleMethod, TriangleTest,
+};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+mod hit;
+mod plane;
+mod shading;
+mod sphere;
+mod traversal;
+mod triangle;
+
+/// One line of the math panel: `name = symbolic = substituted = value`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Formula {
+    /// The quantity computed, e.g. `Δ` or `a`.
+    pub name: String,
+    /// The formula in symbols, e.g. `b² − 4ac`.
+    pub symbolic: String,
+    /// The formula with the numbers the renderer used, e.g. `(-10)² − 4·1·24`; empty when it
+    /// would add nothing to `symbolic`.
+    pub substituted: String,
+    /// The result, e.g. `4` (the recorded value where the kernel recorded one).
+    pub value: String,
+    /// What the value means, e.g. `> 0: two roots`.
+    pub note: Option<String>,
+}
+
+/// The math panel's content for one step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Explanation {
+    /// What is being evaluated, e.g. `Ray–sphere "middle" (textbook quadratic)`.
+    pub title: String,
+    /// The formulas in the order the tracer evaluated them (a test that stopped early lists only
+    /// the lines up to its stop).
+    pub lines: Vec<Formula>,
+    /// The decision, in words.
+    pub conclusion: String,
+}
+
+/// Explains `step`, one of `ray`'s steps in `trace`, as formulas with the recorded numbers.
+///
+/// `step` should be an element of `ray.steps` (as [`Trace::timeline`] hands them out): its
+/// position there tells which t_max the kernel tested against (t_max shrinks at every `Accept`)
+/// and which `Surface` a shading step belongs to. A step not found in `ray` is still explained,
+/// against the ray's initial interval.
+pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
+    let idx = ray
+        .steps
+        .iter()
+        .position(|s| std::ptr::eq(&s.step, step))
+        .or_else(|| ray.steps.iter().position(|s| &s.step == step));
+    let cx = Ctx { trace, ray, idx };
+    match step {
+        Step::Camera {
+            pixel,
+            sample,
+            offset,
+            screen,
+            direction,
+        } => cx.camera(*pixel, *sample, *offset, *screen, *direction),
+        Step::Node(n) => cx.node(n),
+        Step::Sphere { object, name, test } => cx.sphere(*object, name, test),
+        Step::Plane { name, test, .. } => cx.plane(name, test),
+        Step::Triangle {
+            name,
+            vertices,
+            test,
+            ..
+        } => match test.method {
+            TriangleMethod::MollerTrumbore => cx.moller_trumbore(name, vertices, test),
+            TriangleMethod::Watertight => cx.watertight(name, vertices, test),
+        },
+        Step::Accept {
+            name, t, previous, ..
+        } => cx.accept(name, *t, *previous),
+        Step::Miss { background } => cx.miss(*background),
+        Step::Surface {
+            point,
+            normal,
+            inside,
+            error_bound,
+            over_point,
+        } => cx.surface(*point, *normal, *inside, *error_bound, *over_point),
+        Step::ShadowRay {
+            light,
+            name,
+            distance,
+        } => cx.shadow_ray(*light, name, *distance),
+        Step::Light {
+            light,
+            name,
+            blocked,
+            blocker,
+            l_dot_n,
+            r_dot_e,
+            ambient,
+            diffuse,
+            specular,
+        } => cx.light(
+            *light,
+            name,
+            *blocked,
+            blocker.as_deref(),
+            *l_dot_n,
+            *r_dot_e,
+            [*ambient, *diffuse, *specular],
+        ),
+        Step::Reflect {
+            reflective,
+            direction,
+        } => cx.reflect(*reflective, *direction),
+        Step::Refract {
+            n1,
+            n2,
+            cos_i,
+            sin2_t,
+            critical_angle_deg,
+            total_internal_reflection,
+            direction,
+        } => cx.refract(
+            *n1,
+            *n2,
+            *cos_i,
+            *sin2_t,
+            *critical_angle_deg,
+            *total_internal_reflection,
+            *direction,
+        ),
+        Step::Schlick { reflectance } => cx.schlick(*reflectance),
+        Step::DepthLimit { max_depth } => cx.depth_limit(*max_depth),
+        Step::WeightCutoff {
+            kind,
+            contribution,
+            cutoff,
+        } => cx.weight_cutoff(*kind, *contribution, *cutoff),
+        Step::Truncated { max_steps } => Explanation {
+            title: "The trace stops here".into(),
+            lines: vec![],
+            conclusion: format!(
+                "The trace reached its limit of {max_steps} recorded steps. The tracer went on and every colour is exact, but the rest of its work was not kept."
+            ),
+        },
+        Step::Spawn { child } => cx.spawn(*child),
+        Step::Color { color } => cx.color(*color),
+    }
+}
+
+/// A number, parenthesized when negative so that it can follow an operator: `(-10)`.
+fn p(x: f32) -> String {
+    let s = num(x);
+    if s.starts_with('-') {
+        format!("({s})")
+    } else {
+        s
+    }
+}
+
+/// A vector as [`v3`] prints it.
+fn vv(v: Vec3) -> String {
+    v3(v.to_array())
+}
+
+/// Shorthand for a line.
+fn line(
+    name: &str,
+    symbolic: &str,
+    substituted: impl Into<String>,
+    value: impl Into<String>,
+    note: Option<String>,
+) -> Formula {
+    Formula {
+        name: name.into(),
+        symbolic: symbolic.into(),
+        substituted: substituted.into(),
+        value: value.into(),
+        note,
+    }
+}
+
+fn yes_no(b: bool) -> &'static str {
+    if b { "yes" } else { "no" }
+}
+
+const AXES: [&str; 3] = ["x", "y", "z"];
+
+/// The step being explained, with the ray it belongs to and its position there.
+struct Ctx<'a> {
+    trace: &'a Trace,
+    ray: &'a RayRecord,
+    idx: Option<usize>,
+}
+
+impl Ctx<'_> {
+    fn origin(&self) -> Vec3 {
+        Vec3::from(self.ray.origin)
+    }
+    fn dir(&self) -> Vec3 {
+        Vec3::from(self.ray.direction)
+    }
+
+    /// The steps before this one (all of them when the step is not in the ray).
+    fn before(&self) -> &[super::record::StepRecord] {
+        &self.ray.steps[..self.idx.unwrap_or(self.ray.steps.len())]
+    }
+
+    /// The ray's t_max when step `idx` ran: the initial t_max, shrunk by every `Accept` before it
+    /// (the accelerators set t_max to the accepted t, and only `Accept` changes it).
+    fn t_max_at(&self, idx: Option<usize>) -> f32 {
+        let end = idx.unwrap_or(0);
+        let mut t = self.ray.t_max.unwrap_or(f32::INFINITY);
+        for s in &self.ray.steps[..end] {
+            if let Step::Accept { t: a, .. } = s.step {
+                t = a;
+            }
+        }
+        t
+    }
+
+    /// The t_max this step's kernel tested against.
+    fn t_max(&self) -> f32 {
+        self.t_max_at(self.idx)
+    }
+
+    /// `t_min < t < t_max`, with the numbers.
+    fn range_line(&self, t: f32) -> Formula {
+        let (lo, hi) = (self.ray.t_min, self.t_max());
+        let ok = t > lo && t < hi;
+        line(
+            "t in range?",
+            "t_min < t < t_max",
+            format!("{} < {} < {}", num(lo), num(t), num(hi)),
+            yes_no(ok),
+            Some(if ok {
+                "inside the ray's interval".into()
+            } else if t <= lo {
+                "at or behind the origin (t ≤ t_min)".into()
+            } else if self.t_max() < self.ray.t_max.unwrap_or(f32::INFINITY) {
+                "at or beyond the closest hit so far (t ≥ t_max)".into()
+            } else {
+                "at or beyond the ray's end (t ≥ t_max)".into()
+            }),
+        )
+    }
+
+    fn object(&self, id: u32) -> Option<&TraceObject> {
+        self.trace.objects.iter().find(|o| o.id == id)
+    }
+
+    /// The latest `Surface` step before this one: (point, normal).
+    fn surface_before(&self) -> Option<(Vec3, Vec3)> {
+        self.before().iter().rev().find_map(|s| match s.step {
+            Step::Surface { point, normal, .. } => Some((Vec3::from(point), Vec3::from(normal))),
+            _ => None,
+        })
+    }
+
+    /// The eye vector e = −Q/|Q|, computed in f32 exactly as the tracer's `interact` does.
+    fn eye(&self) -> Vec3 {
+        let d = self.dir();
+        -d / d.length()
+    }
+
+    fn camera(
+        &self,
+        pixel: [u32; 2],
+        sample: u32,
+        offset: [f32; 2],
+        screen: [f32; 2],
+        direction: [f32; 3],
+    ) -> Explanation {
+        let cam = &self.trace.camera;
+        // The renderer's own basis code on the trace's camera: the same f32 values it used.
+        let basis = CameraRays::new(cam);
+        let (w, h) = (cam.width, cam.height);
+        let lines = vec![
+            line(
+                "offset",
+                if self.trace.settings.spp <= 1 {
+                    "(0.5, 0.5): the pixel centre (1 sample per pixel)"
+                } else {
+                    "jittered cell of a stratified grid (hash of pixel, sample, seed)"
+                },
+                "",
+                format!("({}, {})", num(offset[0]), num(offset[1])),
+                None,
+            ),
+            line(
+                "sx",
+                "2(x + oₓ)/W − 1",
+                format!("2·({} + {})/{} − 1", pixel[0], num(offset[0]), w),
+                num(screen[0]),
+                None,
+            ),
+            line(
+                "sy",
+                "1 − 2(y + o_y)/H",
+                format!("1 − 2·({} + {})/{}", pixel[1], num(offset[1]), h),
+                num(screen[1]),
+                Some("y counts from the top of the image".into()),
+            ),
+            line(
+                "w",
+                "normalize(from − at)",
+                format!("normalize({} − {})", vv(cam.from), vv(cam.at)),
+                vv(basis.w),
+                Some("points backwards, out of the screen".into()),
+            ),
+            line(
+                "u",
+                "normalize(up × w)",
+                format!("normalize({} × {})", vv(cam.up), vv(basis.w)),
+                vv(basis.u),
+                Some("right in the image".into()),
+            ),
+            line(
+                "v",
+                "w × u",
+                format!("{} × {}", vv(basis.w), vv(basis.u)),
+                vv(basis.v),
+                Some("up in the image".into()),
+            ),
+            line(
+                "h",
+                "tan(fov/2)",
+                format!("tan({}°/2)", num(cam.fov)),
+                num(basis.half_height),
+                None,
+            ),
+            line(
+                "h·W/H",
+                "half width",
+                format!("{}·{}/{}", num(basis.half_height), w, h),
+                num(basis.half_width),
+                None,
+            ),
+            line(
+                "Q",
+                "normalize(sx·(h·W/H)·u + sy·h·v − w)",
+                format!(
+                    "normalize({}·{}·{} + {}·{}·{} − {})",
+                    p(screen[0]),
+                    num(basis.half_width),
+                    vv(basis.u),
+                    p(screen[1]),
+                    num(basis.half_height),
+                    vv(basis.v),
+                    vv(basis.w)
+                ),
+                v3(direction),
+                None,
+            ),
+        ];
+        Explanation {
+            title: format!(
+                "Ray generation: pixel ({}, {}), sample {sample}",
+                pixel[0], pixel[1]
+            ),
+            lines,
+            conclusion: format!(
+                "The primary ray starts at the eye S = {} and runs along Q = {}.",
+                vv(cam.from),
+                v3(direction)
+            ),
+        }
+    }
+
+    /// The t_max a node's box was tested against. Siblings are tested as a pair before either is
+    /// recorded, so the second (farther) sibling shows the t_max of the first one's record, even
+    /// if the first one's leaf has since shrunk it.
+    fn node_t_max(&self, node: u32) -> f32 {
+        let Some(i) = self.idx else {
+            return self.t_max();
+        };
+        let before = &self.ray.steps[..i];
+        let parent = before.iter().rposition(
+            |s| matches!(&s.step, Step::Node(n) if n.children.is_some_and(|c| c.contains(&node))),
+        );
+        let Some(pi) = parent else {
+            return self.t_max();
+        };
+        let Step::Node(pn) = &before[pi].step else {
+            return self.t_max();
+        };
+        let sibling = pn.children.map(|c| if c[0] == node { c[1] } else { c[0] });
+        let sib = before[pi + 1..]
+            .iter()
+            .position(|s| matches!(&s.step, Step::Node(n) if Some(n.node) == sibling));
+        match sib {
+            Some(k) => self.t_max_at(Some(pi + 1 + k)),
+            None => self.t_max(),
+        }
+    }
+}
+
+/// b′ = −f·Q as the stable kernel computes it (from f when the sphere is known, else −b/2).
+fn b_half_of(f: Option<Vec3>, d: Vec3, test: &SphereTest<f32>) -> f32 {
+    f.map_or(-test.b / 2.0, |f| -f.dot(d))
+}
+
+fn case_note(test: &SphereTest<f32>) -> String {
+    if test.discriminant.is_nan() {
+        "NaN (overflow): a miss".into()
+    } else {
+        match test.case {
+            SphereCase::Miss => "< 0: no real roots".into(),
+            SphereCase::Tangent => "= 0: one root (tangent)".into(),
+            SphereCase::EnterExit => "> 0: two roots".into(),
+        }
+    }
+}
+
+fn upper_first(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().collect::<String>() + c.as_str(),
+        None => String::new(),
+    }
+}

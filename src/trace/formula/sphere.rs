@@ -1,0 +1,266 @@
+//! The math panel's ray–sphere test: the quadratic (textbook or stable), its roots and the choice.
+
+use super::*;
+
+impl Ctx<'_> {
+    /// The sphere test. f = S − G is computed here exactly as the kernel does (`origin − center`
+    /// in f32); for `stable`, f·d and l = f + d·(b′/a) too, from the recorded a.
+    pub(super) fn sphere(&self, object: u32, name: &str, test: &SphereTest<f32>) -> Explanation {
+        let geo = self.object(object).and_then(|o| match o.shape {
+            Shape::Sphere { center, radius } => Some((center, radius)),
+            _ => None,
+        });
+        let d = self.dir();
+        let mut lines = vec![];
+        let (fs, rs) = match geo {
+            Some((center, radius)) => {
+                let f = self.origin() - center;
+                lines.push(line(
+                    "f",
+                    "S − G",
+                    format!("{} − {}", vv(self.origin()), vv(center)),
+                    vv(f),
+                    Some(format!(
+                        "from the sphere's centre G to the ray's origin (r = {})",
+                        num(radius)
+                    )),
+                ));
+                (Some(f), Some(radius))
+            }
+            None => (None, None),
+        };
+        let fstr = fs.map_or("f".to_string(), vv);
+        let r2 = rs.map_or("r²".to_string(), |r| format!("{}²", p(r)));
+        lines.push(line(
+            "a",
+            "Q·Q",
+            format!("{}·{}", vv(d), vv(d)),
+            num(test.a),
+            None,
+        ));
+        let textbook = test.method == SphereMethod::Textbook;
+        if textbook {
+            lines.push(line(
+                "b",
+                "2 f·Q",
+                format!("2·{}·{}", fstr, vv(d)),
+                num(test.b),
+                None,
+            ));
+            lines.push(line(
+                "c",
+                "f·f − r²",
+                format!("{fstr}·{fstr} − {r2}"),
+                num(test.c),
+                Some(if test.inside {
+                    "< 0: the origin is inside the sphere".into()
+                } else {
+                    "≥ 0: the origin is outside (or on) the sphere".into()
+                }),
+            ));
+            lines.push(line(
+                "Δ",
+                "b² − 4ac",
+                format!("{}² − 4·{}·{}", p(test.b), num(test.a), p(test.c)),
+                num(test.discriminant),
+                Some(case_note(test)),
+            ));
+        } else {
+            let fd = fs.map(|f| f.dot(d));
+            let b_half = fd.map(|x| -x);
+            lines.push(line(
+                "b′",
+                "−f·Q",
+                format!("−{}·{}", fstr, vv(d)),
+                b_half.map_or(String::new(), num),
+                Some(format!("the textbook's b = 2f·Q = {}", num(test.b))),
+            ));
+            lines.push(line(
+                "c",
+                "f·f − r²",
+                format!("{fstr}·{fstr} − {r2}"),
+                num(test.c),
+                Some(if test.inside {
+                    "< 0: the origin is inside the sphere".into()
+                } else {
+                    "≥ 0: the origin is outside (or on) the sphere".into()
+                }),
+            ));
+            if let (Some(f), Some(bh)) = (fs, b_half) {
+                // As the kernel: l = f + d·(b′/a).
+                let l = f + d * (bh / test.a);
+                lines.push(line(
+                    "l",
+                    "f + (b′/a)·Q",
+                    format!("{} + ({}/{})·{}", fstr, p(bh), num(test.a), vv(d)),
+                    vv(l),
+                    Some("from the centre to the ray's line, at right angles".into()),
+                ));
+                if let Some(dp) = test.delta_prime {
+                    lines.push(line(
+                        "Δ′",
+                        "r² − l·l",
+                        format!("{r2} − {}·{}", vv(l), vv(l)),
+                        num(dp),
+                        Some(
+                            "a vector difference: keeps r² even when |f| ≫ r (c has lost it)"
+                                .into(),
+                        ),
+                    ));
+                }
+            }
+            lines.push(line(
+                "Δ",
+                "4a·Δ′",
+                format!(
+                    "4·{}·{}",
+                    num(test.a),
+                    p(test.delta_prime.unwrap_or(f32::NAN))
+                ),
+                num(test.discriminant),
+                Some(format!(
+                    "the textbook's b² − 4ac, computed robustly; {}",
+                    case_note(test)
+                )),
+            ));
+        }
+        let (rmin, rmax) = (self.ray.t_min, self.t_max());
+        if let Some([lo, hi]) = test.roots {
+            if textbook {
+                let sq = test.discriminant.sqrt();
+                lines.push(line(
+                    "√Δ",
+                    "√Δ",
+                    format!("√{}", num(test.discriminant)),
+                    num(sq),
+                    None,
+                ));
+                lines.push(line(
+                    "t₀",
+                    "(−b − √Δ)/2a",
+                    format!("({} − {})/(2·{})", num(-test.b), num(sq), num(test.a)),
+                    num(lo),
+                    Some("the near root".into()),
+                ));
+                lines.push(line(
+                    "t₁",
+                    "(−b + √Δ)/2a",
+                    format!("({} + {})/(2·{})", num(-test.b), num(sq), num(test.a)),
+                    num(hi),
+                    Some("the far root".into()),
+                ));
+            } else if let Some(q) = test.q {
+                let bh = b_half_of(fs, d, test);
+                let sign = if bh >= 0.0 { "+" } else { "−" };
+                lines.push(line(
+                    "q",
+                    "b′ + sign(b′)·√(a·Δ′)",
+                    format!(
+                        "{} {sign} √({}·{})",
+                        num(bh),
+                        num(test.a),
+                        p(test.delta_prime.unwrap_or(f32::NAN))
+                    ),
+                    num(q),
+                    Some("adds numbers of one sign: no cancellation".into()),
+                ));
+                if q == 0.0 {
+                    lines.push(line(
+                        "t₀ = t₁",
+                        "0",
+                        "",
+                        "0",
+                        Some("q = 0 (tangent at the origin): c/q would be 0/0".into()),
+                    ));
+                } else {
+                    // The kernel's own divisions on the recorded c, q and a.
+                    let (t0, t1) = (test.c / q, q / test.a);
+                    lines.push(line(
+                        "c/q",
+                        "c/q",
+                        format!("{}/{}", p(test.c), p(q)),
+                        num(t0),
+                        None,
+                    ));
+                    lines.push(line(
+                        "q/a",
+                        "q/a",
+                        format!("{}/{}", p(q), num(test.a)),
+                        num(t1),
+                        None,
+                    ));
+                }
+                lines.push(line(
+                    "t₀, t₁",
+                    "the two roots, in order",
+                    "",
+                    format!("{}, {}", num(lo), num(hi)),
+                    None,
+                ));
+            }
+            let (choice, sub, val) = match test.choice {
+                RootChoice::NearRoot => (
+                    "t_min < t₀ < t_max",
+                    format!("{} < {} < {}", num(rmin), num(lo), num(rmax)),
+                    num(lo),
+                ),
+                RootChoice::FarRoot => (
+                    "t₀ ≤ t_min < t₁ < t_max",
+                    format!("{} ≤ {} < {} < {}", num(lo), num(rmin), num(hi), num(rmax)),
+                    num(hi),
+                ),
+                RootChoice::Behind => (
+                    "t₁ ≤ t_min",
+                    format!("{} ≤ {}", num(hi), num(rmin)),
+                    "none".into(),
+                ),
+                RootChoice::BeyondTMax => {
+                    let first = if lo > rmin { lo } else { hi };
+                    (
+                        "first root past t_min ≥ t_max",
+                        format!("{} ≥ {}", num(first), num(rmax)),
+                        "none".into(),
+                    )
+                }
+                RootChoice::NoRoots => ("no roots", String::new(), "none".into()),
+            };
+            lines.push(line("t", choice, sub, val, None));
+        }
+        let conclusion = match (test.case, test.choice) {
+            (_, RootChoice::NoRoots) if test.discriminant.is_nan() => {
+                "Δ is NaN (overflow): treated as a miss.".to_string()
+            }
+            (SphereCase::Miss, _) | (_, RootChoice::NoRoots) => {
+                "Δ < 0: the ray's line passes the sphere by — no real roots, a miss.".into()
+            }
+            (_, RootChoice::NearRoot) => format!(
+                "Hit at the near root t = {}: the ray enters the sphere there.",
+                test.t.map_or("?".into(), num)
+            ),
+            (_, RootChoice::FarRoot) => format!(
+                "The origin is inside the sphere (the near root is not ahead): hit at the far root t = {}.",
+                test.t.map_or("?".into(), num)
+            ),
+            (_, RootChoice::Behind) => {
+                "Both roots are at or behind the origin: the sphere is behind the ray, a miss."
+                    .into()
+            }
+            (_, RootChoice::BeyondTMax) => {
+                "The usable root lies beyond t_max (something closer was already hit): a miss."
+                    .into()
+            }
+        };
+        Explanation {
+            title: format!(
+                "Ray–sphere \"{name}\" ({})",
+                if textbook {
+                    "textbook quadratic"
+                } else {
+                    "stable quadratic, Ray Tracing Gems ch. 7"
+                }
+            ),
+            lines,
+            conclusion,
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! The math panel's BVH node visits: the slab test of a node's box, per axis.
+
+use super::*;
+
+impl Ctx<'_> {
+    pub(super) fn node(&self, n: &crate::trace::record::NodeVisit) -> Explanation {
+        let test: &BoxTest<f32> = &n.test;
+        let o = self.ray.origin;
+        let t_max_tested = self.node_t_max(n.node);
+        let t_max_now = self.t_max();
+        let mut lines = vec![];
+        let robust = test.method == BoxMethod::Robust;
+        // The kernel's factor 1 + 2γ₃, computed as `slab_axis` does.
+        let enlarge = 1.0 + 2.0 * gamma::<f32>(3);
+        for (i, ax) in test.axes.iter().enumerate() {
+            let a = AXES[i];
+            if robust {
+                // Computed exactly as `slab_robust` does: (slab − S)·(1/Q).
+                let t0 = (test.min[i] - o[i]) * ax.inv_dir;
+                let t1 = (test.max[i] - o[i]) * ax.inv_dir;
+                lines.push(line(
+                    &format!("1/Q{a}"),
+                    &format!("1/Q{a}"),
+                    format!("1/{}", p(self.ray.direction[i])),
+                    num(ax.inv_dir),
+                    None,
+                ));
+                lines.push(line(
+                    &format!("t0{a}, t1{a}"),
+                    &format!("(min{a} − S{a})·(1/Q{a}), (max{a} − S{a})·(1/Q{a})"),
+                    format!(
+                        "({} − {})·{}, ({} − {})·{}",
+                        num(test.min[i]),
+                        p(o[i]),
+                        p(ax.inv_dir),
+                        num(test.max[i]),
+                        p(o[i]),
+                        p(ax.inv_dir)
+                    ),
+                    format!("{}, {}", num(t0), num(t1)),
+                    None,
+                ));
+                lines.push(line(
+                    &format!("{a} slab"),
+                    "entry, exit × (1 + 2γ₃)",
+                    if ax.inv_dir.is_sign_negative() {
+                        format!("{}, {}·{}", num(t1), p(t0), num(enlarge))
+                    } else {
+                        format!("{}, {}·{}", num(t0), p(t1), num(enlarge))
+                    },
+                    format!("[{}, {}]", num(ax.t_entry), num(ax.t_exit)),
+                    Some(
+                        if ax.t_entry.is_nan() || ax.t_exit.is_nan() {
+                            "NaN (0·∞: the ray lies in a face plane): this slab sets no limit"
+                        } else if ax.inv_dir.is_sign_negative() {
+                            "Q is negative on this axis: the max plane is entered first"
+                        } else {
+                            "the exit is enlarged by 1 + 2γ₃ so rounding cannot lose a hit"
+                        }
+                        .into(),
+                    ),
+                ));
+            } else {
+                lines.push(line(
+                    &format!("{a} slab"),
+                    &format!("sort((min{a} − S{a})/Q{a}, (max{a} − S{a})/Q{a})"),
+                    format!(
+                        "sort(({} − {})/{}, ({} − {})/{})",
+                        num(test.min[i]),
+                        p(o[i]),
+                        p(self.ray.direction[i]),
+                        num(test.max[i]),
+                        p(o[i]),
+                        p(self.ray.direction[i])
+                    ),
+                    format!("[{}, {}]", num(ax.t_entry), num(ax.t_exit)),
+                    None,
+                ));
+            }
+        }
+        lines.push(line(
+            "t_near",
+            "max(t_min, entry_x, entry_y, entry_z)",
+            format!(
+                "max({}, {}, {}, {})",
+                num(self.ray.t_min),
+                num(test.axes[0].t_entry),
+                num(test.axes[1].t_entry),
+                num(test.axes[2].t_entry)
+            ),
+            num(test.t_near),
+            None,
+        ));
+        lines.push(line(
+            "t_far",
+            "min(t_max, exit_x, exit_y, exit_z)",
+            format!(
+                "min({}, {}, {}, {})",
+                num(t_max_tested),
+                num(test.axes[0].t_exit),
+                num(test.axes[1].t_exit),
+                num(test.axes[2].t_exit)
+            ),
+            num(test.t_far),
+            None,
+        ));
+        let op = if robust { "≤" } else { "<" };
+        lines.push(line(
+            "overlap?",
+            &format!("t_near {op} t_far"),
+            format!("{} {op} {}", num(test.t_near), num(test.t_far)),
+            yes_no(test.hit),
+            Some(if test.hit {
+                "the ray's interval meets the box".into()
+            } else {
+                "the ray misses the box (or reaches it only beyond t_max)".into()
+            }),
+        ));
+        // The far sibling is re-checked against t_max, which the near one's leaf may have shrunk.
+        let rechecked = test.hit && n.action == NodeAction::Culled;
+        if rechecked || (t_max_now < t_max_tested && test.hit) {
+            lines.push(line(
+                "still in reach?",
+                "t_near ≤ t_max (now)",
+                format!("{} ≤ {}", num(test.t_near), num(t_max_now)),
+                yes_no(!rechecked),
+                Some("the nearer sibling's hit shrank t_max".into()),
+            ));
+        }
+        let kind = if n.leaf { "leaf" } else { "inner" };
+        let conclusion = match n.action {
+            NodeAction::Culled if rechecked => {
+                "Culled: a closer hit, found in the nearer sibling, lies before this box.".into()
+            }
+            NodeAction::Culled => {
+                "Culled: the ray misses the box, so nothing inside is tested.".to_string()
+            }
+            NodeAction::Descend => match n.children {
+                Some([a, b]) => format!("Hit: descend into children {a} and {b}."),
+                None => "Hit: descend into its children.".into(),
+            },
+            NodeAction::Pushed => {
+                "Hit, but farther than its sibling: pushed on the stack for later.".into()
+            }
+            NodeAction::TestPrimitives => "Hit: test the leaf's primitives (next steps).".into(),
+        };
+        Explanation {
+            title: format!(
+                "BVH node {} (depth {}, {kind}): {} slab test",
+                n.node,
+                n.depth,
+                if robust { "robust" } else { "plain" }
+            ),
+            lines,
+            conclusion,
+        }
+    }
+}

@@ -1,0 +1,333 @@
+//! The math panel's ray–triangle tests: Möller–Trumbore as Cramer's rule, and the watertight test.
+
+use super::*;
+
+impl Ctx<'_> {
+    /// Möller–Trumbore. E1, E2, −Q and T = S − P0 are computed here exactly as the kernel does
+    /// (glam f32 subtraction and negation); the determinants and quotients are the recorded ones.
+    pub(super) fn moller_trumbore(
+        &self,
+        name: &str,
+        vertices: &[[f32; 3]; 3],
+        test: &TriangleTest<f32>,
+    ) -> Explanation {
+        let pv = vertices.map(Vec3::from);
+        let e1 = pv[1] - pv[0];
+        let e2 = pv[2] - pv[0];
+        let nq = -self.dir();
+        let tv = self.origin() - pv[0];
+        let stop = test.stopped_at;
+        let mut lines = vec![
+            line(
+                "E1",
+                "P1 − P0",
+                format!("{} − {}", vv(pv[1]), vv(pv[0])),
+                vv(e1),
+                Some("step 1".into()),
+            ),
+            line(
+                "E2",
+                "P2 − P0",
+                format!("{} − {}", vv(pv[2]), vv(pv[0])),
+                vv(e2),
+                Some("step 1".into()),
+            ),
+            line(
+                "D0",
+                "det(−Q, E1, E2)",
+                format!("det({}, {}, {})", vv(nq), vv(e1), vv(e2)),
+                num(test.det),
+                Some(if stop == 2 {
+                    "step 2: zero (or not finite): the ray is parallel to the plane — stop".into()
+                } else {
+                    "step 2: non-zero, so the system has one solution".into()
+                }),
+            ),
+        ];
+        let q = |x: Option<f32>| x.map_or("—".to_string(), num);
+        if stop > 2 {
+            lines.push(line(
+                "T",
+                "S − P0",
+                format!("{} − {}", vv(self.origin()), vv(pv[0])),
+                vv(tv),
+                Some("step 3".into()),
+            ));
+            lines.push(line(
+                "Dt",
+                "det(T, E1, E2)",
+                format!("det({}, {}, {})", vv(tv), vv(e1), vv(e2)),
+                q(test.dt),
+                Some("step 4".into()),
+            ));
+            let t = test.t_star.unwrap_or(f32::NAN);
+            lines.push(line(
+                "t*",
+                "Dt/D0",
+                format!("{}/{}", p(test.dt.unwrap_or(f32::NAN)), p(test.det)),
+                num(t),
+                Some("step 5".into()),
+            ));
+            let mut range = self.range_line(t);
+            if stop == 5 {
+                range.note = range.note.map(|n| format!("{n} — stop"));
+            }
+            lines.push(range);
+        }
+        if stop > 5 {
+            lines.push(line(
+                "Du",
+                "det(−Q, T, E2)",
+                format!("det({}, {}, {})", vv(nq), vv(tv), vv(e2)),
+                q(test.du),
+                Some("step 6".into()),
+            ));
+            let u = test.u.unwrap_or(f32::NAN);
+            lines.push(line(
+                "u*",
+                "Du/D0",
+                format!("{}/{}", p(test.du.unwrap_or(f32::NAN)), p(test.det)),
+                num(u),
+                Some("step 7: the weight of P1".into()),
+            ));
+            // The kernel's verdict (it stops when u* < 0 or u* > 1).
+            let ok = stop > 8;
+            lines.push(line(
+                "u in [0, 1]?",
+                "0 ≤ u* ≤ 1",
+                format!("0 ≤ {} ≤ 1", num(u)),
+                yes_no(ok),
+                Some(if ok {
+                    "step 8".into()
+                } else {
+                    "step 8: outside the triangle — stop".into()
+                }),
+            ));
+        }
+        if stop > 8 {
+            lines.push(line(
+                "Dv",
+                "det(−Q, E1, T)",
+                format!("det({}, {}, {})", vv(nq), vv(e1), vv(tv)),
+                q(test.dv),
+                Some("step 9".into()),
+            ));
+            let (u, v) = (test.u.unwrap_or(f32::NAN), test.v.unwrap_or(f32::NAN));
+            lines.push(line(
+                "v*",
+                "Dv/D0",
+                format!("{}/{}", p(test.dv.unwrap_or(f32::NAN)), p(test.det)),
+                num(v),
+                Some("step 10: the weight of P2".into()),
+            ));
+            // The kernel's own sum of the recorded u* and v*.
+            let uv = u + v;
+            // The kernel's verdict (it stops when v* < 0 or u* + v* > 1).
+            let ok = stop > 11;
+            lines.push(line(
+                "v ≥ 0, u + v ≤ 1?",
+                "v* ≥ 0 and u* + v* ≤ 1",
+                format!(
+                    "{} ≥ 0 and {} + {} = {} ≤ 1",
+                    num(v),
+                    num(u),
+                    num(v),
+                    num(uv)
+                ),
+                yes_no(ok),
+                Some(if ok {
+                    "step 11".into()
+                } else {
+                    "step 11: outside the triangle — stop".into()
+                }),
+            ));
+        }
+        if stop == 12 {
+            let (u, v) = (test.u.unwrap_or(f32::NAN), test.v.unwrap_or(f32::NAN));
+            lines.push(line(
+                "(b0, b1, b2)",
+                "(1 − u* − v*, u*, v*)",
+                format!("(1 − {} − {}, {}, {})", num(u), num(v), num(u), num(v)),
+                format!("({}, {}, {})", num(1.0 - u - v), num(u), num(v)),
+                Some("step 12: the barycentric weights of P0, P1, P2".into()),
+            ));
+        }
+        let conclusion = if stop == 12 {
+            format!(
+                "Hit at t = {} (step 12), with u = {}, v = {}.",
+                q(test.t),
+                q(test.u),
+                q(test.v)
+            )
+        } else {
+            format!("Stopped at step {stop}: {}. A miss.", test.stop_reason())
+        };
+        Explanation {
+            title: format!("Ray–triangle \"{name}\" (Möller–Trumbore, Cramer's rule)"),
+            lines,
+            conclusion,
+        }
+    }
+
+    /// The watertight test. The permutation is the recorded one; the translated, permuted and
+    /// sheared vertices are computed here exactly as the kernel does (same f32 operations on the
+    /// same inputs); the edge functions, det, scaled t, t, u and v are the recorded ones.
+    pub(super) fn watertight(
+        &self,
+        name: &str,
+        vertices: &[[f32; 3]; 3],
+        test: &TriangleTest<f32>,
+    ) -> Explanation {
+        let pv = vertices.map(Vec3::from);
+        let d = self.dir();
+        let o = self.origin();
+        let [kx, ky, kz] = test.permutation.unwrap_or([0, 1, 2]).map(|k| k.min(2));
+        let perm = |v: Vec3| [v[kx], v[ky], v[kz]];
+        let mut q = [perm(pv[0] - o), perm(pv[1] - o), perm(pv[2] - o)];
+        let dp = perm(d);
+        let sx = -dp[0] / dp[2];
+        let sy = -dp[1] / dp[2];
+        let sz = 1.0 / dp[2];
+        for v in q.iter_mut() {
+            v[0] += sx * v[2];
+            v[1] += sy * v[2];
+        }
+        let stop = test.stopped_at;
+        let name_of = |k: usize| AXES[k];
+        let mut lines = vec![
+            line(
+                "(kx, ky, kz)",
+                "z = the axis of the largest |Q| component",
+                format!("|Q| = {}", vv(d.abs())),
+                format!("({}, {}, {})", name_of(kx), name_of(ky), name_of(kz)),
+                Some("the ray is turned into +z".into()),
+            ),
+            line(
+                "Sx, Sy, Sz",
+                "−Qx/Qz, −Qy/Qz, 1/Qz (permuted)",
+                format!(
+                    "−{}/{}, −{}/{}, 1/{}",
+                    p(dp[0]),
+                    p(dp[2]),
+                    p(dp[1]),
+                    p(dp[2]),
+                    p(dp[2])
+                ),
+                format!("{}, {}, {}", num(sx), num(sy), num(sz)),
+                Some("the shear that makes the ray run along +z".into()),
+            ),
+        ];
+        for (i, v) in q.iter().enumerate() {
+            lines.push(line(
+                &format!("P′{i}"),
+                &format!("shear(permute(P{i} − S)): (x + Sx·z, y + Sy·z, z)"),
+                format!("permute({} − {})", vv(pv[i]), vv(o)),
+                format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2])),
+                None,
+            ));
+        }
+        let edges = test.edges.unwrap_or([f32::NAN; 3]);
+        let pairs = [(1, 2), (2, 0), (0, 1)];
+        for (i, (a, b)) in pairs.into_iter().enumerate() {
+            lines.push(line(
+                &format!("e{i}"),
+                &format!("x′{a}·y′{b} − y′{a}·x′{b}"),
+                format!(
+                    "{}·{} − {}·{}",
+                    p(q[a][0]),
+                    p(q[b][1]),
+                    p(q[a][1]),
+                    p(q[b][0])
+                ),
+                num(edges[i]),
+                (i == 0).then(|| {
+                    "2D edge functions: which side of each edge the ray passes (one rounding, by FMA; an exact 0 is redone in f64)".into()
+                }),
+            ));
+        }
+        let mixed = edges.iter().any(|&e| e < 0.0) && edges.iter().any(|&e| e > 0.0);
+        lines.push(line(
+            "same signs?",
+            "e0, e1, e2 all ≥ 0 or all ≤ 0",
+            format!("{}, {}, {}", num(edges[0]), num(edges[1]), num(edges[2])),
+            yes_no(!mixed),
+            Some(if stop == 8 {
+                "mixed signs: the ray passes outside an edge — stop".into()
+            } else {
+                "the ray passes inside (or on) all three edges".into()
+            }),
+        ));
+        if stop != 8 {
+            lines.push(line(
+                "det",
+                "e0 + e1 + e2",
+                format!("{} + {} + {}", num(edges[0]), p(edges[1]), p(edges[2])),
+                num(test.det),
+                Some(if stop == 2 {
+                    "zero (or not finite): the ray is parallel to the triangle — stop".into()
+                } else {
+                    "non-zero".into()
+                }),
+            ));
+        }
+        if stop > 2 && stop != 8 {
+            let z = [q[0][2] * sz, q[1][2] * sz, q[2][2] * sz];
+            lines.push(line(
+                "t_scaled",
+                "e0·z′0 + e1·z′1 + e2·z′2, z′ = z·Sz",
+                format!(
+                    "{}·{} + {}·{} + {}·{}",
+                    p(edges[0]),
+                    p(z[0]),
+                    p(edges[1]),
+                    p(z[1]),
+                    p(edges[2]),
+                    p(z[2])
+                ),
+                test.dt.map_or("—".into(), num),
+                None,
+            ));
+            let t = test.t_star.unwrap_or(f32::NAN);
+            lines.push(line(
+                "t",
+                "t_scaled/det",
+                format!("{}/{}", p(test.dt.unwrap_or(f32::NAN)), p(test.det)),
+                num(t),
+                None,
+            ));
+            lines.push(line(
+                "u",
+                "e1/det",
+                format!("{}/{}", p(edges[1]), p(test.det)),
+                test.u.map_or("—".into(), num),
+                Some("the weight of P1".into()),
+            ));
+            lines.push(line(
+                "v",
+                "e2/det",
+                format!("{}/{}", p(edges[2]), p(test.det)),
+                test.v.map_or("—".into(), num),
+                Some("the weight of P2".into()),
+            ));
+            lines.push(self.range_line(t));
+        }
+        let in_range = test
+            .t_star
+            .is_some_and(|t| t > self.ray.t_min && t < self.t_max());
+        let conclusion = match stop {
+            12 => format!(
+                "Hit at t = {}, with u = {}, v = {}.",
+                test.t.map_or("?".into(), num),
+                test.u.map_or("?".into(), num),
+                test.v.map_or("?".into(), num)
+            ),
+            5 if in_range => "t is no larger than its own rounding-error bound (pbrt-v4): too close to the origin to trust — a miss.".into(),
+            _ => format!("{} — a miss.", upper_first(test.stop_reason())),
+        };
+        Explanation {
+            title: format!("Ray–triangle \"{name}\" (watertight, Woop–Benthin–Wald)"),
+            lines,
+            conclusion,
+        }
+    }
+}
