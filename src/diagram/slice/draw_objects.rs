@@ -1,0 +1,300 @@
+//! Drawing the cut objects: BVH boxes, spheres, triangles and planes.
+
+use super::*;
+
+impl Drawer<'_, '_> {
+    pub(super) fn boxes(&mut self) {
+        let i = self.info.box_ray();
+        if !self.info.visible(i) {
+            return;
+        }
+        let visits = node_visits(self.info, i, true);
+        let focus_step = self.info.focused_step();
+        let bc = box_color(self.c);
+        let u = self.u;
+        let faded_all = self.info.faded(i);
+        for (n, (j, v)) in visits.iter().enumerate() {
+            let is_focus = focus_step.is_some_and(|(fi, s)| {
+                fi == i && std::ptr::eq(s, &self.info.rays[i].ray.steps[*j].step)
+            });
+            let (poly, cut) = box_outline(self.lay, v3(v.test.min), v3(v.test.max));
+            if poly.len() < 2 {
+                continue;
+            }
+            let culled = v.action == NodeAction::Culled;
+            let mut col = if culled { self.c.theme.faded } else { bc };
+            if faded_all && !is_focus {
+                col = self.faded(col);
+            }
+            let width = if is_focus { 2.6 * u } else { 1.3 * u };
+            if !culled && cut {
+                self.c.polygon(
+                    &poly,
+                    Some(with_alpha(col, if is_focus { 40 } else { 16 })),
+                    None,
+                    0.0,
+                );
+            }
+            let mut closed = poly.clone();
+            closed.push(poly[0]);
+            self.c.polyline(&closed, col, width, culled || !cut);
+            // The number at the top-left corner of the outline.
+            let corner = poly
+                .iter()
+                .copied()
+                .min_by(|a, b| (a[0] + a[1]).total_cmp(&(b[0] + b[1])))
+                .unwrap_or(poly[0]);
+            let text = if culled {
+                format!("{} ×", n + 1)
+            } else {
+                format!("{}", n + 1)
+            };
+            let tcol = if culled { self.c.theme.muted } else { col };
+            self.label(corner, text, tcol, &[SE, E, S, NE]);
+        }
+    }
+
+    pub(super) fn objects(&mut self) {
+        let lay = self.lay;
+        let u = self.u;
+        let focus_obj = match self.info.focused_step() {
+            Some((
+                _,
+                Step::Sphere { object, .. }
+                | Step::Plane { object, .. }
+                | Step::Triangle { object, .. }
+                | Step::Accept { object, .. },
+            )) => Some(*object),
+            _ => None,
+        };
+        let hit_objs: Vec<u32> = self
+            .info
+            .rays
+            .iter()
+            .filter_map(|r| r.ray.hit.as_ref().map(|h| h.object))
+            .collect();
+        let mut named_groups: Vec<String> = vec![];
+        let circles: std::collections::HashMap<&str, &CircleLayout> =
+            lay.circles.iter().map(|c| (c.name.as_str(), c)).collect();
+        // Only what the view shows is drawn: a trace of a brute-force loop over 200,000
+        // objects names them all. Objects the cutting plane misses (drawn as faint outlines)
+        // and labels of objects no ray hit are left out when there are many.
+        let plot = lay.plot;
+        let in_view = |b: [f32; 4]| {
+            b[2] >= plot[0]
+                && b[0] <= plot[0] + plot[2]
+                && b[3] >= plot[1]
+                && b[1] <= plot[1] + plot[3]
+        };
+        let crowded = self.trace.objects.len() > CROWDED;
+        // Planes first (under), then triangles, then spheres.
+        let mut objs: Vec<&TraceObject> = self
+            .trace
+            .objects
+            .iter()
+            .filter(|o| {
+                if focus_obj == Some(o.id) || hit_objs.contains(&o.id) {
+                    return true;
+                }
+                match o.shape {
+                    Shape::Sphere { .. } => circles.get(o.name.as_str()).is_some_and(|c| {
+                        let r = c.radius;
+                        (c.cut || !crowded)
+                            && in_view([
+                                c.center[0] - r,
+                                c.center[1] - r,
+                                c.center[0] + r,
+                                c.center[1] + r,
+                            ])
+                    }),
+                    Shape::Triangle { p } => {
+                        let proj: Vec<Px> = p.iter().map(|v| lay.px(*v)).collect();
+                        let b = proj.iter().fold(
+                            [
+                                f32::INFINITY,
+                                f32::INFINITY,
+                                f32::NEG_INFINITY,
+                                f32::NEG_INFINITY,
+                            ],
+                            |b, q| {
+                                [
+                                    b[0].min(q[0]),
+                                    b[1].min(q[1]),
+                                    b[2].max(q[0]),
+                                    b[3].max(q[1]),
+                                ]
+                            },
+                        );
+                        in_view(b)
+                            && (!crowded || lay.top_down || triangle_cut(&lay.frame, p).is_some())
+                    }
+                    Shape::Plane { .. } | Shape::AxisPlane { .. } => true,
+                }
+            })
+            .collect();
+        objs.sort_by_key(|o| match o.shape {
+            Shape::Plane { .. } | Shape::AxisPlane { .. } => 0,
+            Shape::Triangle { .. } => 1,
+            Shape::Sphere { .. } => 2,
+        });
+        for o in objs {
+            let col = material_color(self.c, o.color);
+            let focus = focus_obj == Some(o.id);
+            let width = if focus { 3.2 * u } else { 1.8 * u };
+            let stroke = if focus { self.c.theme.hit } else { col };
+            let fill = with_alpha(col, if dark_theme(self.c) { 50 } else { 40 });
+            // Mesh triangles "name[i]" are labelled once, by the mesh's name.
+            let group = o.name.split('[').next().unwrap_or(&o.name).to_string();
+            let label_name = if hit_objs.contains(&o.id) || focus || !o.name.contains('[') {
+                o.name.clone()
+            } else {
+                group.clone()
+            };
+            let mut label_at: Option<(Px, Vec<Px>)> = None;
+            match o.shape {
+                Shape::Sphere { center, radius } => {
+                    let Some(circ) = circles.get(o.name.as_str()).copied() else {
+                        continue;
+                    };
+                    if circ.cut {
+                        self.c
+                            .circle(circ.center, circ.radius, Some(fill), Some(stroke), width);
+                    } else {
+                        // The plane misses it: its outline projected, dashed.
+                        let pc = lay.px(center);
+                        let pts: Vec<Px> = (0..=72)
+                            .map(|k| {
+                                let a = k as f32 / 72.0 * std::f32::consts::TAU;
+                                [
+                                    pc[0] + radius * lay.scale * a.cos(),
+                                    pc[1] + radius * lay.scale * a.sin(),
+                                ]
+                            })
+                            .collect();
+                        self.c
+                            .polyline(&pts, with_alpha(stroke, 170), width * 0.7, true);
+                    }
+                    let a = -std::f32::consts::FRAC_PI_4;
+                    let edge = [
+                        circ.center[0] + circ.radius * a.cos() * 0.98,
+                        circ.center[1] + circ.radius * a.sin() * 0.98,
+                    ];
+                    label_at = Some((edge, vec![NE, E, N, SE, NW]));
+                }
+                Shape::Triangle { p } => {
+                    let proj: Vec<Px> = p.iter().map(|v| lay.px(*v)).collect();
+                    if lay.top_down {
+                        self.c.polygon(&proj, Some(fill), Some(stroke), width * 0.8);
+                        label_at = Some((proj[0], vec![NE, NW, SE, SW]));
+                    } else {
+                        // Faint: the triangle projected onto the plane. Solid: its cut.
+                        let outline = if focus {
+                            self.c.theme.hit
+                        } else {
+                            with_alpha(col, 60)
+                        };
+                        let fill = with_alpha(col, if focus { 40 } else { 14 });
+                        let w = if focus { 1.6 * u } else { 0.8 * u };
+                        self.c.polygon(&proj, Some(fill), Some(outline), w);
+                        if focus {
+                            label_at = Some((proj[0], vec![NE, NW, SE, SW]));
+                        }
+                        if let Some(seg) = triangle_cut(&lay.frame, p) {
+                            let (a, b) = (lay.px(seg[0]), lay.px(seg[1]));
+                            self.c.line(a, b, stroke, width * 1.3);
+                            label_at = Some((if a[1] < b[1] { a } else { b }, vec![NE, NW, E, W]));
+                        }
+                    }
+                }
+                Shape::Plane { .. } | Shape::AxisPlane { .. } => {
+                    let (n, offset) = match o.shape {
+                        Shape::Plane { normal, offset } => (normal, offset),
+                        Shape::AxisPlane { axis, offset } => (Vec3::AXES[axis.min(2)], offset),
+                        _ => unreachable!("matched above"),
+                    };
+                    // None when the plane lies parallel to the view (a floor seen from above).
+                    if self.plane(n, offset, stroke, width).is_some() {
+                        label_at = self.plane_label_point(n, offset);
+                    }
+                }
+            }
+            if crowded && !focus && !hit_objs.contains(&o.id) {
+                continue;
+            }
+            if let Some((at, prefs)) = label_at {
+                if label_name != o.name {
+                    if named_groups.contains(&label_name) {
+                        continue;
+                    }
+                    named_groups.push(label_name.clone());
+                }
+                let tc = if focus {
+                    self.c.theme.ink
+                } else {
+                    mix(col, self.c.theme.ink, 0.35)
+                };
+                self.label(at, label_name, tc, &prefs);
+            }
+        }
+    }
+
+    /// Draws a plane's cut (a line across the plot, hatched on its back). None when the plane
+    /// does not cut the view plane in a line (parallel to it).
+    pub(super) fn plane(&mut self, n: Vec3, offset: f32, col: Rgba, width: f32) -> Option<()> {
+        let (a, b) = self.plane_line(n, offset)?;
+        let u = self.u;
+        self.c.line(a, b, col, width);
+        // Hatching on the side the normal points away from (the solid side of a floor).
+        let dir = unit(sub(b, a))?;
+        let n2 = unit(self.lay.dpx(n))?;
+        let back = mul(n2, -1.0);
+        let step = 11.0 * u;
+        let l = len(sub(b, a));
+        let tick = add(mul(back, 7.0 * u), mul(dir, -5.0 * u));
+        let hatch = with_alpha(col, 120);
+        let mut s = step * 0.5;
+        while s < l {
+            let p = add(a, mul(dir, s));
+            self.c.line(p, add(p, tick), hatch, 0.9 * u);
+            s += step;
+        }
+        Some(())
+    }
+
+    /// The plane's line across the plot, in pixels.
+    pub(super) fn plane_line(&self, n: Vec3, offset: f32) -> Option<(Px, Px)> {
+        let f = &self.lay.frame;
+        // Points X of the cutting plane with X·n = offset: q·(x·n, y·n) = offset − cut point·n,
+        // in the cutting plane's own 2D coordinates (through cut_o).
+        let base = f.cut_o;
+        let (kx, ky) = (f.x.dot(n), f.y.dot(n));
+        let k = (kx * kx + ky * ky).sqrt();
+        if k < 1e-4 {
+            return None;
+        }
+        let rhs = offset - base.dot(n);
+        // Closest point to base, and the line direction.
+        let q0 = [kx * rhs / (k * k), ky * rhs / (k * k)];
+        let dir = [-ky / k, kx / k];
+        let p0 = base + f.x * q0[0] + f.y * q0[1];
+        let span = 4.0 * (self.lay.plot[2] + self.lay.plot[3]) / self.lay.scale;
+        let a = self.lay.px(p0 + (f.x * dir[0] + f.y * dir[1]) * span);
+        let b = self.lay.px(p0 - (f.x * dir[0] + f.y * dir[1]) * span);
+        let (a, b) = clip_to_rect(self.lay.plot, a, b)?;
+        let (a, b) = if a[0] <= b[0] { (a, b) } else { (b, a) };
+        (len(sub(b, a)) > 1.0).then_some((a, b))
+    }
+
+    /// Where a plane's name goes: near the right end of a level line (the eye is on the left),
+    /// beside the upper part of a steep one.
+    pub(super) fn plane_label_point(&self, n: Vec3, offset: f32) -> Option<(Px, Vec<Px>)> {
+        let (a, b) = self.plane_line(n, offset)?;
+        let d = sub(b, a);
+        if d[1].abs() > d[0].abs() {
+            let (top, bottom) = if a[1] < b[1] { (a, b) } else { (b, a) };
+            Some((add(top, mul(sub(bottom, top), 0.3)), vec![W, E, NW, SW]))
+        } else {
+            Some((add(a, mul(d, 0.9)), vec![NE, SE, NW, SW]))
+        }
+    }
+}
