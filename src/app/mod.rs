@@ -150,6 +150,13 @@ impl RaystepApp {
         self.dropped_files(&ctx, &mut cmds);
         panels::show(ui, &self.state, &mut self.views, &mut cmds);
         let mut fullscreen_toggle = false;
+        // The panels were drawn before the commands are applied, so a frame that applies any
+        // asks for another one to show the result. Input brings a second pass anyway; a click
+        // that becomes a selection on a timer (after the double-click time) does not, and its
+        // pixel would otherwise wait for the next mouse move to appear.
+        if !cmds.is_empty() {
+            ctx.request_repaint();
+        }
         for c in cmds {
             if let Command::SetPrefs(p) = &c
                 && p.presentation != self.state.prefs.presentation
