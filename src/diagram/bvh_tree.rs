@@ -1,7 +1,7 @@
 //! The BVH as a node-link tree: the top levels from the trace's outline, every node the focused
 //! ray visited (however deep), each visit numbered, hit or culled, leaves with their tests.
 
-use super::canvas::{Anchor, Canvas, with_alpha};
+use super::canvas::{Anchor, Canvas, Rgba, with_alpha};
 use super::{ViewOptions, title};
 use crate::trace::{NodeAction, RayKind, RayRecord, Step, Trace};
 use std::collections::{BTreeMap, BTreeSet};
@@ -54,8 +54,14 @@ fn shown_ray(trace: &Trace, focus: Option<usize>) -> Option<(&RayRecord, Option<
         .map(|r| (r, None))
 }
 
-/// Lays the tree out in a `width`×`height` area below `top`.
+/// Lays the tree out in a `width`×`height` area below `top`, its deepest level at 86 % of the
+/// height.
 pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> TreeLayout {
+    layout_to(trace, opts, top, opts.height as f32 * 0.86)
+}
+
+/// Lays the tree out between `top` and `bottom` (the deepest level's centre).
+fn layout_to(trace: &Trace, opts: &ViewOptions, top: f32, bottom: f32) -> TreeLayout {
     let mut children: BTreeMap<u32, [u32; 2]> = BTreeMap::new();
     let mut depth: BTreeMap<u32, u32> = BTreeMap::new();
     let mut leaf: BTreeMap<u32, bool> = BTreeMap::new();
@@ -153,7 +159,6 @@ pub fn layout(trace: &Trace, opts: &ViewOptions, top: f32) -> TreeLayout {
     let slots = order.max(1) as f32;
     let margin = opts.width as f32 * 0.05;
     let usable_w = opts.width as f32 - 2.0 * margin;
-    let bottom = opts.height as f32 * 0.86;
     let level_h = (bottom - top) / (max_depth.max(1) as f32);
     let mut out = TreeLayout {
         ray: shown.map(|(r, _)| (r.kind, r.depth)),
@@ -197,7 +202,11 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         None => "BVH".to_string(),
     };
     let top = title(&mut c, &heading) + ts * 1.2;
-    let lay = layout(trace, opts, top);
+    let legend = legend_rows(&c);
+    let legend_top = opts.height as f32 - ts * 0.4 - legend.len() as f32 * ts * 1.3;
+    // The deepest level leaves room for a leaf's label ("3 tests, 1 hit") above the legend.
+    let bottom = (opts.height as f32 * 0.86).min(legend_top - ts * 2.4);
+    let lay = layout_to(trace, opts, top, bottom.max(top));
     let leaves = lay
         .nodes
         .values()
@@ -312,26 +321,48 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             }
         }
     }
-    // Legend.
-    let y = opts.height as f32 - ts * 1.6;
+    // Legend, in as many rows as the width needs.
+    for (row, entries) in legend.iter().enumerate() {
+        let y = legend_top + row as f32 * ts * 1.3;
+        let mut x = ts;
+        for &(col, name) in entries {
+            c.circle(
+                [x + ts * 0.4, y + ts * 0.5],
+                ts * 0.4,
+                Some(col),
+                Some(th.muted),
+                1.0,
+            );
+            x += ts * 1.1;
+            x += c.text(x, y, ts * 0.8, name, th.ink, Anchor::TopLeft) + ts * 1.2;
+        }
+    }
+    c
+}
+
+/// The legend's entries, flowed into rows that fit the canvas's width.
+fn legend_rows(c: &Canvas) -> Vec<Vec<(Rgba, &'static str)>> {
+    let th = c.theme;
+    let ts = c.text_size;
+    let mut rows: Vec<Vec<(Rgba, &'static str)>> = vec![vec![]];
     let mut x = ts;
-    for (col, name) in [
+    for entry in [
         (th.ray, "hit: descend / push"),
         (th.hit, "leaf: test primitives"),
         (th.faded, "culled"),
         (with_alpha(th.faded, 90), "not visited"),
     ] {
-        c.circle(
-            [x + ts * 0.4, y + ts * 0.5],
-            ts * 0.4,
-            Some(col),
-            Some(th.muted),
-            1.0,
-        );
-        x += ts * 1.1;
-        x += c.text(x, y, ts * 0.8, name, th.ink, Anchor::TopLeft) + ts * 1.2;
+        let w = ts * 1.1 + c.text_width(entry.1, ts * 0.8) + ts * 1.2;
+        if x + w > c.width() && rows.last().is_some_and(|r| !r.is_empty()) {
+            rows.push(vec![]);
+            x = ts;
+        }
+        x += w;
+        if let Some(r) = rows.last_mut() {
+            r.push(entry);
+        }
     }
-    c
+    rows
 }
 
 fn bump(m: &mut BTreeMap<u32, (usize, usize)>, leaf: Option<u32>, hit: bool) {

@@ -454,6 +454,18 @@ impl Canvas {
         text.chars().map(|ch| s.h_advance(s.glyph_id(ch))).sum()
     }
 
+    /// `text` shortened with an ellipsis until it fits `width` at `size` (at least one
+    /// character and the ellipsis are kept).
+    pub fn elide(&self, text: &str, size: f32, width: f32) -> String {
+        let mut line: Vec<char> = text.chars().collect();
+        let mut out = text.to_string();
+        while self.text_width(&out, size) > width && line.len() > 1 {
+            line.truncate(line.len().saturating_sub(2).max(1));
+            out = line.iter().collect::<String>() + "…";
+        }
+        out
+    }
+
     /// Draws `text` at `size` pixels anchored at (x, y); returns its width.
     pub fn text(&mut self, x: f32, y: f32, size: f32, text: &str, c: Rgba, anchor: Anchor) -> f32 {
         let w = self.text_width(text, size);

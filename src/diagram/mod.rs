@@ -195,19 +195,29 @@ pub fn pick_step(
     }
 }
 
-/// Draws a title line at the top of a diagram; returns the y below it.
+/// Draws a title line at the top of a diagram; returns the y below it. A title too wide for
+/// the canvas is drawn smaller (down to the body text's size), then cut with an ellipsis: it
+/// never runs off the edge.
 pub fn title(c: &mut Canvas, text: &str) -> f32 {
-    let size = c.text_size * 1.15;
+    let big = c.text_size * 1.15;
+    let avail = c.width() - c.text_size * 1.6;
+    let w = c.text_width(text, big);
+    let size = if w > avail && w > 0.0 {
+        (big * avail / w).max(c.text_size)
+    } else {
+        big
+    };
+    let shown = c.elide(text, size, avail);
     let ink = c.theme.ink;
     c.text(
         c.text_size * 0.8,
         c.text_size * 0.6,
         size,
-        text,
+        &shown,
         ink,
         Anchor::TopLeft,
     );
-    c.text_size * 0.6 + size * 1.5
+    c.text_size * 0.6 + big * 1.5
 }
 
 /// Timeline step `k` of `trace` drawn as one animation frame, focused on its step: of `kind`

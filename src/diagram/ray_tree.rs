@@ -317,17 +317,6 @@ fn kind_color(c: &Canvas, k: RayKind) -> Rgba {
     }
 }
 
-/// Shortens `text` with an ellipsis until it fits `width` at `size`.
-fn fit(c: &Canvas, text: &str, size: f32, width: f32) -> String {
-    let mut line: Vec<char> = text.chars().collect();
-    let mut out = text.to_string();
-    while c.text_width(&out, size) > width && line.len() > 2 {
-        line.truncate(line.len() - 2);
-        out = line.iter().collect::<String>() + "…";
-    }
-    out
-}
-
 /// Draws the ray tree.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let mut c = Canvas::for_view(opts);
@@ -409,7 +398,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             if i + 1 == lines.len() {
                 // The colour line: a swatch of the ray's colour, then its numbers.
                 let sw = small * 0.9;
-                let label = fit(&c, &colour_text(r.color), size, inner - sw - small * 0.4);
+                let label = c.elide(&colour_text(r.color), size, inner - sw - small * 0.4);
                 let tw = c.text_width(&label, size);
                 let x = b.pos[0] - (sw + small * 0.4 + tw) / 2.0;
                 let rgb = [srgb8(r.color[0]), srgb8(r.color[1]), srgb8(r.color[2]), 255];
@@ -418,7 +407,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                 c.rect_outline(x, yy, sw, sw, th.muted, 1.0, false);
                 c.text(x + sw + small * 0.4, y, size, &label, ink, Anchor::TopLeft);
             } else {
-                let t = fit(&c, text, size, inner);
+                let t = c.elide(text, size, inner);
                 c.text(b.pos[0], y, size, &t, ink, Anchor::TopCenter);
             }
             y += if i == 0 { small * HEADER } else { small * LINE };

@@ -4,12 +4,7 @@ use super::*;
 
 impl Drawer<'_, '_> {
     /// Title, subtitle, legend, scale bar, axes; then the labels.
-    pub(super) fn chrome(
-        &mut self,
-        opts: &ViewOptions,
-        legend: &[(Sample, String)],
-        legend_h: f32,
-    ) {
+    pub(super) fn chrome(&mut self, opts: &ViewOptions, legend: &[(Sample, String)]) {
         let t = self.c.theme;
         let [px, py, pw, ph] = self.lay.plot;
         let (w, h) = (self.c.width(), self.c.height());
@@ -64,6 +59,7 @@ impl Drawer<'_, '_> {
                 base.to_string()
             }
         };
+        let plane = self.c.elide(&plane, sub_size, w - self.c.text_size * 1.6);
         self.c.text(
             self.c.text_size * 0.8,
             y0 - self.c.text_size * 0.45,
@@ -82,10 +78,10 @@ impl Drawer<'_, '_> {
                     .text(w - ts * 0.8, ts * 0.6, ts, &text, t.ink, Anchor::TopRight);
             }
         }
-        self.legend(legend, legend_h);
+        self.legend(legend);
     }
 
-    pub(super) fn legend(&mut self, entries: &[(Sample, String)], _legend_h: f32) {
+    pub(super) fn legend(&mut self, entries: &[(Sample, String)]) {
         let size = legend_size(self.c);
         let rows = legend_rows(self.c, entries);
         let t = self.c.theme;

@@ -7,7 +7,7 @@ pub(super) fn compute_layout(
     trace: &Trace,
     opts: &ViewOptions,
     info: &RayInfos,
-    legend_rows: f32,
+    legend_height: f32,
 ) -> SliceLayout {
     let frame = Frame::new(trace, opts);
     // The fit is made in the unturned plane and kept as the plane turns: the ray and its hit
@@ -22,7 +22,7 @@ pub(super) fn compute_layout(
     let ts = c.text_size;
     let (w, h) = (c.width(), c.height());
     let top = header_height(c);
-    let bottom = legend_rows + ts * 0.5;
+    let bottom = legend_height + ts * 0.5;
     let margin = ts * 0.8;
     let plot = [
         margin,

@@ -158,18 +158,18 @@ impl SliceLayout {
 pub fn layout(trace: &Trace, opts: &ViewOptions) -> SliceLayout {
     let c = Canvas::for_view(opts);
     let info = RayInfos::new(trace, opts.focus);
-    let legend = legend_entries(trace, &info, opts);
-    let (legend_rows, _) = legend_flow(&c, &legend);
-    compute_layout(&c, trace, opts, &info, legend_rows)
+    let legend = fitting_legend(&c, trace, &info, opts);
+    let (legend_height, _) = legend_flow(&c, &legend);
+    compute_layout(&c, trace, opts, &info, legend_height)
 }
 
 /// Draws the slice.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let mut c = Canvas::for_view(opts);
     let info = RayInfos::new(trace, opts.focus);
-    let legend = legend_entries(trace, &info, opts);
-    let (legend_rows, legend_h) = legend_flow(&c, &legend);
-    let lay = compute_layout(&c, trace, opts, &info, legend_rows);
+    let legend = fitting_legend(&c, trace, &info, opts);
+    let (legend_height, _) = legend_flow(&c, &legend);
+    let lay = compute_layout(&c, trace, opts, &info, legend_height);
     let mut d = Drawer {
         c: &mut c,
         lay: &lay,
@@ -181,7 +181,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     };
     d.u = d.c.text_size / 11.0;
     d.scene();
-    d.chrome(opts, &legend, legend_h);
+    d.chrome(opts, &legend);
     c
 }
 

@@ -114,11 +114,29 @@ pub(super) fn legend_entries(
     e
 }
 
+/// The legend's entries if they fit in a third of the canvas's height, else none: on a small
+/// canvas (a narrow panel, a small window) the picture comes first, and a legend wrapped to one
+/// entry per row would leave it a strip.
+pub(super) fn fitting_legend(
+    c: &Canvas,
+    trace: &Trace,
+    info: &RayInfos,
+    opts: &ViewOptions,
+) -> Vec<(Sample, String)> {
+    let entries = legend_entries(trace, info, opts);
+    let (height, _) = legend_flow(c, &entries);
+    if height > c.height() / 3.0 {
+        vec![]
+    } else {
+        entries
+    }
+}
+
 pub(super) fn legend_size(c: &Canvas) -> f32 {
     c.text_size * 0.85
 }
 
-/// Lays the legend out in rows; returns the rows' total height and the row count.
+/// Lays the legend out in rows; returns (the rows' total height, the row count).
 pub(super) fn legend_flow(c: &Canvas, entries: &[(Sample, String)]) -> (f32, f32) {
     let size = legend_size(c);
     let rows = legend_rows(c, entries).len() as f32;
