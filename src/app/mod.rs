@@ -243,7 +243,14 @@ impl RaystepApp {
     fn apply_look(&mut self, ctx: &egui::Context) {
         let look = (
             self.state.prefs.effective_theme(),
-            self.state.prefs.effective_scale(),
+            // Rounded, so a window resized by a few points does not restyle.
+            (self
+                .state
+                .prefs
+                .effective_scale_for(window_height_at_zoom_1(ctx))
+                * 100.0)
+                .round()
+                / 100.0,
         );
         if self.applied == Some(look) {
             return;
@@ -400,4 +407,16 @@ pub fn run(file: Option<PathBuf>, screenshot: Option<ScreenshotPlan>) -> Result<
              or run it under Xvfb: `xvfb-run raystep`)"
         )
     })
+}
+
+/// The window's height in points at zoom 1 (its height in pixels over the display's own
+/// pixels per point): what presentation mode's scale is chosen against.
+pub fn window_height_at_zoom_1(ctx: &egui::Context) -> f32 {
+    let native = ctx.native_pixels_per_point().unwrap_or(1.0);
+    let native = if native.is_finite() && native > 0.0 {
+        native
+    } else {
+        1.0
+    };
+    ctx.viewport_rect().height() * ctx.pixels_per_point() / native
 }

@@ -326,8 +326,24 @@ fn menu_bar(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
                 let l = ui.label("Presentation scale");
                 ui.add(egui::Slider::new(&mut p.presentation_scale, 1.0..=3.0).step_by(0.05))
                     .labelled_by(l.id)
-                    .on_hover_text("the size of everything in presentation mode");
+                    .on_hover_text(
+                        "the size of everything in presentation mode, on a screen 1080 pixels \
+                         high; a smaller screen gets it in proportion (never below 1), so text \
+                         takes the same share of the projected picture",
+                    );
             });
+            let height = super::window_height_at_zoom_1(ui.ctx());
+            let here = super::state::Prefs {
+                presentation: true,
+                ..p.clone()
+            }
+            .effective_scale_for(height);
+            if (here - p.presentation_scale).abs() >= 0.005 {
+                ui.weak(format!(
+                    "{here:.2} in this window ({} pixels high)",
+                    height.round()
+                ));
+            }
             if ui.button("Full screen (F11)").clicked() {
                 views.toggle_fullscreen = true;
             }

@@ -227,15 +227,27 @@ impl Prefs {
         self
     }
 
-    /// The UI scale in force.
-    pub fn effective_scale(&self) -> f32 {
+    /// The UI scale in force in a window `height` points high at zoom 1. Presentation mode's
+    /// scale is chosen for a screen [`PRESENTATION_HEIGHT`] points high and applied in
+    /// proportion on a smaller one, never below 1: its text then takes the same share of the
+    /// projected picture on a 1024×768 projector as on a 1920×1080 one, and the render and
+    /// the diagram keep their room.
+    pub fn effective_scale_for(&self, height: f32) -> f32 {
         if self.presentation {
-            self.presentation_scale
+            let k = if height.is_finite() && height > 0.0 {
+                (height / PRESENTATION_HEIGHT).min(1.0)
+            } else {
+                1.0
+            };
+            (self.presentation_scale * k).max(self.presentation_scale.min(1.0))
         } else {
             self.scale
         }
     }
 }
+
+/// The screen height (points at zoom 1) presentation mode's scale is chosen for.
+pub const PRESENTATION_HEIGHT: f32 = 1080.0;
 
 /// What is open.
 #[derive(Debug, Clone)]
@@ -1205,4 +1217,44 @@ fn slug(s: &str) -> String {
         .collect();
     let out = out.trim_matches('-').to_string();
     if out.is_empty() { "scene".into() } else { out }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Presentation mode's scale follows the screen's height below 1080 points, never below 1;
+    /// the ordinary scale does not. (Values by hand: 1.6 · 768/1080 = 1.1378.)
+    #[test]
+    fn presentation_scale_follows_the_screen_height() {
+        let p = Prefs {
+            presentation: true,
+            presentation_scale: 1.6,
+            scale: 1.25,
+            ..Prefs::default()
+        };
+        assert!((p.effective_scale_for(768.0) - 1.137_778).abs() < 1e-5);
+        assert_eq!(p.effective_scale_for(1080.0), 1.6);
+        assert_eq!(
+            p.effective_scale_for(2160.0),
+            1.6,
+            "never above the chosen scale"
+        );
+        assert_eq!(p.effective_scale_for(400.0), 1.0, "never below 1");
+        assert_eq!(p.effective_scale_for(f32::NAN), 1.6);
+        let small = Prefs {
+            presentation_scale: 0.8,
+            ..p.clone()
+        };
+        assert_eq!(
+            small.effective_scale_for(400.0),
+            0.8,
+            "a scale below 1 is kept"
+        );
+        let normal = Prefs {
+            presentation: false,
+            ..p
+        };
+        assert_eq!(normal.effective_scale_for(400.0), 1.25);
+    }
 }
