@@ -6,6 +6,7 @@
 //! app asks for no repaint. The shares asserted (40 % of the width for the render's space) are
 //! the design's, stated in README.md, not read from the app.
 
+use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT as _, Queryable as _};
 use raystep::app::RaystepApp;
@@ -189,6 +190,25 @@ fn panels_do_not_creep_and_lessons_off_gives_the_width_back() {
         "the panels stay put"
     );
     check_layout(&h, "1024×768 with lessons");
+    // Nothing in the lessons panel is wider than the panel (a wide button or chooser would
+    // widen the lesson's text too, which the panel then cuts off).
+    let learn = with_lessons
+        .iter()
+        .find(|(name, _)| *name == "learn")
+        .map(|(_, r)| *r)
+        .expect("the lessons panel is shown");
+    for role in [Role::Button, Role::Label, Role::ComboBox] {
+        for node in h.query_all_by_role(role) {
+            let r = node.rect();
+            if learn.contains(r.min + egui::vec2(0.5, 0.5)) {
+                assert!(
+                    r.max.x <= learn.max.x + 1.0,
+                    "{role:?} {:?} at {r:?} runs past the lessons panel {learn:?}",
+                    node.accesskit_node().label()
+                );
+            }
+        }
+    }
     h.get_by_label("Lessons").click();
     h.run_steps(3);
     assert_eq!(

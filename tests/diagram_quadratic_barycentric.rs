@@ -63,6 +63,27 @@ fn golden_quadratic_hit() {
     assert_golden(&c, "quadratic_hit");
 }
 
+/// The panel of values is drawn where its text fits at the labels' size (the command line's
+/// 800×600) and left out on a canvas too short for it, whose plot then takes the width.
+#[test]
+fn quadratic_panel_only_where_its_text_is_readable() {
+    let t = trace(&scene("first-sphere.toml", None), 160, 120);
+    let big = quadratic::layout(
+        &t,
+        &ViewOptions {
+            width: 800,
+            height: 600,
+            ..opts(None)
+        },
+    )
+    .unwrap();
+    assert!(big.panel[2] - big.panel[0] > 150.0, "{:?}", big.panel);
+    let small = quadratic::layout(&t, &opts(None)).unwrap();
+    assert!(small.panel[2] < small.panel[0], "{:?}", small.panel);
+    let f = small.frame.unwrap();
+    assert!(f.right > 0.9 * 400.0, "the plot takes the width: {f:?}");
+}
+
 #[test]
 fn golden_quadratic_miss() {
     let t = trace(&scene("first-sphere.toml", None), 10, 10);

@@ -316,6 +316,9 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut 
 }
 
 fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    // Every button and label wraps: one wider than the panel would widen what follows it too
+    // (the lesson's text would then be cut off at the panel's edge).
+    ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
     let learn = &state.learn;
     if let Some(e) = &learn.lessons_error {
         ui.colored_label(ui.visuals().error_fg_color, e);
@@ -337,29 +340,34 @@ fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut
         {
             cmds.push(Command::Learn(LearnCmd::Lesson(i - 1)));
         }
-        egui::ComboBox::from_id_salt("lesson-choice")
-            .selected_text(format!("{}. {}", i + 1, l.title))
-            // Room for the ▶ button after it (the combo's icon comes on top of its width):
-            // the row must not be wider than the panel, which clips it.
-            .width((ui.available_width() - 3.0 * ui.spacing().interact_size.y).max(40.0))
-            .show_ui(ui, |ui| {
-                for (k, other) in lessons.iter().enumerate() {
-                    if ui
-                        .selectable_label(k == i, format!("{}. {}", k + 1, other.title))
-                        .clicked()
-                    {
-                        cmds.push(Command::Learn(LearnCmd::Lesson(k)));
+        // ▶ first, at the right edge; the chooser takes what is left (its drop-down icon comes
+        // on top of the width it is given), so the row is never wider than the panel.
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            if ui
+                .add_enabled(i + 1 < lessons.len(), egui::Button::new("▶"))
+                .on_hover_text("next lesson")
+                .on_disabled_hover_text("this is the last lesson")
+                .clicked()
+            {
+                cmds.push(Command::Learn(LearnCmd::Lesson(i + 1)));
+            }
+            let sp = ui.spacing();
+            let icon = sp.icon_width + sp.icon_spacing + 2.0 * sp.button_padding.x;
+            egui::ComboBox::from_id_salt("lesson-choice")
+                .selected_text(format!("{}. {}", i + 1, l.title))
+                .width((ui.available_width() - icon - sp.item_spacing.x).max(40.0))
+                .truncate()
+                .show_ui(ui, |ui| {
+                    for (k, other) in lessons.iter().enumerate() {
+                        if ui
+                            .selectable_label(k == i, format!("{}. {}", k + 1, other.title))
+                            .clicked()
+                        {
+                            cmds.push(Command::Learn(LearnCmd::Lesson(k)));
+                        }
                     }
-                }
-            });
-        if ui
-            .add_enabled(i + 1 < lessons.len(), egui::Button::new("▶"))
-            .on_hover_text("next lesson")
-            .on_disabled_hover_text("this is the last lesson")
-            .clicked()
-        {
-            cmds.push(Command::Learn(LearnCmd::Lesson(i + 1)));
-        }
+                });
+        });
     });
     let here = state.path() == Some(l.scene_path().as_path()) && state.pixel == Some(l.pixel);
     ui.horizontal_wrapped(|ui| {

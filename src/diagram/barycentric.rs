@@ -9,7 +9,8 @@
 
 use super::canvas::{Rgba, with_alpha};
 use super::quadratic::{
-    Placer, Rich, draw_panel, fit_title, interval_at, ray_name, rich, rich_width, short,
+    Placer, Rich, draw_panel, interval_at, lines_height, panel_lines, ray_name, rich, rich_width,
+    short,
 };
 use super::{Anchor, Canvas, ViewOptions, pick_step, title};
 use crate::shapes::{TriangleMethod, TriangleTest};
@@ -148,9 +149,29 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<BarycentricLayout> {
     let strip_size = strip_text_size(&c, test.method, w, small);
     let strip_h = rows * strip_size * 1.3 + strip_size * 0.8;
     let strip = [s * 0.6, h - strip_h - s * 0.3, w - s * 0.6, h - s * 0.3];
-    let panel_w = (w * 0.36).max(140.0).min(w * 0.5);
+    // The number panel where its lines, wrapped to its width, fit at the labels' size; else
+    // it is left out and the drawing takes the width (the app's math panel shows the same
+    // numbers, large).
+    let wanted = (w * 0.36).max(140.0).min(w * 0.5);
+    let lines = panel_lines(
+        &c,
+        &number_heading(name),
+        &number_rows(test, interval, &c),
+        small,
+        wanted - s * 0.5,
+    );
+    let panel_w = if lines_height(&lines, small) <= strip[1] - s * 0.4 - top {
+        wanted
+    } else {
+        0.0
+    };
     let panel = [w - panel_w, top, w - s * 0.5, strip[1] - s * 0.4];
-    let drawing = [s * 0.6, top, panel[0] - s * 0.8, strip[1] - s * 0.4];
+    let right = if panel_w > 0.0 {
+        panel[0] - s * 0.8
+    } else {
+        w - s * 0.6
+    };
+    let drawing = [s * 0.6, top, right, strip[1] - s * 0.4];
 
     // The plane frame and the 2D points.
     let (xa, ya) = plane_frame(*vertices, ray.direction);
@@ -327,7 +348,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     } else {
         format!("Barycentric: \"{}\", {}", l.name, l.ray)
     };
-    fit_title(&mut c, &heading);
+    title(&mut c, &heading);
     draw_triangle(&mut c, &l, small);
     draw_numbers(&mut c, &l, small);
     draw_steps(&mut c, &l, small);
@@ -691,10 +712,23 @@ fn clip_segment(a: [f32; 2], b: [f32; 2], r: [f32; 4]) -> (Option<[f32; 2]>, Opt
     )
 }
 
-/// The number panel.
+/// The number panel (left out when the layout found no room for it).
 fn draw_numbers(c: &mut Canvas, l: &BarycentricLayout, small: f32) {
+    if l.panel[2] > l.panel[0] {
+        let rows = number_rows(&l.test, l.interval, c);
+        draw_panel(c, l.panel, small, number_heading(&l.name), &rows);
+    }
+}
+
+/// The heading of the number panel.
+fn number_heading(name: &str) -> Rich {
+    Rich::new("triangle ").plain(&format!("\"{name}\""))
+}
+
+/// The number panel's rows: the test's values (the renderer's f32s), the ray's interval and
+/// where the test stopped, each with its colour (an empty row is a gap).
+fn number_rows(test: &TriangleTest<f32>, interval: (f32, f32), c: &Canvas) -> Vec<(String, Rgba)> {
     let th = c.theme;
-    let test = &l.test;
     let val = |name: &str, x: Option<f32>| match x {
         Some(x) => (format!("{name} = {}", num(x)), th.ink),
         None => (format!("{name} = —"), th.faded),
@@ -726,13 +760,14 @@ fn draw_numbers(c: &mut Canvas, l: &BarycentricLayout, small: f32) {
             rows.push(val("v* = e_2/det", test.v));
         }
     }
-    let (t_min, t_max) = l.interval;
+    let (t_min, t_max) = interval;
     rows.push((
         format!("ray: t in ({}, {})", num(t_min), num(t_max)),
         th.muted,
     ));
     rows.push((String::new(), th.ink));
-    let stop_col = if l.hit() { th.hit } else { th.ray };
+    let hit = test.stopped_at == 12 && test.t.is_some();
+    let stop_col = if hit { th.hit } else { th.ray };
     // Non-breaking spaces keep "[0, 1]" and "u + v" whole when the line wraps.
     let reason = test
         .stop_reason()
@@ -742,8 +777,7 @@ fn draw_numbers(c: &mut Canvas, l: &BarycentricLayout, small: f32) {
         format!("stopped at step {}: {reason}", test.stopped_at),
         stop_col,
     ));
-    let heading = Rich::new("triangle ").plain(&format!("\"{}\"", l.name));
-    draw_panel(c, l.panel, small, heading, &rows);
+    rows
 }
 
 /// The strip of steps: reached ones in ink, the rest faded, the stopping one highlighted.

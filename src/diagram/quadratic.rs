@@ -347,19 +347,6 @@ pub(super) fn ray_name(r: &RayRecord) -> String {
     }
 }
 
-/// Draws the title, shrinking it to fit the width; returns the y below it.
-pub(super) fn fit_title(c: &mut Canvas, text: &str) -> f32 {
-    let size = c.text_size;
-    let avail = c.width() - size * 1.6;
-    let w = c.text_width(text, size * 1.15);
-    if w > avail {
-        c.text_size = (size * avail / w).max(8.0);
-    }
-    let y = title(c, text);
-    c.text_size = size;
-    y
-}
-
 /// The ray's interval when a step ran: (t_min, t_max) with t_max shrunk by every closest-hit
 /// update recorded on that ray before the step (∞ when none).
 pub(super) fn interval_at(ray: &RayRecord, step: &StepRecord) -> (f32, f32) {
@@ -466,7 +453,8 @@ pub struct QuadraticLayout {
     pub roots: Option<[[f32; 2]; 2]>,
     /// Pixel position of the chosen root (the hit), when the test hit.
     pub chosen: Option<[f32; 2]>,
-    /// The right-hand text panel: [x0, y0, x1, y1].
+    /// The right-hand text panel: [x0, y0, x1, y1]; empty (x1 < x0) when the canvas is too
+    /// short for it, and then left out.
     pub panel: [f32; 4],
 }
 
@@ -547,14 +535,35 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<QuadraticLayout> {
     let c = Canvas::for_view(opts);
     let (w, h, s) = (c.width(), c.height(), c.text_size);
     let top = s * 0.6 + s * 1.15 * 1.5;
-    let panel_w = (w * 0.37).max(150.0).min(w * 0.5);
-    let panel = [w - panel_w, top, w - s * 0.5, h - s * 0.5];
     let small = (s * 0.85).max(13.0 * c.scale);
+    // The panel of values is drawn where its lines, wrapped to its width, fit at the labels'
+    // size; on a canvas too short for them it is left out and the plot takes the whole width,
+    // rather than printing them too small to read (in the app the math panel shows the same
+    // values, large).
+    let wanted = (w * 0.37).max(150.0).min(w * 0.5);
+    let lines = panel_lines(
+        &c,
+        &panel_heading(name),
+        &panel_rows(test, interval, &c),
+        small,
+        wanted - s * 0.5,
+    );
+    let panel_w = if lines_height(&lines, small) <= h - top - s * 0.5 {
+        wanted
+    } else {
+        0.0
+    };
+    let panel = [w - panel_w, top, w - s * 0.5, h - s * 0.5];
     let ytick_w = c.text_width("-0000.0", small);
     let left = s * 0.6 + ytick_w + s * 0.3;
     // On a canvas too small for the plot and the panel the frame shrinks to a pixel (never to a
     // negative size: everything below maps t and f through it).
-    let right = (panel[0] - s * 1.2).max(left + 1.0);
+    let right = if panel_w > 0.0 {
+        panel[0] - s * 1.2
+    } else {
+        w - s * 0.8
+    }
+    .max(left + 1.0);
     let plot_top = top + small * 1.6;
     let bottom = (h - small * 2.6).max(plot_top + 1.0);
     let frame = ranges(test, interval).map(|(t_range, f_range)| PlotFrame {
@@ -685,7 +694,7 @@ pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLa
     } else {
         format!("Ray–sphere quadratic: \"{}\", {}", l.name, l.ray)
     };
-    fit_title(&mut c, &heading);
+    title(&mut c, &heading);
     let test = &l.test;
 
     let mut labels = vec![];
@@ -698,6 +707,22 @@ pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLa
     }
 
     // The panel: exact values (the renderer's f32s), the case and the decision.
+    let rows = panel_rows(test, l.interval, &c);
+    if l.panel[2] > l.panel[0] {
+        draw_panel(&mut c, l.panel, small, panel_heading(&l.name), &rows);
+    }
+    (c, labels)
+}
+
+/// The heading of the quadratic's panel of values.
+fn panel_heading(name: &str) -> Rich {
+    Rich::new("sphere ").plain(&format!("\"{name}\""))
+}
+
+/// The quadratic's panel of values: exact values (the renderer's f32s), the case and the
+/// decision, each row with its colour (an empty row is a gap).
+fn panel_rows(test: &SphereTest<f32>, interval: (f32, f32), c: &Canvas) -> Vec<(String, Rgba)> {
+    let th = c.theme;
     let mut rows: Vec<(String, Rgba)> = vec![];
     let method = match test.method {
         SphereMethod::Textbook => "method: textbook",
@@ -738,7 +763,7 @@ pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLa
             rows.push((format!("t_1 = {}", num(r1)), col(r1)));
         }
     }
-    let (t_min, t_max) = l.interval;
+    let (t_min, t_max) = interval;
     rows.push((
         format!("ray: t in ({}, {})", num(t_min), num(t_max)),
         th.muted,
@@ -753,9 +778,37 @@ pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLa
     if test.inside {
         rows.push(("c < 0: the origin is inside the sphere".into(), th.muted));
     }
-    let heading = Rich::new("sphere ").plain(&format!("\"{}\"", l.name));
-    draw_panel(&mut c, l.panel, small, heading, &rows);
-    (c, labels)
+    rows
+}
+
+/// A text panel's lines at `size` in a column `width` wide: the heading, then each row
+/// wrapped (a gap, `true`, for an empty row).
+pub(super) fn panel_lines(
+    c: &Canvas,
+    heading: &Rich,
+    rows: &[(String, Rgba)],
+    size: f32,
+    width: f32,
+) -> Vec<(Rich, Rgba, bool)> {
+    let mut out = vec![(heading.clone(), c.theme.ink, false)];
+    for (markup, col) in rows {
+        if markup.is_empty() {
+            out.push((Rich::default(), *col, true));
+            continue;
+        }
+        for line in wrap(c, markup, size, width) {
+            out.push((Rich::new(&line), *col, false));
+        }
+    }
+    out
+}
+
+/// The height of a text panel's lines at `size`.
+pub(super) fn lines_height(lines: &[(Rich, Rgba, bool)], size: f32) -> f32 {
+    lines
+        .iter()
+        .map(|(_, _, gap)| if *gap { size * 0.6 } else { size * 1.32 })
+        .sum()
 }
 
 /// Draws a text panel: a heading, then rows of markup, each wrapped to the panel's width (a row
@@ -770,25 +823,8 @@ pub(super) fn draw_panel(
 ) {
     let [x0, y0, x1, y1] = panel;
     let width = x1 - x0;
-    let ink = c.theme.ink;
-    let layout = |c: &Canvas, size: f32| -> Vec<(Rich, Rgba, bool)> {
-        let mut out = vec![(heading.clone(), ink, false)];
-        for (markup, col) in rows {
-            if markup.is_empty() {
-                out.push((Rich::default(), *col, true));
-                continue;
-            }
-            for line in wrap(c, markup, size, width) {
-                out.push((Rich::new(&line), *col, false));
-            }
-        }
-        out
-    };
-    let height = |n: &[(Rich, Rgba, bool)], size: f32| {
-        n.iter()
-            .map(|(_, _, gap)| if *gap { size * 0.6 } else { size * 1.32 })
-            .sum::<f32>()
-    };
+    let layout = |c: &Canvas, size: f32| panel_lines(c, &heading, rows, size, width);
+    let height = |n: &[(Rich, Rgba, bool)], size: f32| lines_height(n, size);
     let mut size = size;
     let mut lines = layout(c, size);
     for _ in 0..6 {
