@@ -10,6 +10,7 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT as _, Queryable as _};
 use raystep::app::RaystepApp;
+use raystep::app::learn::{LearnCmd, LearnTab};
 use raystep::app::state::{Command, Prefs, StepMove};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -166,6 +167,25 @@ fn the_render_keeps_its_share_at_every_size_and_mode() {
     );
 }
 
+/// Every button, label, text field and chooser that starts inside `panel` ends inside it.
+fn nothing_runs_past(h: &Harness<'static, RaystepApp>, panel: egui::Rect, what: &str) {
+    let mut seen = 0;
+    for role in [Role::Button, Role::Label, Role::ComboBox, Role::TextInput] {
+        for node in h.query_all_by_role(role) {
+            let r = node.rect();
+            if panel.contains(r.min + egui::vec2(0.5, 0.5)) {
+                seen += 1;
+                assert!(
+                    r.max.x <= panel.max.x + 1.0,
+                    "{what}: {role:?} {:?} at {r:?} runs past the lessons panel {panel:?}",
+                    node.accesskit_node().label()
+                );
+            }
+        }
+    }
+    assert!(seen > 3, "{what}: only {seen} widgets found in the panel");
+}
+
 /// Nothing widens by itself: 200 idle frames with the lessons panel open leave every panel where
 /// it was; turning Lessons off gives the other panels their widths back.
 #[test]
@@ -191,24 +211,27 @@ fn panels_do_not_creep_and_lessons_off_gives_the_width_back() {
     );
     check_layout(&h, "1024×768 with lessons");
     // Nothing in the lessons panel is wider than the panel (a wide button or chooser would
-    // widen the lesson's text too, which the panel then cuts off).
+    // widen the lesson's text too, which the panel then cuts off): a lesson, then a question.
     let learn = with_lessons
         .iter()
         .find(|(name, _)| *name == "learn")
         .map(|(_, r)| *r)
         .expect("the lessons panel is shown");
-    for role in [Role::Button, Role::Label, Role::ComboBox] {
-        for node in h.query_all_by_role(role) {
-            let r = node.rect();
-            if learn.contains(r.min + egui::vec2(0.5, 0.5)) {
-                assert!(
-                    r.max.x <= learn.max.x + 1.0,
-                    "{role:?} {:?} at {r:?} runs past the lessons panel {learn:?}",
-                    node.accesskit_node().label()
-                );
-            }
-        }
+    nothing_runs_past(&h, learn, "a lesson");
+    let sheet = Path::new("lessons/exercises/02-sphere.toml").to_path_buf();
+    for c in [
+        LearnCmd::Tab(LearnTab::Exercises),
+        LearnCmd::OpenSheet(sheet),
+        LearnCmd::Student("alice".into()),
+    ] {
+        h.state_mut().state.apply(Command::Learn(c));
     }
+    h.run_steps(4);
+    nothing_runs_past(&h, learn, "a question");
+    h.state_mut()
+        .state
+        .apply(Command::Learn(LearnCmd::Tab(LearnTab::Lesson)));
+    h.run_steps(3);
     h.get_by_label("Lessons").click();
     h.run_steps(3);
     assert_eq!(

@@ -294,6 +294,9 @@ impl AppState {
 
 /// The learn panel.
 pub fn panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+    // Every button and label wraps: one wider than the panel would widen what follows it too
+    // (a lesson's text or a question would then be cut off at the panel's edge).
+    ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
     let learn = &state.learn;
     ui.horizontal(|ui| {
         for (tab, label) in [
@@ -316,9 +319,6 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut 
 }
 
 fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
-    // Every button and label wraps: one wider than the panel would widen what follows it too
-    // (the lesson's text would then be cut off at the panel's edge).
-    ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
     let learn = &state.learn;
     if let Some(e) = &learn.lessons_error {
         ui.colored_label(ui.visuals().error_fg_color, e);
@@ -587,7 +587,7 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
                 let r = ui.add(
                     egui::TextEdit::singleline(&mut answer)
                         .hint_text(q.quantity.kind().describe())
-                        .desired_width(200.0),
+                        .desired_width(ui.available_width().min(200.0)),
                 );
                 submit = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 r.labelled_by(label.id);
@@ -605,7 +605,7 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
                 mark_line(ui, m, a, sheet.feedback);
             }
             ui.add_space(6.0);
-            ui.horizontal(|ui| {
+            ui.horizontal_wrapped(|ui| {
                 let more = a.hints < q.hints.len();
                 if ui
                     .add_enabled(
