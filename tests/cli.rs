@@ -1399,3 +1399,53 @@ fn a_built_in_scene_by_name_from_any_folder() {
         "{err}"
     );
 }
+
+/// `diagram --animate --delay-ms` sets the GIF's frame delay (the last frame is held for at
+/// least 3 s); the default is 800 ms; a delay outside 20 … 60000 ms or not a number is refused
+/// with a message naming the option's range and no file written.
+#[test]
+fn animated_diagram_frame_delay() {
+    use image::AnimationDecoder as _;
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/first-sphere.toml");
+    let delays = |gif: &Path| -> Vec<u32> {
+        let file = std::io::BufReader::new(std::fs::File::open(gif).unwrap());
+        image::codecs::gif::GifDecoder::new(file)
+            .unwrap()
+            .into_frames()
+            .map(|f| {
+                let (n, d) = f.unwrap().delay().numer_denom_ms();
+                n / d.max(1)
+            })
+            .collect()
+    };
+    let quick = dir.path().join("quick.gif");
+    ok(&Cli::with(
+        "diagram @ --pixel 160,120 --size 160x120 --animate --delay-ms 250 -o @",
+        &[&scene, &quick],
+    ));
+    let d = delays(&quick);
+    assert!(d.len() > 2, "{d:?}");
+    assert!(d[..d.len() - 1].iter().all(|&ms| ms == 250), "{d:?}");
+    assert!(d[d.len() - 1] >= 3000, "the last frame is held: {d:?}");
+    let plain = dir.path().join("plain.gif");
+    ok(&Cli::with(
+        "diagram @ --pixel 160,120 --size 160x120 --animate -o @",
+        &[&scene, &plain],
+    ));
+    assert_eq!(delays(&plain)[0], 800, "the default delay");
+    let bad = dir.path().join("bad.gif");
+    for (arg, msg) in [
+        ("5", "between 20 and 60000 ms"),
+        ("fast", "not a whole number"),
+    ] {
+        fails(
+            &Cli::with(
+                &format!("diagram @ --pixel 160,120 --animate --delay-ms {arg} -o @"),
+                &[&scene, &bad],
+            ),
+            &["--delay-ms", msg],
+        );
+        assert!(!bad.exists(), "no file for a refused delay");
+    }
+}
