@@ -505,6 +505,18 @@ fn triangle_hit_moller_trumbore_and_watertight() {
             &format!("--method watertight --precision {p}"),
         );
         let what = format!("watertight {p}: {w}");
+        // Q = (0, 0, 1): z is already the largest component (no permutation) and the shear is
+        // Sx = Sy = −0/1 = 0, Sz = 1; the sheared vertices are Pᵢ − S = (0.2, 0.7, 2),
+        // (−0.8, −0.3, 2), (1.2, −0.3, 2), and z′ = z·Sz = 2 for each.
+        assert_eq!(w["permutation"], json!([0, 1, 2]), "{what}");
+        assert_eq!(nums(&w["shear"]), [0.0, 0.0, 1.0], "{what}");
+        let want = [[0.2, 0.7, 2.0], [-0.8, -0.3, 2.0], [1.2, -0.3, 2.0]];
+        for (i, row) in want.iter().enumerate() {
+            for (got, want) in nums(&w["sheared"][i]).iter().zip(row) {
+                close(*got, *want, 1e-6, &what);
+            }
+        }
+        assert_eq!(nums(&w["z_scaled"]), [2.0, 2.0, 2.0], "{what}");
         close(num(&w, "t"), 2.0, 1e-6, &what);
         close(num(&w, "u"), 0.45, 1e-6, &what);
         close(num(&w, "v"), 0.25, 1e-6, &what);

@@ -454,6 +454,45 @@ fn watertight_values_are_the_recorded_ones() {
             for (i, edge) in edges.iter().enumerate() {
                 assert_eq!(get(&e, &format!("e{i}")).value, num(*edge));
             }
+            // The shear and the sheared vertices are the recorded ones, printed and used as such.
+            let [sx, sy, sz] = test.shear.expect("a watertight test records its shear");
+            assert_eq!(
+                get(&e, "Sx, Sy, Sz").value,
+                format!("{}, {}, {}", num(sx), num(sy), num(sz))
+            );
+            let q = test.sheared.expect("and its sheared vertices");
+            for (i, v) in q.iter().enumerate() {
+                assert_eq!(
+                    get(&e, &format!("P′{i}")).value,
+                    format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]))
+                );
+            }
+            for (i, (a, b)) in [(1, 2), (2, 0), (0, 1)].into_iter().enumerate() {
+                let sub = numbers(&get(&e, &format!("e{i}")).substituted);
+                let want = [q[a][0], q[b][1], q[a][1], q[b][0]];
+                assert!(
+                    sub.iter().zip(want).all(|(&x, y)| same(x, y)),
+                    "e{i}: {sub:?} vs {want:?}"
+                );
+                // The recorded edge is what those vertices give: x·y − y·x evaluated exactly
+                // (two f32 products are exact in f64), within the kernel's rounding.
+                let exact = q[a][0] as f64 * q[b][1] as f64 - q[a][1] as f64 * q[b][0] as f64;
+                let ulp = (edges[i].abs().max(f32::MIN_POSITIVE) * f32::EPSILON) as f64;
+                assert!(
+                    (edges[i] as f64 - exact).abs() <= 2.0 * ulp,
+                    "e{i} = {} recorded, {exact} from the recorded vertices",
+                    edges[i]
+                );
+            }
+            if let (Some(z), Some(dt)) = (test.z_scaled, test.dt) {
+                let sub = numbers(&get(&e, "t_scaled").substituted);
+                assert!(same(sub[1], z[0]) && same(sub[3], z[1]) && same(sub[5], z[2]));
+                assert_eq!(
+                    (edges[0] * z[0] + edges[1] * z[1] + edges[2] * z[2]).to_bits(),
+                    dt.to_bits(),
+                    "the recorded scaled t is Σ eᵢ·z′ᵢ of the recorded values"
+                );
+            }
             let outside = test.stopped_at == 8;
             assert_eq!(has(&e, "det"), !outside);
             assert_eq!(has(&e, "t"), !outside && test.stopped_at != 2);
@@ -759,4 +798,40 @@ fn accept_shrinks_t_max_for_later_tests() {
         }
     }
     assert!(found, "no sphere hit after the floor's");
+}
+
+/// A trace saved before the watertight test recorded its shear still loads, and its explanation
+/// shows — where those numbers would be (never NaN, never a recomputed value).
+#[test]
+fn an_older_trace_without_the_shear_shows_dashes() {
+    let trace = record(&triangle_scene([0.2, 0.3, -2.0], "watertight"), 1, 1);
+    let mut json: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
+    fn strip(v: &mut serde_json::Value, n: &mut usize) {
+        match v {
+            serde_json::Value::Object(m) => {
+                for k in ["shear", "sheared", "z_scaled"] {
+                    *n += usize::from(m.remove(k).is_some());
+                }
+                m.values_mut().for_each(|x| strip(x, n));
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(|x| strip(x, n)),
+            _ => {}
+        }
+    }
+    let mut removed = 0;
+    strip(&mut json, &mut removed);
+    assert!(
+        removed >= 3 && removed % 3 == 0,
+        "three fields a watertight test: {removed}"
+    );
+    let old = Trace::from_json(&json.to_string(), "old.json").expect("an older trace loads");
+    let (_, e) = triangle_step(&old);
+    assert_eq!(get(&e, "Sx, Sy, Sz").value, "—, —, —");
+    assert_eq!(get(&e, "P′0").value, "(—, —, —)");
+    assert!(get(&e, "e0").substituted.starts_with("—·—"), "{e:#?}");
+    assert!(!format!("{e:?}").contains("NaN"), "{e:#?}");
+    // What the record has is shown as before.
+    let (_, now) = triangle_step(&trace);
+    assert_eq!(get(&e, "e0").value, get(&now, "e0").value);
+    assert_eq!(get(&e, "t").value, get(&now, "t").value);
 }

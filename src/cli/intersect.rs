@@ -424,6 +424,21 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                             "  translate the vertices by −S; permute axes ({kx}, {ky}, {kz}) so z is Q's largest component; shear so Q = (0, 0, 1)"
                         );
                     }
+                    if let Some([sx, sy, sz]) = t.shear {
+                        let _ = writeln!(
+                            s,
+                            "  shear Sx, Sy, Sz = −Qx/Qz, −Qy/Qz, 1/Qz = {sx}, {sy}, {sz}"
+                        );
+                    }
+                    if let Some(q) = t.sheared {
+                        for (i, v) in q.iter().enumerate() {
+                            let _ = writeln!(
+                                s,
+                                "  P′{i} = (x + Sx·z, y + Sy·z, z) of permute(P{i} − S) = ({}, {}, {})",
+                                v[0], v[1], v[2]
+                            );
+                        }
+                    }
                     if let Some([e0, e1, e2]) = t.edges {
                         let _ = writeln!(s, "  2D edge functions e0, e1, e2 = {e0}, {e1}, {e2}");
                     }
@@ -443,10 +458,13 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                                 "zero: the ray is parallel (or the triangle degenerate)"
                             )
                         );
+                        if let Some([z0, z1, z2]) = t.z_scaled {
+                            let _ = writeln!(s, "  z′ = z·Sz = {z0}, {z1}, {z2}");
+                        }
                         if let Some(ts) = t.t_star {
                             let _ = writeln!(
                                 s,
-                                "  t = Σ eᵢ zᵢ / det = {ts}{}",
+                                "  t = Σ eᵢ z′ᵢ / det = {ts}{}",
                                 stop(
                                     &t,
                                     5,
@@ -483,6 +501,13 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 m.insert("dt".into(), json!(t.dt));
                 m.insert("du".into(), json!(t.du));
                 m.insert("dv".into(), json!(t.dv));
+            } else {
+                m.insert("permutation".into(), json!(t.permutation));
+                m.insert("shear".into(), json!(t.shear));
+                m.insert("sheared".into(), json!(t.sheared));
+                m.insert("edges".into(), json!(t.edges));
+                m.insert("z_scaled".into(), json!(t.z_scaled));
+                m.insert("t_scaled".into(), json!(t.dt));
             }
             finish(m, t.t)
         }

@@ -73,6 +73,28 @@ pub struct TriangleTest<T> {
     /// Watertight: the ray-space permutation (kx, ky, kz), kz the largest |Q| component.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub permutation: Option<[usize; 3]>,
+    /// Watertight: the shear (Sx, Sy, Sz) = (−Qx/Qz, −Qy/Qz, 1/Qz) of the permuted direction.
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub shear: Option<[T; 3]>,
+    /// Watertight: the vertices P0, P1, P2 translated to the ray's origin, permuted and sheared,
+    /// (x + Sx·z, y + Sy·z, z) — z not yet scaled.
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub sheared: Option<[[T; 3]; 3]>,
+    /// Watertight: the vertices' z scaled into units of t, z′ = z·Sz (None if stopped before).
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub z_scaled: Option<[T; 3]>,
     /// t* (None if not reached).
     #[serde(with = "crate::jsonf")]
     pub t_star: Option<T>,
@@ -139,6 +161,9 @@ pub fn moller_trumbore<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         dv: None,
         edges: None,
         permutation: None,
+        shear: None,
+        sheared: None,
+        z_scaled: None,
         t_star: None,
         u: None,
         v: None,
@@ -209,6 +234,9 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         dv: None,
         edges: None,
         permutation: None,
+        shear: None,
+        sheared: None,
+        z_scaled: None,
         t_star: None,
         u: None,
         v: None,
@@ -243,6 +271,8 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         v[0] = v[0] + sx * v[2];
         v[1] = v[1] + sy * v[2];
     }
+    out.shear = Some([sx, sy, sz]);
+    out.sheared = Some(q);
     // 2D edge functions.
     let mut e0 = difference_of_products(q[1][0], q[2][1], q[1][1], q[2][0]);
     let mut e1 = difference_of_products(q[2][0], q[0][1], q[2][1], q[0][0]);
@@ -275,6 +305,7 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     for v in q.iter_mut() {
         v[2] = v[2] * sz;
     }
+    out.z_scaled = Some([q[0][2], q[1][2], q[2][2]]);
     let t_scaled = e0 * q[0][2] + e1 * q[1][2] + e2 * q[2][2];
     out.dt = Some(t_scaled);
     let inv_det = T::one() / det;

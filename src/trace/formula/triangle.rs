@@ -169,9 +169,9 @@ impl Ctx<'_> {
         }
     }
 
-    /// The watertight test. The permutation is the recorded one; the translated, permuted and
-    /// sheared vertices are computed here exactly as the kernel does (same f32 operations on the
-    /// same inputs); the edge functions, det, scaled t, t, u and v are the recorded ones.
+    /// The watertight test: every number shown is the recorded one (permutation, shear, sheared
+    /// vertices, edge functions, det, scaled z and t, t, u, v); nothing is recomputed here. A
+    /// value the record lacks (a trace saved before it was recorded) shows as —.
     pub(super) fn watertight(
         &self,
         name: &str,
@@ -183,15 +183,13 @@ impl Ctx<'_> {
         let o = self.origin();
         let [kx, ky, kz] = test.permutation.unwrap_or([0, 1, 2]).map(|k| k.min(2));
         let perm = |v: Vec3| [v[kx], v[ky], v[kz]];
-        let mut q = [perm(pv[0] - o), perm(pv[1] - o), perm(pv[2] - o)];
         let dp = perm(d);
-        let sx = -dp[0] / dp[2];
-        let sy = -dp[1] / dp[2];
-        let sz = 1.0 / dp[2];
-        for v in q.iter_mut() {
-            v[0] += sx * v[2];
-            v[1] += sy * v[2];
-        }
+        let [sx, sy, sz] = test.shear.unwrap_or([f32::NAN; 3]);
+        let q = test.sheared.unwrap_or([[f32::NAN; 3]; 3]);
+        // A trace saved before the shear was recorded has none: its values show as —.
+        let missing = test.shear.is_none() || test.sheared.is_none();
+        let nq = |x: f32| if missing { "—".to_string() } else { num(x) };
+        let pq = |x: f32| if missing { "—".to_string() } else { p(x) };
         let stop = test.stopped_at;
         let name_of = |k: usize| AXES[k];
         let mut lines = vec![
@@ -213,7 +211,7 @@ impl Ctx<'_> {
                     p(dp[2]),
                     p(dp[2])
                 ),
-                format!("{}, {}, {}", num(sx), num(sy), num(sz)),
+                format!("{}, {}, {}", nq(sx), nq(sy), nq(sz)),
                 Some("the shear that makes the ray run along +z".into()),
             ),
         ];
@@ -222,7 +220,7 @@ impl Ctx<'_> {
                 &format!("P′{i}"),
                 &format!("shear(permute(P{i} − S)): (x + Sx·z, y + Sy·z, z)"),
                 format!("permute({} − {})", vv(pv[i]), vv(o)),
-                format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2])),
+                format!("({}, {}, {})", nq(v[0]), nq(v[1]), nq(v[2])),
                 None,
             ));
         }
@@ -234,10 +232,10 @@ impl Ctx<'_> {
                 &format!("x′{a}·y′{b} − y′{a}·x′{b}"),
                 format!(
                     "{}·{} − {}·{}",
-                    p(q[a][0]),
-                    p(q[b][1]),
-                    p(q[a][1]),
-                    p(q[b][0])
+                    pq(q[a][0]),
+                    pq(q[b][1]),
+                    pq(q[a][1]),
+                    pq(q[b][0])
                 ),
                 num(edges[i]),
                 (i == 0).then(|| {
@@ -271,18 +269,25 @@ impl Ctx<'_> {
             ));
         }
         if stop > 2 && stop != 8 {
-            let z = [q[0][2] * sz, q[1][2] * sz, q[2][2] * sz];
+            let z = test.z_scaled.unwrap_or([f32::NAN; 3]);
+            let pz = |x: f32| {
+                if test.z_scaled.is_none() {
+                    "—".to_string()
+                } else {
+                    p(x)
+                }
+            };
             lines.push(line(
                 "t_scaled",
                 "e0·z′0 + e1·z′1 + e2·z′2, z′ = z·Sz",
                 format!(
                     "{}·{} + {}·{} + {}·{}",
                     p(edges[0]),
-                    p(z[0]),
+                    pz(z[0]),
                     p(edges[1]),
-                    p(z[1]),
+                    pz(z[1]),
                     p(edges[2]),
-                    p(z[2])
+                    pz(z[2])
                 ),
                 test.dt.map_or("—".into(), num),
                 None,
