@@ -7,7 +7,7 @@
 //! The 2D frame is built from the vertices stored in the trace; u and v are the kernel's own, so
 //! the picture shows exactly what the renderer decided (no intersection is recomputed here).
 
-use super::canvas::{Rgba, with_alpha};
+use super::canvas::{Rgba, clip_segment, with_alpha};
 use super::quadratic::{
     Placer, Rich, draw_panel, interval_at, lines_height, panel_lines, ray_name, rich, rich_width,
     short,
@@ -384,9 +384,10 @@ fn draw_triangle(c: &mut Canvas, l: &BarycentricLayout, small: f32) {
             [a[0] - dir[0] * reach, a[1] - dir[1] * reach],
             [a[0] + dir[0] * reach, a[1] + dir[1] * reach],
         );
-        let (from, to) = clip_segment(from, to, d);
-        if let (Some(from), Some(to)) = (from, to) {
-            c.dashed(from, to, th.ray, lw);
+        let wide = |p: [f32; 2]| [p[0] as f64, p[1] as f64];
+        if let Some((from, to)) = clip_segment(d.map(f64::from), wide(from), wide(to)) {
+            let narrow = |p: [f64; 2]| [p[0] as f32, p[1] as f32];
+            c.dashed(narrow(from), narrow(to), th.ray, lw);
         }
     }
 
@@ -678,38 +679,6 @@ fn outward(a: [f32; 2], b: [f32; 2], inside: [f32; 2]) -> (f32, f32) {
     } else {
         (nx, ny)
     }
-}
-
-/// Clips segment a–b to the rectangle [x0, y0, x1, y1] (Liang–Barsky).
-fn clip_segment(a: [f32; 2], b: [f32; 2], r: [f32; 4]) -> (Option<[f32; 2]>, Option<[f32; 2]>) {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let (mut t0, mut t1) = (0.0f32, 1.0f32);
-    for (p, q) in [
-        (-dx, a[0] - r[0]),
-        (dx, r[2] - a[0]),
-        (-dy, a[1] - r[1]),
-        (dy, r[3] - a[1]),
-    ] {
-        if p == 0.0 {
-            if q < 0.0 {
-                return (None, None);
-            }
-        } else {
-            let t = q / p;
-            if p < 0.0 {
-                t0 = t0.max(t);
-            } else {
-                t1 = t1.min(t);
-            }
-        }
-    }
-    if t0 > t1 {
-        return (None, None);
-    }
-    (
-        Some([a[0] + t0 * dx, a[1] + t0 * dy]),
-        Some([a[0] + t1 * dx, a[1] + t1 * dy]),
-    )
 }
 
 /// The number panel (left out when the layout found no room for it).
