@@ -993,52 +993,84 @@ fn file_open_lists_folders_and_the_built_in_scenes() {
     });
 }
 
+/// The lab window's cost per test agrees with `raystep stability --quick`'s within 2× for every
+/// point. Timings on a shared machine can be hit by preemption on either side, so each side
+/// keeps its fastest of up to three attempts: a preemption does not repeat, while a systematic
+/// error — the lab timing its tests while the app's render threads run, which once read 10–40×
+/// the command line's cost — would persist in every attempt.
 #[test]
 fn the_lab_windows_costs_agree_with_the_command_lines() {
-    // The lab as a student runs it: the window open over a scene that is still rendering, the
-    // UI drawing frames while the suite runs on its background thread.
-    let mut h = harness(Some(&scene_path("cornell.toml")));
-    h.state_mut().views.lab.open = true;
-    let ctx = h.ctx.clone();
-    h.state_mut().views.lab.start(&ctx);
-    let start = Instant::now();
-    while h.state().views.lab.running() {
-        assert!(
-            start.elapsed() < Duration::from_secs(900),
-            "the lab's quick suite did not finish"
-        );
-        h.step();
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    let app = h.state().views.lab.report.clone().expect("a report");
-    // The command line's measure (`raystep stability --quick`), in the same process.
-    let cli = raystep::stability::run(&raystep::stability::Options::quick());
-    let mut compared = 0;
-    for p in &app.points {
-        let c = cli
-            .points
+    use raystep::stability::{Method, Precision, Primitive};
+    use std::collections::HashMap;
+    type Key = (Primitive, Method, Precision);
+    let mut lab: HashMap<Key, f64> = HashMap::new();
+    let mut cli: HashMap<Key, f64> = HashMap::new();
+    let mut names: HashMap<Key, String> = HashMap::new();
+    let keep_fastest = |best: &mut HashMap<Key, f64>, k: Key, ns: f64| {
+        let b = best.entry(k).or_insert(f64::INFINITY);
+        *b = b.min(ns);
+    };
+    let ratios = |lab: &HashMap<Key, f64>, cli: &HashMap<Key, f64>| -> Vec<(Key, f64)> {
+        let mut r: Vec<(Key, f64)> = lab
             .iter()
-            .find(|c| (c.primitive, c.method, c.precision) == (p.primitive, p.method, p.precision))
-            .expect("the same points");
-        let ratio = p.ns_per_test / c.ns_per_test;
-        eprintln!(
-            "{:8} {:22} lab {:8.1} ns  cli {:8.1} ns  ×{ratio:.2}",
-            p.primitive.name(),
-            p.label(),
-            p.ns_per_test,
-            c.ns_per_test
-        );
-        assert!(
-            (0.5..=2.0).contains(&ratio),
-            "{} {}: the lab measured {:.1} ns, the command line {:.1} ns (×{ratio:.2})",
-            p.primitive.name(),
-            p.label(),
-            p.ns_per_test,
-            c.ns_per_test
-        );
-        compared += 1;
+            .map(|(k, l)| (*k, l / cli.get(k).copied().unwrap_or(f64::NAN)))
+            .collect();
+        r.sort_by_key(|x| x.0);
+        r
+    };
+    for attempt in 1..=3 {
+        // The lab as a student runs it: the window open over a scene that is still rendering,
+        // the UI drawing frames while the suite runs on its background thread.
+        let mut h = harness(Some(&scene_path("cornell.toml")));
+        h.state_mut().views.lab.open = true;
+        let ctx = h.ctx.clone();
+        h.state_mut().views.lab.start(&ctx);
+        let start = Instant::now();
+        while h.state().views.lab.running() {
+            assert!(
+                start.elapsed() < Duration::from_secs(900),
+                "the lab's quick suite did not finish"
+            );
+            h.step();
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let app = h.state().views.lab.report.clone().expect("a report");
+        for p in &app.points {
+            let k = (p.primitive, p.method, p.precision);
+            keep_fastest(&mut lab, k, p.ns_per_test);
+            names.insert(k, format!("{} {}", p.primitive.name(), p.label()));
+        }
+        // The command line's measure (`raystep stability --quick`), in the same process.
+        let quick = raystep::stability::run(&raystep::stability::Options::quick());
+        assert_eq!(quick.points.len(), 19, "every point measured");
+        for c in &quick.points {
+            keep_fastest(
+                &mut cli,
+                (c.primitive, c.method, c.precision),
+                c.ns_per_test,
+            );
+        }
+        let r = ratios(&lab, &cli);
+        for (k, ratio) in &r {
+            eprintln!(
+                "attempt {attempt}: {:30} lab {:8.1} ns  cli {:8.1} ns  ×{ratio:.2}",
+                names[k], lab[k], cli[k]
+            );
+        }
+        if r.iter().all(|(_, x)| (0.5..=2.0).contains(x)) {
+            break;
+        }
     }
     // Sphere, triangle, plane and box: two methods in f32 and f64; spawn: three offsets in f32.
-    assert_eq!(compared, 19, "every point compared");
-    assert_eq!(cli.points.len(), 19);
+    let r = ratios(&lab, &cli);
+    assert_eq!(r.len(), 19, "every point compared");
+    for (k, ratio) in r {
+        assert!(
+            (0.5..=2.0).contains(&ratio),
+            "{}: the lab measured {:.1} ns, the command line {:.1} ns (×{ratio:.2})",
+            names[&k],
+            lab[&k],
+            cli[&k]
+        );
+    }
 }
