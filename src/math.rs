@@ -164,6 +164,11 @@ pub fn to_f64x3<T: Real>(v: T::V) -> [f64; 3] {
     [v.at(0).to_f64(), v.at(1).to_f64(), v.at(2).to_f64()]
 }
 
+/// The components of a vector, in its own precision.
+pub fn to_array<T: Real>(v: T::V) -> [T; 3] {
+    [v.at(0), v.at(1), v.at(2)]
+}
+
 /// Builds a vector of precision `T` from f64 components (rounding to nearest).
 pub fn vec_from_f64<T: Real>(v: [f64; 3]) -> T::V {
     T::V::new(T::from_f64(v[0]), T::from_f64(v[1]), T::from_f64(v[2]))

@@ -1461,3 +1461,32 @@ fn animated_diagram_frame_delay() {
         assert!(!bad.exists(), "no file for a refused delay");
     }
 }
+
+/// `intersect sphere` prints the recorded intermediates: for S = (0, 0, −5), Q = (0, 0, 1) and
+/// the unit sphere at the origin, by hand: f = S − G = (0, 0, −5), b = 2 f·Q = −10,
+/// c = 25 − 1 = 24, Δ = 100 − 96 = 4, √Δ = 2, t = (10 ∓ 2)/2 = 4, 6; stable: b′ = −f·Q = 5,
+/// l = f + (b′/a)Q = (0, 0, 0), Δ′ = r² − l·l = 1.
+#[test]
+fn intersect_sphere_prints_the_recorded_intermediates() {
+    let line = "intersect sphere --center 0,0,0 --radius 1 --origin 0,0,-5 --dir 0,0,1 --method";
+    let textbook = ok(&Cli::new(&format!("{line} textbook")));
+    for want in [
+        "f = S − G              = (0, 0, -5)",
+        "b = 2 f·Q              = -10",
+        "c = f·f − r²           = 24",
+        "Δ = b² − 4ac           = 4",
+        "√Δ                     = 2",
+        "t = (−b ± √Δ) / 2a     = 4, 6",
+    ] {
+        assert!(textbook.contains(want), "{want:?} in\n{textbook}");
+    }
+    let stable = ok(&Cli::new(&format!("{line} stable")));
+    for want in [
+        "f = S − G              = (0, 0, -5)",
+        "b′ = −f·Q              = 5",
+        "l = f + (b′/a)Q        = (0, 0, 0)",
+        "= 1   (distance² margin",
+    ] {
+        assert!(stable.contains(want), "{want:?} in\n{stable}");
+    }
+}

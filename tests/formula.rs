@@ -238,6 +238,15 @@ fn every_sphere_step_prints_its_record_and_consistent_substitutions() {
                     let b64 = 2.0 * dot(f, d);
                     let bound = eps * 2.0 * dot(f, f).sqrt() * dot(d, d).sqrt();
                     assert!((test.b as f64 - b64).abs() <= bound + 1e-30);
+                    // The recorded f is S − G in f32 (one correctly rounded subtraction per
+                    // component), and the panel prints it.
+                    let rec_f = test.f.expect("f is recorded");
+                    let g = center.to_array();
+                    for i in 0..3 {
+                        assert_eq!(rec_f[i].to_bits(), (ray.origin[i] - g[i]).to_bits());
+                    }
+                    let vf = format!("({}, {}, {})", num(rec_f[0]), num(rec_f[1]), num(rec_f[2]));
+                    assert_eq!(get(&e, "f").value, vf);
                     match method {
                         SphereMethod::Textbook => {
                             // Δ's substitution is made of the printed b, a and c.
@@ -247,12 +256,39 @@ fn every_sphere_step_prints_its_record_and_consistent_substitutions() {
                             assert!(same(n[0], b) && same(n[2], a) && same(n[3], c));
                             // …and b² − 4ac of those numbers, in f32, is the printed Δ.
                             assert!(same(b * b - 4.0 * a * c, parse(&get(&e, "Δ").value)));
+                            // √Δ and the two roots as computed: IEEE square root and
+                            // (−b ∓ √Δ)/2a of the recorded numbers, bit for bit, as printed.
+                            if let Some(sq) = test.sqrt_discriminant {
+                                assert_eq!(sq.to_bits(), test.discriminant.sqrt().to_bits());
+                                assert_eq!(get(&e, "√Δ").value, num(sq));
+                                let [t0, t1] = test.computed_roots.expect("roots as computed");
+                                assert_eq!(t0.to_bits(), ((-test.b - sq) / (2.0 * a)).to_bits());
+                                assert_eq!(t1.to_bits(), ((-test.b + sq) / (2.0 * a)).to_bits());
+                                assert_eq!(get(&e, "t₀").value, num(t0));
+                                assert_eq!(get(&e, "t₁").value, num(t1));
+                            } else {
+                                assert!(test.roots.is_none());
+                            }
                             checked[0] += 1;
                         }
                         SphereMethod::Stable => {
                             let dp = parse(&get(&e, "Δ′").value);
                             assert!(same(dp, test.delta_prime.unwrap()));
                             assert!(same(4.0 * a * dp, test.discriminant));
+                            // b′ = −f·Q and l = f + (b′/a)·Q as recorded and printed; b′ agrees
+                            // with the f64 dot product to f32 rounding.
+                            let bh = test.b_half.expect("b′ is recorded");
+                            assert_eq!(get(&e, "b′").value, num(bh));
+                            assert!((bh as f64 + dot(f, d)).abs() <= bound / 2.0 + 1e-30);
+                            let l = test.l.expect("l is recorded");
+                            let vl = format!("({}, {}, {})", num(l[0]), num(l[1]), num(l[2]));
+                            assert_eq!(get(&e, "l").value, vl);
+                            if let (Some(q), Some([t0, t1])) = (test.q, test.computed_roots)
+                                && q != 0.0
+                            {
+                                assert_eq!(t0.to_bits(), (test.c / q).to_bits());
+                                assert_eq!(t1.to_bits(), (q / a).to_bits());
+                            }
                             checked[1] += 1;
                         }
                     }
@@ -800,28 +836,27 @@ fn accept_shrinks_t_max_for_later_tests() {
     assert!(found, "no sphere hit after the floor's");
 }
 
+/// Removes the keys `keys` from every object in `v`; returns how many were removed.
+fn strip(v: &mut serde_json::Value, keys: &[&str]) -> usize {
+    match v {
+        serde_json::Value::Object(m) => {
+            let here = keys.iter().filter(|k| m.remove(**k).is_some()).count();
+            here + m.values_mut().map(|x| strip(x, keys)).sum::<usize>()
+        }
+        serde_json::Value::Array(a) => a.iter_mut().map(|x| strip(x, keys)).sum(),
+        _ => 0,
+    }
+}
+
 /// A trace saved before the watertight test recorded its shear still loads, and its explanation
 /// shows — where those numbers would be (never NaN, never a recomputed value).
 #[test]
 fn an_older_trace_without_the_shear_shows_dashes() {
     let trace = record(&triangle_scene([0.2, 0.3, -2.0], "watertight"), 1, 1);
     let mut json: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
-    fn strip(v: &mut serde_json::Value, n: &mut usize) {
-        match v {
-            serde_json::Value::Object(m) => {
-                for k in ["shear", "sheared", "z_scaled"] {
-                    *n += usize::from(m.remove(k).is_some());
-                }
-                m.values_mut().for_each(|x| strip(x, n));
-            }
-            serde_json::Value::Array(a) => a.iter_mut().for_each(|x| strip(x, n)),
-            _ => {}
-        }
-    }
-    let mut removed = 0;
-    strip(&mut json, &mut removed);
+    let removed = strip(&mut json, &["shear", "sheared", "z_scaled"]);
     assert!(
-        removed >= 3 && removed % 3 == 0,
+        removed >= 3 && removed.is_multiple_of(3),
         "three fields a watertight test: {removed}"
     );
     let old = Trace::from_json(&json.to_string(), "old.json").expect("an older trace loads");
@@ -834,4 +869,34 @@ fn an_older_trace_without_the_shear_shows_dashes() {
     let (_, now) = triangle_step(&trace);
     assert_eq!(get(&e, "e0").value, get(&now, "e0").value);
     assert_eq!(get(&e, "t").value, get(&now, "t").value);
+}
+
+/// Likewise a sphere test saved before f, b′, l, √Δ and the roots as computed were recorded.
+#[test]
+fn an_older_trace_without_the_sphere_intermediates_shows_dashes() {
+    for method in [SphereMethod::Textbook, SphereMethod::Stable] {
+        let mut scene = shipped("first-sphere.toml");
+        scene.settings.sphere_method = method;
+        let trace = record(&scene, 160, 120);
+        let mut json: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
+        let keys = ["f", "b_half", "l", "sqrt_discriminant", "computed_roots"];
+        assert!(strip(&mut json, &keys) >= 2, "{method:?}");
+        let old = Trace::from_json(&json.to_string(), "old.json").expect("an older trace loads");
+        let (ray, step) = old
+            .timeline()
+            .into_iter()
+            .find(|(_, s)| matches!(s.step, Step::Sphere { .. }))
+            .expect("a sphere test");
+        let e = explain(&old, ray, &step.step);
+        assert_eq!(get(&e, "f").value, "—", "{method:?}");
+        assert!(!format!("{e:?}").contains("NaN"), "{e:#?}");
+        match method {
+            SphereMethod::Textbook => assert_eq!(get(&e, "√Δ").value, "—"),
+            _ => {
+                assert_eq!(get(&e, "b′").value, "—");
+                assert_eq!(get(&e, "c/q").value, "—");
+                assert!(!has(&e, "l"), "no l line without l");
+            }
+        }
+    }
 }

@@ -12,7 +12,7 @@ pub use bvh::Bvh;
 
 use crate::math::Ray;
 use crate::scene::{AccelChoice, Scene, Shape};
-use crate::shapes::{plane, sphere, triangle};
+use crate::shapes::{SphereMethod, SphereTest, plane, sphere, triangle};
 use crate::trace::{Observer, Step};
 use std::time::{Duration, Instant};
 
@@ -54,13 +54,36 @@ pub fn test_object<O: Observer>(
     let s = &scene.settings;
     match scene.objects[id as usize].shape {
         Shape::Sphere { center, radius } => {
-            let test = sphere::intersect(ray, center, radius, s.sphere_method);
-            obs.prim_test(|| Step::Sphere {
-                object: id,
-                name: scene.object_name(id),
-                test,
-            });
-            test.t.map(|t| Hit {
+            // Each method reports its own record and hands on only t; the intermediates only a
+            // reader needs are kept only for an observer that records (the same arithmetic
+            // either way).
+            let report = |test: SphereTest<f32>, obs: &mut O| {
+                obs.prim_test(|| Step::Sphere {
+                    object: id,
+                    name: scene.object_name(id),
+                    test,
+                });
+                test.t
+            };
+            let t = match (s.sphere_method, O::RECORDS) {
+                (SphereMethod::Textbook, true) => report(
+                    sphere::textbook_keeping::<f32, true>(ray, center, radius),
+                    obs,
+                ),
+                (SphereMethod::Textbook, false) => report(
+                    sphere::textbook_keeping::<f32, false>(ray, center, radius),
+                    obs,
+                ),
+                (SphereMethod::Stable, true) => report(
+                    sphere::stable_keeping::<f32, true>(ray, center, radius),
+                    obs,
+                ),
+                (SphereMethod::Stable, false) => report(
+                    sphere::stable_keeping::<f32, false>(ray, center, radius),
+                    obs,
+                ),
+            };
+            t.map(|t| Hit {
                 object: id,
                 t,
                 u: 0.0,

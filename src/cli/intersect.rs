@@ -186,14 +186,20 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                 SphereMethod::Stable => "stable, Ray Tracing Gems ch. 7",
             };
             head(&mut s, &format!("Ray–sphere intersection ({name})"));
-            let f = ray.origin - g;
+            let xyz = |p: Option<[T; 3]>| {
+                p.map_or("—".to_string(), |p| {
+                    format!("({}, {}, {})", p[0], p[1], p[2])
+                })
+            };
             let _ = writeln!(s, "  sphere     G = {}, r = {r}", v::<T>(g));
-            let _ = writeln!(s, "  f = S − G              = {}", v::<T>(f));
+            let _ = writeln!(s, "  f = S − G              = {}", xyz(t.f));
             let _ = writeln!(s, "  a = Q·Q                = {}", t.a);
             let _ = writeln!(s, "  b = 2 f·Q              = {}", t.b);
             let _ = writeln!(s, "  c = f·f − r²           = {}", t.c);
             if let (Some(dp), SphereMethod::Stable) = (t.delta_prime, method) {
-                let _ = writeln!(s, "  b′ = −f·Q              = {}", -t.b / T::lit(2.0));
+                let b_half = t.b_half.map_or("—".to_string(), |b| b.to_string());
+                let _ = writeln!(s, "  b′ = −f·Q              = {b_half}");
+                let _ = writeln!(s, "  l = f + (b′/a)Q        = {}", xyz(t.l));
                 let _ = writeln!(
                     s,
                     "  Δ′ = r² − ‖f + (b′/a)Q‖² = {dp}   (distance² margin of the ray's line)"
@@ -217,6 +223,9 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                     let _ = writeln!(s, "  q = b′ + sign(b′)√(aΔ′) = {q}");
                     let _ = writeln!(s, "  roots c/q and q/a      = {t0}, {t1}");
                 } else {
+                    if let Some(sq) = t.sqrt_discriminant {
+                        let _ = writeln!(s, "  √Δ                     = {sq}");
+                    }
                     let _ = writeln!(s, "  t = (−b ± √Δ) / 2a     = {t0}, {t1}");
                 }
             }

@@ -1,6 +1,6 @@
 //! Ray–sphere intersection: the seeds' quadratic, and the stable form of Ray Tracing Gems ch. 7.
 
-use crate::math::{Ray, Real, Vector};
+use crate::math::{Ray, Real, Vector, to_array};
 use serde::{Deserialize, Serialize};
 
 /// How the quadratic is solved.
@@ -87,6 +87,42 @@ pub struct SphereTest<T> {
         default
     )]
     pub q: Option<T>,
+    /// f = S − G, from the sphere's centre to the ray's origin, as the kernel computed it.
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub f: Option<[T; 3]>,
+    /// Stable: b′ = −f·Q.
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub b_half: Option<T>,
+    /// Stable: l = f + (b′/a)·Q, from the centre to the ray's line at right angles.
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub l: Option<[T; 3]>,
+    /// Textbook: √Δ (None for a miss).
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub sqrt_discriminant: Option<T>,
+    /// The two roots as computed, before they are put in order: textbook (−b − √Δ)/2a and
+    /// (−b + √Δ)/2a, stable c/q and q/a (None for a miss).
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub computed_roots: Option<[T; 2]>,
     /// The two roots in ascending order (equal when tangent), or none.
     #[serde(with = "crate::jsonf")]
     pub roots: Option<[T; 2]>,
@@ -126,6 +162,18 @@ pub fn intersect<T: Real>(
 /// The seeds' quadratic, exactly as taught.
 #[inline(always)]
 pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
+    textbook_keeping::<T, true>(ray, center, radius)
+}
+
+/// [`textbook`], keeping the intermediates only a reader needs (f, √Δ, the roots as computed)
+/// when `KEEP`; without, they are None and the arithmetic is the same. The render's silent
+/// observer runs it without, the recorder with.
+#[inline(always)]
+pub fn textbook_keeping<T: Real, const KEEP: bool>(
+    ray: &Ray<T>,
+    center: T::V,
+    radius: T,
+) -> SphereTest<T> {
     let two = T::lit(2.0);
     let f = ray.origin - center;
     let a = ray.dir.dot(ray.dir);
@@ -140,6 +188,11 @@ pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T>
         discriminant: disc,
         delta_prime: None,
         q: None,
+        f: KEEP.then(|| to_array::<T>(f)),
+        b_half: None,
+        l: None,
+        sqrt_discriminant: None,
+        computed_roots: None,
         roots: None,
         case: SphereCase::Miss,
         choice: RootChoice::NoRoots,
@@ -153,6 +206,10 @@ pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T>
     let sq = disc.sqrt();
     let t0 = (-b - sq) / (two * a);
     let t1 = (-b + sq) / (two * a);
+    if KEEP {
+        test.sqrt_discriminant = Some(sq);
+        test.computed_roots = Some([t0, t1]);
+    }
     finish(&mut test, ray, t0, t1);
     test
 }
@@ -160,6 +217,18 @@ pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T>
 /// Ray Tracing Gems ch. 7, eq. 7.5–7.7 (see docs/NUMERICS.md).
 #[inline(always)]
 pub fn stable<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
+    stable_keeping::<T, true>(ray, center, radius)
+}
+
+/// [`stable`], keeping the intermediates only a reader needs (f, b′, l, the roots as computed)
+/// when `KEEP`; without, they are None and the arithmetic is the same (see
+/// [`textbook_keeping`]).
+#[inline(always)]
+pub fn stable_keeping<T: Real, const KEEP: bool>(
+    ray: &Ray<T>,
+    center: T::V,
+    radius: T,
+) -> SphereTest<T> {
     let f = ray.origin - center;
     let d = ray.dir;
     let a = d.dot(d);
@@ -179,6 +248,11 @@ pub fn stable<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
         discriminant: disc,
         delta_prime: Some(delta_prime),
         q: None,
+        f: KEEP.then(|| to_array::<T>(f)),
+        b_half: KEEP.then_some(b_half),
+        l: KEEP.then(|| to_array::<T>(l)),
+        sqrt_discriminant: None,
+        computed_roots: None,
         roots: None,
         case: SphereCase::Miss,
         choice: RootChoice::NoRoots,
@@ -202,6 +276,9 @@ pub fn stable<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
     } else {
         (c / q, q / a)
     };
+    if KEEP {
+        test.computed_roots = Some([t0, t1]);
+    }
     finish(&mut test, ray, t0, t1);
     test
 }

@@ -420,10 +420,6 @@ impl Ctx<'_> {
 }
 
 /// b′ = −f·Q as the stable kernel computes it (from f when the sphere is known, else −b/2).
-fn b_half_of(f: Option<Vec3>, d: Vec3, test: &SphereTest<f32>) -> f32 {
-    f.map_or(-test.b / 2.0, |f| -f.dot(d))
-}
-
 fn case_note(test: &SphereTest<f32>) -> String {
     if test.discriminant.is_nan() {
         "NaN (overflow): a miss".into()

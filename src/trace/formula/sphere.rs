@@ -3,8 +3,10 @@
 use super::*;
 
 impl Ctx<'_> {
-    /// The sphere test. f = S − G is computed here exactly as the kernel does (`origin − center`
-    /// in f32); for `stable`, f·d and l = f + d·(b′/a) too, from the recorded a.
+    /// The sphere test: every number shown is the recorded one (f, a, b, b′, c, l, Δ′, Δ, √Δ,
+    /// q, the roots as computed and in order); nothing is recomputed here. The scene gives only
+    /// the inputs G and r. A value the record lacks (a trace saved before it was recorded)
+    /// shows as —.
     pub(super) fn sphere(&self, object: u32, name: &str, test: &SphereTest<f32>) -> Explanation {
         let geo = self.object(object).and_then(|o| match o.shape {
             Shape::Sphere { center, radius } => Some((center, radius)),
@@ -12,22 +14,22 @@ impl Ctx<'_> {
         });
         let d = self.dir();
         let mut lines = vec![];
-        let (fs, rs) = match geo {
+        let fs = test.f.map(Vec3::from);
+        let rs = match geo {
             Some((center, radius)) => {
-                let f = self.origin() - center;
                 lines.push(line(
                     "f",
                     "S − G",
                     format!("{} − {}", vv(self.origin()), vv(center)),
-                    vv(f),
+                    fs.map_or("—".into(), vv),
                     Some(format!(
                         "from the sphere's centre G to the ray's origin (r = {})",
                         num(radius)
                     )),
                 ));
-                (Some(f), Some(radius))
+                Some(radius)
             }
-            None => (None, None),
+            None => None,
         };
         let fstr = fs.map_or("f".to_string(), vv);
         let r2 = rs.map_or("r²".to_string(), |r| format!("{}²", p(r)));
@@ -66,13 +68,12 @@ impl Ctx<'_> {
                 Some(case_note(test)),
             ));
         } else {
-            let fd = fs.map(|f| f.dot(d));
-            let b_half = fd.map(|x| -x);
+            let b_half = test.b_half;
             lines.push(line(
                 "b′",
                 "−f·Q",
                 format!("−{}·{}", fstr, vv(d)),
-                b_half.map_or(String::new(), num),
+                b_half.map_or("—".into(), num),
                 Some(format!("the textbook's b = 2f·Q = {}", num(test.b))),
             ));
             lines.push(line(
@@ -86,28 +87,31 @@ impl Ctx<'_> {
                     "≥ 0: the origin is outside (or on) the sphere".into()
                 }),
             ));
-            if let (Some(f), Some(bh)) = (fs, b_half) {
-                // As the kernel: l = f + d·(b′/a).
-                let l = f + d * (bh / test.a);
+            let ls = test.l.map(Vec3::from);
+            let lstr = ls.map_or("l".to_string(), vv);
+            if let Some(l) = ls {
                 lines.push(line(
                     "l",
                     "f + (b′/a)·Q",
-                    format!("{} + ({}/{})·{}", fstr, p(bh), num(test.a), vv(d)),
+                    format!(
+                        "{} + ({}/{})·{}",
+                        fstr,
+                        b_half.map_or("b′".into(), p),
+                        num(test.a),
+                        vv(d)
+                    ),
                     vv(l),
                     Some("from the centre to the ray's line, at right angles".into()),
                 ));
-                if let Some(dp) = test.delta_prime {
-                    lines.push(line(
-                        "Δ′",
-                        "r² − l·l",
-                        format!("{r2} − {}·{}", vv(l), vv(l)),
-                        num(dp),
-                        Some(
-                            "a vector difference: keeps r² even when |f| ≫ r (c has lost it)"
-                                .into(),
-                        ),
-                    ));
-                }
+            }
+            if let Some(dp) = test.delta_prime {
+                lines.push(line(
+                    "Δ′",
+                    "r² − l·l",
+                    format!("{r2} − {lstr}·{lstr}"),
+                    num(dp),
+                    Some("a vector difference: keeps r² even when |f| ≫ r (c has lost it)".into()),
+                ));
             }
             lines.push(line(
                 "Δ",
@@ -127,37 +131,44 @@ impl Ctx<'_> {
         let (rmin, rmax) = (self.ray.t_min, self.t_max());
         if let Some([lo, hi]) = test.roots {
             if textbook {
-                let sq = test.discriminant.sqrt();
+                let sq = test.sqrt_discriminant.map_or("—".into(), num);
                 lines.push(line(
                     "√Δ",
                     "√Δ",
                     format!("√{}", num(test.discriminant)),
-                    num(sq),
+                    sq.clone(),
                     None,
                 ));
+                // The roots as the kernel computed them, before putting them in order (a > 0,
+                // so the − root is the smaller).
+                let [t0, t1] = test.computed_roots.unwrap_or([lo, hi]);
                 lines.push(line(
                     "t₀",
                     "(−b − √Δ)/2a",
-                    format!("({} − {})/(2·{})", num(-test.b), num(sq), num(test.a)),
-                    num(lo),
+                    format!("({} − {})/(2·{})", num(-test.b), sq, num(test.a)),
+                    num(t0),
                     Some("the near root".into()),
                 ));
                 lines.push(line(
                     "t₁",
                     "(−b + √Δ)/2a",
-                    format!("({} + {})/(2·{})", num(-test.b), num(sq), num(test.a)),
-                    num(hi),
+                    format!("({} + {})/(2·{})", num(-test.b), sq, num(test.a)),
+                    num(t1),
                     Some("the far root".into()),
                 ));
             } else if let Some(q) = test.q {
-                let bh = b_half_of(fs, d, test);
-                let sign = if bh >= 0.0 { "+" } else { "−" };
+                // b′'s sign: the recorded b′, or (a trace without it) that of −b.
+                let sign = if test.b_half.unwrap_or(-test.b) >= 0.0 {
+                    "+"
+                } else {
+                    "−"
+                };
                 lines.push(line(
                     "q",
                     "b′ + sign(b′)·√(a·Δ′)",
                     format!(
                         "{} {sign} √({}·{})",
-                        num(bh),
+                        test.b_half.map_or("—".into(), num),
                         num(test.a),
                         p(test.delta_prime.unwrap_or(f32::NAN))
                     ),
@@ -173,20 +184,27 @@ impl Ctx<'_> {
                         Some("q = 0 (tangent at the origin): c/q would be 0/0".into()),
                     ));
                 } else {
-                    // The kernel's own divisions on the recorded c, q and a.
-                    let (t0, t1) = (test.c / q, q / test.a);
+                    // The kernel's divisions c/q and q/a, as recorded.
+                    let [t0, t1] = test.computed_roots.unwrap_or([f32::NAN; 2]);
+                    let shown = |x: f32| {
+                        if test.computed_roots.is_some() {
+                            num(x)
+                        } else {
+                            "—".into()
+                        }
+                    };
                     lines.push(line(
                         "c/q",
                         "c/q",
                         format!("{}/{}", p(test.c), p(q)),
-                        num(t0),
+                        shown(t0),
                         None,
                     ));
                     lines.push(line(
                         "q/a",
                         "q/a",
                         format!("{}/{}", p(q), num(test.a)),
-                        num(t1),
+                        shown(t1),
                         None,
                     ));
                 }
