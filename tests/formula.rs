@@ -436,12 +436,28 @@ fn moller_trumbore_lists_no_lines_past_its_stop() {
     let mut seen = [0usize; 13];
     for (x, y) in grid(&scene, 40) {
         let trace = record(&scene, x, y);
-        for (_, step, e) in explained(&trace) {
-            let Step::Triangle { test, .. } = step else {
+        for (ray, step, e) in explained(&trace) {
+            let Step::Triangle { test, vertices, .. } = step else {
                 continue;
             };
             let stop = test.stopped_at as usize;
             seen[stop] += 1;
+            // E1, E2 and T are recorded: bit-equal to the f32 differences of the step's own
+            // vertices and the ray's origin, and printed as recorded.
+            let diff = |a: [f32; 3], b: [f32; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+            let bits = |v: [f32; 3]| v.map(f32::to_bits);
+            let xyz = |v: [f32; 3]| format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]));
+            let [p0, p1, p2] = *vertices;
+            let (e1, e2) = (test.e1.unwrap(), test.e2.unwrap());
+            assert_eq!(bits(e1), bits(diff(p1, p0)));
+            assert_eq!(bits(e2), bits(diff(p2, p0)));
+            assert_eq!(get(&e, "E1").value, xyz(e1));
+            assert_eq!(get(&e, "E2").value, xyz(e2));
+            assert_eq!(test.t_vec.is_some(), stop > 2);
+            if let Some(tv) = test.t_vec {
+                assert_eq!(bits(tv), bits(diff(ray.origin, p0)));
+                assert_eq!(get(&e, "T").value, xyz(tv));
+            }
             let reached = |n: &str| has(&e, n);
             assert_eq!(get(&e, "D0").value, num(test.det));
             assert_eq!(reached("Dt"), stop > 2, "{e:#?}");
@@ -899,4 +915,19 @@ fn an_older_trace_without_the_sphere_intermediates_shows_dashes() {
             }
         }
     }
+}
+
+/// Likewise a Möller–Trumbore test saved before E1, E2 and T were recorded.
+#[test]
+fn an_older_trace_without_the_moller_trumbore_vectors_shows_dashes() {
+    let trace = record(&triangle_scene([0.2, 0.3, -2.0], "moller-trumbore"), 1, 1);
+    let mut json: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
+    assert!(strip(&mut json, &["e1", "e2", "t_vec"]) >= 3);
+    let old = Trace::from_json(&json.to_string(), "old.json").expect("an older trace loads");
+    let (_, e) = triangle_step(&old);
+    assert_eq!(get(&e, "E1").value, "—");
+    assert_eq!(get(&e, "T").value, "—");
+    assert!(!format!("{e:?}").contains("NaN"), "{e:#?}");
+    let (_, now) = triangle_step(&trace);
+    assert_eq!(get(&e, "D0").value, get(&now, "D0").value);
 }

@@ -357,13 +357,16 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                         s,
                         "  solve S + tQ = P0 + u(P1 − P0) + v(P2 − P0), i.e. [−Q, E1, E2]·(t, u, v) = T"
                     );
-                    let e1 = p[1] - p[0];
-                    let e2 = p[2] - p[0];
+                    let xyz = |p: Option<[T; 3]>| {
+                        p.map_or("—".to_string(), |p| {
+                            format!("({}, {}, {})", p[0], p[1], p[2])
+                        })
+                    };
                     let _ = writeln!(
                         s,
                         "   1. E1 = P1 − P0 = {}, E2 = P2 − P0 = {}",
-                        v::<T>(e1),
-                        v::<T>(e2)
+                        xyz(t.e1),
+                        xyz(t.e2)
                     );
                     let _ = writeln!(
                         s,
@@ -372,7 +375,7 @@ fn compute<T: Real>(shape: &Shape, args: &RayArgs) -> Result<(String, Value), St
                         stop(&t, 2, "zero: parallel to the plane")
                     );
                     if let Some(dt) = t.dt {
-                        let _ = writeln!(s, "   3. T = S − P0 = {}", v::<T>(ray.origin - p[0]));
+                        let _ = writeln!(s, "   3. T = S − P0 = {}", xyz(t.t_vec));
                         let _ = writeln!(s, "   4. Dt = det(T, E1, E2) = {dt}");
                         let _ = writeln!(
                             s,

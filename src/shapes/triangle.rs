@@ -1,7 +1,7 @@
 //! Ray–triangle intersection: Möller–Trumbore as Cramer's rule (the seeds' 12 steps) and the
 //! watertight test of Woop, Benthin and Wald (JCGT 2013), as in pbrt-v4's `IntersectTriangle`.
 
-use crate::math::{Ray, Real, Vector, gamma};
+use crate::math::{Ray, Real, Vector, gamma, to_array};
 use serde::{Deserialize, Serialize};
 
 /// Which triangle test.
@@ -95,6 +95,28 @@ pub struct TriangleTest<T> {
         default
     )]
     pub z_scaled: Option<[T; 3]>,
+    /// Möller–Trumbore: E1 = P1 − P0.
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub e1: Option<[T; 3]>,
+    /// Möller–Trumbore: E2 = P2 − P0.
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub e2: Option<[T; 3]>,
+    /// Möller–Trumbore: T = S − P0, from the first vertex to the ray's origin (None if stopped
+    /// at step 2).
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub t_vec: Option<[T; 3]>,
     /// t* (None if not reached).
     #[serde(with = "crate::jsonf")]
     pub t_star: Option<T>,
@@ -164,6 +186,9 @@ pub fn moller_trumbore<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         shear: None,
         sheared: None,
         z_scaled: None,
+        e1: None,
+        e2: None,
+        t_vec: None,
         t_star: None,
         u: None,
         v: None,
@@ -173,6 +198,8 @@ pub fn moller_trumbore<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     // 1.
     let e1 = p[1] - p[0];
     let e2 = p[2] - p[0];
+    out.e1 = Some(to_array::<T>(e1));
+    out.e2 = Some(to_array::<T>(e2));
     let nq = -ray.dir;
     // 2. (no ε: an ε on D0 rejects head-on hits on small triangles, docs/NUMERICS.md S14/S16)
     let d0 = det3::<T>(nq, e1, e2);
@@ -182,6 +209,7 @@ pub fn moller_trumbore<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     }
     // 3.–5.
     let tv = ray.origin - p[0];
+    out.t_vec = Some(to_array::<T>(tv));
     let dt = det3::<T>(tv, e1, e2);
     out.dt = Some(dt);
     let t = dt / d0;
@@ -237,6 +265,9 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         shear: None,
         sheared: None,
         z_scaled: None,
+        e1: None,
+        e2: None,
+        t_vec: None,
         t_star: None,
         u: None,
         v: None,

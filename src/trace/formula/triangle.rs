@@ -3,8 +3,8 @@
 use super::*;
 
 impl Ctx<'_> {
-    /// Möller–Trumbore. E1, E2, −Q and T = S − P0 are computed here exactly as the kernel does
-    /// (glam f32 subtraction and negation); the determinants and quotients are the recorded ones.
+    /// Möller–Trumbore: E1, E2, T = S − P0, the determinants and the quotients are the recorded
+    /// ones (−Q is the recorded direction negated, which is exact); nothing is recomputed here.
     pub(super) fn moller_trumbore(
         &self,
         name: &str,
@@ -12,30 +12,31 @@ impl Ctx<'_> {
         test: &TriangleTest<f32>,
     ) -> Explanation {
         let pv = vertices.map(Vec3::from);
-        let e1 = pv[1] - pv[0];
-        let e2 = pv[2] - pv[0];
+        // Recorded; a trace saved before they were recorded shows —.
+        let rec = |v: Option<[f32; 3]>| v.map_or("—".to_string(), |v| vv(Vec3::from(v)));
+        let (e1, e2, tv) = (rec(test.e1), rec(test.e2), rec(test.t_vec));
+        // −Q: the recorded direction negated (exact).
         let nq = -self.dir();
-        let tv = self.origin() - pv[0];
         let stop = test.stopped_at;
         let mut lines = vec![
             line(
                 "E1",
                 "P1 − P0",
                 format!("{} − {}", vv(pv[1]), vv(pv[0])),
-                vv(e1),
+                e1.clone(),
                 Some("step 1".into()),
             ),
             line(
                 "E2",
                 "P2 − P0",
                 format!("{} − {}", vv(pv[2]), vv(pv[0])),
-                vv(e2),
+                e2.clone(),
                 Some("step 1".into()),
             ),
             line(
                 "D0",
                 "det(−Q, E1, E2)",
-                format!("det({}, {}, {})", vv(nq), vv(e1), vv(e2)),
+                format!("det({}, {}, {})", vv(nq), e1.clone(), e2.clone()),
                 num(test.det),
                 Some(if stop == 2 {
                     "step 2: zero (or not finite): the ray is parallel to the plane — stop".into()
@@ -50,13 +51,13 @@ impl Ctx<'_> {
                 "T",
                 "S − P0",
                 format!("{} − {}", vv(self.origin()), vv(pv[0])),
-                vv(tv),
+                tv.clone(),
                 Some("step 3".into()),
             ));
             lines.push(line(
                 "Dt",
                 "det(T, E1, E2)",
-                format!("det({}, {}, {})", vv(tv), vv(e1), vv(e2)),
+                format!("det({}, {}, {})", tv.clone(), e1.clone(), e2.clone()),
                 q(test.dt),
                 Some("step 4".into()),
             ));
@@ -78,7 +79,7 @@ impl Ctx<'_> {
             lines.push(line(
                 "Du",
                 "det(−Q, T, E2)",
-                format!("det({}, {}, {})", vv(nq), vv(tv), vv(e2)),
+                format!("det({}, {}, {})", vv(nq), tv.clone(), e2.clone()),
                 q(test.du),
                 Some("step 6".into()),
             ));
@@ -108,7 +109,7 @@ impl Ctx<'_> {
             lines.push(line(
                 "Dv",
                 "det(−Q, E1, T)",
-                format!("det({}, {}, {})", vv(nq), vv(e1), vv(tv)),
+                format!("det({}, {}, {})", vv(nq), e1.clone(), tv.clone()),
                 q(test.dv),
                 Some("step 9".into()),
             ));
