@@ -602,6 +602,25 @@ fn bvh_slab_intervals_recompute_from_the_printed_numbers() {
                         ax.t_entry
                     );
                 }
+                // The recorded plane distances are (slab − S)·(1/Q) in f32 bit for bit, the entry
+                // is one of them, and the panel prints them as recorded.
+                for (i, ax) in n.test.axes.iter().enumerate() {
+                    let [t0, t1] = ax.planes.expect("the robust test records its planes");
+                    let o = ray.origin[i];
+                    assert_eq!(t0.to_bits(), ((n.test.min[i] - o) * ax.inv_dir).to_bits());
+                    assert_eq!(t1.to_bits(), ((n.test.max[i] - o) * ax.inv_dir).to_bits());
+                    let entry = if ax.inv_dir.is_sign_negative() {
+                        t1
+                    } else {
+                        t0
+                    };
+                    assert_eq!(ax.t_entry.to_bits(), entry.to_bits());
+                    let a = ["x", "y", "z"][i];
+                    assert_eq!(
+                        get(&e, &format!("t0{a}, t1{a}")).value,
+                        format!("{}, {}", num(t0), num(t1))
+                    );
+                }
                 assert_eq!(get(&e, "overlap?").value == "yes", n.test.hit);
                 if n.test.hit && n.action == NodeAction::Culled {
                     assert_eq!(get(&e, "still in reach?").value, "no");
@@ -930,4 +949,23 @@ fn an_older_trace_without_the_moller_trumbore_vectors_shows_dashes() {
     assert!(!format!("{e:?}").contains("NaN"), "{e:#?}");
     let (_, now) = triangle_step(&trace);
     assert_eq!(get(&e, "D0").value, get(&now, "D0").value);
+}
+
+/// Likewise a BVH node visit saved before the slab's plane distances were recorded.
+#[test]
+fn an_older_trace_without_the_slab_planes_shows_dashes() {
+    let mut scene = shipped("three-spheres.toml");
+    scene.settings.accel = AccelChoice::Bvh;
+    let trace = record(&scene, 150, 110);
+    let mut json: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
+    assert!(strip(&mut json, &["planes"]) >= 3);
+    let old = Trace::from_json(&json.to_string(), "old.json").expect("an older trace loads");
+    let (ray, step) = old
+        .timeline()
+        .into_iter()
+        .find(|(_, s)| matches!(s.step, Step::Node(_)))
+        .expect("a node visit");
+    let e = explain(&old, ray, &step.step);
+    assert_eq!(get(&e, "t0x, t1x").value, "—, —");
+    assert!(!format!("{e:?}").contains("NaN"), "{e:#?}");
 }

@@ -29,6 +29,14 @@ pub struct SlabAxis<T> {
     /// 1/Q_axis (±∞ for a zero component: the sign of zero decides the sign of ∞).
     #[serde(with = "crate::jsonf")]
     pub inv_dir: T,
+    /// Robust test: the distances to the slab's two planes, (min − S)·(1/Q) and (max − S)·(1/Q),
+    /// before they are ordered and the exit enlarged (None for the plain test).
+    #[serde(
+        with = "crate::jsonf",
+        skip_serializing_if = "Option::is_none",
+        default
+    )]
+    pub planes: Option<[T; 2]>,
     /// Entry distance into this slab (the smaller of the two plane distances).
     #[serde(with = "crate::jsonf")]
     pub t_entry: T,
@@ -73,15 +81,19 @@ pub struct BoxTest<T> {
 pub fn slab_robust<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -> BoxTest<T> {
     let mut axes = [SlabAxis {
         inv_dir: T::zero(),
+        planes: None,
         t_entry: T::zero(),
         t_exit: T::zero(),
     }; 3];
     let mut t_near = ray.t_min;
     let mut t_far = ray.t_max;
     for (i, axis) in axes.iter_mut().enumerate() {
-        let (t0, t1) = slab_axis(ray.origin.at(i), inv_dir.at(i), min.at(i), max.at(i));
+        let (o, inv) = (ray.origin.at(i), inv_dir.at(i));
+        let planes = slab_planes(o, inv, min.at(i), max.at(i));
+        let (t0, t1) = slab_order(planes, inv);
         *axis = SlabAxis {
-            inv_dir: inv_dir.at(i),
+            inv_dir: inv,
+            planes: Some([planes.0, planes.1]),
             t_entry: t0,
             t_exit: t1,
         };
@@ -105,8 +117,18 @@ pub fn slab_robust<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V) -
 /// distances (which fails on NaN).
 #[inline(always)]
 fn slab_axis<T: Real>(o: T, inv: T, lo: T, hi: T) -> (T, T) {
-    let t0 = (lo - o) * inv;
-    let t1 = (hi - o) * inv;
+    slab_order(slab_planes(o, inv, lo, hi), inv)
+}
+
+/// The distances to one slab's two planes, (lo − o)·inv and (hi − o)·inv.
+#[inline(always)]
+fn slab_planes<T: Real>(o: T, inv: T, lo: T, hi: T) -> (T, T) {
+    ((lo - o) * inv, (hi - o) * inv)
+}
+
+/// The two plane distances as (entry, exit × (1 + 2γ₃)), ordered by the reciprocal's sign bit.
+#[inline(always)]
+fn slab_order<T: Real>((t0, t1): (T, T), inv: T) -> (T, T) {
     let (entry, exit) = if inv.is_sign_negative() {
         (t1, t0)
     } else {
@@ -135,6 +157,7 @@ pub fn slab_interval<T: Real>(ray: &Ray<T>, inv_dir: T::V, min: T::V, max: T::V)
 pub fn slab_plain<T: Real>(ray: &Ray<T>, min: T::V, max: T::V) -> BoxTest<T> {
     let mut axes = [SlabAxis {
         inv_dir: T::zero(),
+        planes: None,
         t_entry: T::zero(),
         t_exit: T::zero(),
     }; 3];
@@ -149,6 +172,7 @@ pub fn slab_plain<T: Real>(ray: &Ray<T>, min: T::V, max: T::V) -> BoxTest<T> {
         }
         *axis = SlabAxis {
             inv_dir: T::one() / d,
+            planes: None,
             t_entry: t0,
             t_exit: t1,
         };

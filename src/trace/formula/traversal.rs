@@ -15,9 +15,18 @@ impl Ctx<'_> {
         for (i, ax) in test.axes.iter().enumerate() {
             let a = AXES[i];
             if robust {
-                // Computed exactly as `slab_robust` does: (slab − S)·(1/Q).
-                let t0 = (test.min[i] - o[i]) * ax.inv_dir;
-                let t1 = (test.max[i] - o[i]) * ax.inv_dir;
+                // The recorded plane distances (slab − S)·(1/Q); a trace saved before they were
+                // recorded shows —.
+                let planes = ax.planes;
+                let [t0, t1] = planes.unwrap_or([f32::NAN; 2]);
+                let shown = |x: f32| {
+                    if planes.is_some() {
+                        num(x)
+                    } else {
+                        "—".into()
+                    }
+                };
+                let shown_p = |x: f32| if planes.is_some() { p(x) } else { "—".into() };
                 lines.push(line(
                     &format!("1/Q{a}"),
                     &format!("1/Q{a}"),
@@ -37,16 +46,16 @@ impl Ctx<'_> {
                         p(o[i]),
                         p(ax.inv_dir)
                     ),
-                    format!("{}, {}", num(t0), num(t1)),
+                    format!("{}, {}", shown(t0), shown(t1)),
                     None,
                 ));
                 lines.push(line(
                     &format!("{a} slab"),
                     "entry, exit × (1 + 2γ₃)",
                     if ax.inv_dir.is_sign_negative() {
-                        format!("{}, {}·{}", num(t1), p(t0), num(enlarge))
+                        format!("{}, {}·{}", shown(t1), shown_p(t0), num(enlarge))
                     } else {
-                        format!("{}, {}·{}", num(t0), p(t1), num(enlarge))
+                        format!("{}, {}·{}", shown(t0), shown_p(t1), num(enlarge))
                     },
                     format!("[{}, {}]", num(ax.t_entry), num(ax.t_exit)),
                     Some(
