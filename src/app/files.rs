@@ -28,7 +28,7 @@ pub struct Entry {
 
 /// A folder's listing: folders and the files raystep opens (`.toml`, `.json`), folders first, each
 /// group sorted by name; hidden entries (a leading `.`) left out. Returns the entries and whether
-/// the folder had more than [`MAX_ENTRIES`].
+/// the folder had more than 2,000 entries (`MAX_ENTRIES`).
 pub fn list_folder(dir: &Path) -> Result<(Vec<Entry>, bool), String> {
     let rd = std::fs::read_dir(dir).map_err(|e| format!("{}: cannot list: {e}", dir.display()))?;
     let mut out = vec![];

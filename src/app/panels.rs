@@ -34,7 +34,7 @@ pub enum Row {
     },
 }
 
-/// Draws the whole window. The side panels take the widths [`Layout::widths`] computes from
+/// Draws the whole window. The side panels take the widths [`super::layout::Layout::widths`] computes from
 /// the window's width every frame (so they follow the window and can never squeeze the render
 /// below its share); their edges are dragged with handles drawn here.
 pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {

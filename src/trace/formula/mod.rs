@@ -3,15 +3,18 @@
 //!
 //! Every [`Formula`] reads `name = symbolic = substituted = value`. The policy for numbers:
 //!
-//! - Where the kernel **recorded** a value (a sphere's a, b, c and Δ, a triangle's determinants, a
-//!   slab's entry and exit, l·n, the refracted direction, …), the line prints the recorded f32,
-//!   formatted by [`describe::num`](super::describe::num) and
-//!   [`describe::v3`](super::describe::v3) (shortest round-trip form), and `substituted` is
-//!   built from the recorded inputs of that very computation.
-//! - Where an input was **not recorded** (f = S − G, E1 = P1 − P0, the camera basis, the light
-//!   vector l, the watertight test's sheared vertices, …), it is computed here in f32 with the same
-//!   operations in the same order as the kernel (the same glam calls on the same recorded inputs),
-//!   so it is the value the renderer had. The doc comment of each such helper says so.
+//! - Where the kernel **recorded** a value, the line prints the recorded f32, formatted by
+//!   [`describe::num`](super::describe::num) and [`describe::v3`](super::describe::v3)
+//!   (shortest round-trip form), and `substituted` is built from the recorded inputs of that very
+//!   computation. The intersection tests record every intermediate shown: the sphere's f = S − G,
+//!   a, b, b′, c, l, Δ′, Δ, √Δ, q and its roots as computed; Möller–Trumbore's E1, E2, T and
+//!   determinants; the watertight test's permutation, shear, sheared vertices, edge functions
+//!   and scaled z; a slab's plane distances, entry and exit. A trace saved before a value was
+//!   recorded shows — in its place.
+//! - Where an input was **not recorded** (the camera basis, the shading's light, eye and
+//!   reflected vectors, Snell's η and cos θₜ), it is computed here in f32 with the same
+//!   operations in the same order as the kernel (the same glam calls on the same recorded
+//!   inputs), so it is the value the renderer had. The doc comment of each such helper says so.
 //! - What neither the trace nor the kernel's inputs determine (the Phong coefficients k_a, k_d,
 //!   k_s and the shininess, which a trace does not store) stays a symbol.
 //!
