@@ -54,9 +54,8 @@ pub fn test_object<O: Observer>(
     let s = &scene.settings;
     match scene.objects[id as usize].shape {
         Shape::Sphere { center, radius } => {
-            // Each method reports its own record and hands on only t; the intermediates only a
-            // reader needs are kept only for an observer that records (the same arithmetic
-            // either way).
+            // Each method reports its own record and hands on only t: the two records are
+            // never merged into one value the render would have to carry.
             let report = |test: SphereTest<f32>, obs: &mut O| {
                 obs.prim_test(|| Step::Sphere {
                     object: id,
@@ -65,23 +64,9 @@ pub fn test_object<O: Observer>(
                 });
                 test.t
             };
-            let t = match (s.sphere_method, O::RECORDS) {
-                (SphereMethod::Textbook, true) => report(
-                    sphere::textbook_keeping::<f32, true>(ray, center, radius),
-                    obs,
-                ),
-                (SphereMethod::Textbook, false) => report(
-                    sphere::textbook_keeping::<f32, false>(ray, center, radius),
-                    obs,
-                ),
-                (SphereMethod::Stable, true) => report(
-                    sphere::stable_keeping::<f32, true>(ray, center, radius),
-                    obs,
-                ),
-                (SphereMethod::Stable, false) => report(
-                    sphere::stable_keeping::<f32, false>(ray, center, radius),
-                    obs,
-                ),
+            let t = match s.sphere_method {
+                SphereMethod::Textbook => report(sphere::textbook(ray, center, radius), obs),
+                SphereMethod::Stable => report(sphere::stable(ray, center, radius), obs),
             };
             t.map(|t| Hit {
                 object: id,

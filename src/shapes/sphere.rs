@@ -162,18 +162,6 @@ pub fn intersect<T: Real>(
 /// The seeds' quadratic, exactly as taught.
 #[inline(always)]
 pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
-    textbook_keeping::<T, true>(ray, center, radius)
-}
-
-/// [`textbook`], keeping the intermediates only a reader needs (f, √Δ, the roots as computed)
-/// when `KEEP`; without, they are None and the arithmetic is the same. The render's silent
-/// observer runs it without, the recorder with.
-#[inline(always)]
-pub fn textbook_keeping<T: Real, const KEEP: bool>(
-    ray: &Ray<T>,
-    center: T::V,
-    radius: T,
-) -> SphereTest<T> {
     let two = T::lit(2.0);
     let f = ray.origin - center;
     let a = ray.dir.dot(ray.dir);
@@ -188,7 +176,7 @@ pub fn textbook_keeping<T: Real, const KEEP: bool>(
         discriminant: disc,
         delta_prime: None,
         q: None,
-        f: KEEP.then(|| to_array::<T>(f)),
+        f: Some(to_array::<T>(f)),
         b_half: None,
         l: None,
         sqrt_discriminant: None,
@@ -206,10 +194,8 @@ pub fn textbook_keeping<T: Real, const KEEP: bool>(
     let sq = disc.sqrt();
     let t0 = (-b - sq) / (two * a);
     let t1 = (-b + sq) / (two * a);
-    if KEEP {
-        test.sqrt_discriminant = Some(sq);
-        test.computed_roots = Some([t0, t1]);
-    }
+    test.sqrt_discriminant = Some(sq);
+    test.computed_roots = Some([t0, t1]);
     finish(&mut test, ray, t0, t1);
     test
 }
@@ -217,18 +203,6 @@ pub fn textbook_keeping<T: Real, const KEEP: bool>(
 /// Ray Tracing Gems ch. 7, eq. 7.5–7.7 (see docs/NUMERICS.md).
 #[inline(always)]
 pub fn stable<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
-    stable_keeping::<T, true>(ray, center, radius)
-}
-
-/// [`stable`], keeping the intermediates only a reader needs (f, b′, l, the roots as computed)
-/// when `KEEP`; without, they are None and the arithmetic is the same (see
-/// [`textbook_keeping`]).
-#[inline(always)]
-pub fn stable_keeping<T: Real, const KEEP: bool>(
-    ray: &Ray<T>,
-    center: T::V,
-    radius: T,
-) -> SphereTest<T> {
     let f = ray.origin - center;
     let d = ray.dir;
     let a = d.dot(d);
@@ -248,9 +222,9 @@ pub fn stable_keeping<T: Real, const KEEP: bool>(
         discriminant: disc,
         delta_prime: Some(delta_prime),
         q: None,
-        f: KEEP.then(|| to_array::<T>(f)),
-        b_half: KEEP.then_some(b_half),
-        l: KEEP.then(|| to_array::<T>(l)),
+        f: Some(to_array::<T>(f)),
+        b_half: Some(b_half),
+        l: Some(to_array::<T>(l)),
         sqrt_discriminant: None,
         computed_roots: None,
         roots: None,
@@ -276,9 +250,7 @@ pub fn stable_keeping<T: Real, const KEEP: bool>(
     } else {
         (c / q, q / a)
     };
-    if KEEP {
-        test.computed_roots = Some([t0, t1]);
-    }
+    test.computed_roots = Some([t0, t1]);
     finish(&mut test, ray, t0, t1);
     test
 }

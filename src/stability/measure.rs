@@ -118,10 +118,9 @@ fn applies<T: Real>(p: &Prepared<T>, m: Method) -> bool {
 fn eval<T: Real>(p: &Prepared<T>, m: Method) -> Outcome {
     match p {
         Prepared::Sphere(ray, c, r) => {
-            // What the render runs: the tests without the intermediates only a reader needs.
             let test = match m {
-                Method::SphereTextbook => sphere::textbook_keeping::<T, false>(ray, *c, *r),
-                _ => sphere::stable_keeping::<T, false>(ray, *c, *r),
+                Method::SphereTextbook => sphere::textbook(ray, *c, *r),
+                _ => sphere::stable(ray, *c, *r),
             };
             Outcome {
                 t: test.t.map(|t| t.to_f64()),
@@ -499,11 +498,7 @@ fn rays_row<T: Real>(
 fn test_shape(shape: &Shape, ray: &Ray<f32>) -> Option<Hit> {
     let hit = |t: Option<f32>, u: f32, v: f32| t.map(|t| Hit { object: 0, t, u, v });
     match *shape {
-        Shape::Sphere { center, radius } => hit(
-            sphere::stable_keeping::<f32, false>(ray, center, radius).t,
-            0.0,
-            0.0,
-        ),
+        Shape::Sphere { center, radius } => hit(sphere::stable(ray, center, radius).t, 0.0, 0.0),
         Shape::Plane { normal, offset } => hit(plane::general(ray, normal, offset).t, 0.0, 0.0),
         Shape::AxisPlane { axis, offset } => hit(plane::axis(ray, axis, offset).t, 0.0, 0.0),
         Shape::Triangle { p } => {
