@@ -8,9 +8,8 @@
 //! the picture shows exactly what the renderer decided (no intersection is recomputed here).
 
 use super::canvas::{Rgba, clip_segment, with_alpha};
-use super::quadratic::{
-    Placer, Rich, draw_panel, interval_at, lines_height, panel_lines, ray_name, rich, rich_width,
-    short,
+use super::text::{
+    Placer, Rich, draw_panel, fitting_panel_width, interval_at, ray_name, rich, rich_width, short,
 };
 use super::{Anchor, Canvas, ViewOptions, pick_step, title};
 use crate::shapes::{TriangleMethod, TriangleTest};
@@ -152,19 +151,13 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<BarycentricLayout> {
     // The number panel where its lines, wrapped to its width, fit at the labels' size; else
     // it is left out and the drawing takes the width (the app's math panel shows the same
     // numbers, large).
-    let wanted = (w * 0.36).max(140.0).min(w * 0.5);
-    let lines = panel_lines(
+    let panel_w = fitting_panel_width(
         &c,
-        &number_heading(name),
-        &number_rows(test, interval, &c),
+        (&number_heading(name), &number_rows(test, interval, &c)),
         small,
-        wanted - s * 0.5,
+        (w * 0.36).max(140.0).min(w * 0.5),
+        strip[1] - s * 0.4 - top,
     );
-    let panel_w = if lines_height(&lines, small) <= strip[1] - s * 0.4 - top {
-        wanted
-    } else {
-        0.0
-    };
     let panel = [w - panel_w, top, w - s * 0.5, strip[1] - s * 0.4];
     let right = if panel_w > 0.0 {
         panel[0] - s * 0.8

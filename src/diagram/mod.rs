@@ -12,6 +12,7 @@ pub mod canvas;
 pub mod quadratic;
 pub mod ray_tree;
 pub mod slice;
+mod text;
 
 pub use canvas::{Anchor, Canvas, MAX_SIDE, Theme};
 
