@@ -16,8 +16,11 @@ pub mod lab;
 pub mod layout;
 pub mod learn;
 pub mod panels;
+pub mod prefs;
 pub mod state;
+mod stepping;
 pub mod view;
+mod watch;
 
 use state::{AppState, Command, Prefs, StepMove, ThemeChoice};
 use std::path::PathBuf;

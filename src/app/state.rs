@@ -5,249 +5,17 @@
 use super::job::{JobEvent, Prepared, RenderJob, is_cancelled};
 use super::layout::Layout;
 use super::learn::{Learn, LearnCmd};
+pub use super::prefs::{DiagramChoice, PRESENTATION_HEIGHT, Prefs, SavedLayout, ThemeChoice};
+pub use super::stepping::Stepping;
+use super::watch::{Watch, modified};
 use crate::diagram::{self, DiagramKind, ViewOptions};
 use crate::lesson::LessonSettings;
 use crate::render::RenderOutput;
 use crate::scene::{Scene, Settings};
-use crate::trace::{RayRecord, StepRecord, Trace};
-use serde::{Deserialize, Serialize};
+use crate::trace::Trace;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, Instant, SystemTime};
-
-/// The colour scheme.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum ThemeChoice {
-    /// Dark text on white (the default: best on most projectors).
-    #[default]
-    Light,
-    /// Light text on dark grey.
-    Dark,
-    /// White on black with heavier lines, for a washed-out projector at the back of a hall.
-    HighContrast,
-}
-
-impl ThemeChoice {
-    /// The menu label.
-    pub fn label(self) -> &'static str {
-        match self {
-            ThemeChoice::Light => "Light",
-            ThemeChoice::Dark => "Dark",
-            ThemeChoice::HighContrast => "High contrast",
-        }
-    }
-
-    /// The diagrams' colours for this scheme.
-    pub fn diagram_theme(self) -> diagram::Theme {
-        match self {
-            ThemeChoice::Light => diagram::Theme::LIGHT,
-            ThemeChoice::Dark | ThemeChoice::HighContrast => diagram::Theme::DARK,
-        }
-    }
-}
-
-/// Which diagram the diagram panel shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum DiagramChoice {
-    /// The one that best explains the current step (changes as you step).
-    #[default]
-    Auto,
-    /// Always this kind (when the trace has it).
-    Kind(DiagramKind),
-}
-
-/// What the app remembers between runs (eframe persistence).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct Prefs {
-    /// Colour scheme.
-    pub theme: ThemeChoice,
-    /// UI scale (1 = normal).
-    pub scale: f32,
-    /// Presentation mode: high contrast, large text, full screen.
-    pub presentation: bool,
-    /// UI scale in presentation mode.
-    pub presentation_scale: f32,
-    /// The last scene or trace opened from a file.
-    pub last_file: Option<PathBuf>,
-    /// Recently opened files, newest first.
-    pub recent: Vec<PathBuf>,
-    /// Show the BVH heatmap over the render.
-    pub heatmap: bool,
-    /// Playback speed in steps per second.
-    pub speed: f32,
-    /// The diagram panel's choice.
-    pub diagram: DiagramChoice,
-    /// Slice diagram: angle of the cutting plane about the primary ray (degrees).
-    pub slice_angle: f32,
-    /// Slice diagram: view from above.
-    pub top_down: bool,
-    /// Show the trace tree panel.
-    pub show_tree: bool,
-    /// Show the settings panel.
-    pub show_settings: bool,
-    /// Show the lessons and exercises panel.
-    pub show_learn: bool,
-    /// The student id the exercises are drawn for.
-    pub student: String,
-    /// The panel sizes (fractions of the window) in force.
-    pub layout: Layout,
-    /// The colour scheme of presentation mode.
-    pub presentation_theme: ThemeChoice,
-    /// The panel sizes presentation mode uses (remembered from the last presentation).
-    pub presentation_layout: Layout,
-    /// The layout and panels to restore when presentation mode ends.
-    pub before_presentation: Option<SavedLayout>,
-}
-
-/// The panels shown and their sizes, kept while presentation mode replaces them.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
-#[serde(default)]
-pub struct SavedLayout {
-    /// The panel sizes.
-    pub layout: Layout,
-    /// The lessons panel was shown.
-    pub show_learn: bool,
-    /// The settings panel was shown.
-    pub show_settings: bool,
-    /// The trace tree was shown.
-    pub show_tree: bool,
-}
-
-impl Default for Prefs {
-    fn default() -> Self {
-        Prefs {
-            theme: ThemeChoice::Light,
-            scale: 1.0,
-            presentation: false,
-            presentation_scale: 1.6,
-            last_file: None,
-            recent: vec![],
-            heatmap: false,
-            speed: 2.0,
-            diagram: DiagramChoice::Auto,
-            slice_angle: 0.0,
-            top_down: false,
-            show_tree: true,
-            show_settings: true,
-            show_learn: false,
-            student: String::new(),
-            layout: Layout::default(),
-            presentation_theme: ThemeChoice::HighContrast,
-            presentation_layout: Layout::presentation(),
-            before_presentation: None,
-        }
-    }
-}
-
-impl Prefs {
-    /// The theme in force (presentation mode has its own, high contrast unless changed).
-    pub fn effective_theme(&self) -> ThemeChoice {
-        if self.presentation {
-            self.presentation_theme
-        } else {
-            self.theme
-        }
-    }
-
-    /// The theme the View menu changes: the one in force.
-    pub fn theme_in_force_mut(&mut self) -> &mut ThemeChoice {
-        if self.presentation {
-            &mut self.presentation_theme
-        } else {
-            &mut self.theme
-        }
-    }
-
-    /// The preferences with everything a damaged or foreign preferences file could spoil made
-    /// safe: scales, speed and angle finite and in range, panel fractions valid for any window,
-    /// paths absolute (relative ones are dropped: they depended on the folder the app was started
-    /// from), at most 8 recent files, a student id of reasonable length.
-    pub fn validated(mut self) -> Prefs {
-        let d = Prefs::default();
-        let fin = |x: f32, lo: f32, hi: f32, default: f32| {
-            if x.is_finite() {
-                x.max(lo).min(hi)
-            } else {
-                default
-            }
-        };
-        self.scale = fin(self.scale, 0.5, 3.0, d.scale);
-        self.presentation_scale = fin(self.presentation_scale, 0.5, 3.0, d.presentation_scale);
-        self.speed = fin(self.speed, 0.25, 30.0, d.speed);
-        self.slice_angle = fin(self.slice_angle, -180.0, 180.0, d.slice_angle);
-        self.layout = self.layout.validated();
-        self.presentation_layout = self.presentation_layout.validated();
-        if let Some(b) = &mut self.before_presentation {
-            b.layout = b.layout.validated();
-        }
-        if !self.presentation {
-            self.before_presentation = None;
-        }
-        self.last_file = self.last_file.filter(|p| p.is_absolute());
-        self.recent.retain(|p| p.is_absolute());
-        self.recent.truncate(8);
-        if self.student.chars().count() > 64 {
-            self.student = self.student.chars().take(64).collect();
-        }
-        self
-    }
-
-    /// These preferences with presentation mode turned to `on`: turning it on keeps the
-    /// panels shown and their sizes and puts presentation's own in their place (a large render,
-    /// diagram and math panel; no settings or lessons panel; the trace tree folded); turning it
-    /// off puts back exactly what was there before.
-    pub fn with_presentation(mut self, on: bool) -> Prefs {
-        if on == self.presentation {
-            return self;
-        }
-        if on {
-            self.before_presentation = Some(SavedLayout {
-                layout: self.layout,
-                show_learn: self.show_learn,
-                show_settings: self.show_settings,
-                show_tree: self.show_tree,
-            });
-            self.layout = self.presentation_layout.validated();
-            self.show_learn = false;
-            self.show_settings = false;
-            self.show_tree = true;
-        } else {
-            self.presentation_layout = self.layout;
-            if let Some(b) = self.before_presentation.take() {
-                self.layout = b.layout;
-                self.show_learn = b.show_learn;
-                self.show_settings = b.show_settings;
-                self.show_tree = b.show_tree;
-            } else {
-                self.layout = Layout::default();
-            }
-        }
-        self.presentation = on;
-        self
-    }
-
-    /// The UI scale in force in a window `height` points high at zoom 1. Presentation mode's
-    /// scale is chosen for a screen [`PRESENTATION_HEIGHT`] points high and applied in
-    /// proportion on a smaller one, never below 1: its text then takes the same share of the
-    /// projected picture on a 1024×768 projector as on a 1920×1080 one, and the render and
-    /// the diagram keep their room.
-    pub fn effective_scale_for(&self, height: f32) -> f32 {
-        if self.presentation {
-            let k = if height.is_finite() && height > 0.0 {
-                (height / PRESENTATION_HEIGHT).min(1.0)
-            } else {
-                1.0
-            };
-            (self.presentation_scale * k).max(self.presentation_scale.min(1.0))
-        } else {
-            self.scale
-        }
-    }
-}
-
-/// The screen height (points at zoom 1) presentation mode's scale is chosen for.
-pub const PRESENTATION_HEIGHT: f32 = 1080.0;
+use std::time::{Duration, Instant};
 
 /// What is open.
 #[derive(Debug, Clone)]
@@ -377,79 +145,12 @@ pub struct Rendered {
     pub build: Duration,
 }
 
-/// The trace being stepped through, with the indexes the panels need.
-#[derive(Debug, Clone)]
-pub struct Stepping {
-    /// The trace.
-    pub trace: Arc<Trace>,
-    /// For each timeline step: (index of its ray in [`Trace::rays`], index in that ray's steps).
-    pub index: Vec<(usize, usize)>,
-    /// The depth of each ray (in [`Trace::rays`] order).
-    pub ray_depth: Vec<u32>,
-    /// The diagram kinds this trace has.
-    pub kinds: Vec<DiagramKind>,
-    /// How long recording it took (zero for a loaded trace).
-    pub record_time: Duration,
-}
-
-impl Stepping {
-    /// Indexes a trace.
-    pub fn new(trace: Trace, record_time: Duration) -> Stepping {
-        let rays = trace.rays();
-        let ray_depth = rays.iter().map(|r| r.depth).collect();
-        let index = trace
-            .timeline()
-            .iter()
-            .map(|(r, s)| {
-                let ri = rays
-                    .iter()
-                    .position(|x| std::ptr::eq(*x, *r))
-                    .expect("a timeline ray is one of the trace's rays");
-                let si = r
-                    .steps
-                    .iter()
-                    .position(|x| std::ptr::eq(x, *s))
-                    .expect("a timeline step is one of its ray's steps");
-                (ri, si)
-            })
-            .collect();
-        let kinds = diagram::available(&trace);
-        Stepping {
-            trace: Arc::new(trace),
-            index,
-            ray_depth,
-            kinds,
-            record_time,
-        }
-    }
-
-    /// Number of steps.
-    pub fn len(&self) -> usize {
-        self.index.len()
-    }
-
-    /// Whether the trace has no steps.
-    pub fn is_empty(&self) -> bool {
-        self.index.is_empty()
-    }
-
-    /// The ray and step at timeline position `k`.
-    pub fn at(&self, k: usize) -> Option<(&RayRecord, &StepRecord)> {
-        let (ri, si) = *self.index.get(k)?;
-        let ray = *self.trace.rays().get(ri)?;
-        Some((ray, ray.steps.get(si)?))
-    }
-}
-
 /// A scene file loading on a background thread.
 struct Loading {
     path: PathBuf,
     keep: Option<(Option<[u32; 2]>, usize)>,
     result: std::sync::mpsc::Receiver<Result<Scene, String>>,
 }
-
-/// How often the open file is checked for changes on disk.
-const WATCH_INTERVAL: Duration = Duration::from_millis(500);
 
 /// The whole state of the app.
 pub struct AppState {
@@ -1152,55 +853,8 @@ fn message_life(m: &Message) -> Duration {
     }
 }
 
-/// Watches a file on a thread of its own, which wakes the UI only when the file changed: an
-/// idle app does not repaint to poll it. The thread ends when the watch is dropped.
-struct Watch {
-    path: PathBuf,
-    changed: std::sync::mpsc::Receiver<()>,
-    stop: Arc<std::sync::atomic::AtomicBool>,
-}
-
-impl Watch {
-    fn start(path: &Path, repaint: Arc<dyn Fn() + Send + Sync>) -> Watch {
-        use std::sync::atomic::{AtomicBool, Ordering};
-        let (tx, rx) = std::sync::mpsc::channel();
-        let stop = Arc::new(AtomicBool::new(false));
-        let stopped = Arc::clone(&stop);
-        let file = path.to_path_buf();
-        let mut stamp = modified(&file);
-        std::thread::spawn(move || {
-            while !stopped.load(Ordering::Relaxed) {
-                std::thread::sleep(WATCH_INTERVAL);
-                let m = modified(&file);
-                if m != stamp {
-                    stamp = m;
-                    if stopped.load(Ordering::Relaxed) || tx.send(()).is_err() {
-                        break;
-                    }
-                    repaint();
-                }
-            }
-        });
-        Watch {
-            path: path.to_path_buf(),
-            changed: rx,
-            stop,
-        }
-    }
-}
-
-impl Drop for Watch {
-    fn drop(&mut self) {
-        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
-    }
-}
-
 fn path_is_none(doc: &Document) -> bool {
     matches!(doc, Document::Scene { path: None, .. })
-}
-
-fn modified(path: &Path) -> Option<SystemTime> {
-    std::fs::metadata(path).and_then(|m| m.modified()).ok()
 }
 
 /// A file-name-safe version of a title.
@@ -1217,44 +871,4 @@ fn slug(s: &str) -> String {
         .collect();
     let out = out.trim_matches('-').to_string();
     if out.is_empty() { "scene".into() } else { out }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Presentation mode's scale follows the screen's height below 1080 points, never below 1;
-    /// the ordinary scale does not. (Values by hand: 1.6 · 768/1080 = 1.1378.)
-    #[test]
-    fn presentation_scale_follows_the_screen_height() {
-        let p = Prefs {
-            presentation: true,
-            presentation_scale: 1.6,
-            scale: 1.25,
-            ..Prefs::default()
-        };
-        assert!((p.effective_scale_for(768.0) - 1.137_778).abs() < 1e-5);
-        assert_eq!(p.effective_scale_for(1080.0), 1.6);
-        assert_eq!(
-            p.effective_scale_for(2160.0),
-            1.6,
-            "never above the chosen scale"
-        );
-        assert_eq!(p.effective_scale_for(400.0), 1.0, "never below 1");
-        assert_eq!(p.effective_scale_for(f32::NAN), 1.6);
-        let small = Prefs {
-            presentation_scale: 0.8,
-            ..p.clone()
-        };
-        assert_eq!(
-            small.effective_scale_for(400.0),
-            0.8,
-            "a scale below 1 is kept"
-        );
-        let normal = Prefs {
-            presentation: false,
-            ..p
-        };
-        assert_eq!(normal.effective_scale_for(400.0), 1.25);
-    }
 }
