@@ -5,6 +5,7 @@
 mod features;
 mod load;
 mod model;
+mod obj;
 pub mod spd;
 
 pub use features::Features;
