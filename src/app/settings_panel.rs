@@ -1,0 +1,201 @@
+//! The settings panel: the scene in a few words and the settings a teacher flips live, each
+//! shown only when the scene has something it affects.
+
+use super::state::{AppState, Command};
+use super::view::Views;
+use crate::scene::{AccelChoice, OffsetPolicy, Settings};
+use crate::shapes::{SphereMethod, TriangleMethod};
+use crate::trace::describe::num;
+use egui::RichText;
+
+/// The settings a teacher flips live, each shown only when the scene has something it affects.
+pub(super) fn settings_panel(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    views: &Views,
+    cmds: &mut Vec<Command>,
+) {
+    ui.set_min_width(ui.available_width());
+    let Some(scene) = state.scene() else {
+        if let Some(s) = &state.stepping {
+            ui.heading("Trace settings");
+            settings_summary(ui, &s.trace.settings);
+        }
+        return;
+    };
+    let f = scene.features;
+    ui.heading("Scene");
+    ui.label(format!(
+        "{} × {} pixels, field of view {}°",
+        scene.camera.width, scene.camera.height, scene.camera.fov
+    ));
+    let mut effects = vec![];
+    if f.reflective {
+        effects.push("mirrors");
+    }
+    if f.transparent {
+        effects.push("glass");
+    }
+    if !effects.is_empty() {
+        ui.label(format!("materials: {}", effects.join(", ")));
+    }
+    ui.separator();
+    ui.heading("Render settings");
+    let mut s: Settings = state.settings.clone();
+    ui.horizontal(|ui| {
+        let l = ui.label("Samples per pixel");
+        ui.add(egui::DragValue::new(&mut s.spp).range(1..=256))
+            .labelled_by(l.id)
+            .on_hover_text("rays traced per pixel, averaged (jittered inside the pixel)");
+    });
+    if f.reflective || f.transparent {
+        ui.horizontal(|ui| {
+            let l = ui.label("Recursion depth");
+            ui.add(egui::DragValue::new(&mut s.max_depth).range(0..=16))
+                .labelled_by(l.id)
+                .on_hover_text("how many mirror or glass bounces a ray may make");
+        });
+    }
+    ui.label(RichText::new("Acceleration").strong());
+    ui.horizontal_wrapped(|ui| {
+        ui.radio_value(&mut s.accel, AccelChoice::Auto, "auto")
+            .on_hover_text("a BVH when the scene is large enough to gain from one");
+        ui.radio_value(&mut s.accel, AccelChoice::None, "naive loop")
+            .on_hover_text("test every primitive for every ray");
+        ui.radio_value(&mut s.accel, AccelChoice::Bvh, "BVH")
+            .on_hover_text("a bounding volume hierarchy: skip what a ray's boxes miss");
+    });
+    if let Some(p) = &state.prepared {
+        ui.label(match p.accel_choice {
+            AccelChoice::Bvh => "using a BVH",
+            _ => "testing every primitive for every ray",
+        });
+    }
+    if f.spheres > 0 {
+        ui.label(RichText::new("Ray–sphere").strong());
+        ui.horizontal_wrapped(|ui| {
+            ui.radio_value(&mut s.sphere_method, SphereMethod::Textbook, "textbook")
+                .on_hover_text(
+                    "t = (−b ± √Δ) / 2a as written: loses a far sphere's radius to cancellation",
+                );
+            ui.radio_value(&mut s.sphere_method, SphereMethod::Stable, "stable")
+                .on_hover_text(
+                    "Ray Tracing Gems ch. 7: neither root subtracts nearly equal numbers",
+                );
+        });
+    }
+    if f.triangles > 0 {
+        ui.label(RichText::new("Ray–triangle").strong());
+        ui.horizontal_wrapped(|ui| {
+            ui.radio_value(
+                &mut s.triangle_method,
+                TriangleMethod::MollerTrumbore,
+                "Möller–Trumbore",
+            )
+            .on_hover_text("the classic test: rays through a shared edge can slip between");
+            ui.radio_value(
+                &mut s.triangle_method,
+                TriangleMethod::Watertight,
+                "watertight",
+            )
+            .on_hover_text("Woop, Benthin and Wald's test: no ray slips through a shared edge");
+        });
+    }
+    if f.lights > 0 || f.reflective || f.transparent {
+        ui.label(RichText::new("Ray-origin offset").strong());
+        ui.horizontal_wrapped(|ui| {
+            ui.radio_value(&mut s.offset, OffsetPolicy::None, "no offset")
+                .on_hover_text("secondary rays start exactly on the surface: shadow acne");
+            ui.radio_value(&mut s.offset, OffsetPolicy::Fixed, "fixed ε")
+                .on_hover_text("secondary rays start ε along the normal");
+            ui.radio_value(&mut s.offset, OffsetPolicy::Robust, "robust")
+                .on_hover_text(
+                    "pbrt's offset: the hit point's rounding-error bound along the normal",
+                );
+        });
+        if s.offset == OffsetPolicy::Fixed {
+            ui.horizontal(|ui| {
+                let l = ui.label("ε");
+                ui.add(
+                    egui::DragValue::new(&mut s.epsilon)
+                        .range(1e-7..=1.0)
+                        .speed(1e-5),
+                )
+                .labelled_by(l.id)
+                .on_hover_text("the fixed offset, in scene units");
+            });
+        }
+    }
+    if s.spp > 1 {
+        ui.horizontal(|ui| {
+            let l = ui.label("Jitter seed");
+            ui.add(egui::DragValue::new(&mut s.seed))
+                .labelled_by(l.id)
+                .on_hover_text("the seed of the jitter inside each pixel");
+        });
+    }
+    if scene.settings != s && ui.button("Back to the file's settings").clicked() {
+        s = scene.settings.clone();
+    }
+    if s != state.settings {
+        cmds.push(Command::SetSettings(s));
+    }
+    if state.settings.spp > 1 {
+        let mut sample = state.sample;
+        ui.horizontal(|ui| {
+            let l = ui.label("Traced sample");
+            ui.add(egui::DragValue::new(&mut sample).range(0..=state.settings.spp - 1))
+                .labelled_by(l.id)
+                .on_hover_text("which of the pixel's samples the trace shows");
+        });
+        if sample != state.sample {
+            cmds.push(Command::SetSample(sample));
+        }
+    }
+    if Views::has_heatmap(state) {
+        ui.separator();
+        let mut p = state.prefs.clone();
+        ui.checkbox(&mut p.heatmap, "BVH heatmap")
+            .on_hover_text("how many BVH nodes each pixel's rays visited");
+        if p.heatmap {
+            ui.label(format!(
+                "node visits per pixel, dark purple = 0 … yellow ≥ {}",
+                views.heat_max()
+            ));
+        }
+        if p != state.prefs {
+            cmds.push(Command::SetPrefs(p));
+        }
+    }
+}
+
+fn settings_summary(ui: &mut egui::Ui, s: &Settings) {
+    let sphere = match s.sphere_method {
+        SphereMethod::Textbook => "textbook",
+        SphereMethod::Stable => "stable",
+    };
+    let triangle = match s.triangle_method {
+        TriangleMethod::MollerTrumbore => "Möller–Trumbore",
+        TriangleMethod::Watertight => "watertight",
+    };
+    let offset = match s.offset {
+        OffsetPolicy::None => "none".to_string(),
+        OffsetPolicy::Fixed => format!("fixed ε = {}", num(s.epsilon)),
+        OffsetPolicy::Robust => "robust".to_string(),
+    };
+    let accel = match s.accel {
+        AccelChoice::Auto => "automatic",
+        AccelChoice::None => "naive loop",
+        AccelChoice::Bvh => "BVH",
+    };
+    for line in [
+        format!("samples per pixel: {}", s.spp),
+        format!("recursion depth: {}", s.max_depth),
+        format!("ray–sphere test: {sphere}"),
+        format!("ray–triangle test: {triangle}"),
+        format!("ray-origin offset: {offset}"),
+        format!("acceleration: {accel}"),
+    ] {
+        ui.label(line);
+    }
+}
