@@ -66,6 +66,7 @@
 
 mod buffers;
 pub mod compare;
+mod context;
 pub mod shader;
 mod tracer;
 

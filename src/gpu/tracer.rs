@@ -1,4 +1,5 @@
-//! The wgpu side: the device, the pipelines, the two render paths, readback and the debug pixel.
+//! The wgpu side: the pipelines and the two render paths (the device is in `context.rs`, reading
+//! the images and the debug pixel back in `tracer/readback.rs`).
 
 use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
 use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
@@ -8,6 +9,10 @@ use crate::trace::camera::CameraRays;
 use eframe::wgpu;
 use glam::Vec3;
 use std::time::{Duration, Instant};
+
+pub use super::context::GpuContext;
+
+mod readback;
 
 /// What went wrong on the GPU side. Every variant is a plain message for the user.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -49,124 +54,6 @@ impl GpuPath {
             GpuPath::Compute => "compute",
         }
     }
-}
-
-/// A device to trace on: raystep's own (headless) or the app's (eframe's).
-#[derive(Debug, Clone)]
-pub struct GpuContext {
-    /// The device.
-    pub device: wgpu::Device,
-    /// Its queue.
-    pub queue: wgpu::Queue,
-    /// The adapter's name, backend and type.
-    pub info: wgpu::AdapterInfo,
-    /// Whether the adapter offers hardware ray queries (`EXPERIMENTAL_RAY_QUERY`). They are used
-    /// when the device was also created with the feature ([`GpuContext::headless`] asks for it
-    /// where the adapter has it); otherwise the WGSL traversal runs.
-    pub ray_query: bool,
-}
-
-impl GpuContext {
-    /// Creates an instance, picks the default adapter and opens a device on it, with no window.
-    pub fn headless() -> Result<GpuContext, GpuError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: None,
-            ..Default::default()
-        }))
-        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
-        let ray_query = adapter
-            .features()
-            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("raystep gpu"),
-            required_features: if ray_query {
-                wgpu::Features::EXPERIMENTAL_RAY_QUERY
-            } else {
-                wgpu::Features::empty()
-            },
-            required_limits: adapter.limits(),
-            experimental_features: if ray_query {
-                experimental_features()
-            } else {
-                wgpu::ExperimentalFeatures::disabled()
-            },
-            ..Default::default()
-        }))
-        .map_err(|e| GpuError::Device(e.to_string()))?;
-        Ok(GpuContext::from_device(
-            device,
-            queue,
-            adapter.get_info(),
-            adapter.features(),
-        ))
-    }
-
-    /// Wraps a device someone else created — the app's: with eframe's
-    /// `egui_wgpu::RenderState` `rs`, `GpuContext::from_device(rs.device.clone(),
-    /// rs.queue.clone(), rs.adapter.get_info(), rs.adapter.features())`.
-    pub fn from_device(
-        device: wgpu::Device,
-        queue: wgpu::Queue,
-        info: wgpu::AdapterInfo,
-        adapter_features: wgpu::Features,
-    ) -> GpuContext {
-        GpuContext {
-            device,
-            queue,
-            info,
-            ray_query: adapter_features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY),
-        }
-    }
-
-    /// "llvmpipe (LLVM 15.0.6, 256 bits), Vulkan, CPU": the adapter, its backend and type.
-    pub fn adapter_name(&self) -> String {
-        let kind = match self.info.device_type {
-            wgpu::DeviceType::Cpu => "CPU (software rasterizer)",
-            wgpu::DeviceType::IntegratedGpu => "integrated GPU",
-            wgpu::DeviceType::DiscreteGpu => "discrete GPU",
-            wgpu::DeviceType::VirtualGpu => "virtual GPU",
-            wgpu::DeviceType::Other => "other",
-        };
-        format!("{}, {:?}, {kind}", self.info.name, self.info.backend)
-    }
-
-    /// Runs `f` inside a validation and an out-of-memory error scope; a captured error becomes
-    /// a [`GpuError`] instead of wgpu's default panic.
-    fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
-        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let value = f();
-        let v = pollster::block_on(validation.pop());
-        let o = pollster::block_on(oom.pop());
-        match v.or(o) {
-            Some(e) => Err(GpuError::Device(format!("{what}: {e}"))),
-            None => Ok(value),
-        }
-    }
-
-    fn wait(&self) -> Result<(), GpuError> {
-        self.device
-            .poll(wgpu::PollType::Wait {
-                submission_index: None,
-                timeout: None,
-            })
-            .map(|_| ())
-            .map_err(|e| GpuError::Device(e.to_string()))
-    }
-}
-
-/// wgpu's token for experimental features, needed to request `EXPERIMENTAL_RAY_QUERY`.
-#[allow(unsafe_code)]
-fn experimental_features() -> wgpu::ExperimentalFeatures {
-    // SAFETY: `enabled()` is unsafe only because experimental features may have bugs in wgpu
-    // (wgpu's words: "may be unsound"). It is called only when the adapter reports ray queries,
-    // and the feature is used only through wgpu's own safe API (BLAS/TLAS builds and WGSL ray
-    // queries); no raw pointers or driver handles are involved.
-    unsafe { wgpu::ExperimentalFeatures::enabled() }
 }
 
 /// One GPU frame read back: linear RGB, like [`crate::render::RenderOutput::pixels`].
@@ -887,150 +774,6 @@ impl GpuTracer {
             pixels,
             time,
             path,
-        })
-    }
-
-    /// Copies `bytes` bytes from a GPU copy source into a mappable buffer and returns them.
-    fn read_back(
-        &self,
-        size: u64,
-        copy: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Buffer),
-    ) -> Result<Vec<u8>, GpuError> {
-        let device = &self.ctx.device;
-        let buffer = self.ctx.checked("reading the image back", || {
-            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("raystep readback"),
-                size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let mut encoder = device.create_command_encoder(&Default::default());
-            copy(&mut encoder, &buffer);
-            self.ctx.queue.submit([encoder.finish()]);
-            buffer
-        })?;
-        self.map(&buffer)
-    }
-
-    fn map(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-        let slice = buffer.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.ctx.wait()?;
-        rx.recv()
-            .map_err(|e| GpuError::Device(e.to_string()))?
-            .map_err(|e| GpuError::Device(format!("mapping the readback buffer: {e}")))?;
-        let bytes = slice
-            .get_mapped_range()
-            .map_err(|e| GpuError::Device(format!("reading the readback buffer: {e:?}")))?
-            .to_vec();
-        buffer.unmap();
-        Ok(bytes)
-    }
-
-    /// Copies `texture` (the target's size, `texel` bytes per pixel) into a buffer and returns
-    /// its rows tightly packed, row-major from the top-left.
-    fn read_texture(&self, texture: &wgpu::Texture, texel: u32) -> Result<Vec<u8>, GpuError> {
-        let (w, h) = (self.target.width, self.target.height);
-        let row = (w * texel).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
-            encoder.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row),
-                        rows_per_image: Some(h),
-                    },
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-            );
-        })?;
-        let used = (w * texel) as usize;
-        Ok(bytes
-            .chunks(row as usize)
-            .take(h as usize)
-            .flat_map(|r| &r[..used])
-            .copied()
-            .collect())
-    }
-
-    fn read_linear(&self) -> Result<Vec<Vec3>, GpuError> {
-        let bytes = self.read_texture(&self.target.linear, 16)?;
-        let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
-        Ok(bytes
-            .chunks_exact(16)
-            .map(|p| Vec3::new(f(&p[0..4]), f(&p[4..8]), f(&p[8..12])))
-            .collect())
-    }
-
-    /// Reads back the display texture ([`Self::display_view`]: sRGB-encoded RGBA8, encoded on
-    /// the GPU), row-major from the top-left.
-    pub fn read_display(&self) -> Result<Vec<[u8; 4]>, GpuError> {
-        let bytes = self.read_texture(&self.target.display, 4)?;
-        Ok(bytes
-            .chunks_exact(4)
-            .map(|p| [p[0], p[1], p[2], p[3]])
-            .collect())
-    }
-
-    /// Traces pixel (x, y) alone on the GPU (compute, the CPU's exact primary ray) into the
-    /// debug storage buffer and reads it back.
-    pub fn debug_pixel(&mut self, x: u32, y: u32) -> Result<PixelDebug, GpuError> {
-        if x >= self.target.width || y >= self.target.height {
-            return Err(GpuError::Scene(format!(
-                "pixel ({x}, {y}) is outside the {}×{} image",
-                self.target.width, self.target.height
-            )));
-        }
-        self.debug_pixel = [x, y];
-        self.write_params();
-        let device = self.ctx.device.clone();
-        self.ctx.checked("tracing the debug pixel", || {
-            let mut encoder = device.create_command_encoder(&Default::default());
-            {
-                let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.debug_pipeline);
-                pass.set_bind_group(0, &self.scene_group, &[]);
-                pass.set_bind_group(1, &self.target.output_group, &[]);
-                pass.dispatch_workgroups(1, 1, 1);
-            }
-            encoder.copy_buffer_to_buffer(&self.debug, 0, &self.debug_readback, 0, DEBUG_SIZE);
-            self.ctx.queue.submit([encoder.finish()]);
-        })?;
-        let b = self.map(&self.debug_readback)?;
-        let u = |i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
-        let f = |i: usize| f32::from_bits(u(i));
-        let object = (u(0) != u32::MAX).then_some(u(0));
-        let is_sphere = object.is_some_and(|id| {
-            matches!(
-                self.scene.objects.get(id as usize).map(|o| o.shape),
-                Some(Shape::Sphere { .. })
-            )
-        });
-        Ok(PixelDebug {
-            pixel: [x, y],
-            object,
-            t: f(8),
-            u: f(12),
-            v: f(16),
-            discriminant: is_sphere.then_some(f(20)),
-            aux: f(20),
-            nodes_visited: u(4),
-            color: Vec3::new(f(32), f(36), f(40)),
         })
     }
 }

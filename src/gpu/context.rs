@@ -1,0 +1,122 @@
+//! The wgpu device raystep traces on: a headless one of its own, or the app's.
+
+use super::tracer::GpuError;
+use eframe::wgpu;
+
+/// A device to trace on: raystep's own (headless) or the app's (eframe's).
+#[derive(Debug, Clone)]
+pub struct GpuContext {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The adapter's name, backend and type.
+    pub info: wgpu::AdapterInfo,
+    /// Whether the adapter offers hardware ray queries (`EXPERIMENTAL_RAY_QUERY`). They are used
+    /// when the device was also created with the feature ([`GpuContext::headless`] asks for it
+    /// where the adapter has it); otherwise the WGSL traversal runs.
+    pub ray_query: bool,
+}
+
+impl GpuContext {
+    /// Creates an instance, picks the default adapter and opens a device on it, with no window.
+    pub fn headless() -> Result<GpuContext, GpuError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let ray_query = adapter
+            .features()
+            .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("raystep gpu"),
+            required_features: if ray_query {
+                wgpu::Features::EXPERIMENTAL_RAY_QUERY
+            } else {
+                wgpu::Features::empty()
+            },
+            required_limits: adapter.limits(),
+            experimental_features: if ray_query {
+                experimental_features()
+            } else {
+                wgpu::ExperimentalFeatures::disabled()
+            },
+            ..Default::default()
+        }))
+        .map_err(|e| GpuError::Device(e.to_string()))?;
+        Ok(GpuContext::from_device(
+            device,
+            queue,
+            adapter.get_info(),
+            adapter.features(),
+        ))
+    }
+
+    /// Wraps a device someone else created — the app's: with eframe's
+    /// `egui_wgpu::RenderState` `rs`, `GpuContext::from_device(rs.device.clone(),
+    /// rs.queue.clone(), rs.adapter.get_info(), rs.adapter.features())`.
+    pub fn from_device(
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        info: wgpu::AdapterInfo,
+        adapter_features: wgpu::Features,
+    ) -> GpuContext {
+        GpuContext {
+            device,
+            queue,
+            info,
+            ray_query: adapter_features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY),
+        }
+    }
+
+    /// "llvmpipe (LLVM 15.0.6, 256 bits), Vulkan, CPU": the adapter, its backend and type.
+    pub fn adapter_name(&self) -> String {
+        let kind = match self.info.device_type {
+            wgpu::DeviceType::Cpu => "CPU (software rasterizer)",
+            wgpu::DeviceType::IntegratedGpu => "integrated GPU",
+            wgpu::DeviceType::DiscreteGpu => "discrete GPU",
+            wgpu::DeviceType::VirtualGpu => "virtual GPU",
+            wgpu::DeviceType::Other => "other",
+        };
+        format!("{}, {:?}, {kind}", self.info.name, self.info.backend)
+    }
+
+    /// Runs `f` inside a validation and an out-of-memory error scope; a captured error becomes
+    /// a [`GpuError`] instead of wgpu's default panic.
+    pub(super) fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+        let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let value = f();
+        let v = pollster::block_on(validation.pop());
+        let o = pollster::block_on(oom.pop());
+        match v.or(o) {
+            Some(e) => Err(GpuError::Device(format!("{what}: {e}"))),
+            None => Ok(value),
+        }
+    }
+
+    pub(super) fn wait(&self) -> Result<(), GpuError> {
+        self.device
+            .poll(wgpu::PollType::Wait {
+                submission_index: None,
+                timeout: None,
+            })
+            .map(|_| ())
+            .map_err(|e| GpuError::Device(e.to_string()))
+    }
+}
+
+/// wgpu's token for experimental features, needed to request `EXPERIMENTAL_RAY_QUERY`.
+#[allow(unsafe_code)]
+fn experimental_features() -> wgpu::ExperimentalFeatures {
+    // SAFETY: `enabled()` is unsafe only because experimental features may have bugs in wgpu
+    // (wgpu's words: "may be unsound"). It is called only when the adapter reports ray queries,
+    // and the feature is used only through wgpu's own safe API (BLAS/TLAS builds and WGSL ray
+    // queries); no raw pointers or driver handles are involved.
+    unsafe { wgpu::ExperimentalFeatures::enabled() }
+}

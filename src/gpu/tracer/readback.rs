@@ -1,0 +1,149 @@
+//! Reading the GPU's results back: the linear and display images and the debug pixel.
+
+use super::*;
+
+impl GpuTracer {
+    /// Copies `bytes` bytes from a GPU copy source into a mappable buffer and returns them.
+    fn read_back(
+        &self,
+        size: u64,
+        copy: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Buffer),
+    ) -> Result<Vec<u8>, GpuError> {
+        let device = &self.ctx.device;
+        let buffer = self.ctx.checked("reading the image back", || {
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("raystep readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = device.create_command_encoder(&Default::default());
+            copy(&mut encoder, &buffer);
+            self.ctx.queue.submit([encoder.finish()]);
+            buffer
+        })?;
+        self.map(&buffer)
+    }
+
+    fn map(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        let slice = buffer.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.ctx.wait()?;
+        rx.recv()
+            .map_err(|e| GpuError::Device(e.to_string()))?
+            .map_err(|e| GpuError::Device(format!("mapping the readback buffer: {e}")))?;
+        let bytes = slice
+            .get_mapped_range()
+            .map_err(|e| GpuError::Device(format!("reading the readback buffer: {e:?}")))?
+            .to_vec();
+        buffer.unmap();
+        Ok(bytes)
+    }
+
+    /// Copies `texture` (the target's size, `texel` bytes per pixel) into a buffer and returns
+    /// its rows tightly packed, row-major from the top-left.
+    fn read_texture(&self, texture: &wgpu::Texture, texel: u32) -> Result<Vec<u8>, GpuError> {
+        let (w, h) = (self.target.width, self.target.height);
+        let row = (w * texel).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+        })?;
+        let used = (w * texel) as usize;
+        Ok(bytes
+            .chunks(row as usize)
+            .take(h as usize)
+            .flat_map(|r| &r[..used])
+            .copied()
+            .collect())
+    }
+
+    pub(super) fn read_linear(&self) -> Result<Vec<Vec3>, GpuError> {
+        let bytes = self.read_texture(&self.target.linear, 16)?;
+        let f = |c: &[u8]| f32::from_le_bytes([c[0], c[1], c[2], c[3]]);
+        Ok(bytes
+            .chunks_exact(16)
+            .map(|p| Vec3::new(f(&p[0..4]), f(&p[4..8]), f(&p[8..12])))
+            .collect())
+    }
+
+    /// Reads back the display texture ([`Self::display_view`]: sRGB-encoded RGBA8, encoded on
+    /// the GPU), row-major from the top-left.
+    pub fn read_display(&self) -> Result<Vec<[u8; 4]>, GpuError> {
+        let bytes = self.read_texture(&self.target.display, 4)?;
+        Ok(bytes
+            .chunks_exact(4)
+            .map(|p| [p[0], p[1], p[2], p[3]])
+            .collect())
+    }
+
+    /// Traces pixel (x, y) alone on the GPU (compute, the CPU's exact primary ray) into the
+    /// debug storage buffer and reads it back.
+    pub fn debug_pixel(&mut self, x: u32, y: u32) -> Result<PixelDebug, GpuError> {
+        if x >= self.target.width || y >= self.target.height {
+            return Err(GpuError::Scene(format!(
+                "pixel ({x}, {y}) is outside the {}×{} image",
+                self.target.width, self.target.height
+            )));
+        }
+        self.debug_pixel = [x, y];
+        self.write_params();
+        let device = self.ctx.device.clone();
+        self.ctx.checked("tracing the debug pixel", || {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&self.debug_pipeline);
+                pass.set_bind_group(0, &self.scene_group, &[]);
+                pass.set_bind_group(1, &self.target.output_group, &[]);
+                pass.dispatch_workgroups(1, 1, 1);
+            }
+            encoder.copy_buffer_to_buffer(&self.debug, 0, &self.debug_readback, 0, DEBUG_SIZE);
+            self.ctx.queue.submit([encoder.finish()]);
+        })?;
+        let b = self.map(&self.debug_readback)?;
+        let u = |i: usize| u32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+        let f = |i: usize| f32::from_bits(u(i));
+        let object = (u(0) != u32::MAX).then_some(u(0));
+        let is_sphere = object.is_some_and(|id| {
+            matches!(
+                self.scene.objects.get(id as usize).map(|o| o.shape),
+                Some(Shape::Sphere { .. })
+            )
+        });
+        Ok(PixelDebug {
+            pixel: [x, y],
+            object,
+            t: f(8),
+            u: f(12),
+            v: f(16),
+            discriminant: is_sphere.then_some(f(20)),
+            aux: f(20),
+            nodes_visited: u(4),
+            color: Vec3::new(f(32), f(36), f(40)),
+        })
+    }
+}
