@@ -5,9 +5,10 @@
 
 use crate::accel::{Accelerator, BruteForce, Bvh, SceneAccel, test_object};
 use crate::math::Ray;
+use crate::record::{Counter, Silent};
 use crate::render::{RenderOptions, render};
 use crate::scene::{AccelChoice, Scene, load_str};
-use crate::trace::{Counter, Silent, Tracer};
+use crate::trace::{PreparedScene, Tracer};
 use glam::{Vec3, Vec3A};
 use std::time::{Duration, Instant};
 
@@ -52,9 +53,9 @@ pub fn tracer(scenes: &[Scene], reps: usize) {
     );
     println!("|---|---|---|---|---|---|");
     for scene in scenes {
-        let (accel, _) = SceneAccel::build(scene);
-        let tracer = Tracer::new(scene, &accel);
-        let generic = Tracer::new(scene, &accel).unspecialized();
+        let prepared = PreparedScene::new(scene.clone());
+        let tracer = prepared.tracer();
+        let generic = prepared.tracer().unspecialized();
         let rays = count_rays(&tracer).rays() as f64;
         let t_silent = median_time(reps, || all_pixels(&tracer));
         let t_generic = median_time(reps, || all_pixels(&generic));
@@ -344,10 +345,9 @@ pub fn diagrams(scenes: &[Scene], reps: usize) {
     println!("| scene | pixel | kinds | steps in trace | all kinds (ms) |");
     println!("|---|---|---|---|---|");
     for scene in scenes {
-        let (accel, _) = SceneAccel::build(scene);
-        let tracer = Tracer::new(scene, &accel);
+        let prepared = PreparedScene::new(scene.clone());
         let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
-        let trace = tracer.record(x, y, 0);
+        let trace = prepared.record(x, y, 0);
         let steps = trace.timeline().len();
         let opts = ViewOptions {
             focus: Some(steps / 2),
@@ -477,14 +477,16 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
         let mut s = scene.clone();
         s.camera.width = 1280;
         s.camera.height = 720;
+        let prepared = PreparedScene::new(s);
         let mut row = format!(
             "| {} | {} | {} |",
-            s.name,
-            crate::gpu::generated_wgsl(&s).len(),
-            crate::gpu::full_wgsl(&s).len()
+            prepared.scene().name,
+            crate::gpu::generated_wgsl(&prepared).len(),
+            crate::gpu::full_wgsl(&prepared).len()
         );
         for variant in [ShaderVariant::Generated, ShaderVariant::Full] {
-            let mut tracer = GpuTracer::new(ctx.clone(), &s, variant).map_err(|e| e.to_string())?;
+            let mut tracer =
+                GpuTracer::new(ctx.clone(), &prepared, variant).map_err(|e| e.to_string())?;
             for path in [GpuPath::Fragment, GpuPath::Compute] {
                 let t = tracer
                     .time_frames(path, 1, reps)
@@ -492,8 +494,7 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
                 row += &format!(" {:.1} |", t.as_secs_f64() * 1e3);
             }
         }
-        let (accel, _) = SceneAccel::build(&s);
-        let tracer = Tracer::new(&s, &accel);
+        let tracer = prepared.tracer();
         let cpu = median_time(reps.min(3), || {
             std::hint::black_box(render(&tracer, &RenderOptions::default()).expect("render"));
         });

@@ -6,11 +6,12 @@
 //! Inputs that carry several files separate them with marker lines: a scene's OBJ follows a line
 //! [`OBJ_MARKER`]; a sheet's answers follow [`ANSWERS_MARKER`], its class CSV [`CSV_MARKER`].
 
-use crate::accel::SceneAccel;
 use crate::diagram::{self, Theme, ViewOptions};
+use crate::explain::describe;
+use crate::explain::diff::{Tolerance, compare};
 use crate::lesson;
-use crate::trace::diff::{Tolerance, compare};
-use crate::trace::{Trace, Tracer, describe};
+use crate::record::Trace;
+use crate::trace::PreparedScene;
 use std::path::{Path, PathBuf};
 
 /// The line that separates a scene's TOML from its OBJ file (written as `mesh.obj`).
@@ -41,9 +42,8 @@ pub fn scene_input(data: &[u8]) -> bool {
     let Ok(scene) = crate::scene::load_str(toml, "fuzz.toml", Some(dir.path())) else {
         return false;
     };
-    let (accel, _) = SceneAccel::build(&scene);
-    let tracer = Tracer::new(&scene, &accel);
-    let trace = tracer.record(scene.camera.width / 2, scene.camera.height / 2, 0);
+    let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
+    let trace = PreparedScene::new(scene).record(x, y, 0);
     // What the tracer writes, the reader must accept and read back unchanged.
     let json = trace.to_json();
     match Trace::from_json(&json, "fuzz.json") {

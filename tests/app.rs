@@ -8,8 +8,8 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT as _, Queryable as _};
 use raystep::app::RaystepApp;
 use raystep::app::state::{Command, Document, Prefs, StepMove};
-use raystep::trace::Step;
-use raystep::trace::describe::num;
+use raystep::record::Step;
+use raystep::record::number::num;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -82,7 +82,7 @@ fn scene_path(name: &str) -> PathBuf {
 }
 
 /// The reference trace, recorded by the library directly.
-fn reference(path: &Path, p: [u32; 2]) -> raystep::trace::Trace {
+fn reference(path: &Path, p: [u32; 2]) -> raystep::record::Trace {
     let scene = raystep::scene::load_file(path).unwrap();
     let (accel, _) = raystep::accel::SceneAccel::build(&scene);
     raystep::trace::Tracer::new(&scene, &accel).record(p[0], p[1], 0)
@@ -294,6 +294,18 @@ fn save_a_trace_and_replay_it_without_the_scene() {
 fn settle_layout(h: &mut Harness<'static, RaystepApp>) {
     h.ctx.memory_mut(|m| m.data.clear());
     h.run_steps(6);
+}
+
+/// Runs frames until a check's expected answer has come back from its background thread.
+fn wait_for_check(h: &mut Harness<'static, RaystepApp>) {
+    for _ in 0..2000 {
+        if h.state().state.learn.checking.is_none() {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+        h.run_steps(1);
+    }
+    panic!("the check did not finish in 10 s");
 }
 
 /// Masks the timing figures (they change every run) in the next snapshot; returns how many.
@@ -604,7 +616,9 @@ fn an_exercise_is_marked_and_explained() {
         field.type_text(text);
         h.run_steps(2);
         h.get_by_label("Check").click();
-        h.run_steps(3);
+        h.run_steps(1);
+        wait_for_check(h);
+        h.run_steps(2);
     };
     answer(&mut h, &format!("{}", want * 2.0 + 1.0));
     let a = &h.state().state.learn.attempts[0];
@@ -712,6 +726,7 @@ fn snapshots_of_the_lesson_and_exercise_panels() {
     ] {
         h.state_mut().state.apply(Command::Learn(c));
     }
+    wait_for_check(&mut h);
     settle_layout(&mut h);
     mask_timings(&mut h);
     if let Err(e) = h.try_snapshot_options("app-exercise", &options) {

@@ -4,9 +4,10 @@
 use glam::{Vec3, Vec3A};
 use raystep::accel::{Accelerator, BruteForce, Bvh, SceneAccel};
 use raystep::math::Ray;
+use raystep::record::{NodeAction, Recorder, Silent, Step};
 use raystep::render::{RenderOptions, render};
 use raystep::scene::{Scene, load_str};
-use raystep::trace::{NodeAction, Recorder, Silent, Step, Tracer};
+use raystep::trace::Tracer;
 
 /// A tiny deterministic generator (xorshift) so the test needs no extra crate.
 struct Rng(u64);
@@ -269,7 +270,7 @@ fn recorded_traversal_shows_nodes_and_leaf_tests() {
 }
 
 fn rec_closest(scene: &Scene, bvh: &Bvh, ray: &Ray<f32>, rec: &mut Recorder) {
-    use raystep::trace::{Observer, RayKind};
+    use raystep::record::{Observer, RayKind};
     rec.begin_ray(RayKind::Primary, 0, ray, 1.0);
     let hit = bvh.closest(scene, ray, rec);
     rec.end_ray(|| None, Vec3::ZERO);

@@ -1271,7 +1271,7 @@ fn saved_trace_loads_back() {
         "trace @ --pixel 160,120 --save @",
         &[&three_spheres(), &saved],
     ));
-    raystep::trace::Trace::load(&saved).unwrap_or_else(|e| panic!("{e}"));
+    raystep::record::Trace::load(&saved).unwrap_or_else(|e| panic!("{e}"));
 }
 
 /// `--offset` of the axis-aligned plane takes any f64, NaN and ∞ included, while the vector

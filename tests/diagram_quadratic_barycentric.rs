@@ -10,9 +10,10 @@ use common::assert_golden;
 use raystep::accel::SceneAccel;
 use raystep::diagram::canvas::Rgba;
 use raystep::diagram::{self, Canvas, DiagramKind, Theme, ViewOptions, barycentric, quadratic};
+use raystep::record::{Step, Trace};
 use raystep::scene::{Scene, load_file};
 use raystep::shapes::{RootChoice, SphereCase, TriangleMethod, TriangleTest};
-use raystep::trace::{Step, Trace, Tracer};
+use raystep::trace::Tracer;
 use std::path::{Path, PathBuf};
 
 fn root() -> PathBuf {

@@ -7,9 +7,10 @@ use proptest::prelude::*;
 use raystep::accel::SceneAccel;
 use raystep::diagram::canvas::{Canvas, Theme};
 use raystep::diagram::{self, DiagramKind, MAX_SIDE, ViewOptions, quadratic, ray_tree};
+use raystep::explain::formula::explain;
+use raystep::record::{RayKind, RayRecord, Step, Trace};
 use raystep::scene::{Scene, load_file};
-use raystep::trace::formula::explain;
-use raystep::trace::{RayKind, RayRecord, Step, Trace, Tracer};
+use raystep::trace::Tracer;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 

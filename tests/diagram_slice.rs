@@ -11,8 +11,9 @@ use common::assert_golden;
 use raystep::accel::SceneAccel;
 use raystep::diagram::slice::{self, Px, SliceLayout};
 use raystep::diagram::{self, DiagramKind, Theme, ViewOptions};
+use raystep::record::{RayKind, RayRecord, Step, Trace};
 use raystep::scene::{AccelChoice, Scene, load_file};
-use raystep::trace::{RayKind, RayRecord, Step, Trace, Tracer};
+use raystep::trace::Tracer;
 use std::path::PathBuf;
 
 fn root() -> PathBuf {

@@ -6,8 +6,9 @@ use common::assert_golden;
 
 use raystep::accel::SceneAccel;
 use raystep::diagram::{self, DiagramKind, ViewOptions, bvh_tree, ray_tree};
+use raystep::record::{NodeAction, RayKind, Step, Trace};
 use raystep::scene::{AccelChoice, Scene, load_file, load_str};
-use raystep::trace::{NodeAction, RayKind, Step, Trace, Tracer};
+use raystep::trace::Tracer;
 use std::path::Path;
 
 fn scene(name: &str) -> Scene {

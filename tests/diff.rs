@@ -1,12 +1,13 @@
-//! `raystep diff` and `raystep::trace::diff`: a trace equals itself through save and load; a
+//! `raystep diff` and `raystep::explain::diff`: a trace equals itself through save and load; a
 //! planted numeric change, a missing shadow ray and a different sphere method are found and
 //! reported in words at the right step; bad input exits 2 with the file named.
 
 use assert_cmd::Command;
 use raystep::accel::SceneAccel;
+use raystep::explain::diff::{DiffKind, Tolerance, compare};
+use raystep::record::{Step, Trace};
 use raystep::scene::{self, Scene};
-use raystep::trace::diff::{DiffKind, Tolerance, compare};
-use raystep::trace::{Step, Trace, Tracer};
+use raystep::trace::Tracer;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
@@ -224,7 +225,7 @@ fn a_planted_t_in_a_shadow_ray_names_the_ray_path() {
         .iter()
         .enumerate()
         .filter(|(_, (r, s))| {
-            r.kind == raystep::trace::RayKind::Shadow && matches!(s.step, Step::Plane { .. })
+            r.kind == raystep::record::RayKind::Shadow && matches!(s.step, Step::Plane { .. })
         })
         .map(|(i, _)| i)
         .next()

@@ -6,7 +6,7 @@
 
 use assert_cmd::Command;
 use raystep::lesson::{self, Question, SceneSource, Sheet};
-use raystep::trace::record::{RayKind, Step, Trace};
+use raystep::record::{RayKind, Step, Trace};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 

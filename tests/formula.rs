@@ -1,13 +1,14 @@
-//! The math panel (`raystep::trace::formula`): every step of real recorded traces is explained,
+//! The math panel (`raystep::explain::formula`): every step of real recorded traces is explained,
 //! the printed numbers are the recorded ones, the substituted formulas use the very numbers their
 //! values came from, and hand-computed cases come out as computed by hand.
 
 use raystep::accel::SceneAccel;
+use raystep::explain::formula::{Explanation, Formula, explain};
+use raystep::record::number::num;
+use raystep::record::{NodeAction, RayRecord, Step, Trace};
 use raystep::scene::{AccelChoice, Scene, Shape, load_file, load_str};
 use raystep::shapes::{SphereMethod, TriangleMethod};
-use raystep::trace::describe::num;
-use raystep::trace::formula::{Explanation, Formula, explain};
-use raystep::trace::{NodeAction, RayRecord, Step, Trace, Tracer};
+use raystep::trace::Tracer;
 use std::path::Path;
 
 const SHIPPED: [&str; 5] = [
@@ -968,4 +969,172 @@ fn an_older_trace_without_the_slab_planes_shows_dashes() {
     let e = explain(&old, ray, &step.step);
     assert_eq!(get(&e, "t0x, t1x").value, "—, —");
     assert!(!format!("{e:?}").contains("NaN"), "{e:#?}");
+}
+
+/// The shading lines (Phong, reflection, Snell, Schlick) print the recorded intermediates bit
+/// for bit, over every step of a grid of pixels of every shipped scene: nothing in the math
+/// panel recomputes l, r, e, d·n, η, cos θₜ, R0 or Schlick's cosine.
+#[test]
+fn every_shading_line_prints_its_record() {
+    let v3s = |v: [f32; 3]| format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]));
+    let mut seen = std::collections::BTreeSet::new();
+    for name in SHIPPED {
+        let scene = shipped(name);
+        for (x, y) in grid(&scene, 40) {
+            let trace = record(&scene, x, y);
+            for (_, step, e) in explained(&trace) {
+                match step {
+                    Step::Light {
+                        l_dot_n,
+                        r_dot_e,
+                        light_dir,
+                        reflected,
+                        eye,
+                        total,
+                        ..
+                    } => {
+                        seen.insert("light");
+                        assert_eq!(get(&e, "l·n").value, num(*l_dot_n));
+                        assert_eq!(get(&e, "r·e").value, num(*r_dot_e));
+                        assert_eq!(get(&e, "l").value, v3s(light_dir.unwrap()));
+                        assert_eq!(get(&e, "r").value, v3s(reflected.unwrap()));
+                        assert_eq!(get(&e, "e").value, v3s(eye.unwrap()));
+                        assert_eq!(get(&e, "total").value, v3s(total.unwrap()));
+                    }
+                    Step::Reflect {
+                        direction, d_dot_n, ..
+                    } => {
+                        seen.insert("reflect");
+                        assert_eq!(get(&e, "d·n").value, num(d_dot_n.unwrap()));
+                        assert_eq!(get(&e, "r").value, v3s(*direction));
+                    }
+                    Step::Refract {
+                        cos_i,
+                        sin2_t,
+                        total_internal_reflection,
+                        direction,
+                        eta,
+                        cos_t,
+                        ..
+                    } => {
+                        seen.insert("refract");
+                        assert_eq!(get(&e, "η").value, num(eta.unwrap()));
+                        assert_eq!(get(&e, "cos θᵢ").value, num(*cos_i));
+                        assert_eq!(get(&e, "sin² θₜ").value, num(*sin2_t));
+                        if *total_internal_reflection {
+                            seen.insert("tir");
+                            assert!(cos_t.is_none() && !has(&e, "cos θₜ"));
+                        } else {
+                            assert_eq!(get(&e, "cos θₜ").value, num(cos_t.unwrap()));
+                            assert_eq!(get(&e, "t").value, v3s(direction.unwrap()));
+                        }
+                    }
+                    Step::Schlick {
+                        reflectance,
+                        r0,
+                        cos,
+                    } => {
+                        seen.insert("schlick");
+                        assert_eq!(get(&e, "R(θ)").value, num(*reflectance));
+                        if let Some(r0) = r0 {
+                            assert_eq!(get(&e, "R0").value, num(*r0));
+                            assert_eq!(get(&e, "cos θ").value, num(cos.unwrap()));
+                        }
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    for kind in ["light", "reflect", "refract", "schlick"] {
+        assert!(
+            seen.contains(kind),
+            "no {kind} step in the shipped scenes: {seen:?}"
+        );
+    }
+}
+
+/// The shading intermediates, checked against the definitions in f64 by hand on the first
+/// sphere's centre pixel: l and e are unit vectors, r = −l − 2(−l·n)n, l·n and r·e are their
+/// dot products (within f32 rounding of the f64 value).
+#[test]
+fn recorded_phong_vectors_agree_with_f64() {
+    let scene = shipped("first-sphere.toml");
+    let trace = record(&scene, 160, 120);
+    let normal = trace
+        .root
+        .steps
+        .iter()
+        .find_map(|s| match s.step {
+            Step::Surface { normal, .. } => Some(normal),
+            _ => None,
+        })
+        .expect("a surface");
+    let (l, r, e, ln, re) = trace
+        .root
+        .steps
+        .iter()
+        .find_map(|s| match &s.step {
+            Step::Light {
+                light_dir,
+                reflected,
+                eye,
+                l_dot_n,
+                r_dot_e,
+                ..
+            } => Some((
+                f64x3(light_dir.unwrap()),
+                f64x3(reflected.unwrap()),
+                f64x3(eye.unwrap()),
+                *l_dot_n as f64,
+                *r_dot_e as f64,
+            )),
+            _ => None,
+        })
+        .expect("a light step");
+    let n = f64x3(normal);
+    assert!((dot(l, l) - 1.0).abs() < 1e-6 && (dot(e, e) - 1.0).abs() < 1e-6);
+    let k = 2.0 * dot([-l[0], -l[1], -l[2]], n);
+    for i in 0..3 {
+        assert!((r[i] - (-l[i] - k * n[i])).abs() < 1e-6, "r = {r:?}");
+    }
+    assert!((dot(l, n) - ln).abs() < 1e-6);
+    assert!((dot(r, e) - re).abs() < 1e-6);
+}
+
+/// A trace saved before the shading intermediates were recorded still loads and explains, with
+/// — where they would be.
+#[test]
+fn an_older_trace_without_the_shading_intermediates_shows_dashes() {
+    let scene = shipped("mirror-glass.toml");
+    let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
+    let trace = record(&scene, x, y);
+    let mut json: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
+    let keys = [
+        "light_dir",
+        "reflected",
+        "eye",
+        "total",
+        "d_dot_n",
+        "eta",
+        "cos_t",
+        "r0",
+        "cos",
+    ];
+    assert!(strip(&mut json, &keys) >= 4);
+    let old = Trace::from_json(&json.to_string(), "old.json").expect("an older trace loads");
+    for (_, step, e) in explained(&old) {
+        assert!(!format!("{e:?}").contains("NaN"), "{e:#?}");
+        match step {
+            Step::Light { .. } => assert_eq!(get(&e, "total").value, "—"),
+            Step::Refract {
+                total_internal_reflection: false,
+                ..
+            } => {
+                assert_eq!(get(&e, "η").value, "—");
+                assert_eq!(get(&e, "cos θₜ").value, "—");
+            }
+            _ => {}
+        }
+    }
 }

@@ -10,10 +10,11 @@ use raystep::accel::SceneAccel;
 use raystep::gpu::{
     self, GpuContext, GpuError, GpuPath, GpuTracer, ShaderConfig, ShaderVariant, shader,
 };
+use raystep::record::Step;
 use raystep::render::{RenderOptions, render};
 use raystep::scene::{Scene, Shape, load_file, load_str};
 use raystep::shapes::{SphereMethod, TriangleMethod};
-use raystep::trace::{Step, Tracer};
+use raystep::trace::{PreparedScene, Tracer};
 use std::path::PathBuf;
 
 /// The largest per-channel difference (in 8-bit sRGB steps) any pixel may show. The WGSL repeats
@@ -104,7 +105,7 @@ fn gpu_matches_cpu_on_every_shipped_scene() {
     scenes.extend(extra);
     for scene in &scenes {
         let cpu = cpu_pixels(scene);
-        let mut gpu = GpuTracer::new(ctx.clone(), scene, ShaderVariant::Generated).unwrap();
+        let mut gpu = GpuTracer::new(ctx.clone(), &prep(scene), ShaderVariant::Generated).unwrap();
         let acne = scene.settings.offset == raystep::scene::OffsetPolicy::None;
         for path in [GpuPath::Fragment, GpuPath::Compute] {
             if acne && path == GpuPath::Fragment {
@@ -155,11 +156,11 @@ fn full_shader_renders_what_the_generated_one_does() {
             )
             .unwrap(),
         );
-        let a = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated)
+        let a = GpuTracer::new(ctx.clone(), &prep(&scene), ShaderVariant::Generated)
             .unwrap()
             .render(GpuPath::Compute)
             .unwrap();
-        let b = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Full)
+        let b = GpuTracer::new(ctx.clone(), &prep(&scene), ShaderVariant::Full)
             .unwrap()
             .render(GpuPath::Compute)
             .unwrap();
@@ -177,7 +178,7 @@ fn full_shader_renders_what_the_generated_one_does() {
 fn generated_shaders_leave_out_what_the_scene_does_not_need() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let sphere = load_file(&dir.join("first-sphere.toml")).unwrap();
-    let s = gpu::generated_wgsl(&sphere);
+    let s = gpu::generated_wgsl(&prep(&sphere));
     for absent in [
         "fn intersect_triangle",
         "fn intersect_plane",
@@ -191,29 +192,29 @@ fn generated_shaders_leave_out_what_the_scene_does_not_need() {
     assert!(s.contains("fn intersect_sphere") && s.contains("fn traversal_any"));
     // Mirror but no glass: reflection code, no refraction code.
     let three = load_file(&dir.join("three-spheres.toml")).unwrap();
-    let s = gpu::generated_wgsl(&three);
+    let s = gpu::generated_wgsl(&prep(&three));
     assert!(s.contains("mirror_dir(r.dir") && !s.contains("fn refract_dir"));
     // Glass: refraction and Schlick.
-    let glass = gpu::generated_wgsl(&load_file(&dir.join("mirror-glass.toml")).unwrap());
+    let glass = gpu::generated_wgsl(&prep(&load_file(&dir.join("mirror-glass.toml")).unwrap()));
     assert!(glass.contains("fn refract_dir") && glass.contains("fn schlick"));
     // Triangles with a BVH, no spheres.
-    let tri = gpu::generated_wgsl(&load_file(&dir.join("triangles.toml")).unwrap());
+    let tri = gpu::generated_wgsl(&prep(&load_file(&dir.join("triangles.toml")).unwrap()));
     assert!(tri.contains("fn bvh_closest") && !tri.contains("fn intersect_sphere"));
     assert!(!tri.contains("fn brute_closest"));
     // A scene without lights has no shadow loop.
     let dark = load_str("[[sphere]]\n", "dark.toml", None).unwrap();
-    assert!(!gpu::generated_wgsl(&dark).contains("fn traversal_any"));
+    assert!(!gpu::generated_wgsl(&prep(&dark)).contains("fn traversal_any"));
     // And every generated shader is smaller than the full one.
     for p in scene_paths() {
         let scene = load_file(&p).unwrap();
-        assert!(gpu::generated_wgsl(&scene).len() < gpu::full_wgsl(&scene).len());
+        assert!(gpu::generated_wgsl(&prep(&scene)).len() < gpu::full_wgsl(&prep(&scene)).len());
     }
 }
 
 #[test]
 fn naga_validates_every_shader_variant() {
     let scene = raystep::scene::default_scene();
-    let base = ShaderConfig::for_scene(&scene);
+    let base = ShaderConfig::for_scene(&prep(&scene));
     let mut checked = 0;
     for bits in 0u32..128 {
         let b = |k: u32| bits & (1 << k) != 0;
@@ -236,7 +237,7 @@ fn naga_validates_every_shader_variant() {
         checked += 1;
     }
     // The methods and offsets, each on the full shader.
-    let full = ShaderConfig::full(&scene);
+    let full = ShaderConfig::full(&prep(&scene));
     for c in [
         ShaderConfig {
             sphere_method: SphereMethod::Textbook,
@@ -261,10 +262,10 @@ fn naga_validates_every_shader_variant() {
     }
     for p in scene_paths() {
         let scene = load_file(&p).unwrap();
-        shader::validate(&gpu::generated_wgsl(&scene)).unwrap();
+        shader::validate(&gpu::generated_wgsl(&prep(&scene))).unwrap();
         // The hardware ray-query traversal, generated and full (validated even where no adapter
         // here can run it).
-        let rq = ShaderConfig::for_scene(&scene).with_ray_query();
+        let rq = ShaderConfig::for_scene(&prep(&scene)).with_ray_query();
         for c in [rq, rq.all_on()] {
             let wgsl = shader::wgsl(&c);
             assert!(wgsl.starts_with("enable wgpu_ray_query;") && wgsl.contains("rayQueryProceed"));
@@ -295,7 +296,7 @@ fn debug_pixel_matches_the_recorded_cpu_trace() {
         let scene = load_file(&dir.join(name)).unwrap();
         let (accel, _) = SceneAccel::build(&scene);
         let tracer = Tracer::new(&scene, &accel);
-        let mut gpu = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated).unwrap();
+        let mut gpu = GpuTracer::new(ctx.clone(), &prep(&scene), ShaderVariant::Generated).unwrap();
         for [x, y] in pixels {
             let trace = tracer.record(x, y, 0);
             let got = gpu.debug_pixel(x, y).unwrap();
@@ -499,7 +500,7 @@ fn set_camera_renders_another_view_and_size() {
         return;
     };
     let scene = load_file(&scene_file("three-spheres.toml")).unwrap();
-    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    let mut gpu = GpuTracer::new(ctx, &prep(&scene), ShaderVariant::Generated).unwrap();
     let mut moved = scene.clone();
     moved.camera.from = glam::Vec3::new(2.0, 3.0, -4.0);
     moved.camera.width = 90;
@@ -541,7 +542,7 @@ fn hardware_ray_queries_match_the_cpu_where_the_adapter_has_them() {
     }
     for p in scene_paths() {
         let scene = small(load_file(&p).unwrap());
-        let mut gpu = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated).unwrap();
+        let mut gpu = GpuTracer::new(ctx.clone(), &prep(&scene), ShaderVariant::Generated).unwrap();
         assert!(gpu.adapter_line(GpuPath::Compute).contains("BLAS/TLAS"));
         let frame = gpu.render(GpuPath::Compute).unwrap();
         let d = gpu::difference(
@@ -572,7 +573,7 @@ fn antialiased_samples_are_placed_as_on_the_cpu() {
     scene.settings.spp = 4;
     scene.settings.seed = 7;
     let cpu = cpu_pixels(&scene);
-    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    let mut gpu = GpuTracer::new(ctx, &prep(&scene), ShaderVariant::Generated).unwrap();
     for path in [GpuPath::Fragment, GpuPath::Compute] {
         let frame = gpu.render(path).unwrap();
         let d = gpu::difference(80, 60, &cpu, &frame.pixels).unwrap();
@@ -591,7 +592,7 @@ fn display_texture_holds_the_srgb_image() {
         return;
     };
     let scene = small(load_file(&scene_file("mirror-glass.toml")).unwrap());
-    let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated).unwrap();
+    let mut gpu = GpuTracer::new(ctx, &prep(&scene), ShaderVariant::Generated).unwrap();
     let frame = gpu.render(GpuPath::Fragment).unwrap();
     let display = gpu.read_display().unwrap();
     // The GPU's sRGB encoding (WGSL pow) against the CPU's srgb8 of the same linear values.
@@ -665,4 +666,9 @@ fn cli_converge_gpu_measures_the_gpu_against_the_cpu_reference() {
             "spp {s1}: CPU MSE {m1}, GPU MSE {m2}"
         );
     }
+}
+
+/// The scene prepared as the app and the command line prepare it (its BVH built once).
+fn prep(s: &Scene) -> PreparedScene {
+    PreparedScene::new(s.clone())
 }

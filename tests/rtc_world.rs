@@ -15,8 +15,9 @@
 use glam::Vec3;
 use raystep::accel::BruteForce;
 use raystep::math::Ray;
+use raystep::record::{RayKind, RayRecord, Recorder, Silent, Step, Trace, TraceError};
 use raystep::scene::{OffsetPolicy, Scene, load_file, load_str};
-use raystep::trace::{RayKind, RayRecord, Recorder, Silent, Step, Trace, TraceError, Tracer};
+use raystep::trace::Tracer;
 use std::path::Path;
 
 /// RTC compares colours with EPSILON = 0.0001 and prints five significant digits; raystep works
@@ -534,7 +535,7 @@ fn shade_hit_with_a_reflective_transparent_material() {
         // r0 = (0.5/2.5)² = 0.04, R = r0 + (1 − r0)(1 − √2/2)⁵ = 0.0420695.
         let reflectance = steps(&root)
             .find_map(|s| match s {
-                Step::Schlick { reflectance } => Some(*reflectance),
+                Step::Schlick { reflectance, .. } => Some(*reflectance),
                 _ => None,
             })
             .expect("a Schlick step");

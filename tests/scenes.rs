@@ -2,8 +2,9 @@
 //! hand from its file (so a changed scene, or a changed loader, is noticed).
 
 use raystep::accel::BruteForce;
+use raystep::record::Silent;
 use raystep::scene::{Features, Scene, load_file};
-use raystep::trace::{Silent, Tracer};
+use raystep::trace::Tracer;
 use std::path::{Path, PathBuf};
 
 fn scenes_dir() -> PathBuf {

@@ -7,10 +7,11 @@
 
 use assert_cmd::Command;
 use raystep::accel::SceneAccel;
+use raystep::record::observer::MAX_TRACE_STEPS;
+use raystep::record::{RayKind, Recorder, Silent, Step, Trace, TraceError};
 use raystep::scene::{self, Scene};
-use raystep::trace::observer::MAX_TRACE_STEPS;
+use raystep::trace::Tracer;
 use raystep::trace::whitted::WEIGHT_CUTOFF;
-use raystep::trace::{RayKind, Recorder, Silent, Step, Trace, TraceError, Tracer};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 use std::time::Duration;

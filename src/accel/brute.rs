@@ -2,8 +2,8 @@
 
 use super::{Accelerator, Hit, accept, test_object};
 use crate::math::Ray;
+use crate::record::Observer;
 use crate::scene::Scene;
-use crate::trace::Observer;
 
 /// Tests every object in scene order; the ray's t_max shrinks with each closer hit, so the kernels
 /// themselves reject anything farther (the triangle test stops at step 5).

@@ -10,10 +10,10 @@
 use super::{Accelerator, Hit, accept, test_object};
 use crate::math::Ray;
 use crate::math::gamma;
+use crate::record::OutlineNode;
+use crate::record::{NodeAction, NodeVisit, Observer};
 use crate::scene::{Scene, Shape};
 use crate::shapes::aabb::slab_robust;
-use crate::trace::record::OutlineNode;
-use crate::trace::{NodeAction, NodeVisit, Observer};
 use glam::BVec3A;
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;

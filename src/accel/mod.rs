@@ -11,9 +11,9 @@ pub use brute::BruteForce;
 pub use bvh::Bvh;
 
 use crate::math::Ray;
+use crate::record::{Observer, Step};
 use crate::scene::{AccelChoice, Scene, Shape};
 use crate::shapes::{SphereMethod, SphereTest, plane, sphere, triangle};
-use crate::trace::{Observer, Step};
 use std::time::{Duration, Instant};
 
 /// A hit: which object, where along the ray, and a triangle's barycentrics.
@@ -38,7 +38,7 @@ pub trait Accelerator: Sync {
     /// A short name for reports.
     fn name(&self) -> &'static str;
     /// The top `depth` levels of the hierarchy, for diagrams (None: no hierarchy).
-    fn outline(&self, _depth: u32) -> Option<Vec<crate::trace::record::OutlineNode>> {
+    fn outline(&self, _depth: u32) -> Option<Vec<crate::record::OutlineNode>> {
         None
     }
 }
@@ -195,7 +195,7 @@ impl Accelerator for SceneAccel {
             SceneAccel::Bvh(b) => b.name(),
         }
     }
-    fn outline(&self, depth: u32) -> Option<Vec<crate::trace::record::OutlineNode>> {
+    fn outline(&self, depth: u32) -> Option<Vec<crate::record::OutlineNode>> {
         match self {
             SceneAccel::Brute(_) => None,
             SceneAccel::Bvh(b) => b.outline(depth),

@@ -9,9 +9,10 @@
 
 use super::state::AppState;
 use crate::gpu::{Difference, GpuContext, GpuPath, GpuTracer, PixelDebug, ShaderVariant};
+use crate::record::Step;
+use crate::record::number::num;
 use crate::scene::{Camera, Scene};
-use crate::trace::Step;
-use crate::trace::describe::num;
+use crate::trace::PreparedScene;
 use eframe::egui_wgpu::{self, wgpu};
 use egui::{Color32, RichText, Sense};
 use glam::{Quat, Vec3};
@@ -141,8 +142,8 @@ impl GpuView {
 
     /// The tracer for the prepared scene, made (shader generated and compiled, scene uploaded)
     /// the first time it is needed.
-    fn tracer_for(&mut self, scene: &Arc<Scene>) -> Result<&mut Traced, String> {
-        let key = Arc::as_ptr(scene) as usize;
+    fn tracer_for(&mut self, prepared: &PreparedScene) -> Result<&mut Traced, String> {
+        let key = Arc::as_ptr(prepared.scene_arc()) as usize;
         if let Some((k, e)) = &self.error
             && *k == key
         {
@@ -164,7 +165,7 @@ impl GpuView {
             {
                 rs.renderer.write().free_texture(&id);
             }
-            match GpuTracer::new(ctx, scene, ShaderVariant::Generated) {
+            match GpuTracer::new(ctx, prepared, ShaderVariant::Generated) {
                 Ok(tracer) => {
                     self.traced = Some(Traced {
                         key,
@@ -186,16 +187,16 @@ impl GpuView {
 
     /// Traces a frame when the orbit, the path or the scene changed, and keeps the texture
     /// registered with egui.
-    fn frame(&mut self, scene: &Arc<Scene>) -> Result<(egui::TextureId, [u32; 2]), String> {
+    fn frame(&mut self, prepared: &PreparedScene) -> Result<(egui::TextureId, [u32; 2]), String> {
         let (orbit, path) = (self.orbit, self.path);
         let rs = self
             .render_state
             .clone()
             .ok_or("the app has no wgpu device")?;
-        let t = self.tracer_for(scene)?;
+        let t = self.tracer_for(prepared)?;
         if t.frame.is_none_or(|(o, p, _)| o != orbit || p != path) {
             t.tracer
-                .set_camera(&orbit.apply(&scene.camera))
+                .set_camera(&orbit.apply(&prepared.scene().camera))
                 .map_err(|e| e.to_string())?;
             let time = t.tracer.trace(path).map_err(|e| e.to_string())?;
             t.frame = Some((orbit, path, time));
@@ -221,9 +222,9 @@ impl GpuView {
 
     /// The selected pixel traced into the GPU's debug buffer (at the scene's own camera, so it
     /// is the pixel the CPU traced).
-    fn pick_pixel(&mut self, scene: &Arc<Scene>, pixel: [u32; 2]) {
+    fn pick_pixel(&mut self, prepared: &PreparedScene, pixel: [u32; 2]) {
         let orbit = self.orbit;
-        let Ok(t) = self.tracer_for(scene) else {
+        let Ok(t) = self.tracer_for(prepared) else {
             return;
         };
         if t.pick.as_ref().is_some_and(|(p, _)| *p == pixel) {
@@ -232,7 +233,7 @@ impl GpuView {
         let result = (|| {
             if orbit != Orbit::default() {
                 t.tracer
-                    .set_camera(&scene.camera)
+                    .set_camera(&prepared.scene().camera)
                     .map_err(|e| e.to_string())?;
                 t.frame = None; // the display now needs the orbit again
             }
@@ -244,13 +245,13 @@ impl GpuView {
     }
 
     /// Renders on the GPU at the scene's camera and compares with the CPU render `render_id`.
-    fn compare(&mut self, ctx: &egui::Context, scene: &Arc<Scene>, state: &AppState) {
+    fn compare(&mut self, ctx: &egui::Context, prepared: &PreparedScene, state: &AppState) {
         let Some(rendered) = &state.rendered else {
             return;
         };
         let render_id = state.renders_started;
         let path = self.path;
-        let Ok(t) = self.tracer_for(scene) else {
+        let Ok(t) = self.tracer_for(prepared) else {
             return;
         };
         if t.diff
@@ -262,7 +263,7 @@ impl GpuView {
         let out = &rendered.output;
         let result = (|| {
             t.tracer
-                .set_camera(&scene.camera)
+                .set_camera(&prepared.scene().camera)
                 .map_err(|e| e.to_string())?;
             t.frame = None;
             let frame = t.tracer.render(path).map_err(|e| e.to_string())?;
@@ -315,7 +316,7 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         ui.label("Preparing the scene…");
         return;
     };
-    let scene = Arc::clone(&prepared.scene);
+    let prepared = Arc::clone(prepared);
     ui.horizontal_wrapped(|ui| {
         ui.radio_value(&mut gpu.path, GpuPath::Fragment, "fragment")
             .on_hover_text("a full-screen triangle: the rasterizer interpolates the primary rays");
@@ -332,7 +333,7 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         }
         ui.toggle_value(&mut gpu.show_wgsl, "WGSL");
     });
-    let frame = gpu.frame(&scene);
+    let frame = gpu.frame(&prepared);
     if let Some(line) = gpu.adapter_line() {
         ui.label(RichText::new(line).small());
     }
@@ -353,8 +354,8 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         ));
     }
     if let Some([x, y]) = state.pixel {
-        gpu.pick_pixel(&scene, [x, y]);
-        pick_table(ui, state, &scene, gpu);
+        gpu.pick_pixel(&prepared, [x, y]);
+        pick_table(ui, state, prepared.scene(), gpu);
     }
     if gpu.show_wgsl {
         if let Some(t) = &gpu.traced {
@@ -522,12 +523,12 @@ pub fn difference_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         ui.label("Waiting for the CPU render to finish…");
         return;
     }
-    let scene = Arc::clone(&prepared.scene);
+    let prepared = Arc::clone(prepared);
     ui.horizontal(|ui| {
         ui.radio_value(&mut gpu.path, GpuPath::Fragment, "fragment");
         ui.radio_value(&mut gpu.path, GpuPath::Compute, "compute");
     });
-    gpu.compare(ui.ctx(), &scene, state);
+    gpu.compare(ui.ctx(), &prepared, state);
     let Some(t) = &gpu.traced else {
         if let Some((_, e)) = &gpu.error {
             ui.colored_label(ui.visuals().error_fg_color, format!("GPU view: {e}"));

@@ -2,89 +2,19 @@
 //! acceleration structure), then render it tile by tile into a [`LiveRender`] the UI shows as
 //! it builds up. The UI thread never waits on it; a new job cancels the previous one.
 
-use crate::accel::SceneAccel;
 use crate::render::{CANCELLED, LiveRender, RenderOptions, RenderOutput, render};
-use crate::scene::{AccelChoice, Scene, Settings};
-use crate::trace::Tracer;
+use crate::scene::{Scene, Settings};
+use crate::trace::PreparedScene;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
 use std::time::{Duration, Instant};
 
-/// A scene ready to trace: its settings applied and its accelerator built.
-pub struct Prepared {
-    /// The scene with the live settings.
-    pub scene: Arc<Scene>,
-    /// Its accelerator.
-    pub accel: Arc<SceneAccel>,
-    /// The accelerator actually built (auto resolved).
-    pub accel_choice: AccelChoice,
-    /// How long building the accelerator took (zero when it was reused).
-    pub build: Duration,
-}
-
-impl Prepared {
-    /// Prepares `base` with `settings`, reusing `previous`'s accelerator when it was built for
-    /// the same scene with the same resolved choice (changing a method or spp does not rebuild
-    /// the BVH of a million triangles).
-    pub fn new(base: &Arc<Scene>, settings: &Settings, previous: Option<&Prepared>) -> Prepared {
-        let scene = if base.settings == *settings {
-            Arc::clone(base)
-        } else {
-            let mut s = Scene::clone(base);
-            s.settings = settings.clone();
-            Arc::new(s)
-        };
-        let choice = SceneAccel::resolve(&scene);
-        if let Some(p) = previous
-            && p.accel_choice == choice
-            && same_geometry(&p.scene, &scene)
-        {
-            return Prepared {
-                scene,
-                accel: Arc::clone(&p.accel),
-                accel_choice: choice,
-                build: Duration::ZERO,
-            };
-        }
-        let (accel, build) = SceneAccel::build(&scene);
-        Prepared {
-            scene,
-            accel: Arc::new(accel),
-            accel_choice: choice,
-            build,
-        }
-    }
-
-    /// A tracer over this scene.
-    pub fn tracer(&self) -> Tracer<'_, SceneAccel> {
-        Tracer::new(&self.scene, &self.accel)
-    }
-}
-
-impl std::fmt::Debug for Prepared {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Prepared")
-            .field("scene", &self.scene.name)
-            .field("accel_choice", &self.accel_choice)
-            .field("build", &self.build)
-            .finish_non_exhaustive()
-    }
-}
-
-/// Whether two prepared scenes share their geometry (same file text and objects).
-fn same_geometry(a: &Scene, b: &Scene) -> bool {
-    a.source_hash == b.source_hash
-        && a.path == b.path
-        && a.objects.len() == b.objects.len()
-        && a.objects == b.objects
-}
-
 /// What the job reports.
 #[derive(Debug)]
 pub enum JobEvent {
     /// The scene is prepared: pixels can be traced now, while the render goes on.
-    Prepared(Arc<Prepared>),
+    Prepared(Arc<PreparedScene>),
     /// The render finished (or failed).
     Done(Result<Arc<RenderOutput>, String>),
 }
@@ -105,7 +35,7 @@ impl RenderJob {
     pub fn start(
         base: Arc<Scene>,
         settings: Settings,
-        previous: Option<Arc<Prepared>>,
+        previous: Option<Arc<PreparedScene>>,
         repaint: impl Fn() + Send + Sync + 'static,
     ) -> RenderJob {
         let live = Arc::new(LiveRender::new(base.camera.width, base.camera.height));
@@ -113,7 +43,11 @@ impl RenderJob {
         let job_live = Arc::clone(&live);
         let repaint = Arc::new(repaint);
         std::thread::spawn(move || {
-            let prepared = Arc::new(Prepared::new(&base, &settings, previous.as_deref()));
+            let prepared = Arc::new(PreparedScene::with_settings(
+                &base,
+                &settings,
+                previous.as_deref(),
+            ));
             drop(previous);
             // A closed channel means the app dropped this job: nobody is watching.
             if tx.send(JobEvent::Prepared(Arc::clone(&prepared))).is_err() {

@@ -103,7 +103,7 @@ fn pixel_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView, cmds: &
     };
     let generation = state.trace_generation;
     if lab.pixel.as_ref().is_none_or(|(g, _)| *g != generation) {
-        let scene = state.prepared.as_ref().map(|p| p.scene.as_ref());
+        let scene = state.prepared.as_ref().map(|p| p.scene());
         lab.pixel = Some((generation, exact_values(&s.trace, scene)));
     }
     let values = &lab.pixel.as_ref().expect("made above").1;
@@ -143,7 +143,7 @@ fn pixel_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView, cmds: &
                         }
                         ui.label(&v.object);
                         ui.label(v.quantity);
-                        ui.monospace(crate::trace::describe::num(v.recorded));
+                        ui.monospace(crate::record::number::num(v.recorded));
                         ui.monospace(format!("{:.10e}", v.exact));
                         let color = if v.ulps <= 2.0 {
                             ui.visuals().text_color()

@@ -9,11 +9,11 @@
 use super::state::{AppState, Command, Message};
 use super::view::Views;
 use crate::lesson::{
-    self, Answer, Lesson, Mark, Question, SceneSource, Sheet, explaining_step, lessons_dir,
-    load_lessons, load_sheet,
+    self, Answer, Lesson, Mark, Question, SceneSource, Sheet, lessons_dir, load_lessons, load_sheet,
 };
 use egui::{Color32, RichText};
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, TryRecvError};
 
 /// Which half of the panel shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -63,6 +63,24 @@ pub struct Learn {
     pub question: usize,
     /// One attempt per question of the open sheet.
     pub attempts: Vec<Attempt>,
+    /// A check in progress: the expected answer is being computed on a background thread
+    /// (loading the question's scene and preparing it never blocks the UI).
+    pub checking: Option<Checking>,
+    /// The question whose explaining step the app goes to when the pixel it just opened has
+    /// been recorded.
+    pub explain: Option<Question>,
+}
+
+/// A check waiting for its expected answer.
+#[derive(Debug)]
+pub struct Checking {
+    /// The question checked.
+    pub question: usize,
+    /// The student id it was checked for.
+    pub student: String,
+    /// The answer as it was when the student pressed Check.
+    pub answer: String,
+    result: Receiver<Result<Answer, String>>,
 }
 
 /// What the learn panel can ask for.
@@ -142,6 +160,7 @@ impl Learn {
     fn reset_attempts(&mut self) {
         let n = self.current_sheet().map_or(0, |s| s.questions.len());
         self.attempts = vec![Attempt::default(); n];
+        self.checking = None;
         self.question = self.question.min(n.saturating_sub(1));
     }
 }
@@ -224,10 +243,53 @@ impl AppState {
             });
             return;
         }
-        let expected = match &self.learn.attempts[i].expected {
-            Some(e) => Ok(e.clone()),
-            None => sheet.expected(q, &sheet.variant(q, &student)),
+        let answer = self.learn.attempts[i].answer.clone();
+        if let Some(e) = &self.learn.attempts[i].expected {
+            let e = Ok(e.clone());
+            self.finish_check(i, &answer, e);
+            return;
+        }
+        // The expected answer: the question's scene loaded, prepared and traced off the UI
+        // thread (a sheet may name a scene of a million triangles).
+        let (sheet, q) = (sheet.clone(), q.clone());
+        let (tx, rx) = std::sync::mpsc::channel();
+        let repaint = self.repaint_handle();
+        std::thread::spawn(move || {
+            let expected = sheet.expected(&q, &sheet.variant(&q, &student));
+            // A closed channel means the check was abandoned (another sheet or student).
+            if tx.send(expected).is_ok() {
+                repaint();
+            }
+        });
+        self.learn.checking = Some(Checking {
+            question: i,
+            student: self.learn.student.trim().to_string(),
+            answer,
+            result: rx,
+        });
+    }
+
+    /// Takes a finished check's expected answer and marks it (between frames).
+    pub(super) fn take_check(&mut self) {
+        let Some(c) = &self.learn.checking else {
+            return;
         };
+        let result = match c.result.try_recv() {
+            Ok(r) => r,
+            Err(TryRecvError::Empty) => return,
+            Err(TryRecvError::Disconnected) => Err("the check stopped unexpectedly".into()),
+        };
+        let Some(c) = self.learn.checking.take() else {
+            return;
+        };
+        if c.student == self.learn.student.trim() && c.question < self.learn.attempts.len() {
+            self.finish_check(c.question, &c.answer, result);
+        }
+    }
+
+    /// Marks `answer` to question `i` against the expected answer (or reports the sheet's
+    /// error).
+    fn finish_check(&mut self, i: usize, answer: &str, expected: Result<Answer, String>) {
         let expected = match expected {
             Ok(e) => e,
             Err(e) => {
@@ -239,11 +301,16 @@ impl AppState {
                 return;
             }
         };
+        let Some(q) = self.learn.current_sheet().and_then(|s| s.questions.get(i)) else {
+            return;
+        };
         let (kind, tolerance) = (q.quantity.kind(), q.tolerance);
-        let a = &mut self.learn.attempts[i];
-        let m = lesson::mark(&expected, kind, Some(&a.answer), tolerance);
+        let Some(a) = self.learn.attempts.get_mut(i) else {
+            return;
+        };
+        let m = lesson::mark(&expected, kind, Some(answer), tolerance);
         a.expected = Some(expected);
-        a.checked = a.answer.clone();
+        a.checked = answer.to_string();
         a.tries += 1;
         a.mark = Some(m);
     }
@@ -284,11 +351,11 @@ impl AppState {
         if x >= scene.camera.width || y >= scene.camera.height {
             return;
         }
-        // The step is found on the same trace the app will record when the scene is prepared.
-        let (accel, _) = crate::accel::SceneAccel::build(&scene);
-        let trace = crate::trace::Tracer::new(&scene, &accel).record(x, y, 0);
-        let step = explaining_step(&trace, q).unwrap_or(0);
-        self.show_scene(scene, [x, y], step);
+        // The step is found on the trace the app records once the scene is prepared (in the
+        // background, like every scene the app opens).
+        let q = q.clone();
+        self.show_scene(scene, [x, y], 0);
+        self.learn.explain = Some(q);
     }
 }
 
@@ -591,14 +658,19 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
                 );
                 submit = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 r.labelled_by(label.id);
-                if ui.button("Check").clicked() {
+                let checking = learn.checking.is_some();
+                if ui
+                    .add_enabled(!checking, egui::Button::new("Check"))
+                    .on_disabled_hover_text("computing the expected answer for your variant…")
+                    .clicked()
+                {
                     submit = true;
                 }
             });
             if answer != a.answer {
                 cmds.push(Command::Learn(LearnCmd::Answer(answer)));
             }
-            if submit {
+            if submit && learn.checking.is_none() {
                 cmds.push(Command::Learn(LearnCmd::Check));
             }
             if let Some(m) = &a.mark {

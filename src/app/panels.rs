@@ -8,15 +8,16 @@ use super::settings_panel::settings_panel;
 use super::state::{AppState, Command, DiagramChoice, Dialog, Document, StepMove};
 use super::view::{self, Views};
 use crate::diagram::DiagramKind;
-use crate::trace::describe::{self, num, v3};
-use crate::trace::{RayKind, Stage, Step};
+use crate::explain::describe;
+use crate::record::number::{num, v3};
+use crate::record::{Stage, Step};
 use egui::{Color32, RichText, Sense, Vec2};
 use std::path::PathBuf;
 
 /// A row of the trace tree: a ray's heading or one of its steps.
 #[derive(Debug, Clone)]
 pub enum Row {
-    /// A ray starts (index into [`crate::trace::Trace::rays`]).
+    /// A ray starts (index into [`crate::record::Trace::rays`]).
     Ray {
         /// Nesting depth.
         depth: u32,
@@ -340,15 +341,6 @@ fn status_bar(ui: &mut egui::Ui, state: &AppState, views: &Views) {
     });
 }
 
-fn kind_label(kind: RayKind) -> &'static str {
-    match kind {
-        RayKind::Primary => "primary ray",
-        RayKind::Shadow => "shadow ray",
-        RayKind::Reflection => "reflection ray",
-        RayKind::Refraction => "refraction ray",
-    }
-}
-
 /// The rows of the trace tree.
 fn tree_rows(state: &AppState) -> Vec<Row> {
     let Some(s) = &state.stepping else {
@@ -367,8 +359,8 @@ fn tree_rows(state: &AppState) -> Vec<Row> {
             rows.push(Row::Ray {
                 depth: ray.depth,
                 text: format!(
-                    "{} from {} along {}: {hit}",
-                    kind_label(ray.kind),
+                    "{} ray from {} along {}: {hit}",
+                    ray.kind.name(),
                     v3(ray.origin),
                     v3(ray.direction)
                 ),
@@ -539,11 +531,11 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         if let Some((ray, step)) = s.at(state.step) {
             ui.label(
                 RichText::new(format!(
-                    "step {} of 0–{} · {} · {} (depth {})",
+                    "step {} of 0–{} · {} · {} ray (depth {})",
                     state.step,
                     n - 1,
                     describe::stage_name(step.stage),
-                    kind_label(ray.kind),
+                    ray.kind.name(),
                     ray.depth
                 ))
                 .strong(),
@@ -607,9 +599,9 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         let k = cell_at(p.x);
         if let Some((ray, step)) = s.at(k) {
             resp.clone().on_hover_text_at_pointer(format!(
-                "step {k}: {} · {}\n{}",
+                "step {k}: {} · {} ray\n{}",
                 describe::stage_name(step.stage),
-                kind_label(ray.kind),
+                ray.kind.name(),
                 describe::describe(&step.step)
             ));
         }
@@ -647,15 +639,15 @@ fn math_panel(ui: &mut egui::Ui, state: &AppState) {
     let Some((ray, step)) = s.at(state.step) else {
         return;
     };
-    let e = crate::trace::formula::explain(&s.trace, ray, &step.step);
+    let e = crate::explain::formula::explain(&s.trace, ray, &step.step);
     // On a projector the formulas are what the room reads: larger still than the UI's scale.
     let math_size = if state.prefs.presentation { 1.3 } else { 1.1 };
     ui.heading(&e.title);
     ui.label(
         RichText::new(format!(
-            "{} · {} · f32, the numbers the renderer used",
+            "{} · {} ray · f32, the numbers the renderer used",
             describe::stage_name(step.stage),
-            kind_label(ray.kind)
+            ray.kind.name()
         ))
         .weak(),
     );

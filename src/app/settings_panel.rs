@@ -3,9 +3,9 @@
 
 use super::state::{AppState, Command};
 use super::view::Views;
+use crate::record::number::num;
 use crate::scene::{AccelChoice, OffsetPolicy, Settings};
 use crate::shapes::{SphereMethod, TriangleMethod};
-use crate::trace::describe::num;
 use egui::RichText;
 
 /// The settings a teacher flips live, each shown only when the scene has something it affects.
@@ -66,7 +66,7 @@ pub(super) fn settings_panel(
             .on_hover_text("a bounding volume hierarchy: skip what a ray's boxes miss");
     });
     if let Some(p) = &state.prepared {
-        ui.label(match p.accel_choice {
+        ui.label(match p.accel_choice() {
             AccelChoice::Bvh => "using a BVH",
             _ => "testing every primitive for every ray",
         });

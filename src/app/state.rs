@@ -2,7 +2,7 @@
 //! settings, the background render, the selected pixel's trace and the step being shown. Panels
 //! read it and return [`Command`]s; [`AppState::apply`] is the only place that changes it.
 
-use super::job::{JobEvent, Prepared, RenderJob, is_cancelled};
+use super::job::{JobEvent, RenderJob, is_cancelled};
 use super::layout::Layout;
 use super::learn::{Learn, LearnCmd};
 pub use super::prefs::{DiagramChoice, PRESENTATION_HEIGHT, Prefs, SavedLayout, ThemeChoice};
@@ -10,9 +10,10 @@ pub use super::stepping::Stepping;
 use super::watch::{Watch, modified};
 use crate::diagram::{self, DiagramKind, ViewOptions};
 use crate::lesson::LessonSettings;
+use crate::record::Trace;
 use crate::render::RenderOutput;
 use crate::scene::{Scene, Settings};
-use crate::trace::Trace;
+use crate::trace::PreparedScene;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -161,7 +162,7 @@ pub struct AppState {
     /// The live settings (start as the scene's own).
     pub settings: Settings,
     /// The scene ready to trace with the live settings (None while preparing).
-    pub prepared: Option<Arc<Prepared>>,
+    pub prepared: Option<Arc<PreparedScene>>,
     /// The running render.
     pub job: Option<RenderJob>,
     /// The last finished render (for the current settings once `job` is None).
@@ -476,6 +477,11 @@ impl AppState {
         }
     }
 
+    /// The function that wakes the UI, for a background thread to call when it has news.
+    pub(super) fn repaint_handle(&self) -> Arc<dyn Fn() + Send + Sync> {
+        Arc::clone(&self.repaint)
+    }
+
     fn set_scene(&mut self, scene: Arc<Scene>, path: Option<PathBuf>) {
         let (w, h) = (scene.camera.width, scene.camera.height);
         self.settings = scene.settings.clone();
@@ -484,6 +490,7 @@ impl AppState {
             .is_some_and(|s| s.camera.width == w && s.camera.height == h);
         self.doc = Document::Scene { scene, path };
         self.load_error = None;
+        self.learn.explain = None;
         if !same_size || self.pixel.is_none() {
             // Start on the centre pixel so the panels have something to show.
             self.pixel = Some([w / 2, h / 2]);
@@ -540,7 +547,7 @@ impl AppState {
         let (Some(p), Some([x, y])) = (&self.prepared, self.pixel) else {
             return;
         };
-        let c = &p.scene.camera;
+        let c = &p.scene().camera;
         if x >= c.width || y >= c.height {
             self.pixel = None;
             return;
@@ -548,9 +555,16 @@ impl AppState {
         let start = Instant::now();
         let trace = p
             .tracer()
-            .record(x, y, self.sample.min(p.scene.settings.spp - 1));
+            .record(x, y, self.sample.min(p.scene().settings.spp - 1));
+        let explain = self
+            .learn
+            .explain
+            .take()
+            .and_then(|q| crate::lesson::explaining_step(&trace, &q));
         let stepping = Stepping::new(trace, start.elapsed());
-        self.step = if keep_step {
+        self.step = if let Some(k) = explain {
+            k
+        } else if keep_step {
             self.step.min(stepping.len().saturating_sub(1))
         } else {
             0
@@ -577,6 +591,7 @@ impl AppState {
     /// `now` is the UI clock.
     pub fn tick(&mut self, now: Instant) {
         self.take_load();
+        self.take_check();
         while let Some(event) = self.job.as_ref().and_then(RenderJob::poll) {
             match event {
                 JobEvent::Prepared(p) => {
@@ -590,7 +605,10 @@ impl AppState {
                             self.rendered = Some(Rendered {
                                 output,
                                 wall: job.started.elapsed(),
-                                build: self.prepared.as_ref().map_or(Duration::ZERO, |p| p.build),
+                                build: self
+                                    .prepared
+                                    .as_ref()
+                                    .map_or(Duration::ZERO, |p| p.build_time()),
                             })
                         }
                         Err(e) if is_cancelled(&e) => {}

@@ -1,7 +1,7 @@
 //! The selected pixel's trace as the app steps through it: the timeline indexed for the panels.
 
 use crate::diagram::{self, DiagramKind};
-use crate::trace::{RayRecord, StepRecord, Trace};
+use crate::record::{RayRecord, StepRecord, Trace};
 use std::sync::Arc;
 use std::time::Duration;
 

@@ -6,7 +6,7 @@ use super::render_cmd::GPU_FRAMES;
 use crate::accel::SceneAccel;
 use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant, difference};
 use crate::render::{RenderOptions, image, render};
-use crate::trace::Tracer;
+use crate::trace::PreparedScene;
 use std::path::PathBuf;
 
 /// Arguments of `raystep compare`.
@@ -47,15 +47,15 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
     if let Some(h) = args.height {
         scene.camera.height = h;
     }
+    let prepared = PreparedScene::new(scene);
+    let scene = prepared.scene();
     let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
-    let mut gpu = GpuTracer::new(ctx, &scene, args.gpu_shader).map_err(|e| e.to_string())?;
+    let mut gpu = GpuTracer::new(ctx, &prepared, args.gpu_shader).map_err(|e| e.to_string())?;
     let gpu_time = gpu
         .time_frames(args.gpu_path, 1, GPU_FRAMES)
         .map_err(|e| e.to_string())?;
     let frame = gpu.render(args.gpu_path).map_err(|e| e.to_string())?;
-    let (accel, _) = SceneAccel::build(&scene);
-    let tracer = Tracer::new(&scene, &accel);
-    let cpu = render(&tracer, &RenderOptions::default())?;
+    let cpu = render(&prepared.tracer(), &RenderOptions::default())?;
     let d = difference(cpu.width, cpu.height, &cpu.pixels, &frame.pixels)?;
     println!(
         "compared \"{}\" at {}×{}, CPU against GPU",
@@ -65,7 +65,7 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
     println!(
         "  CPU      {:.2} ms ({}, {} thread{})",
         cpu.stats.trace.as_secs_f64() * 1e3,
-        accel_name(&accel),
+        accel_name(prepared.accel()),
         cpu.stats.threads,
         if cpu.stats.threads == 1 { "" } else { "s" }
     );

@@ -50,16 +50,23 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
     let rep = if args.gpu {
         use crate::gpu::{GpuContext, GpuTracer, ShaderVariant};
         let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
+        // One BVH for every level: only the samples and the seed change.
+        let base = crate::trace::PreparedScene::new(scene.clone());
         let mut level = |spp: u32, seed: u32| -> Result<(Vec<glam::Vec3>, f64), String> {
-            let mut s = scene.clone();
-            s.settings.spp = spp;
-            s.settings.seed = seed;
+            let mut settings = base.scene().settings.clone();
+            settings.spp = spp;
+            settings.seed = seed;
+            let s = crate::trace::PreparedScene::with_settings(
+                base.scene_arc(),
+                &settings,
+                Some(&base),
+            );
             let mut tracer = GpuTracer::new(ctx.clone(), &s, ShaderVariant::Generated)
                 .map_err(|e| e.to_string())?;
             let frame = tracer.render(args.gpu_path).map_err(|e| e.to_string())?;
             Ok((frame.pixels, frame.time.as_secs_f64()))
         };
-        let line = GpuTracer::new(ctx.clone(), &scene, ShaderVariant::Generated)
+        let line = GpuTracer::new(ctx.clone(), &base, ShaderVariant::Generated)
             .map_err(|e| e.to_string())?
             .adapter_line(args.gpu_path);
         crate::stability::converge::run_on(&scene, &opts, &line, &mut level)?

@@ -2,9 +2,9 @@
 //! numbered PNG frames. Works from a scene (tracing the pixel) or from a saved trace.
 
 use super::{SettingsArgs, parse_pixel};
-use crate::accel::SceneAccel;
 use crate::diagram::{self, DiagramKind, Theme, ViewOptions};
-use crate::trace::{Trace, Tracer};
+use crate::record::Trace;
+use crate::trace::PreparedScene;
 use std::path::{Path, PathBuf};
 
 /// Arguments of `raystep diagram`.
@@ -141,8 +141,7 @@ pub fn input_trace(
             scene.settings.spp
         ));
     }
-    let (accel, _) = SceneAccel::build(&scene);
-    Ok(Tracer::new(&scene, &accel).record(x, y, sample))
+    Ok(PreparedScene::new(scene).record(x, y, sample))
 }
 
 /// Runs `raystep diagram`.

@@ -1,8 +1,8 @@
 //! `raystep diff`: compare two saved traces step by step and report the first divergence.
 //! Exit status: 0 equal (within the tolerance), 1 different, 2 bad input.
 
-use crate::trace::Trace;
-use crate::trace::diff::{Tolerance, compare};
+use crate::explain::diff::{Tolerance, compare};
+use crate::record::Trace;
 use std::path::PathBuf;
 use std::process::ExitCode;
 

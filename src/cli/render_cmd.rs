@@ -4,7 +4,7 @@ use super::{SettingsArgs, scene_cmd::value_name};
 use crate::accel::SceneAccel;
 use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
 use crate::render::{RenderOptions, image, render};
-use crate::trace::Tracer;
+use crate::trace::PreparedScene;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -48,11 +48,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let t0 = Instant::now();
     let scene = super::load_scene(Some(&args.scene), &args.settings)?;
     let load = t0.elapsed();
+    let prepared = PreparedScene::new(scene);
     if args.gpu {
-        return run_gpu(args, &scene, load);
+        return run_gpu(args, &prepared, load);
     }
-    let (accel, build) = SceneAccel::build(&scene);
-    let tracer = Tracer::new(&scene, &accel);
+    let (scene, accel, build) = (prepared.scene(), prepared.accel(), prepared.build_time());
+    let tracer = prepared.tracer();
     let opts = RenderOptions {
         threads: args.threads.map(|t| t as usize),
         progress: true,
@@ -129,12 +130,13 @@ pub const GPU_FRAMES: usize = 5;
 /// `raystep render --gpu`: offscreen on the GPU, read back, written like the CPU render.
 fn run_gpu(
     args: &RenderArgs,
-    scene: &crate::scene::Scene,
+    prepared: &PreparedScene,
     load: std::time::Duration,
 ) -> Result<(), String> {
+    let scene = prepared.scene();
     let t = Instant::now();
     let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
-    let mut gpu = GpuTracer::new(ctx, scene, args.gpu_shader).map_err(|e| e.to_string())?;
+    let mut gpu = GpuTracer::new(ctx, prepared, args.gpu_shader).map_err(|e| e.to_string())?;
     let setup = t.elapsed();
     let frame_time = gpu
         .time_frames(args.gpu_path, 1, GPU_FRAMES)
@@ -154,7 +156,7 @@ fn run_gpu(
     println!(
         "  shader   {} bytes of WGSL ({} for every feature)",
         gpu.wgsl().len(),
-        crate::gpu::full_wgsl(scene).len()
+        crate::gpu::full_wgsl(prepared).len()
     );
     println!(
         "  time     load {:.1} ms, set-up (device, BVH, shader) {:.1} ms, frame {:.2} ms (median of {GPU_FRAMES})",

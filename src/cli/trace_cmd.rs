@@ -1,8 +1,8 @@
 //! `raystep trace`.
 
 use super::{SettingsArgs, load_scene, parse_pixel};
-use crate::accel::SceneAccel;
-use crate::trace::{Tracer, describe};
+use crate::explain::describe;
+use crate::trace::PreparedScene;
 use std::path::PathBuf;
 
 /// Arguments of `raystep trace`.
@@ -48,13 +48,12 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
         ));
     }
     // The same accelerator the render would use, so BVH node visits appear in the trace.
-    let (accel, _) = SceneAccel::build(&scene);
-    let tracer = Tracer::new(&scene, &accel);
-    let trace = tracer.record(x, y, args.sample);
+    let prepared = PreparedScene::new(scene);
+    let trace = prepared.record(x, y, args.sample);
     if let Some(k) = trace.truncated_at() {
         eprintln!(
             "warning: the trace was cut at step {k}: a trace keeps at most {} steps (the colours are exact; lower max_depth to see the whole tree)",
-            crate::trace::observer::MAX_TRACE_STEPS
+            crate::record::observer::MAX_TRACE_STEPS
         );
     }
     let json = trace.to_json();

@@ -9,12 +9,12 @@
 
 use super::canvas::{Rgba, clip_segment, with_alpha};
 use super::text::{
-    Placer, Rich, draw_panel, fitting_panel_width, interval_at, ray_name, rich, rich_width, short,
+    Placer, Rich, draw_panel, fitting_panel_width, interval_at, ray_name, rich, rich_width,
 };
 use super::{Anchor, Canvas, ViewOptions, pick_step, title};
+use crate::record::number::{Style, fmt64, num};
+use crate::record::{Step, Trace};
 use crate::shapes::{TriangleMethod, TriangleTest};
-use crate::trace::describe::num;
-use crate::trace::{Step, Trace};
 
 /// Where the barycentric diagram puts things, from the trace alone (tests check the drawing
 /// against the record with it).
@@ -490,7 +490,10 @@ fn draw_triangle(c: &mut Canvas, l: &BarycentricLayout, small: f32) {
             c,
             &cands,
             small,
-            &Rich::new(&format!("u* = {}: P is on this line", short(u as f64))),
+            &Rich::new(&format!(
+                "u* = {}: P is on this line",
+                fmt64(u as f64, Style::Label)
+            )),
             th.ray,
         );
     }

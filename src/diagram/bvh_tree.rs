@@ -3,7 +3,7 @@
 
 use super::canvas::{Anchor, Canvas, Rgba, with_alpha};
 use super::{ViewOptions, title};
-use crate::trace::{NodeAction, RayKind, RayRecord, Step, Trace};
+use crate::record::{NodeAction, RayKind, RayRecord, Step, Trace};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// One node as drawn.
@@ -196,7 +196,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let heading = match shown {
         Some((r, _)) => format!(
             "BVH visits in order, {} ray (depth {})",
-            kind_name(r.kind),
+            r.kind.name(),
             r.depth
         ),
         None => "BVH".to_string(),
@@ -370,15 +370,5 @@ fn bump(m: &mut BTreeMap<u32, (usize, usize)>, leaf: Option<u32>, hit: bool) {
         let e = m.entry(l).or_default();
         e.0 += 1;
         e.1 += hit as usize;
-    }
-}
-
-/// The ray kind's name.
-pub fn kind_name(k: RayKind) -> &'static str {
-    match k {
-        RayKind::Primary => "primary",
-        RayKind::Shadow => "shadow",
-        RayKind::Reflection => "reflection",
-        RayKind::Refraction => "refraction",
     }
 }

@@ -16,7 +16,7 @@ mod text;
 
 pub use canvas::{Anchor, Canvas, MAX_SIDE, Theme};
 
-use crate::trace::{Step, Trace};
+use crate::record::{Step, Trace};
 use serde::{Deserialize, Serialize};
 
 /// The kinds of diagram.

@@ -10,12 +10,13 @@ use super::canvas::{Rgba, with_alpha};
 pub use super::text::PlacedLabel;
 use super::text::{
     Placer, Rich, draw_panel, fitting_panel_width, interval_at, label_box, ray_name, rect_dist,
-    rich, short, short_eq,
+    rich, short_eq,
 };
 use super::{Anchor, Canvas, ViewOptions, pick_step, title};
+use crate::record::number::{Style, fmt64, num};
+use crate::record::words;
+use crate::record::{Step, Trace};
 use crate::shapes::{RootChoice, SphereCase, SphereMethod, SphereTest};
-use crate::trace::describe::num;
-use crate::trace::{Step, Trace};
 
 /// Chooses "nice" tick positions (1, 2, 5 × 10ᵏ) covering [lo, hi]; returns them with the number
 /// of decimals their labels need.
@@ -42,7 +43,7 @@ fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
 fn tick_label(v: f64, decimals: usize) -> String {
     let v = if v.abs() < 1e-12 { 0.0 } else { v };
     if v != 0.0 && (v.abs() >= 1e6 || v.abs() < 1e-4) {
-        short(v)
+        fmt64(v, Style::Label)
     } else {
         format!("{v:.decimals$}")
     }
@@ -282,26 +283,12 @@ fn curve_runs(test: &SphereTest<f32>, f: &PlotFrame) -> Vec<Vec<[f32; 2]>> {
     runs
 }
 
-/// Words for the choice of root.
-fn choice_words(test: &SphereTest<f32>) -> (&'static str, &'static str) {
+/// What the diagram calls the chosen root.
+fn chosen_root(test: &SphereTest<f32>) -> &'static str {
     match test.choice {
-        RootChoice::NoRoots => ("none: miss", "Δ < 0: the ray's line passes the sphere by."),
-        RootChoice::NearRoot => (
-            "t_0, the near root",
-            "t_0 lies in (t_{min}, t_{max}): the ray enters the sphere there.",
-        ),
-        RootChoice::FarRoot => (
-            "t_1, the far root",
-            "t_0 ≤ t_{min} (the origin is inside the sphere), so the ray leaves it at t_1.",
-        ),
-        RootChoice::Behind => (
-            "none: miss",
-            "both roots ≤ t_{min}: the sphere is behind the ray.",
-        ),
-        RootChoice::BeyondTMax => (
-            "none: miss",
-            "the nearest usable root is ≥ t_{max}: something closer was already hit.",
-        ),
+        RootChoice::NearRoot => "t_0, the near root",
+        RootChoice::FarRoot => "t_1, the far root",
+        RootChoice::NoRoots | RootChoice::Behind | RootChoice::BeyondTMax => "none: miss",
     }
 }
 
@@ -397,11 +384,7 @@ fn panel_rows(test: &SphereTest<f32>, interval: (f32, f32), c: &Canvas) -> Vec<(
         }
     }
     rows.push((String::new(), th.ink));
-    let case = match test.case {
-        SphereCase::Miss => "Δ < 0: no real roots",
-        SphereCase::Tangent => "Δ = 0: tangent, one double root",
-        SphereCase::EnterExit => "Δ > 0: the line enters and exits",
-    };
+    let case = words::sphere_case(test.case);
     rows.push((case.into(), th.ink));
     if let Some([r0, r1]) = test.roots {
         let col = |r: f32| if test.t == Some(r) { th.hit } else { th.ink };
@@ -418,7 +401,7 @@ fn panel_rows(test: &SphereTest<f32>, interval: (f32, f32), c: &Canvas) -> Vec<(
         th.muted,
     ));
     rows.push((String::new(), th.ink));
-    let (chosen, why) = choice_words(test);
+    let (chosen, why) = (chosen_root(test), words::root_choice(test.choice));
     rows.push((
         format!("chosen: {chosen}"),
         if test.t.is_some() { th.hit } else { th.ray },
@@ -673,12 +656,12 @@ fn draw_plot(c: &mut Canvas, l: &QuadraticLayout, f: &PlotFrame, small: f32) -> 
             let mut vl = Rich::new("vertex −b/2a, ");
             vl = vl.push(&format!(
                 "f {} {} > 0",
-                if short(fv).parse::<f64>() == Ok(fv) {
+                if fmt64(fv, Style::Label).parse::<f64>() == Ok(fv) {
                     "="
                 } else {
                     "≈"
                 },
-                short(fv)
+                fmt64(fv, Style::Label)
             ));
             let g = small * 1.1;
             placer.place(

@@ -10,12 +10,11 @@
 //! (Hand-written: the layout crates on crates.io lay out general graphs, not boxes of one size
 //! in depth rows, and this is a few dozen lines.)
 
-use super::bvh_tree::kind_name;
 use super::canvas::{Anchor, Canvas, Rgba};
 use super::{ViewOptions, title};
+use crate::record::number::{Style, fmt};
+use crate::record::{RayKind, RayRecord, Trace};
 use crate::render::image::srgb8;
-use crate::trace::describe::num;
-use crate::trace::{RayKind, RayRecord, Trace};
 use std::collections::HashMap;
 
 /// One ray box as drawn.
@@ -173,10 +172,10 @@ fn shadow_lines(r: &RayRecord) -> usize {
 
 /// The lines of a box's text (after the header), with whether each is a shadow line.
 fn box_lines(r: &RayRecord) -> Vec<(String, bool)> {
-    let mut out = vec![(format!("{} · depth {}", kind_name(r.kind), r.depth), false)];
+    let mut out = vec![(format!("{} · depth {}", r.kind.name(), r.depth), false)];
     out.push((
         match &r.hit {
-            Some(h) => format!("{} t={}", h.name, short(h.t)),
+            Some(h) => format!("{} t={}", h.name, fmt(h.t, Style::Decimals(3))),
             None => "miss: background".into(),
         },
         false,
@@ -200,7 +199,12 @@ fn box_lines(r: &RayRecord) -> Vec<(String, bool)> {
 }
 
 fn colour_text(c: [f32; 3]) -> String {
-    format!("({}, {}, {})", short(c[0]), short(c[1]), short(c[2]))
+    format!(
+        "({}, {}, {})",
+        fmt(c[0], Style::Decimals(3)),
+        fmt(c[1], Style::Decimals(3)),
+        fmt(c[2], Style::Decimals(3))
+    )
 }
 
 /// The tree's layout on canvas `c` below `top`, above `bottom`: the boxes and the metrics they
@@ -359,7 +363,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                 x,
                 mid[1],
                 small * 0.95,
-                &format!("× {}", short(w)),
+                &format!("× {}", fmt(w, Style::Decimals(3))),
                 col,
                 anchor,
             );
@@ -421,7 +425,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         let col = kind_color(&c, k);
         c.rect(x, y + size * 0.15, size, size, col);
         x += size * 1.3;
-        x += c.text(x, y, size, kind_name(k), th.ink, Anchor::TopLeft) + size;
+        x += c.text(x, y, size, k.name(), th.ink, Anchor::TopLeft) + size;
     }
     let col = trace.color;
     let text = format!("pixel colour {}", colour_text(col));
@@ -436,15 +440,4 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         );
     }
     c
-}
-
-/// A number to 3 decimals for labels (the panels show the exact values).
-fn short(x: f32) -> String {
-    if x.is_finite() {
-        let s = format!("{x:.3}");
-        let s = s.trim_end_matches('0').trim_end_matches('.');
-        if s == "-0" { "0".into() } else { s.into() }
-    } else {
-        num(x)
-    }
 }

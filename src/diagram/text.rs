@@ -4,8 +4,8 @@
 
 use super::Canvas;
 use super::canvas::{Anchor, Rgba, with_alpha};
-use crate::trace::describe::num;
-use crate::trace::{RayKind, RayRecord, Step, StepRecord};
+use crate::record::number::label;
+use crate::record::{RayKind, RayRecord, Step, StepRecord};
 
 /// A line of text with subscripts: `'_'` followed by one character, or by `{…}`, is a subscript
 /// (`t_0`, `t_{min}`); names are appended with [`Rich::plain`] so that their underscores stay.
@@ -283,59 +283,16 @@ pub(super) fn wrap(c: &Canvas, markup: &str, size: f32, width: f32) -> Vec<Strin
     lines
 }
 
-/// A number shortened to 4 significant digits for labels on a drawing (the panel shows the
-/// exact value with [`num`]).
-pub(super) fn short(x: f64) -> String {
-    if !x.is_finite() {
-        return num(x as f32);
-    }
-    if x == 0.0 {
-        return "0".into();
-    }
-    let a = x.abs();
-    let s = if (1e-3..1e5).contains(&a) {
-        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
-        format!("{x:.decimals$}")
-    } else {
-        format!("{x:.3e}")
-    };
-    let (mantissa, exp) = match s.split_once('e') {
-        Some((m, e)) => (m.to_string(), format!("e{e}")),
-        None => (s.clone(), String::new()),
-    };
-    // Trailing zeros go only when what is left is the exact value (so "4" means 4, "4.000"
-    // means about 4).
-    let trimmed = if mantissa.contains('.') {
-        mantissa
-            .trim_end_matches('0')
-            .trim_end_matches('.')
-            .to_string()
-    } else {
-        mantissa.clone()
-    };
-    let exact = format!("{trimmed}{exp}");
-    if exact.parse::<f64>() == Ok(x) || exact.parse::<f32>().is_ok_and(|p| p as f64 == x) {
-        exact
-    } else {
-        format!("{mantissa}{exp}")
-    }
-}
-
 /// `name = value` for a drawing: `=` when the short form is exact, `≈` when it was rounded.
 pub(super) fn short_eq(name: &str, x: f32) -> Rich {
-    let s = short(x as f64);
+    let s = label(x);
     let exact = s.parse::<f32>().is_ok_and(|p| p == x) || s.parse::<f64>() == Ok(x as f64);
     Rich::new(&format!("{name} {} {s}", if exact { "=" } else { "≈" }))
 }
 
 /// "primary ray", "shadow ray (depth 1)", …
 pub(super) fn ray_name(r: &RayRecord) -> String {
-    let kind = match r.kind {
-        RayKind::Primary => "primary",
-        RayKind::Shadow => "shadow",
-        RayKind::Reflection => "reflection",
-        RayKind::Refraction => "refraction",
-    };
+    let kind = r.kind.name();
     if r.depth == 0 && r.kind == RayKind::Primary {
         format!("{kind} ray")
     } else {

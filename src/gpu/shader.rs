@@ -9,10 +9,11 @@
 //! refraction spawns). The "full" variant switches everything on, the way a single shader for
 //! every scene would be written, and is what the generated one is measured against.
 
-use crate::accel::{Bvh, SceneAccel};
+use crate::accel::Bvh;
 use crate::math::gamma;
-use crate::scene::{AccelChoice, OffsetPolicy, Scene};
+use crate::scene::{OffsetPolicy, Scene};
 use crate::shapes::{SphereMethod, TriangleMethod};
+use crate::trace::PreparedScene;
 
 /// The deepest BVH the GPU traversal's stack may be sized for (raystep's trees for a million
 /// triangles are about 30 levels deep; [`super::GpuTracer::new`] refuses deeper ones).
@@ -66,10 +67,9 @@ pub enum ShaderVariant {
 }
 
 impl ShaderConfig {
-    /// The shader a scene needs (building the scene's BVH, when it uses one, for its depth).
-    pub fn for_scene(scene: &Scene) -> ShaderConfig {
-        let bvh = (SceneAccel::resolve(scene) == AccelChoice::Bvh).then(|| Bvh::build(scene));
-        ShaderConfig::for_scene_with(scene, bvh.as_ref())
+    /// The shader a prepared scene needs (its BVH, when it uses one, sets the stack depth).
+    pub fn for_scene(prepared: &PreparedScene) -> ShaderConfig {
+        ShaderConfig::for_scene_with(prepared.scene(), prepared.bvh())
     }
 
     /// The shader a scene needs, given the BVH already built for it (None: brute force).
@@ -98,8 +98,8 @@ impl ShaderConfig {
 
     /// Every feature on (the scene's methods and recursion limit are kept: they are settings,
     /// not features).
-    pub fn full(scene: &Scene) -> ShaderConfig {
-        ShaderConfig::for_scene(scene).all_on()
+    pub fn full(prepared: &PreparedScene) -> ShaderConfig {
+        ShaderConfig::for_scene(prepared).all_on()
     }
 
     /// This config with every feature switched on (the traversal stays as chosen when it is
@@ -189,13 +189,13 @@ mod pieces {
 pub const DISPLAY_WGSL: &str = pieces::DISPLAY;
 
 /// The tracer shader generated for a scene's features.
-pub fn generated_wgsl(scene: &Scene) -> String {
-    wgsl(&ShaderConfig::for_scene(scene))
+pub fn generated_wgsl(prepared: &PreparedScene) -> String {
+    wgsl(&ShaderConfig::for_scene(prepared))
 }
 
 /// The tracer shader with every feature compiled in.
-pub fn full_wgsl(scene: &Scene) -> String {
-    wgsl(&ShaderConfig::full(scene))
+pub fn full_wgsl(prepared: &PreparedScene) -> String {
+    wgsl(&ShaderConfig::full(prepared))
 }
 
 /// Assembles the shader for `config`.
@@ -395,7 +395,7 @@ mod tests {
 
     #[test]
     fn preprocessor_nests() {
-        let mut c = ShaderConfig::for_scene(&crate::scene::default_scene());
+        let mut c = ShaderConfig::for_scene(&PreparedScene::new(crate::scene::default_scene()));
         c.refraction = false;
         c.reflection = true;
         let src = "a\n//#if REFLECTION\nb\n//#if REFRACTION\nc\n//#else\nd\n//#endif\n//#else\ne\n//#endif\nf\n";

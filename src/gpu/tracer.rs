@@ -3,8 +3,8 @@
 
 use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
 use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
-use crate::accel::{Bvh, SceneAccel};
-use crate::scene::{AccelChoice, Camera, Scene, Shape};
+use crate::scene::{Camera, Scene, Shape};
+use crate::trace::PreparedScene;
 use crate::trace::camera::CameraRays;
 use eframe::wgpu;
 use glam::Vec3;
@@ -209,18 +209,23 @@ const LINEAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub const DISPLAY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 impl GpuTracer {
-    /// Uploads `scene` (building its BVH when the CPU would use one), generates and compiles its
-    /// shader (`variant`), and prepares both paths at the scene camera's size.
-    pub fn new(ctx: GpuContext, scene: &Scene, variant: ShaderVariant) -> Result<Self, GpuError> {
+    /// Uploads a prepared scene (flattening the BVH it was prepared with, when it uses one;
+    /// hardware ray queries build their own structures), generates and compiles its shader
+    /// (`variant`), and prepares both paths at the scene camera's size.
+    pub fn new(
+        ctx: GpuContext,
+        prepared: &PreparedScene,
+        variant: ShaderVariant,
+    ) -> Result<Self, GpuError> {
+        let scene = prepared.scene();
         let finite = scene.objects.iter().any(|o| !o.shape.is_infinite());
         let ray_query = finite
             && ctx
                 .device
                 .features()
                 .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
-        let use_bvh = !ray_query && SceneAccel::resolve(scene) == AccelChoice::Bvh;
-        let bvh = use_bvh.then(|| Bvh::build(scene));
-        if let Some(b) = &bvh
+        let bvh = if ray_query { None } else { prepared.bvh() };
+        if let Some(b) = bvh
             && b.max_depth + 2 > MAX_BVH_STACK as usize
         {
             return Err(GpuError::Scene(format!(
@@ -232,9 +237,9 @@ impl GpuTracer {
             let (d, a) = buffers::ray_query_data(scene);
             (d, Some(a))
         } else {
-            (buffers::scene_data(scene, bvh.as_ref()), None)
+            (buffers::scene_data(scene, bvh), None)
         };
-        let mut config = ShaderConfig::variant(scene, bvh.as_ref(), variant);
+        let mut config = ShaderConfig::variant(scene, bvh, variant);
         if ray_query {
             config = config.with_ray_query();
         }
@@ -257,7 +262,7 @@ impl GpuTracer {
             ctx,
             scene: scene.clone(),
             data,
-            use_bvh,
+            use_bvh: bvh.is_some(),
             variant,
             wgsl,
             camera: scene.camera.clone(),

@@ -190,7 +190,7 @@ fn direction(d: &[f64]) -> String {
 
 /// An expected answer for a student: the tracer's numbers are f32, so they print as f32.
 pub fn show(a: &Answer) -> String {
-    let f = |x: f64| crate::trace::describe::num(x as f32);
+    let f = |x: f64| crate::record::number::num(x as f32);
     match a {
         Answer::Number(x) => f(*x),
         Answer::Vector(v) => format!("({}, {}, {})", f(v[0]), f(v[1]), f(v[2])),

@@ -1,7 +1,7 @@
 //! Reading a question's quantity out of a recorded trace.
 
 use super::{Answer, Quantity, Question, RaySel};
-use crate::trace::record::{RayKind, RayRecord, Step, Trace};
+use crate::record::{RayKind, RayRecord, Step, Trace};
 
 fn v3(a: [f32; 3]) -> Answer {
     Answer::Vector(a.map(f64::from))

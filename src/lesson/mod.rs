@@ -87,8 +87,7 @@ pub use sheet::{
     Coord, Param, ParamValue, Question, SceneSource, Sheet, SheetError, load_sheet, parse_sheet,
 };
 
-use crate::accel::SceneAccel;
-use crate::trace::Tracer;
+use crate::trace::PreparedScene;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
 
@@ -343,8 +342,7 @@ impl Sheet {
                 ),
             ));
         }
-        let (accel, _) = SceneAccel::build(&scene);
-        let trace = Tracer::new(&scene, &accel).record(x, y, 0);
+        let trace = PreparedScene::new(scene).record(x, y, 0);
         Ok(extract(&trace, q))
     }
 

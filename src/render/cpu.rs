@@ -4,8 +4,9 @@
 
 use crate::accel::Accelerator;
 use crate::math::Ray;
-use crate::trace::record::{HitRecord, NodeVisit, RayKind, Step};
-use crate::trace::{Counter, Observer, Silent, Tracer};
+use crate::record::{Counter, Observer, Silent};
+use crate::record::{HitRecord, NodeVisit, RayKind, Step};
+use crate::trace::Tracer;
 use glam::Vec3;
 use rayon::prelude::*;
 use std::io::IsTerminal;

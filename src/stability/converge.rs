@@ -11,10 +11,9 @@
 
 use super::plot::{PALETTE, Plot, Series, draw};
 use super::report::num;
-use crate::accel::SceneAccel;
 use crate::render::{RenderOptions, render};
 use crate::scene::Scene;
-use crate::trace::Tracer;
+use crate::trace::PreparedScene;
 use glam::Vec3;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -195,17 +194,19 @@ fn run_levels_with(
         .checked_mul(factor)
         .filter(|s| *s <= 1 << 20)
         .ok_or_else(|| format!("a reference at {factor} × {top} spp is too many samples"))?;
-    let (accel, build) = SceneAccel::build(scene);
+    // One accelerator for every level: only the samples and the seed change.
+    let base = PreparedScene::new(scene.clone());
+    let build = base.build_time();
     let ropts = RenderOptions {
         threads: opts.threads,
         ..Default::default()
     };
     let render_with = |spp: u32, seed: u32| {
-        let mut s = scene.clone();
-        s.settings.spp = spp;
-        s.settings.seed = seed;
-        let tracer = Tracer::new(&s, &accel);
-        render(&tracer, &ropts)
+        let mut settings = scene.settings.clone();
+        settings.spp = spp;
+        settings.seed = seed;
+        let level = PreparedScene::with_settings(base.scene_arc(), &settings, Some(&base));
+        render(&level.tracer(), &ropts)
     };
     // The reference's seed differs from every level's (levels use 1..=K).
     let reference = render_with(reference_spp, 0x5EED_u32.wrapping_mul(7919))?;

@@ -617,7 +617,7 @@ pub(super) fn points(rows: &[Row], samples: &Samples) -> Vec<CostPoint> {
 /// found is a misclassification. The BVH's node test is the robust slab test (f32).
 fn scene_row(case: &Case, scenes: &[(crate::scene::Scene, Vec<Ray<f32>>)], opts: &Options) -> Row {
     use crate::accel::{Accelerator, BruteForce, Bvh};
-    use crate::trace::Silent;
+    use crate::record::Silent;
     let mut row = empty_row(case, Method::SlabRobust, Precision::F32);
     let mut total_ns = 0.0;
     for (scene, rays) in scenes {

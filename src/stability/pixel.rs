@@ -5,8 +5,8 @@
 //! selected pixel; it is how a student sees *where* a formula lost its digits.
 
 use super::exact::{self, q};
+use crate::record::{RayRecord, Step, Trace};
 use crate::scene::{Scene, Shape};
-use crate::trace::{RayRecord, Step, Trace};
 use num_rational::BigRational;
 
 /// One recorded number and its exact counterpart.

@@ -17,6 +17,10 @@ pub struct PhongTerms {
     pub l_dot_n: f32,
     /// r·e.
     pub r_dot_e: f32,
+    /// The unit light vector l = (L − P)/|L − P|.
+    pub light_dir: Vec3,
+    /// The reflected light vector r = reflect(−l, n).
+    pub reflected: Vec3,
 }
 
 impl PhongTerms {
@@ -59,13 +63,22 @@ pub fn phong(
         specular,
         l_dot_n,
         r_dot_e,
+        light_dir: lightv,
+        reflected: reflectv,
     }
 }
 
 /// Mirror reflection of `v` about the unit normal `n`: v − 2(v·n)n.
 #[inline(always)]
 pub fn reflect(v: Vec3, n: Vec3) -> Vec3 {
-    v - n * (2.0 * v.dot(n))
+    reflect_recorded(v, n).1
+}
+
+/// [`reflect`] with its intermediate: (v·n, the reflected vector).
+#[inline(always)]
+pub fn reflect_recorded(v: Vec3, n: Vec3) -> (f32, Vec3) {
+    let dn = v.dot(n);
+    (dn, v - n * (2.0 * dn))
 }
 
 /// Snell's law for the unit eye vector `eye` (pointing away from the surface) and unit normal `n`
@@ -78,6 +91,10 @@ pub struct Refraction {
     pub sin2_t: f32,
     /// The refracted direction, or None under total internal reflection (sin² θₜ > 1).
     pub direction: Option<Vec3>,
+    /// η = n1/n2.
+    pub eta: f32,
+    /// cos θₜ = √(1 − sin² θₜ), or None under total internal reflection.
+    pub cos_t: Option<f32>,
 }
 
 /// Refracts (RTC ch. 11): direction = n·(η cos θᵢ − cos θₜ) − eye·η with η = n1/n2.
@@ -91,6 +108,8 @@ pub fn refract(eye: Vec3, n: Vec3, n1: f32, n2: f32) -> Refraction {
             cos_i,
             sin2_t,
             direction: None,
+            eta: ratio,
+            cos_t: None,
         };
     }
     let cos_t = (1.0 - sin2_t).sqrt();
@@ -99,6 +118,8 @@ pub fn refract(eye: Vec3, n: Vec3, n1: f32, n2: f32) -> Refraction {
         cos_i,
         sin2_t,
         direction: Some(d),
+        eta: ratio,
+        cos_t: Some(cos_t),
     }
 }
 
@@ -106,17 +127,42 @@ pub fn refract(eye: Vec3, n: Vec3, n1: f32, n2: f32) -> Refraction {
 /// reflection.
 #[inline(always)]
 pub fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
+    schlick_recorded(cos_i, n1, n2).reflectance
+}
+
+/// Schlick's approximation with its intermediates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Schlick {
+    /// R0 = ((n1 − n2)/(n1 + n2))², or None under total internal reflection.
+    pub r0: Option<f32>,
+    /// The cosine used: cos θᵢ, or cos θₜ when n1 > n2; None under total internal reflection.
+    pub cos: Option<f32>,
+    /// The reflectance R(θ) (1 under total internal reflection).
+    pub reflectance: f32,
+}
+
+/// [`schlick`] with its intermediates.
+#[inline(always)]
+pub fn schlick_recorded(cos_i: f32, n1: f32, n2: f32) -> Schlick {
     let mut cos = cos_i;
     if n1 > n2 {
         let ratio = n1 / n2;
         let sin2_t = ratio * ratio * (1.0 - cos * cos);
         if sin2_t > 1.0 {
-            return 1.0;
+            return Schlick {
+                r0: None,
+                cos: None,
+                reflectance: 1.0,
+            };
         }
         cos = (1.0 - sin2_t).sqrt();
     }
     let r0 = ((n1 - n2) / (n1 + n2)).powi(2);
-    r0 + (1.0 - r0) * (1.0 - cos).powi(5)
+    Schlick {
+        r0: Some(r0),
+        cos: Some(cos),
+        reflectance: r0 + (1.0 - r0) * (1.0 - cos).powi(5),
+    }
 }
 
 /// The critical angle asin(n2/n1) in degrees, when n1 > n2.

@@ -2,12 +2,12 @@
 //! of the GPU comparison all call [`Tracer::trace_sample`]; only the observer differs.
 
 use super::camera::CameraRays;
-use super::observer::{Observer, Recorder};
-use super::record::{HitRecord, RayKind, RayRecord, Step, TRACE_VERSION, Trace, TraceObject};
 use super::sampling::sample_offset;
-use super::shading::{critical_angle_deg, phong, reflect, refract, schlick};
+use super::shading::{critical_angle_deg, phong, reflect_recorded, refract, schlick_recorded};
 use crate::accel::{Accelerator, Hit};
 use crate::math::{Ray, gamma};
+use crate::record::observer::{Observer, Recorder};
+use crate::record::{HitRecord, RayKind, RayRecord, Step, TRACE_VERSION, Trace, TraceObject};
 use crate::scene::{OffsetPolicy, Scene, Shape};
 use glam::Vec3;
 
@@ -482,6 +482,10 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                 ambient: terms.ambient.to_array(),
                 diffuse: terms.diffuse.to_array(),
                 specular: terms.specular.to_array(),
+                light_dir: Some(terms.light_dir.to_array()),
+                reflected: Some(terms.reflected.to_array()),
+                eye: Some(it.eye.to_array()),
+                total: Some(terms.sum().to_array()),
             });
             surface += terms.sum();
         }
@@ -495,10 +499,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             let (n1, n2) = media.indices(hit.object, m.refractive_index);
             (n1, n2, refract(it.eye, it.normal, n1, n2))
         });
-        let reflectance = match snell {
-            Some((n1, n2, refr)) if blend => schlick(refr.cos_i, n1, n2),
-            _ => 1.0,
+        let fresnel = match snell {
+            Some((n1, n2, refr)) if blend => Some(schlick_recorded(refr.cos_i, n1, n2)),
+            _ => None,
         };
+        let reflectance = fresnel.map_or(1.0, |f| f.reflectance);
         // Each child's share of the pixel, as the GPU tracer computes it (same operations, same
         // order, so both cut the same rays).
         let cut = |kind: RayKind, share: f32, obs: &mut O| -> bool {
@@ -517,10 +522,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         let mut reflected = Vec3::ZERO;
         if R && m.reflective > 0.0 {
             if can_recurse {
-                let dir = reflect(ray.dir, it.normal);
+                let (d_dot_n, dir) = reflect_recorded(ray.dir, it.normal);
                 obs.step(|| Step::Reflect {
                     reflective: m.reflective,
                     direction: dir.to_array(),
+                    d_dot_n: Some(d_dot_n),
                 });
                 let share = if blend {
                     m.reflective * reflectance
@@ -564,6 +570,9 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     critical_angle_deg: critical_angle_deg(n1, n2),
                     total_internal_reflection: refr.direction.is_none(),
                     direction: refr.direction.map(|d| d.to_array()),
+                    eta: Some(refr.eta),
+                    eye: Some(it.eye.to_array()),
+                    cos_t: refr.cos_t,
                 });
                 let share = if blend {
                     m.transparency * (1.0 - reflectance)
@@ -596,7 +605,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                 });
             }
             if blend {
-                obs.step(|| Step::Schlick { reflectance });
+                obs.step(|| Step::Schlick {
+                    reflectance,
+                    r0: fresnel.and_then(|f| f.r0),
+                    cos: fresnel.and_then(|f| f.cos),
+                });
                 return surface + reflected * reflectance + refracted * (1.0 - reflectance);
             }
             return surface + reflected + refracted;

@@ -4,14 +4,9 @@ use super::*;
 
 /// One line saying what a step did (the subtitle while stepping).
 pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
-    let kind = match ray.kind {
-        RayKind::Primary => "primary",
-        RayKind::Shadow => "shadow",
-        RayKind::Reflection => "reflection",
-        RayKind::Refraction => "refraction",
-    };
+    let kind = ray.kind.name();
     let verdict =
-        |t: Option<f32>| t.map_or("miss".to_string(), |t| format!("hit at t = {}", fmt(t)));
+        |t: Option<f32>| t.map_or("miss".to_string(), |t| format!("hit at t = {}", label(t)));
     match step {
         Step::Camera { .. } => "camera: the primary ray from the eye through the pixel".into(),
         Step::Node(n) => {
@@ -29,8 +24,8 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
         Step::Sphere { name, test, .. } => {
             let roots = match test.roots {
                 None => "no real roots".to_string(),
-                Some([a, b]) if a == b => format!("touches at t = {}", fmt(a)),
-                Some([a, b]) => format!("roots {} and {}", fmt(a), fmt(b)),
+                Some([a, b]) if a == b => format!("touches at t = {}", label(a)),
+                Some([a, b]) => format!("roots {} and {}", label(a), label(b)),
             };
             format!(
                 "{kind} ray: sphere \"{name}\": {roots} → {}",
@@ -40,7 +35,7 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
         Step::Plane { name, test, .. } => match test.t_raw {
             Some(t) => format!(
                 "{kind} ray: plane \"{name}\": t = {} → {}",
-                fmt(t),
+                label(t),
                 verdict(test.t)
             ),
             None => format!("{kind} ray: plane \"{name}\": parallel → miss"),
@@ -49,7 +44,7 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             format!("{kind} ray: triangle \"{name}\" → {}", verdict(test.t))
         }
         Step::Accept { name, t, .. } => {
-            format!("{kind} ray: closest so far \"{name}\" at t = {}", fmt(*t))
+            format!("{kind} ray: closest so far \"{name}\" at t = {}", label(*t))
         }
         Step::Miss { .. } => format!("{kind} ray: no hit → background"),
         Step::Surface { inside, .. } => {
@@ -63,7 +58,7 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             )
         }
         Step::ShadowRay { name, distance, .. } => {
-            format!("shadow ray towards \"{name}\" ({} away)", fmt(*distance))
+            format!("shadow ray towards \"{name}\" ({} away)", label(*distance))
         }
         Step::Light {
             name,
@@ -80,11 +75,11 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             } else if *l_dot_n <= 0.0 {
                 format!("light \"{name}\": behind the surface → ambient only")
             } else {
-                format!("light \"{name}\": visible, l·n = {}", fmt(*l_dot_n))
+                format!("light \"{name}\": visible, l·n = {}", label(*l_dot_n))
             }
         }
         Step::Reflect { reflective, .. } => {
-            format!("reflect: r = d − 2(d·n)n, weight {}", fmt(*reflective))
+            format!("reflect: r = d − 2(d·n)n, weight {}", label(*reflective))
         }
         Step::Refract {
             n1,
@@ -96,69 +91,30 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             if *total_internal_reflection {
                 format!(
                     "refract {} → {}: sin²θt = {} > 1: total internal reflection",
-                    fmt(*n1),
-                    fmt(*n2),
-                    fmt(*sin2_t)
+                    label(*n1),
+                    label(*n2),
+                    label(*sin2_t)
                 )
             } else {
                 format!(
                     "refract {} → {}: θt = {}°",
-                    fmt(*n1),
-                    fmt(*n2),
-                    deg(sin2_t.clamp(0.0, 1.0).sqrt().asin().to_degrees())
+                    label(*n1),
+                    label(*n2),
+                    fmt(
+                        sin2_t.clamp(0.0, 1.0).sqrt().asin().to_degrees(),
+                        Style::Decimals(1)
+                    )
                 )
             }
         }
-        Step::Schlick { reflectance } => format!("Schlick: reflectance R = {}", fmt(*reflectance)),
+        Step::Schlick { reflectance, .. } => {
+            format!("Schlick: reflectance R = {}", label(*reflectance))
+        }
         Step::DepthLimit { max_depth } => format!("recursion limit {max_depth}: no secondary ray"),
         Step::WeightCutoff { .. } | Step::Truncated { .. } => {
-            crate::trace::describe::describe(step)
+            crate::explain::describe::describe(step)
         }
         Step::Spawn { .. } => format!("{kind} ray spawns a child ray"),
         Step::Color { .. } => format!("{kind} ray: colour summed"),
     }
-}
-
-/// A number as the slice prints it: four significant digits, no trailing zeros.
-pub(super) fn fmt(x: f32) -> String {
-    if !x.is_finite() {
-        return if x.is_nan() {
-            "NaN".into()
-        } else if x > 0.0 {
-            "∞".into()
-        } else {
-            "−∞".into()
-        };
-    }
-    let a = x.abs();
-    let dec = if a >= 1000.0 {
-        0
-    } else if a >= 100.0 {
-        1
-    } else if a >= 10.0 {
-        2
-    } else {
-        3
-    };
-    let s = format!("{x:.dec$}");
-    let s = if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    };
-    s.replace('-', "−")
-}
-
-pub(super) fn fmt_short(x: f32) -> String {
-    let s = format!("{x:.1}");
-    let s = s.trim_end_matches('0').trim_end_matches('.').to_string();
-    if s.is_empty() {
-        "0".into()
-    } else {
-        s.replace('-', "−")
-    }
-}
-
-pub(super) fn deg(x: f32) -> String {
-    format!("{x:.1}")
 }

@@ -53,7 +53,7 @@ impl Drawer<'_, '_> {
             if opts.slice_angle != 0.0 {
                 format!(
                     "{base}, turned {}° about the ray",
-                    fmt_short(opts.slice_angle)
+                    fmt(opts.slice_angle, Style::Decimals(1))
                 )
             } else {
                 base.to_string()
@@ -157,7 +157,7 @@ impl Drawer<'_, '_> {
             x0 + l * 0.5,
             y0 - size * 0.8,
             size,
-            &format!("{} {unit_word}", fmt_short(nice)),
+            &format!("{} {unit_word}", fmt(nice, Style::Decimals(1))),
             t.ink,
             Anchor::Center,
         );

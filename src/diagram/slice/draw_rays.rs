@@ -196,7 +196,7 @@ impl Drawer<'_, '_> {
         {
             self.label(
                 h,
-                format!("hit {} · t = {}", hr.name, fmt(hr.t)),
+                format!("hit {} · t = {}", hr.name, label(hr.t)),
                 t.ink,
                 &[SW, SE, NW, NE, S, N],
             );
@@ -294,7 +294,7 @@ impl Drawer<'_, '_> {
         self.arc(h, rad, back2, n2, incoming, 1.6 * u);
         self.label(
             add(h, mul(bisect(back2, n2), rad + 4.0 * u)),
-            format!("θi = {}°", deg(theta_i)),
+            format!("θi = {}°", fmt(theta_i, Style::Decimals(1))),
             incoming,
             &[bisect(back2, n2), N, S],
         );
@@ -324,7 +324,7 @@ impl Drawer<'_, '_> {
                 self.arc(h, rad, inward, t2, t.refract, 1.6 * u);
                 self.label(
                     add(h, mul(bisect(inward, t2), rad + 4.0 * u)),
-                    format!("θt = {}°", deg(theta_t)),
+                    format!("θt = {}°", fmt(theta_t, Style::Decimals(1))),
                     t.refract,
                     &[bisect(inward, t2), S, N],
                 );
@@ -343,7 +343,12 @@ impl Drawer<'_, '_> {
                 let tip = add(h, mul(cd, nl));
                 self.c.dashed(h, tip, with_alpha(t.refract, 170), 1.2 * u);
                 self.strokes.push((h, tip));
-                self.label(tip, format!("θc = {}°", deg(*crit)), t.refract, &[cd, N, S]);
+                self.label(
+                    tip,
+                    format!("θc = {}°", fmt(*crit, Style::Decimals(1))),
+                    t.refract,
+                    &[cd, N, S],
+                );
             }
             if *total_internal_reflection {
                 // All the light reflects: the reflected direction, drawn boldly.
@@ -360,8 +365,8 @@ impl Drawer<'_, '_> {
                     at,
                     text: format!(
                         "TIR: θi {}° > θc {}°",
-                        deg(theta_i),
-                        critical_angle_deg.map_or("?".into(), deg)
+                        fmt(theta_i, Style::Decimals(1)),
+                        critical_angle_deg.map_or("?".into(), |d| fmt(d, Style::Decimals(1)))
                     ),
                     color: t.refract,
                     size,
@@ -408,20 +413,20 @@ impl Drawer<'_, '_> {
         match step {
             Step::Sphere { test, .. } => {
                 if let Some([t0, t1]) = test.roots {
-                    marks.push((t0, format!("t0 = {}", fmt(t0))));
+                    marks.push((t0, format!("t0 = {}", label(t0))));
                     if t1 != t0 {
-                        marks.push((t1, format!("t1 = {}", fmt(t1))));
+                        marks.push((t1, format!("t1 = {}", label(t1))));
                     }
                 }
             }
             Step::Plane { test, .. } => {
                 if let Some(tr) = test.t_raw {
-                    marks.push((tr, format!("t = {}", fmt(tr))));
+                    marks.push((tr, format!("t = {}", label(tr))));
                 }
             }
             Step::Triangle { test, .. } => {
                 if let Some(ts) = test.t_star {
-                    marks.push((ts, format!("t* = {}", fmt(ts))));
+                    marks.push((ts, format!("t* = {}", label(ts))));
                 }
             }
             Step::Node(v) => {
@@ -458,7 +463,7 @@ impl Drawer<'_, '_> {
                 self.c.circle(p, 5.5 * u, None, Some(t.hit), 2.2 * u);
                 self.label(
                     p,
-                    format!("closest t = {}", fmt(*ta)),
+                    format!("closest t = {}", label(*ta)),
                     t.hit,
                     &[N, NE, NW, S],
                 );
@@ -501,7 +506,10 @@ impl Drawer<'_, '_> {
                 let text = format!(
                     "{} ({} away)",
                     l.name,
-                    fmt_short((self.trace.lights[li].position - from).length())
+                    fmt(
+                        (self.trace.lights[li].position - from).length(),
+                        Style::Decimals(1)
+                    )
                 );
                 let inward = mul(dir, -1.0);
                 self.label(

@@ -32,10 +32,11 @@
 
 use super::canvas::{Rgba, with_alpha};
 use super::{Anchor, Canvas, ViewOptions, title};
+use crate::record::TraceObject;
+use crate::record::number::{Style, fmt, label};
+use crate::record::{NodeAction, NodeVisit, RayKind, RayRecord, Step, Trace};
 use crate::scene::Shape;
 use crate::trace::camera::CameraRays;
-use crate::trace::record::TraceObject;
-use crate::trace::{NodeAction, NodeVisit, RayKind, RayRecord, Step, Trace};
 use glam::{Quat, Vec3};
 
 mod captions;

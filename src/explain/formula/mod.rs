@@ -20,15 +20,15 @@
 //!
 //! Nothing here needs the scene: a loaded trace file is enough.
 
-use super::camera::CameraRays;
-use super::describe::{num, v3};
-use super::record::{NodeAction, RayKind, RayRecord, Step, Trace, TraceObject};
 use crate::math::gamma;
+use crate::record::number::{num, v3};
+use crate::record::{NodeAction, RayKind, RayRecord, Step, Trace, TraceObject};
 use crate::scene::{OffsetPolicy, Shape};
 use crate::shapes::{
     BoxMethod, BoxTest, PlaneForm, PlaneTest, RootChoice, SphereCase, SphereMethod, SphereTest,
     TriangleMethod, TriangleTest,
 };
+use crate::trace::camera::CameraRays;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -56,7 +56,7 @@ pub struct Formula {
 }
 
 /// The math panel's content for one step.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Explanation {
     /// What is being evaluated, e.g. `Ray–sphere "middle" (textbook quadratic)`.
     pub title: String,
@@ -116,47 +116,18 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             name,
             distance,
         } => cx.shadow_ray(*light, name, *distance),
-        Step::Light {
-            light,
-            name,
-            blocked,
-            blocker,
-            l_dot_n,
-            r_dot_e,
-            ambient,
-            diffuse,
-            specular,
-        } => cx.light(
-            *light,
-            name,
-            *blocked,
-            blocker.as_deref(),
-            *l_dot_n,
-            *r_dot_e,
-            [*ambient, *diffuse, *specular],
-        ),
+        Step::Light { .. } => cx.light(step),
         Step::Reflect {
             reflective,
             direction,
-        } => cx.reflect(*reflective, *direction),
-        Step::Refract {
-            n1,
-            n2,
-            cos_i,
-            sin2_t,
-            critical_angle_deg,
-            total_internal_reflection,
-            direction,
-        } => cx.refract(
-            *n1,
-            *n2,
-            *cos_i,
-            *sin2_t,
-            *critical_angle_deg,
-            *total_internal_reflection,
-            *direction,
-        ),
-        Step::Schlick { reflectance } => cx.schlick(*reflectance),
+            d_dot_n,
+        } => cx.reflect(*reflective, *direction, *d_dot_n),
+        Step::Refract { .. } => cx.refract(step),
+        Step::Schlick {
+            reflectance,
+            r0,
+            cos,
+        } => cx.schlick(*reflectance, *r0, *cos),
         Step::DepthLimit { max_depth } => cx.depth_limit(*max_depth),
         Step::WeightCutoff {
             kind,
@@ -229,7 +200,7 @@ impl Ctx<'_> {
     }
 
     /// The steps before this one (all of them when the step is not in the ray).
-    fn before(&self) -> &[super::record::StepRecord] {
+    fn before(&self) -> &[crate::record::StepRecord] {
         &self.ray.steps[..self.idx.unwrap_or(self.ray.steps.len())]
     }
 
@@ -282,12 +253,6 @@ impl Ctx<'_> {
             Step::Surface { point, normal, .. } => Some((Vec3::from(point), Vec3::from(normal))),
             _ => None,
         })
-    }
-
-    /// The eye vector e = −Q/|Q|, computed in f32 exactly as the tracer's `interact` does.
-    fn eye(&self) -> Vec3 {
-        let d = self.dir();
-        -d / d.length()
     }
 
     fn camera(
@@ -427,11 +392,7 @@ fn case_note(test: &SphereTest<f32>) -> String {
     if test.discriminant.is_nan() {
         "NaN (overflow): a miss".into()
     } else {
-        match test.case {
-            SphereCase::Miss => "< 0: no real roots".into(),
-            SphereCase::Tangent => "= 0: one root (tangent)".into(),
-            SphereCase::EnterExit => "> 0: two roots".into(),
-        }
+        crate::record::words::sphere_case(test.case).into()
     }
 }
 

@@ -3,22 +3,31 @@
 use super::*;
 
 impl Ctx<'_> {
-    /// Phong lighting. The light vector l = (L − P)/|L − P|, the reflected light vector
-    /// r = reflect(−l, n) and the eye vector e are computed here exactly as `phong` and `interact`
-    /// do; l·n, r·e and the three terms are the recorded ones. The material's Phong coefficients
-    /// are not in a trace, so they stay symbols.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn light(
-        &self,
-        light: u32,
-        name: &str,
-        blocked: bool,
-        blocker: Option<&str>,
-        l_dot_n: f32,
-        r_dot_e: f32,
-        terms: [[f32; 3]; 3],
-    ) -> Explanation {
-        let [ambient, diffuse, specular] = terms;
+    /// Phong lighting: l, r, e, l·n, r·e, the three terms and their sum are the recorded ones
+    /// (an older trace without the vectors shows "—" for them). The material's Phong
+    /// coefficients are not in a trace, so they stay symbols.
+    pub(super) fn light(&self, step: &Step) -> Explanation {
+        let Step::Light {
+            light,
+            name,
+            blocked,
+            blocker,
+            l_dot_n,
+            r_dot_e,
+            ambient,
+            diffuse,
+            specular,
+            light_dir,
+            reflected,
+            eye,
+            total,
+        } = step
+        else {
+            return Explanation::default();
+        };
+        let (light, blocked, blocker) = (*light, *blocked, blocker.as_deref());
+        let (l_dot_n, r_dot_e) = (*l_dot_n, *r_dot_e);
+        let (ambient, diffuse, specular) = (*ambient, *diffuse, *specular);
         let lt = self.trace.lights.get(light as usize);
         let lcol = lt.map_or("I".to_string(), |l| vv(l.color));
         let col = self
@@ -29,23 +38,25 @@ impl Ctx<'_> {
             .map_or("c".to_string(), |o| v3(o.color));
         let mut lines = vec![];
         let surf = self.surface_before();
-        let (ls, rs, es, ns) = match (lt, surf) {
-            (Some(lt), Some((pt, n))) => {
-                let to = lt.position - pt;
-                let l = to / to.length();
-                lines.push(line(
-                    "l",
-                    "(L − P)/|L − P|",
-                    format!("({} − {})/|…|", vv(lt.position), vv(pt)),
-                    vv(l),
-                    Some("unit vector towards the light".into()),
-                ));
-                let r = crate::trace::shading::reflect(-l, n);
-                let e = self.eye();
-                (vv(l), vv(r), vv(e), vv(n))
-            }
-            _ => ("l".into(), "r".into(), "e".into(), "n".into()),
-        };
+        let vec_or = |v: &Option<[f32; 3]>, symbol: &str| v.map_or(symbol.to_string(), v3);
+        let (ls, rs, es) = (
+            vec_or(light_dir, "l"),
+            vec_or(reflected, "r"),
+            vec_or(eye, "e"),
+        );
+        let ns = surf.map_or("n".to_string(), |(_, n)| vv(n));
+        if let Some(l) = light_dir {
+            lines.push(line(
+                "l",
+                "(L − P)/|L − P|",
+                match (lt, surf) {
+                    (Some(lt), Some((pt, _))) => format!("({} − {})/|…|", vv(lt.position), vv(pt)),
+                    _ => String::new(),
+                },
+                v3(*l),
+                Some("unit vector towards the light".into()),
+            ));
+        }
         lines.push(line(
             "l·n",
             "l·n",
@@ -57,7 +68,7 @@ impl Ctx<'_> {
                 "cosine of the angle of incidence".into()
             }),
         ));
-        if surf.is_some() && lt.is_some() {
+        if reflected.is_some() {
             lines.push(line(
                 "r",
                 "−l − 2(−l·n)n",
@@ -65,6 +76,8 @@ impl Ctx<'_> {
                 rs.clone(),
                 Some("the light reflected about n".into()),
             ));
+        }
+        if eye.is_some() {
             lines.push(line(
                 "e",
                 "−Q/|Q|",
@@ -126,13 +139,11 @@ impl Ctx<'_> {
                 }
             }),
         ));
-        // The tracer's own sum, in its order.
-        let sum = Vec3::from(ambient) + Vec3::from(diffuse) + Vec3::from(specular);
         lines.push(line(
             "total",
             "ambient + diffuse + specular",
             format!("{} + {} + {}", v3(ambient), v3(diffuse), v3(specular)),
-            vv(sum),
+            total.map_or("—".into(), v3),
             None,
         ));
         let conclusion = if blocked {
@@ -155,14 +166,17 @@ impl Ctx<'_> {
         }
     }
 
-    /// A reflection ray. d·n is computed here exactly as `reflect` does (`d.dot(n)` in f32 on the
-    /// ray's direction and the recorded normal); r is the recorded direction.
-    pub(super) fn reflect(&self, reflective: f32, direction: [f32; 3]) -> Explanation {
+    /// A reflection ray: d·n and r are the recorded ones.
+    pub(super) fn reflect(
+        &self,
+        reflective: f32,
+        direction: [f32; 3],
+        d_dot_n: Option<f32>,
+    ) -> Explanation {
         let d = self.dir();
         let mut lines = vec![];
-        match self.surface_before() {
-            Some((_, n)) => {
-                let dn = d.dot(n);
+        match (self.surface_before(), d_dot_n) {
+            (Some((_, n)), Some(dn)) => {
                 lines.push(line(
                     "d·n",
                     "Q·n",
@@ -178,7 +192,7 @@ impl Ctx<'_> {
                     None,
                 ));
             }
-            None => lines.push(line("r", "Q − 2(Q·n)n", "", v3(direction), None)),
+            _ => lines.push(line("r", "Q − 2(Q·n)n", "", v3(direction), None)),
         }
         lines.push(line(
             "weight",
@@ -198,33 +212,40 @@ impl Ctx<'_> {
         }
     }
 
-    /// Snell's law. η = n1/n2, the eye vector and cos θₜ are computed here exactly as `refract`
-    /// does; cos θᵢ, sin² θₜ, the critical angle and the direction are the recorded ones.
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn refract(
-        &self,
-        n1: f32,
-        n2: f32,
-        cos_i: f32,
-        sin2_t: f32,
-        critical: Option<f32>,
-        tir: bool,
-        direction: Option<[f32; 3]>,
-    ) -> Explanation {
-        let ratio = n1 / n2;
+    /// Snell's law: η, e, cos θᵢ, sin² θₜ, the critical angle, cos θₜ and the direction are
+    /// the recorded ones (an older trace without η, e and cos θₜ shows "—" for them).
+    pub(super) fn refract(&self, step: &Step) -> Explanation {
+        let Step::Refract {
+            n1,
+            n2,
+            cos_i,
+            sin2_t,
+            critical_angle_deg: critical,
+            total_internal_reflection: tir,
+            direction,
+            eta,
+            eye,
+            cos_t,
+        } = step
+        else {
+            return Explanation::default();
+        };
+        let (n1, n2, cos_i, sin2_t, tir) = (*n1, *n2, *cos_i, *sin2_t, *tir);
+        let opt_num = |x: Option<f32>| x.map_or("—".to_string(), num);
+        let ratio = opt_num(*eta);
+        let es = eye.map_or("e".to_string(), v3);
         let surf = self.surface_before();
-        let e = self.eye();
         let mut lines = vec![line(
             "η",
             "n1/n2",
             format!("{}/{}", num(n1), num(n2)),
-            num(ratio),
+            ratio.clone(),
             None,
         )];
         lines.push(line(
             "cos θᵢ",
             "e·n",
-            surf.map_or(String::new(), |(_, n)| format!("{}·{}", vv(e), vv(n))),
+            surf.map_or(String::new(), |(_, n)| format!("{es}·{}", vv(n))),
             num(cos_i),
             Some(format!(
                 "θᵢ = {}°",
@@ -234,7 +255,7 @@ impl Ctx<'_> {
         lines.push(line(
             "sin² θₜ",
             "η²(1 − cos² θᵢ)",
-            format!("{}²·(1 − {}²)", num(ratio), p(cos_i)),
+            format!("{ratio}²·(1 − {}²)", p(cos_i)),
             num(sin2_t),
             Some(if tir {
                 "> 1: no real θₜ — total internal reflection".into()
@@ -242,7 +263,7 @@ impl Ctx<'_> {
                 "≤ 1: the ray gets through".into()
             }),
         ));
-        if let Some(c) = critical {
+        if let Some(c) = *critical {
             lines.push(line(
                 "θc",
                 "asin(n2/n1)",
@@ -252,27 +273,19 @@ impl Ctx<'_> {
             ));
         }
         if !tir {
-            let cos_t = (1.0 - sin2_t).sqrt();
+            let cos_t = opt_num(*cos_t);
             lines.push(line(
                 "cos θₜ",
                 "√(1 − sin² θₜ)",
                 format!("√(1 − {})", num(sin2_t)),
-                num(cos_t),
+                cos_t.clone(),
                 None,
             ));
             lines.push(line(
                 "t",
                 "(η cos θᵢ − cos θₜ)·n − η·e",
                 surf.map_or(String::new(), |(_, n)| {
-                    format!(
-                        "({}·{} − {})·{} − {}·{}",
-                        num(ratio),
-                        p(cos_i),
-                        num(cos_t),
-                        vv(n),
-                        num(ratio),
-                        vv(e)
-                    )
+                    format!("({ratio}·{} − {cos_t})·{} − {ratio}·{es}", p(cos_i), vv(n),)
                 }),
                 direction.map_or("—".into(), v3),
                 Some("the refracted direction".into()),
@@ -297,9 +310,15 @@ impl Ctx<'_> {
         }
     }
 
-    /// Schlick's approximation. n1, n2 and cos θᵢ come from this ray's `Refract` step; R0 and
-    /// cos θₜ are computed here exactly as `schlick` does. R is the recorded reflectance.
-    pub(super) fn schlick(&self, reflectance: f32) -> Explanation {
+    /// Schlick's approximation: R0, the cosine used and R are the recorded ones; n1, n2 and
+    /// sin² θₜ are those of this ray's `Refract` step (an older trace without R0 and the cosine
+    /// shows "—" for them).
+    pub(super) fn schlick(
+        &self,
+        reflectance: f32,
+        r0: Option<f32>,
+        cos: Option<f32>,
+    ) -> Explanation {
         let refr = self.before().iter().rev().find_map(|s| match s.step {
             Step::Refract {
                 n1,
@@ -312,14 +331,14 @@ impl Ctx<'_> {
         });
         let mut lines = vec![];
         let mut tir = false;
+        let r0s = r0.map_or("—".to_string(), num);
         match refr {
             Some((n1, n2, cos_i, sin2_t)) => {
-                let r0 = ((n1 - n2) / (n1 + n2)).powi(2);
                 lines.push(line(
                     "R0",
                     "((n1 − n2)/(n1 + n2))²",
                     format!("(({} − {})/({} + {}))²", num(n1), num(n2), num(n1), num(n2)),
-                    num(r0),
+                    r0s.clone(),
                     Some("the reflectance head-on".into()),
                 ));
                 let cos = if n1 > n2 {
@@ -327,25 +346,33 @@ impl Ctx<'_> {
                         tir = true;
                         None
                     } else {
-                        let c = (1.0 - sin2_t).sqrt();
                         lines.push(line(
                             "cos θ",
                             "cos θₜ = √(1 − sin² θₜ)",
                             format!("√(1 − {})", num(sin2_t)),
-                            num(c),
+                            cos.map_or("—".to_string(), num),
                             Some("n1 > n2: Schlick uses the transmitted angle".into()),
                         ));
-                        Some(c)
+                        Some(cos)
                     }
                 } else {
-                    lines.push(line("cos θ", "cos θᵢ", "", num(cos_i), None));
-                    Some(cos_i)
+                    lines.push(line(
+                        "cos θ",
+                        "cos θᵢ",
+                        "",
+                        cos.map_or("—".to_string(), num),
+                        None,
+                    ));
+                    Some(cos.or(Some(cos_i)))
                 };
                 match cos {
                     Some(c) => lines.push(line(
                         "R(θ)",
                         "R0 + (1 − R0)(1 − cos θ)⁵",
-                        format!("{} + (1 − {})·(1 − {})⁵", num(r0), num(r0), p(c)),
+                        format!(
+                            "{r0s} + (1 − {r0s})·(1 − {})⁵",
+                            c.map_or("cos θ".to_string(), p)
+                        ),
                         num(reflectance),
                         None,
                     )),
@@ -405,12 +432,7 @@ impl Ctx<'_> {
         contribution: f32,
         cutoff: f32,
     ) -> Explanation {
-        let kind = match kind {
-            RayKind::Refraction => "refraction",
-            RayKind::Shadow => "shadow",
-            RayKind::Primary => "primary",
-            RayKind::Reflection => "reflection",
-        };
+        let kind = kind.name();
         Explanation {
             title: "Weight cut-off".into(),
             lines: vec![line(
@@ -438,12 +460,7 @@ impl Ctx<'_> {
                 conclusion: "The child ray is missing from the trace.".into(),
             };
         };
-        let kind = match c.kind {
-            RayKind::Primary => "primary",
-            RayKind::Shadow => "shadow",
-            RayKind::Reflection => "reflection",
-            RayKind::Refraction => "refraction",
-        };
+        let kind = c.kind.name();
         let lines = vec![
             line("S", "origin", "", v3(c.origin), None),
             line("Q", "direction", "", v3(c.direction), None),
@@ -541,7 +558,7 @@ impl Ctx<'_> {
         }
         let child = |k: RayKind| self.ray.children.iter().find(|c| c.kind == k);
         let schlick = before.iter().find_map(|s| match s.step {
-            Step::Schlick { reflectance } => Some(reflectance),
+            Step::Schlick { reflectance, .. } => Some(reflectance),
             _ => None,
         });
         let mut parts = vec!["surface".to_string()];
@@ -599,12 +616,7 @@ impl Ctx<'_> {
             lines,
             conclusion: format!(
                 "The {} ray returns {}{}.",
-                match self.ray.kind {
-                    RayKind::Primary => "primary",
-                    RayKind::Shadow => "shadow",
-                    RayKind::Reflection => "reflection",
-                    RayKind::Refraction => "refraction",
-                },
+                self.ray.kind.name(),
                 v3(color),
                 if self.ray.weight != 1.0 {
                     format!(", which its parent weights by {}", num(self.ray.weight))

@@ -3,7 +3,7 @@
 use super::*;
 
 impl Ctx<'_> {
-    pub(super) fn node(&self, n: &crate::trace::record::NodeVisit) -> Explanation {
+    pub(super) fn node(&self, n: &crate::record::NodeVisit) -> Explanation {
         let test: &BoxTest<f32> = &n.test;
         let o = self.ray.origin;
         let t_max_tested = self.node_t_max(n.node);

@@ -1,32 +1,10 @@
 //! One-line descriptions of steps in words, for the command line's trace tree (and the app).
 
-use super::record::{NodeAction, RayRecord, Stage, Step, Trace};
-use crate::shapes::{PlaneForm, RootChoice, SphereCase, SphereMethod, TriangleMethod};
+use crate::record::number::{num, opt, v3};
+use crate::record::words;
+use crate::record::{NodeAction, RayKind, RayRecord, Stage, Step, Trace};
+use crate::shapes::{PlaneForm, RootChoice, SphereMethod, TriangleMethod};
 use std::fmt::Write;
-
-/// Formats a vector compactly, e.g. `(0, 1.5, -5)`.
-pub fn v3(v: [f32; 3]) -> String {
-    format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]))
-}
-
-/// Formats a number: shortest round-trip form, `∞` for infinity; scientific (`1e-45`,
-/// `2.5e12`) for magnitudes below 10⁻⁴ or from 10⁹ up, which would otherwise print as dozens of
-/// zeros.
-pub fn num(x: f32) -> String {
-    if x == f32::INFINITY {
-        "∞".into()
-    } else if x == f32::NEG_INFINITY {
-        "-∞".into()
-    } else if x != 0.0 && (x.abs() < 1e-4 || x.abs() >= 1e9) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
-
-fn opt(x: Option<f32>) -> String {
-    x.map_or("—".into(), num)
-}
 
 /// The stage's name as the pipeline calls it.
 pub fn stage_name(s: Stage) -> &'static str {
@@ -85,21 +63,13 @@ pub fn describe(step: &Step) -> String {
                 num(test.c),
                 num(test.discriminant)
             );
-            match test.case {
-                SphereCase::Miss => s += " < 0 → no real roots: miss",
-                SphereCase::Tangent => s += " → tangent: one root",
-                SphereCase::EnterExit => s += " > 0 → enters and exits",
-            }
+            let _ = write!(s, " → {}", words::sphere_case(test.case));
             if let Some([t0, t1]) = test.roots {
                 let _ = write!(s, ", roots {} and {}", num(t0), num(t1));
             }
-            s += match test.choice {
-                RootChoice::NoRoots => "",
-                RootChoice::NearRoot => " → the near root is the hit",
-                RootChoice::FarRoot => " → origin inside: the far root is the hit",
-                RootChoice::Behind => " → both roots behind the origin: miss",
-                RootChoice::BeyondTMax => " → beyond the closest hit so far: miss",
-            };
+            if test.choice != RootChoice::NoRoots {
+                let _ = write!(s, " → {}", words::root_choice(test.choice));
+            }
             s
         }
         Step::Plane { name, test, .. } => {
@@ -220,6 +190,7 @@ pub fn describe(step: &Step) -> String {
         Step::Reflect {
             reflective,
             direction,
+            ..
         } => {
             format!(
                 "reflect (reflective = {}): r = d − 2(d·n)n = {}",
@@ -235,6 +206,7 @@ pub fn describe(step: &Step) -> String {
             critical_angle_deg,
             total_internal_reflection,
             direction,
+            ..
         } => {
             let mut s = format!(
                 "refract n1 = {} → n2 = {}: cos θi = {}, sin² θt = {}",
@@ -253,7 +225,7 @@ pub fn describe(step: &Step) -> String {
             }
             s
         }
-        Step::Schlick { reflectance } => format!(
+        Step::Schlick { reflectance, .. } => format!(
             "Schlick: reflectance R = {}, so reflection × R + refraction × (1 − R)",
             num(*reflectance)
         ),
@@ -266,12 +238,7 @@ pub fn describe(step: &Step) -> String {
             cutoff,
         } => format!(
             "{} ray not spawned: its share of the pixel, {}, is below the cut-off {}",
-            match kind {
-                super::RayKind::Primary => "primary",
-                super::RayKind::Shadow => "shadow",
-                super::RayKind::Reflection => "reflection",
-                super::RayKind::Refraction => "refraction",
-            },
+            kind.name(),
             num(*contribution),
             num(*cutoff)
         ),
@@ -283,15 +250,6 @@ pub fn describe(step: &Step) -> String {
     }
 }
 
-fn kind_name(r: &RayRecord) -> &'static str {
-    match r.kind {
-        super::RayKind::Primary => "primary",
-        super::RayKind::Shadow => "shadow",
-        super::RayKind::Reflection => "reflection",
-        super::RayKind::Refraction => "refraction",
-    }
-}
-
 /// The whole trace as an indented tree of rays and steps, children where they were spawned.
 pub fn tree(trace: &Trace) -> String {
     fn ray(r: &RayRecord, indent: usize, out: &mut String) {
@@ -299,7 +257,7 @@ pub fn tree(trace: &Trace) -> String {
         let _ = writeln!(
             out,
             "{pad}{} ray (depth {}): S = {}, Q = {}, t in ({}, {}){}",
-            kind_name(r),
+            r.kind.name(),
             r.depth,
             v3(r.origin),
             v3(r.direction),
@@ -326,7 +284,7 @@ pub fn tree(trace: &Trace) -> String {
             );
         }
         match (&r.hit, r.kind) {
-            (Some(h), super::RayKind::Shadow) => {
+            (Some(h), RayKind::Shadow) => {
                 let _ = writeln!(
                     out,
                     "{pad}  ⇒ blocked by \"{}\" at t = {}",
@@ -334,7 +292,7 @@ pub fn tree(trace: &Trace) -> String {
                     num(h.t)
                 );
             }
-            (None, super::RayKind::Shadow) => {
+            (None, RayKind::Shadow) => {
                 let _ = writeln!(out, "{pad}  ⇒ nothing in the way");
             }
             (Some(h), _) => {

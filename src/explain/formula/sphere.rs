@@ -1,6 +1,7 @@
 //! The math panel's ray–sphere test: the quadratic (textbook or stable), its roots and the choice.
 
 use super::*;
+use crate::record::words;
 
 impl Ctx<'_> {
     /// The sphere test: every number shown is the recorded one (f, a, b, b′, c, l, Δ′, Δ, √Δ,
@@ -249,24 +250,14 @@ impl Ctx<'_> {
                 "Δ is NaN (overflow): treated as a miss.".to_string()
             }
             (SphereCase::Miss, _) | (_, RootChoice::NoRoots) => {
-                "Δ < 0: the ray's line passes the sphere by — no real roots, a miss.".into()
+                words::sentence(words::sphere_case(SphereCase::Miss))
             }
-            (_, RootChoice::NearRoot) => format!(
-                "Hit at the near root t = {}: the ray enters the sphere there.",
+            (_, RootChoice::NearRoot | RootChoice::FarRoot) => format!(
+                "{} Hit at t = {}.",
+                words::sentence(words::root_choice(test.choice)),
                 test.t.map_or("?".into(), num)
             ),
-            (_, RootChoice::FarRoot) => format!(
-                "The origin is inside the sphere (the near root is not ahead): hit at the far root t = {}.",
-                test.t.map_or("?".into(), num)
-            ),
-            (_, RootChoice::Behind) => {
-                "Both roots are at or behind the origin: the sphere is behind the ray, a miss."
-                    .into()
-            }
-            (_, RootChoice::BeyondTMax) => {
-                "The usable root lies beyond t_max (something closer was already hit): a miss."
-                    .into()
-            }
+            (_, choice) => words::sentence(words::root_choice(choice)),
         };
         Explanation {
             title: format!(

@@ -4,8 +4,8 @@
 //! BVH outline being a tree, ranges and finite numbers where the readers rely on them, and the
 //! size. Every error names the field by its JSON path (`root.children[0].steps[3].test.form.axis`).
 
-use super::observer::MAX_TRACE_STEPS;
-use super::record::{NodeVisit, RayKind, RayRecord, Step, Trace};
+use crate::record::observer::MAX_TRACE_STEPS;
+use crate::record::{NodeVisit, RayKind, RayRecord, Step, Trace};
 use crate::scene::Shape;
 use crate::shapes::PlaneForm;
 use std::collections::BTreeMap;

@@ -16,7 +16,8 @@
 //! is often the point.
 
 use super::describe;
-use super::record::Trace;
+use crate::record::Trace;
+use crate::record::number::{Style, fmt64};
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 use std::collections::HashMap;
@@ -386,7 +387,7 @@ fn small(x: f64) -> String {
         return "0".into();
     }
     if !x.is_finite() {
-        return show_f64(x);
+        return fmt64(x, Style::Exact);
     }
     if (1e-3..1e5).contains(&x) {
         // Two significant digits as a plain decimal: 0.48, 3.1, 12.
@@ -408,24 +409,12 @@ fn small(x: f64) -> String {
     }
 }
 
-fn show_f64(x: f64) -> String {
-    if x.is_nan() {
-        "NaN".into()
-    } else if x == f64::INFINITY {
-        "∞".into()
-    } else if x == f64::NEG_INFINITY {
-        "-∞".into()
-    } else {
-        format!("{x}")
-    }
-}
-
 /// A value in words: numbers as written, non-finite ones as ∞ / NaN, null as `none`.
 fn show(v: &J) -> String {
     match v {
         J::Null => "none".into(),
         J::Str(s) => match special(s) {
-            Some(x) => show_f64(x),
+            Some(x) => fmt64(x, Style::Exact),
             None => format!("\"{s}\""),
         },
         other => other.to_value().to_string(),

@@ -195,6 +195,34 @@ pub enum Step {
         /// Specular term.
         #[serde(with = "crate::jsonf")]
         specular: [f32; 3],
+        /// The unit light vector l = (L − P)/|L − P| (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        light_dir: Option<[f32; 3]>,
+        /// The reflected light vector r = reflect(−l, n) (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        reflected: Option<[f32; 3]>,
+        /// The unit eye vector e (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        eye: Option<[f32; 3]>,
+        /// ambient + diffuse + specular, as the tracer summed them (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        total: Option<[f32; 3]>,
     },
     /// A reflection ray is spawned.
     Reflect {
@@ -204,6 +232,13 @@ pub enum Step {
         /// The reflected direction r = d − 2(d·n)n.
         #[serde(with = "crate::jsonf")]
         direction: [f32; 3],
+        /// d·n, as the reflection computed it (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        d_dot_n: Option<f32>,
     },
     /// Snell's law at a transparent surface.
     Refract {
@@ -227,12 +262,49 @@ pub enum Step {
         /// The refracted direction, unless TIR.
         #[serde(with = "crate::jsonf")]
         direction: Option<[f32; 3]>,
+        /// η = n1/n2 (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        eta: Option<f32>,
+        /// The unit eye vector e (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        eye: Option<[f32; 3]>,
+        /// cos θₜ = √(1 − sin² θₜ), unless TIR (absent in older traces).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        cos_t: Option<f32>,
     },
     /// Schlick's approximation blends reflection and refraction.
     Schlick {
         /// The reflectance R(θ).
         #[serde(with = "crate::jsonf")]
         reflectance: f32,
+        /// R0 = ((n1 − n2)/(n1 + n2))², the reflectance head-on (absent in older traces and
+        /// under total internal reflection).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        r0: Option<f32>,
+        /// The cosine Schlick used: cos θᵢ, or cos θₜ when n1 > n2 (absent in older traces and
+        /// under total internal reflection).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        cos: Option<f32>,
     },
     /// A secondary ray was not traced because the recursion limit was reached.
     DepthLimit {
@@ -468,7 +540,7 @@ impl Trace {
 
     /// Parses a trace, checking the version before the rest so that a future format gets a
     /// version error rather than a confusing field error, and every field the readers index with
-    /// or rely on after it (see [`crate::trace::validate`]).
+    /// or rely on after it (see [`crate::record::validate`]).
     pub fn from_json(text: &str, file: &str) -> Result<Trace, TraceError> {
         let corrupt = |e: serde_json::Error| TraceError::Corrupt {
             file: file.into(),

@@ -1,0 +1,25 @@
+//! The record of a trace, and the shared vocabulary every reader uses.
+//!
+//! This layer sits below [`crate::accel`] and [`crate::trace`], which produce records, and
+//! below [`crate::explain`], [`crate::diagram`], the app and the command line, which read them:
+//!
+//! - [`steps`]: the step trace — [`Trace`], its rays ([`RayRecord`]) and their [`Step`]s, each
+//!   holding the record a kernel returned with every intermediate it computed;
+//! - [`observer`]: what the tracer reports to as it works — [`Silent`] (the render: every hook
+//!   compiles away), [`Counter`] (statistics) and [`Recorder`] (builds the [`Trace`]);
+//! - [`validate`]: the checks a loaded trace passes before anything reads it;
+//! - [`words`]: one name per ray kind and one wording per kernel outcome;
+//! - [`number`]: one number formatter with named styles, used by the math panel, the diagrams,
+//!   the command line, the lessons and the exercise feedback.
+
+pub mod number;
+pub mod observer;
+pub mod steps;
+pub mod validate;
+pub mod words;
+
+pub use observer::{Counter, MAX_TRACE_STEPS, Observer, Recorder, Silent};
+pub use steps::{
+    HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step, StepRecord,
+    TRACE_VERSION, Trace, TraceError, TraceObject,
+};

@@ -1,0 +1,107 @@
+//! The shared vocabulary: one name per ray kind, one wording per kernel outcome. The trace
+//! tree, the math panel, the diagrams and `raystep intersect` all take their words from here,
+//! so a class reads the same sentence for the same outcome wherever it looks.
+//!
+//! ```
+//! use raystep::record::RayKind;
+//! use raystep::record::words;
+//! use raystep::shapes::RootChoice;
+//!
+//! assert_eq!(RayKind::Shadow.name(), "shadow");
+//! assert_eq!(
+//!     words::root_choice(RootChoice::FarRoot),
+//!     "the origin is inside the sphere: the ray leaves it at the far root"
+//! );
+//! ```
+
+use super::steps::RayKind;
+use crate::shapes::{RootChoice, SphereCase};
+
+impl RayKind {
+    /// The kind's name as every reader writes it: `primary`, `shadow`, `reflection`,
+    /// `refraction` (also its name in trace files).
+    pub fn name(self) -> &'static str {
+        match self {
+            RayKind::Primary => "primary",
+            RayKind::Shadow => "shadow",
+            RayKind::Reflection => "reflection",
+            RayKind::Refraction => "refraction",
+        }
+    }
+}
+
+/// What the sign of the ray–sphere discriminant Δ says.
+pub fn sphere_case(case: SphereCase) -> &'static str {
+    match case {
+        SphereCase::Miss => "Δ < 0: no real roots, the ray's line passes the sphere by",
+        SphereCase::Tangent => "Δ = 0: one double root, the line touches the sphere",
+        SphereCase::EnterExit => "Δ > 0: two roots, the line enters and leaves the sphere",
+    }
+}
+
+/// Which root the ray–sphere test took, and why.
+pub fn root_choice(choice: RootChoice) -> &'static str {
+    match choice {
+        RootChoice::NoRoots => "no real roots: a miss",
+        RootChoice::NearRoot => {
+            "the near root is ahead and nearer than any hit so far: the ray enters the sphere there"
+        }
+        RootChoice::FarRoot => "the origin is inside the sphere: the ray leaves it at the far root",
+        RootChoice::Behind => {
+            "both roots are at or behind the origin: the sphere is behind the ray, a miss"
+        }
+        RootChoice::BeyondTMax => {
+            "the usable root is beyond the closest hit so far: something nearer was already hit, a miss"
+        }
+    }
+}
+
+/// A wording as a sentence: capital first letter, full stop.
+pub fn sentence(words: &str) -> String {
+    let mut c = words.chars();
+    match c.next() {
+        Some(first) => format!("{}{}.", first.to_uppercase(), c.as_str()),
+        None => String::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The names are the trace format's names: a reader's word and the file agree.
+    #[test]
+    fn ray_kind_names_are_the_serialized_names() {
+        for k in [
+            RayKind::Primary,
+            RayKind::Shadow,
+            RayKind::Reflection,
+            RayKind::Refraction,
+        ] {
+            assert_eq!(
+                serde_json::to_string(&k).unwrap(),
+                format!("\"{}\"", k.name())
+            );
+        }
+    }
+
+    #[test]
+    fn sentences_start_with_a_capital_and_end_with_a_full_stop() {
+        assert_eq!(
+            sentence(root_choice(RootChoice::NoRoots)),
+            "No real roots: a miss."
+        );
+        assert_eq!(sentence(""), "");
+    }
+
+    #[test]
+    fn misses_say_so() {
+        for c in [
+            RootChoice::NoRoots,
+            RootChoice::Behind,
+            RootChoice::BeyondTMax,
+        ] {
+            assert!(root_choice(c).ends_with("a miss"), "{c:?}");
+        }
+    }
+}
