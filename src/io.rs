@@ -496,3 +496,12 @@ mod tests {
         assert_eq!(e.kind(), std::io::ErrorKind::NotFound);
     }
 }
+/// A written file's path as messages show it: absolute (symbolic links resolved), so "wrote X"
+/// says where X is whatever the working directory.
+pub fn full_path(p: &std::path::Path) -> String {
+    std::fs::canonicalize(p)
+        .or_else(|_| std::path::absolute(p))
+        .unwrap_or_else(|_| p.to_path_buf())
+        .display()
+        .to_string()
+}

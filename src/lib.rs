@@ -4,42 +4,63 @@
 //! test with its numbers, the closest-hit bookkeeping, the shadow, reflection and refraction
 //! branches — while a full parallel render runs the very same code without recording anything.
 //!
-//! The modules, in the order data flows through them:
+//! # Using raystep as a library
+//!
+//! Load a [`Scene`], prepare it once ([`PreparedScene`]: the scene and its accelerator), then
+//! render it ([`render::render`]) or record one pixel ([`PreparedScene::record`]) — both run the
+//! one [`Tracer`], which reports to an observer ([`record::Silent`], [`record::Counter`],
+//! [`record::Recorder`]). A recorded [`record::Trace`] is plain data that [`explain`] puts into
+//! words and formulas and [`diagram`] draws; [`lesson`] checks answers against it and
+//! [`stability`] measures its numbers against exact ones. Each of those items carries a runnable
+//! example.
+//!
+//! ```
+//! use raystep::PreparedScene;
+//!
+//! let prepared = PreparedScene::new(raystep::scene::default_scene());
+//! let trace = prepared.record(160, 120, 0);
+//! print!("{}", raystep::explain::describe::tree(&trace));
+//! ```
+//!
+//! # The modules, in the order data flows through them
 //!
 //! - [`math`]: rays (validated where they are made), the [`math::Real`] precision abstraction the
 //!   kernels are generic over (f32 for the renderer, f64 for the calculator and the lab), γₙ.
-//! - [`scene`]: the TOML scene format, OBJ meshes, validation with located errors, and the
-//!   scene's [`scene::Features`].
+//! - [`scene`]: the TOML scene format, OBJ meshes, validation with located errors, the camera's
+//!   rays, and the scene's [`scene::Features`].
 //! - [`shapes`]: one kernel per primitive (sphere, plane, triangle, box), each returning a record
 //!   of every intermediate it computed.
-//! - [`accel`]: finding the closest hit — the seeds' naive loop, observed.
-//! - [`trace`]: the camera, the observer ([`trace::Silent`] and [`trace::Recorder`]), the step
-//!   trace records, Phong/Snell/Schlick shading and the one recursive Whitted tracer.
-//! - [`render`]: the full parallel render and image output; [`diagram`]: the 2D diagrams drawn
-//!   from a trace.
+//! - [`record`]: the trace records, the observer, and the shared vocabulary (one number
+//!   formatter, one wording per outcome) — below everything that produces or reads records.
+//! - [`accel`]: finding the closest hit — the seeds' naive loop and the BVH, observed.
+//! - [`trace`]: deterministic sampling, Phong/Snell/Schlick shading, the one recursive Whitted
+//!   tracer, and [`PreparedScene`].
+//! - [`render`]: the full parallel render and image output.
+//! - [`explain`] and [`diagram`]: the readers of records — words, the math panel, trace diff,
+//!   `raystep intersect`'s text; the 2D diagrams.
 //! - [`gpu`]: the same scene traced on the GPU (wgpu, WGSL generated per scene), compared with
 //!   the CPU render.
-//! - [`app`]: the eframe app — the render, the stepping, the math and the diagrams side by side.
+//! - [`lesson`]: lessons and exercise sheets whose answers are computed by the tracer.
 //! - [`stability`]: the numerical stability lab — every method in f32 and f64 on the stiff cases
 //!   S1–S25 against exact rational references, cost per test, and image error against run time.
-//! - [`lesson`]: exercise sheets whose answers are computed by the tracer, per-student variants.
-//! - [`cli`]: the `raystep` command line.
-//! - [`fuzzing`]: the entry points the fuzzers and the property tests feed hostile input.
+//! - [`app`]: the eframe app; [`cli`]: the `raystep` command line; [`fuzzing`]: the entry points
+//!   the fuzzers and the property tests feed hostile input; [`io`]: bounded reading and atomic
+//!   writing of files.
 // One function opts in, with its reason: gpu::tracer's request for wgpu's experimental ray queries.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod accel;
 pub mod app;
-pub mod assets;
-pub mod bench;
+pub(crate) mod assets;
+pub(crate) mod bench;
 pub mod cli;
 pub mod diagram;
 pub mod explain;
 pub mod fuzzing;
 pub mod gpu;
 pub mod io;
-pub mod jsonf;
+pub(crate) mod jsonf;
 pub mod lesson;
 pub mod math;
 pub mod record;

@@ -196,6 +196,18 @@ impl Layout {
     }
 }
 
+/// The window's height in points at zoom 1 (its height in pixels over the display's own
+/// pixels per point): what presentation mode's scale is chosen against.
+pub fn window_height_at_zoom_1(ctx: &egui::Context) -> f32 {
+    let native = ctx.native_pixels_per_point().unwrap_or(1.0);
+    let native = if native.is_finite() && native > 0.0 {
+        native
+    } else {
+        1.0
+    };
+    ctx.viewport_rect().height() * ctx.pixels_per_point() / native
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

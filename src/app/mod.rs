@@ -14,14 +14,16 @@ pub mod gpu_view;
 pub mod job;
 pub mod lab;
 pub mod layout;
-pub mod learn;
-mod menu;
 pub mod panels;
 pub mod prefs;
-mod settings_panel;
 pub mod state;
 mod stepping;
 pub mod view;
+
+/// The lessons and exercises: their state ([`state::learn`]) and their panel
+/// ([`panels::learn`]).
+pub use layout::window_height_at_zoom_1;
+pub use state::learn;
 mod watch;
 
 use state::{AppState, Command, Prefs, StepMove, ThemeChoice};
@@ -237,7 +239,7 @@ impl RaystepApp {
                     crate::io::write_atomic(&path, &png)
                 });
             match result {
-                Ok(()) => eprintln!("wrote {} ({w}×{h})", crate::cli::full_path(&path)),
+                Ok(()) => eprintln!("wrote {} ({w}×{h})", crate::io::full_path(&path)),
                 Err(e) => eprintln!("error: {}: {e}", path.display()),
             }
             close.send_viewport_cmd(egui::ViewportCommand::Close);
@@ -412,16 +414,4 @@ pub fn run(file: Option<PathBuf>, screenshot: Option<ScreenshotPlan>) -> Result<
              or run it under Xvfb: `xvfb-run raystep`)"
         )
     })
-}
-
-/// The window's height in points at zoom 1 (its height in pixels over the display's own
-/// pixels per point): what presentation mode's scale is chosen against.
-pub fn window_height_at_zoom_1(ctx: &egui::Context) -> f32 {
-    let native = ctx.native_pixels_per_point().unwrap_or(1.0);
-    let native = if native.is_finite() && native > 0.0 {
-        native
-    } else {
-        1.0
-    };
-    ctx.viewport_rect().height() * ctx.pixels_per_point() / native
 }

@@ -6,6 +6,27 @@ use crate::diagram::DiagramKind;
 use egui::{Color32, ColorImage, Pos2, Rect, Sense, TextureHandle, TextureOptions, Vec2};
 use std::sync::atomic::Ordering;
 
+/// A row of the trace tree: a ray's heading or one of its steps.
+#[derive(Debug, Clone)]
+pub enum Row {
+    /// A ray starts (index into [`crate::record::Trace::rays`]).
+    Ray {
+        /// Nesting depth.
+        depth: u32,
+        /// The heading.
+        text: String,
+    },
+    /// A step (timeline index).
+    Step {
+        /// Timeline index.
+        k: usize,
+        /// Nesting depth.
+        depth: u32,
+        /// The description.
+        text: String,
+    },
+}
+
 /// Textures and view state.
 #[derive(Default)]
 pub struct Views {
@@ -29,7 +50,7 @@ pub struct Views {
     /// The diagram drawn last, or why there is none.
     pub diagram_error: Option<String>,
     /// Tree rows for the current trace.
-    pub tree: Option<(u64, Vec<super::panels::Row>)>,
+    pub tree: Option<(u64, Vec<Row>)>,
     /// The row the tree last scrolled to (tests check it is the current step's).
     pub tree_scroll_row: Option<usize>,
     /// The step the tree last scrolled to.

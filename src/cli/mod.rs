@@ -171,15 +171,7 @@ pub fn load_scene(path: Option<&PathBuf>, overrides: &SettingsArgs) -> Result<Sc
     Ok(scene)
 }
 
-/// A written file's path as messages show it: absolute (symbolic links resolved), so "wrote X"
-/// says where X is whatever the working directory.
-pub fn full_path(p: &std::path::Path) -> String {
-    std::fs::canonicalize(p)
-        .or_else(|_| std::path::absolute(p))
-        .unwrap_or_else(|_| p.to_path_buf())
-        .display()
-        .to_string()
-}
+pub use crate::io::full_path;
 
 /// Checks that an output path ends in `.png` and that its directory exists, before any work.
 pub fn check_png_path(p: &std::path::Path) -> Result<(), String> {

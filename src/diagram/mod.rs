@@ -5,6 +5,18 @@
 //! Every diagram takes an optional *focus*: an index into [`Trace::timeline`]. The step at the
 //! focus is highlighted; steps before it are drawn faded, steps after it are not drawn (the
 //! slice and the trees), so stepping through a trace builds the picture up.
+//!
+//! ```
+//! use raystep::PreparedScene;
+//! use raystep::diagram::{DiagramKind, ViewOptions, available, draw};
+//!
+//! let trace = PreparedScene::new(raystep::scene::default_scene()).record(160, 120, 0);
+//! assert!(available(&trace).contains(&DiagramKind::Quadratic));
+//! let opts = ViewOptions { width: 400, height: 300, ..ViewOptions::default() };
+//! let canvas = draw(&trace, DiagramKind::Slice, &opts).unwrap();
+//! assert_eq!((canvas.width(), canvas.height()), (400.0, 300.0));
+//! assert!(canvas.png().starts_with(b"\x89PNG"));
+//! ```
 
 pub mod barycentric;
 pub mod bvh_tree;

@@ -3,8 +3,8 @@
 //! fourth slot). Written by hand, little-endian, so no unsafe casting is needed.
 
 use crate::accel::Bvh;
+use crate::scene::camera::CameraRays;
 use crate::scene::{Scene, Shape};
-use crate::trace::camera::CameraRays;
 use glam::Vec3;
 
 /// A little-endian byte writer.

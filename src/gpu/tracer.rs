@@ -3,9 +3,9 @@
 
 use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
 use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
+use crate::scene::camera::CameraRays;
 use crate::scene::{Camera, Scene, Shape};
 use crate::trace::PreparedScene;
-use crate::trace::camera::CameraRays;
 use eframe::wgpu;
 use glam::Vec3;
 use std::time::{Duration, Instant};

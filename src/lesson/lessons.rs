@@ -194,7 +194,7 @@ pub fn load_lessons(dir: &Path) -> Result<Vec<Lesson>, String> {
         .collect()
 }
 
-/// The lessons folder: the lessons built into raystep (unpacked by [`crate::assets::unpacked`]),
+/// The lessons folder: the lessons built into raystep (unpacked into a folder on first use),
 /// so the app has them from any working directory.
 pub fn lessons_dir() -> Result<PathBuf, String> {
     crate::assets::unpacked().map(|root| root.join("lessons"))

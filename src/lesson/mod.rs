@@ -70,6 +70,46 @@
 //! may be quoted. **Class file** (`raystep grade`): CSV with the header `student,<question ids…>`
 //! and one row per student; the grades file has `student,<question ids…>,score,out_of,notes`
 //! with the points each question earned.
+//!
+//! # From a sheet to a mark
+//!
+//! ```
+//! use raystep::lesson::{Answer, mark, parse_sheet};
+//!
+//! let sheet = parse_sheet(
+//!     r#"
+//! [[question]]
+//! id = "disc"
+//! text = "What is the discriminant of pixel ({x}, {y})'s primary ray against the ball?"
+//! scene_toml = '''
+//! [camera]
+//! from = [0, 0, -5]
+//! width = 64
+//! height = 48
+//! [render]
+//! sphere_method = "textbook"
+//! [[sphere]]
+//! name = "ball"
+//! radius = {r}
+//! '''
+//! pixel = { x = [28, 36], y = [20, 28] }
+//! params = { r = [0.8, 1.6] }
+//! quantity = "discriminant"
+//! object = "ball"
+//! "#,
+//!     "sheet.toml",
+//!     None,
+//!     "example",
+//! )
+//! .unwrap();
+//! let q = &sheet.questions[0];
+//! let v = sheet.variant(q, "alice"); // alice's own pixel and radius
+//! let Answer::Number(d) = sheet.expected(q, &v).unwrap() else { panic!() };
+//! let right = mark(&Answer::Number(d), q.quantity.kind(), Some(&d.to_string()), q.tolerance);
+//! assert!(right.right);
+//! let wrong = mark(&Answer::Number(d), q.quantity.kind(), Some("banana"), q.tolerance);
+//! assert!(!wrong.right);
+//! ```
 
 mod answer;
 mod csv;

@@ -11,6 +11,27 @@
 //! - [`words`]: one name per ray kind and one wording per kernel outcome;
 //! - [`number`]: one number formatter with named styles, used by the math panel, the diagrams,
 //!   the command line, the lessons and the exercise feedback.
+//!
+//! A trace is plain data: walk its rays and steps, save it as JSON and load it back (checked on
+//! the way in), explain any step in words:
+//!
+//! ```
+//! use raystep::PreparedScene;
+//! use raystep::explain::describe::describe;
+//! use raystep::record::{Step, Trace};
+//!
+//! let trace = PreparedScene::new(raystep::scene::default_scene()).record(160, 120, 0);
+//! let (ray, first_test) = trace
+//!     .timeline()
+//!     .into_iter()
+//!     .find(|(_, s)| matches!(s.step, Step::Sphere { .. }))
+//!     .expect("the primary ray tests a sphere");
+//! assert_eq!(ray.kind.name(), "primary");
+//! assert!(describe(&first_test.step).contains("Δ = b² − 4ac"));
+//!
+//! let again = Trace::from_json(&trace.to_json(), "pixel.json").unwrap();
+//! assert_eq!(again.color, trace.color);
+//! ```
 
 pub mod number;
 pub mod observer;

@@ -705,7 +705,7 @@ impl<'a> Ctx<'a> {
         // The checks above are in f64; the tracer builds its basis in f32, where a tiny
         // `from − at` or `up × w` underflows to zero and turns every ray into NaN. Build the
         // basis exactly as the tracer does and check it, and the rays through the corners.
-        let rays = crate::trace::camera::CameraRays::new(&camera);
+        let rays = crate::scene::camera::CameraRays::new(&camera);
         let unit = |v: Vec3| v.is_finite() && (v.length() - 1.0).abs() < 1e-3;
         if !unit(rays.w) {
             return Err(loc.err(

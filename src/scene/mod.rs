@@ -2,6 +2,7 @@
 //! loader ([`load_file`], [`load_str`]) that turns a TOML file (plus OBJ meshes) into it or into a located
 //! [`SceneError`].
 
+pub mod camera;
 mod features;
 mod load;
 mod model;
@@ -240,6 +241,30 @@ pub struct Group {
 }
 
 /// A validated scene: everything the tracer needs, nothing unchecked.
+///
+/// Load one from TOML with [`load_file`] or [`load_str`]; a bad scene is an error naming the
+/// file, line, column and field, never a panic:
+///
+/// ```
+/// use raystep::scene::load_str;
+///
+/// let text = r#"
+/// [camera]
+/// from = [0, 0, -5]
+/// width = 64
+/// height = 48
+/// [[sphere]]
+/// name = "ball"
+/// radius = 1
+/// "#;
+/// let scene = load_str(text, "ball.toml", None).unwrap();
+/// assert_eq!(scene.objects.len(), 1);
+/// assert_eq!((scene.camera.width, scene.camera.height), (64, 48));
+///
+/// let bad = load_str("[[sphere]]\nradius = -1\n", "bad.toml", None).unwrap_err();
+/// assert_eq!((bad.file.as_str(), bad.line), ("bad.toml", Some(2)));
+/// assert_eq!(bad.field.as_deref(), Some("sphere \"sphere 0\" → radius"));
+/// ```
 #[derive(Debug, Clone)]
 pub struct Scene {
     /// Display name (the file's `title`, else its file name).

@@ -6,9 +6,12 @@
 //! command line prints as Markdown and CSV ([`report`]) and draws as error-vs-time plots
 //! ([`plot`]), and the app can show as it likes:
 //!
-//! ```no_run
-//! use raystep::stability::{Options, run};
-//! let report = run(&Options::quick());
+//! ```
+//! use raystep::stability::{Method, Options, Precision, run};
+//! // A small run: every stiff case, few rays (the command line's `--quick` uses 200).
+//! let report = run(&Options { rays: 8, min_timing_s: 0.0, ..Options::quick() });
+//! let s1 = report.row("S1", Method::SphereTextbook, Precision::F32).expect("S1 ran");
+//! assert!(s1.rays > 0);
 //! for row in &report.rows {
 //!     println!("{} {} {}: {} misclassified", row.case, row.method.name(), row.precision.name(), row.misclassified);
 //! }

@@ -1,8 +1,7 @@
-//! Tracing: the camera, deterministic sampling, Phong/Snell/Schlick shading and
+//! Tracing: deterministic sampling, Phong/Snell/Schlick shading and
 //! the one recursive Whitted tracer. What the tracer reports — the observer and its records —
 //! lives one layer down, in [`crate::record`].
 
-pub mod camera;
 pub mod prepared;
 pub mod sampling;
 pub mod shading;

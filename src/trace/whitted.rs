@@ -1,13 +1,13 @@
 //! The one recursive Whitted tracer. The render, the stepped pixel, the exercises and the CPU side
 //! of the GPU comparison all call [`Tracer::trace_sample`]; only the observer differs.
 
-use super::camera::CameraRays;
 use super::sampling::sample_offset;
 use super::shading::{critical_angle_deg, phong, reflect_recorded, refract, schlick_recorded};
 use crate::accel::{Accelerator, Hit};
 use crate::math::{Ray, gamma};
 use crate::record::observer::{Observer, Recorder};
 use crate::record::{HitRecord, RayKind, RayRecord, Step, TRACE_VERSION, Trace, TraceObject};
+use crate::scene::camera::CameraRays;
 use crate::scene::{OffsetPolicy, Scene, Shape};
 use glam::Vec3;
 
@@ -184,6 +184,29 @@ pub fn spawn_origin(policy: OffsetPolicy, epsilon: f32, it: &Interaction, w: Vec
 }
 
 /// The tracer: a scene, its accelerator and its camera.
+///
+/// The same tracer renders and records: what changes is the [`Observer`] passed in.
+///
+/// ```
+/// use raystep::PreparedScene;
+/// use raystep::record::{Counter, Recorder, Silent, Step};
+///
+/// let prepared = PreparedScene::new(raystep::scene::default_scene());
+/// let tracer = prepared.tracer();
+/// // The render's path: nothing kept.
+/// let silent = tracer.trace_sample(160, 120, 0, &mut Silent);
+/// // Statistics: rays and intersection tests counted.
+/// let mut counter = Counter::default();
+/// let counted = tracer.trace_sample(160, 120, 0, &mut counter);
+/// assert!(counter.rays() >= 1);
+/// // The stepped pixel: every step kept.
+/// let mut recorder = Recorder::new();
+/// let recorded = tracer.trace_sample(160, 120, 0, &mut recorder);
+/// assert_eq!(silent, counted);
+/// assert_eq!(silent, recorded);
+/// let primary = recorder.finish().expect("the primary ray ended");
+/// assert!(primary.steps.iter().any(|s| matches!(s.step, Step::Sphere { .. })));
+/// ```
 pub struct Tracer<'s, A: Accelerator> {
     /// The scene.
     pub scene: &'s Scene,

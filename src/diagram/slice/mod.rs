@@ -36,7 +36,7 @@ use crate::record::TraceObject;
 use crate::record::number::{Style, fmt, label};
 use crate::record::{NodeAction, NodeVisit, RayKind, RayRecord, Step, Trace};
 use crate::scene::Shape;
-use crate::trace::camera::CameraRays;
+use crate::scene::camera::CameraRays;
 use glam::{Quat, Vec3};
 
 mod captions;

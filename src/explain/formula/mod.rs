@@ -4,7 +4,7 @@
 //! Every [`Formula`] reads `name = symbolic = substituted = value`. The policy for numbers:
 //!
 //! - Where the kernel **recorded** a value, the line prints the recorded f32, formatted by
-//!   [`describe::num`](super::describe::num) and [`describe::v3`](super::describe::v3)
+//!   [`crate::record::number::num`] and [`crate::record::number::v3`]
 //!   (shortest round-trip form), and `substituted` is built from the recorded inputs of that very
 //!   computation. The intersection tests record every intermediate shown: the sphere's f = S − G,
 //!   a, b, b′, c, l, Δ′, Δ, √Δ, q and its roots as computed; Möller–Trumbore's E1, E2, T and
@@ -23,12 +23,12 @@
 use crate::math::gamma;
 use crate::record::number::{num, v3};
 use crate::record::{NodeAction, RayKind, RayRecord, Step, Trace, TraceObject};
+use crate::scene::camera::CameraRays;
 use crate::scene::{OffsetPolicy, Shape};
 use crate::shapes::{
     BoxMethod, BoxTest, PlaneForm, PlaneTest, RootChoice, SphereCase, SphereMethod, SphereTest,
     TriangleMethod, TriangleTest,
 };
-use crate::trace::camera::CameraRays;
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 

@@ -1,7 +1,7 @@
 //! The menu bar: File, View, Help, Lessons and Lab.
 
-use super::state::{AppState, Command, Dialog, Document, SaveKind};
-use super::view::Views;
+use crate::app::state::{AppState, Command, Dialog, Document, SaveKind};
+use crate::app::view::Views;
 use egui::{RichText, Vec2};
 
 pub(super) fn menu_bar(
@@ -62,9 +62,9 @@ pub(super) fn menu_bar(
                 "Theme"
             });
             for t in [
-                super::state::ThemeChoice::Light,
-                super::state::ThemeChoice::Dark,
-                super::state::ThemeChoice::HighContrast,
+                crate::app::state::ThemeChoice::Light,
+                crate::app::state::ThemeChoice::Dark,
+                crate::app::state::ThemeChoice::HighContrast,
             ] {
                 ui.radio_value(p.theme_in_force_mut(), t, t.label());
             }
@@ -90,8 +90,8 @@ pub(super) fn menu_bar(
                          takes the same share of the projected picture",
                     );
             });
-            let height = super::window_height_at_zoom_1(ui.ctx());
-            let here = super::state::Prefs {
+            let height = crate::app::layout::window_height_at_zoom_1(ui.ctx());
+            let here = crate::app::state::Prefs {
                 presentation: true,
                 ..p.clone()
             }

@@ -1,8 +1,8 @@
 //! The settings panel: the scene in a few words and the settings a teacher flips live, each
 //! shown only when the scene has something it affects.
 
-use super::state::{AppState, Command};
-use super::view::Views;
+use crate::app::state::{AppState, Command};
+use crate::app::view::Views;
 use crate::record::number::num;
 use crate::scene::{AccelChoice, OffsetPolicy, Settings};
 use crate::shapes::{SphereMethod, TriangleMethod};

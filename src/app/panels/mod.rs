@@ -2,38 +2,21 @@
 //! that do not apply to the open scene are left out, not greyed (no triangle method for a
 //! sphere-only scene, no recursion depth without mirrors or glass, no heatmap without a BVH).
 
+pub mod learn;
+pub mod menu;
+pub mod settings;
+
 use super::layout::Side;
-use super::menu::menu_bar;
-use super::settings_panel::settings_panel;
 use super::state::{AppState, Command, DiagramChoice, Dialog, Document, StepMove};
-use super::view::{self, Views};
+use super::view::{self, Row, Views};
 use crate::diagram::DiagramKind;
 use crate::explain::describe;
 use crate::record::number::{num, v3};
 use crate::record::{Stage, Step};
 use egui::{Color32, RichText, Sense, Vec2};
+use menu::menu_bar;
+use settings::settings_panel;
 use std::path::PathBuf;
-
-/// A row of the trace tree: a ray's heading or one of its steps.
-#[derive(Debug, Clone)]
-pub enum Row {
-    /// A ray starts (index into [`crate::record::Trace::rays`]).
-    Ray {
-        /// Nesting depth.
-        depth: u32,
-        /// The heading.
-        text: String,
-    },
-    /// A step (timeline index).
-    Step {
-        /// Timeline index.
-        k: usize,
-        /// Nesting depth.
-        depth: u32,
-        /// The description.
-        text: String,
-    },
-}
 
 /// Draws the whole window. The side panels take the widths [`super::layout::Layout::widths`] computes from
 /// the window's width every frame (so they follow the window and can never squeeze the render
@@ -90,7 +73,7 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
     };
     if state.prefs.show_learn {
         left_panel(ui, Side::Learn, "learn", true, &mut |ui| {
-            super::learn::panel(ui, state, views, cmds)
+            learn::panel(ui, state, views, cmds)
         });
     }
     if state.prefs.show_settings {

@@ -1,7 +1,7 @@
 //! Primary rays: the inverse mapping from a pixel to a ray (the camera convention in README.md, "The scene format").
 
+use super::Camera;
 use crate::math::{Ray, normalize};
-use crate::scene::Camera;
 use glam::Vec3;
 
 /// The camera's basis, computed once per scene.
