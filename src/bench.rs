@@ -44,7 +44,7 @@ fn all_pixels<A: Accelerator>(tracer: &Tracer<'_, A>) {
     }
 }
 
-/// Issue-2 figures: one thread, rays per second with the silent observer (specialized and with
+/// Tracer throughput: one thread, rays per second with the silent observer (specialized and with
 /// every stage compiled in) and with the recorder (a full step trace per pixel).
 pub fn tracer(scenes: &[Scene], reps: usize) {
     println!("## Tracer throughput, one thread (Mrays/s, all ray kinds)");
@@ -124,7 +124,7 @@ pub fn accel_threshold(reps: usize) {
     }
 }
 
-/// Issue-3 figures for one (large) scene: BVH build, render Mrays/s on one and on all threads,
+/// Figures for one (large) scene: BVH build, render Mrays/s on one and on all threads,
 /// BVH vs brute force (brute force timed on every k-th row and scaled up), traversal vs obvhs's
 /// own, and tracing + recording one pixel.
 pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
@@ -338,7 +338,7 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize, side: Side) {
     );
 }
 
-/// Issue-4 figure: drawing every diagram the trace offers for one step at 800×600.
+/// Diagram cost: drawing every diagram the trace offers for one step at 800×600.
 pub fn diagrams(scenes: &[Scene], reps: usize) {
     use crate::diagram::{ViewOptions, available, draw};
     println!("## Diagrams: all kinds for one step at 800×600 (one thread)");
