@@ -152,15 +152,13 @@ impl Views {
         {
             return Some(t.clone());
         }
-        let mut sorted = visits.clone();
-        sorted.sort_unstable();
-        let max = sorted[(sorted.len() - 1) * 99 / 100].max(1);
-        self.heat_max = max;
+        let scale = crate::render::image::HeatScale::of(visits);
+        self.heat_max = scale.top;
         let pixels = visits
             .iter()
             .map(|&v| {
-                let c = colorous::VIRIDIS.eval_continuous((v as f64 / max as f64).min(1.0));
-                Color32::from_rgba_unmultiplied(c.r, c.g, c.b, 230)
+                let [r, g, b] = scale.color(v);
+                Color32::from_rgba_unmultiplied(r, g, b, 230)
             })
             .collect();
         let img = ColorImage::new([r.output.width as usize, r.output.height as usize], pixels);

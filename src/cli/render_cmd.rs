@@ -64,7 +64,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let img = image::to_rgb8(out.width, out.height, &out.pixels, args.linear);
     image::write_png(&args.output, &img)?;
     if let Some(h) = &args.heatmap {
-        let hm = image::heatmap(&out).expect("counted render has visits");
+        let hm = crate::diagram::heatmap::heatmap(&out).expect("counted render has visits");
         image::write_png(h, &hm)?;
     }
     let s = &out.stats;

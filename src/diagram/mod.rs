@@ -21,6 +21,7 @@
 pub mod barycentric;
 pub mod bvh_tree;
 pub mod canvas;
+pub mod heatmap;
 pub mod quadratic;
 pub mod ray_tree;
 pub mod slice;

@@ -1,7 +1,6 @@
-//! Image output: sRGB encoding, atomic PNG writing, and the BVH-visit heatmap with its legend.
+//! Image output: sRGB encoding, atomic PNG writing, and the colour scale of visit heatmaps (drawn
+//! with their legend by [`crate::diagram::heatmap`]).
 
-use super::RenderOutput;
-use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
 use glam::Vec3;
 use image::{ImageEncoder, Rgb, RgbImage};
 use std::path::Path;
@@ -59,99 +58,44 @@ pub fn write_png(path: &Path, img: &RgbImage) -> Result<(), String> {
     crate::io::write_atomic(path, &bytes)
 }
 
-/// The font labels are drawn with (Hack, shipped inside the `epaint_default_fonts` crate).
-pub fn label_font() -> FontRef<'static> {
-    FontRef::try_from_slice(epaint_default_fonts::HACK_REGULAR).expect("the bundled font parses")
+/// The colour scale of a visit-count heatmap: it tops out at the 99th percentile so a few very
+/// busy pixels do not flatten everything else (pixels above it show in the top colour).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeatScale {
+    /// The count shown in the top colour: the 99th percentile, at least 1.
+    pub top: u32,
+    /// The largest count.
+    pub max: u32,
+    /// The mean count per pixel.
+    pub mean: f64,
 }
 
-/// Draws `text` with its top-left corner at (x, y), `size` pixels high, blending `color` over the
-/// image by glyph coverage.
-pub fn draw_text(img: &mut RgbImage, x: f32, y: f32, size: f32, text: &str, color: [u8; 3]) {
-    let font = label_font();
-    let scaled = font.as_scaled(PxScale::from(size));
-    let mut caret = x;
-    let baseline = y + scaled.ascent();
-    for ch in text.chars() {
-        let id = scaled.glyph_id(ch);
-        let glyph = id.with_scale_and_position(PxScale::from(size), point(caret, baseline));
-        caret += scaled.h_advance(id);
-        if let Some(outline) = font.outline_glyph(glyph) {
-            let b = outline.px_bounds();
-            outline.draw(|gx, gy, cov| {
-                let px = b.min.x as i32 + gx as i32;
-                let py = b.min.y as i32 + gy as i32;
-                if px >= 0 && py >= 0 && (px as u32) < img.width() && (py as u32) < img.height() {
-                    let p = img.get_pixel_mut(px as u32, py as u32);
-                    for (ch, &target) in p.0.iter_mut().zip(&color) {
-                        *ch = (*ch as f32 * (1.0 - cov) + target as f32 * cov).round() as u8;
-                    }
-                }
-            });
-        }
+impl HeatScale {
+    /// The scale of these per-pixel counts.
+    pub fn of(visits: &[u32]) -> HeatScale {
+        let mut sorted = visits.to_vec();
+        sorted.sort_unstable();
+        let max = sorted.last().copied().unwrap_or(0);
+        let top = sorted
+            .get(sorted.len().saturating_sub(1) * 99 / 100)
+            .copied()
+            .unwrap_or(0)
+            .max(1);
+        let mean = visits.iter().map(|&v| v as f64).sum::<f64>() / visits.len().max(1) as f64;
+        HeatScale { top, max, mean }
     }
-}
 
-/// The width in pixels of `text` at `size`.
-pub fn text_width(size: f32, text: &str) -> f32 {
-    let font = label_font();
-    let scaled = font.as_scaled(PxScale::from(size));
-    text.chars()
-        .map(|c| scaled.h_advance(scaled.glyph_id(c)))
-        .sum()
-}
+    /// The colour of a count (viridis: 0 dark purple, `top` and above yellow).
+    pub fn color(&self, v: u32) -> [u8; 3] {
+        self.color_at(v as f32 / self.top as f32)
+    }
 
-/// The heatmap of BVH node visits per pixel (viridis, 0 = dark purple, the 99th percentile and
-/// above = yellow), with a legend strip underneath: the colour bar, its scale, the mean and max.
-pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
-    let visits = out.node_visits.as_ref()?;
-    // The colour scale tops out at the 99th percentile so a few very busy pixels do not flatten
-    // everything else; pixels above it show in the top colour.
-    let mut sorted = visits.clone();
-    sorted.sort_unstable();
-    let true_max = sorted.last().copied().unwrap_or(0);
-    let max = sorted
-        .get(sorted.len().saturating_sub(1) * 99 / 100)
-        .copied()
-        .unwrap_or(0)
-        .max(1);
-    let mean = visits.iter().map(|&v| v as f64).sum::<f64>() / visits.len().max(1) as f64;
-    let (w, h) = (out.width, out.height);
-    let size = (w as f32 / 40.0).clamp(11.0, 22.0);
-    let legend = (size * 3.2) as u32;
-    let mut img = RgbImage::from_pixel(w, h + legend, Rgb([255, 255, 255]));
-    let map = |v: f32| {
-        let c = colorous::VIRIDIS.eval_continuous(v.clamp(0.0, 1.0) as f64);
-        Rgb([c.r, c.g, c.b])
-    };
-    for y in 0..h {
-        for x in 0..w {
-            img.put_pixel(x, y, map(visits[(y * w + x) as usize] as f32 / max as f32));
-        }
+    /// The colour at a fraction of the scale (clamped to 0 … 1).
+    pub fn color_at(&self, f: f32) -> [u8; 3] {
+        let f = if f.is_nan() { 0.0 } else { f.clamp(0.0, 1.0) };
+        let c = colorous::VIRIDIS.eval_continuous(f as f64);
+        [c.r, c.g, c.b]
     }
-    // Legend: title, then a bar from 0 to max with end labels.
-    let pad = size * 0.5;
-    let title = format!("BVH node visits per pixel (mean {mean:.1}, max {true_max})");
-    draw_text(&mut img, pad, h as f32 + pad * 0.4, size, &title, [0, 0, 0]);
-    let bar_y0 = h + (size * 1.6) as u32;
-    let bar_h = (size * 0.7) as u32;
-    let lo_label = "0";
-    let hi_label = if true_max > max {
-        format!("≥{max} (p99)")
-    } else {
-        format!("{max}")
-    };
-    let bx0 = (pad + text_width(size, lo_label) + pad) as u32;
-    let bx1 = (w as f32 - pad - text_width(size, &hi_label) - pad).max(bx0 as f32 + 2.0) as u32;
-    for x in bx0..bx1.min(w) {
-        let c = map((x - bx0) as f32 / (bx1 - bx0).max(1) as f32);
-        for y in bar_y0..(bar_y0 + bar_h).min(h + legend) {
-            img.put_pixel(x, y, c);
-        }
-    }
-    let ty = bar_y0 as f32 + bar_h as f32 * 0.5 - size * 0.6;
-    draw_text(&mut img, pad, ty, size, lo_label, [0, 0, 0]);
-    draw_text(&mut img, bx1 as f32 + pad, ty, size, &hi_label, [0, 0, 0]);
-    Some(img)
 }
 
 #[cfg(test)]
