@@ -742,6 +742,9 @@ fn variant(s: &Step) -> &'static str {
     match s {
         Step::Camera { .. } => "camera",
         Step::Node(_) => "node",
+        Step::SphereNode { .. } => "sphere-node",
+        Step::Cell { .. } => "cell",
+        Step::MailboxSkip { .. } => "mailbox-skip",
         Step::Sphere { .. } => "sphere",
         Step::Plane { .. } => "plane",
         Step::Triangle { .. } => "triangle",
@@ -787,9 +790,13 @@ fn every_step_of_every_shipped_scene_is_explained() {
         for (x, y) in grid(&scene, 80) {
             check_all_steps(&record(&scene, x, y), &mut seen);
         }
-        let mut bvh = scene.clone();
-        bvh.settings.accel = AccelChoice::Bvh;
-        check_all_steps(&record(&bvh, w / 2, h / 2), &mut seen);
+        for accel in [AccelChoice::Bvh, AccelChoice::Spheres, AccelChoice::Grid] {
+            let mut with = scene.clone();
+            with.settings.accel = accel;
+            for (x, y) in grid(&scene, 80) {
+                check_all_steps(&record(&with, x, y), &mut seen);
+            }
+        }
         let mut shallow = scene.clone();
         shallow.settings.max_depth = 1;
         shallow.settings.sphere_method = SphereMethod::Textbook;
@@ -801,6 +808,9 @@ fn every_step_of_every_shipped_scene_is_explained() {
     let all = [
         "camera",
         "node",
+        "sphere-node",
+        "cell",
+        "mailbox-skip",
         "sphere",
         "plane",
         "triangle",

@@ -6,9 +6,13 @@
 
 mod brute;
 pub mod bvh;
+pub mod grid;
+pub mod spheres;
 
 pub use brute::BruteForce;
 pub use bvh::Bvh;
+pub use grid::Grid;
+pub use spheres::SphereTree;
 
 use crate::math::Ray;
 use crate::record::{Observer, Step};
@@ -145,6 +149,10 @@ pub enum SceneAccel {
     Brute(BruteForce),
     /// A BVH.
     Bvh(Box<Bvh>),
+    /// A hierarchy of bounding spheres.
+    Spheres(Box<SphereTree>),
+    /// A uniform grid.
+    Grid(Box<Grid>),
 }
 
 impl SceneAccel {
@@ -168,7 +176,9 @@ impl SceneAccel {
         let start = Instant::now();
         let accel = match Self::resolve(scene) {
             AccelChoice::Bvh => SceneAccel::Bvh(Box::new(Bvh::build(scene))),
-            _ => SceneAccel::Brute(BruteForce),
+            AccelChoice::Spheres => SceneAccel::Spheres(Box::new(SphereTree::build(scene))),
+            AccelChoice::Grid => SceneAccel::Grid(Box::new(Grid::build(scene))),
+            AccelChoice::None | AccelChoice::Auto => SceneAccel::Brute(BruteForce),
         };
         (accel, start.elapsed())
     }
@@ -180,6 +190,8 @@ impl Accelerator for SceneAccel {
         match self {
             SceneAccel::Brute(b) => b.closest(scene, ray, obs),
             SceneAccel::Bvh(b) => b.closest(scene, ray, obs),
+            SceneAccel::Spheres(s) => s.closest(scene, ray, obs),
+            SceneAccel::Grid(g) => g.closest(scene, ray, obs),
         }
     }
     #[inline]
@@ -187,17 +199,21 @@ impl Accelerator for SceneAccel {
         match self {
             SceneAccel::Brute(b) => b.any(scene, ray, obs),
             SceneAccel::Bvh(b) => b.any(scene, ray, obs),
+            SceneAccel::Spheres(s) => s.any(scene, ray, obs),
+            SceneAccel::Grid(g) => g.any(scene, ray, obs),
         }
     }
     fn name(&self) -> &'static str {
         match self {
             SceneAccel::Brute(b) => b.name(),
             SceneAccel::Bvh(b) => b.name(),
+            SceneAccel::Spheres(s) => s.name(),
+            SceneAccel::Grid(g) => g.name(),
         }
     }
     fn outline(&self, depth: u32) -> Option<Vec<crate::record::OutlineNode>> {
         match self {
-            SceneAccel::Brute(_) => None,
+            SceneAccel::Brute(_) | SceneAccel::Spheres(_) | SceneAccel::Grid(_) => None,
             SceneAccel::Bvh(b) => b.outline(depth),
         }
     }

@@ -90,8 +90,6 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
 }
 
 fn accel_name(a: &SceneAccel) -> &'static str {
-    match a {
-        SceneAccel::Brute(_) => "brute force",
-        SceneAccel::Bvh(_) => "BVH",
-    }
+    use crate::accel::Accelerator;
+    a.name()
 }

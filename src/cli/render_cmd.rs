@@ -22,7 +22,8 @@ pub struct RenderArgs {
     /// Write linear values instead of sRGB-encoded ones.
     #[arg(long)]
     pub linear: bool,
-    /// Also write the BVH node visits per pixel as a colour-mapped PNG with a legend.
+    /// Also write the accelerator visits per pixel (BVH nodes, bounding spheres, grid cells) as a
+    /// colour-mapped PNG with a legend.
     #[arg(long, conflicts_with = "gpu")]
     pub heatmap: Option<PathBuf>,
     /// Render on the GPU (wgpu, offscreen) with the WGSL tracer generated for the scene.
@@ -64,7 +65,15 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let img = image::to_rgb8(out.width, out.height, &out.pixels, args.linear);
     image::write_png(&args.output, &img)?;
     if let Some(h) = &args.heatmap {
-        let hm = crate::diagram::heatmap::heatmap(&out).expect("counted render has visits");
+        let hm = crate::diagram::heatmap::heatmap(
+            &out,
+            match accel {
+                SceneAccel::Brute(_) | SceneAccel::Bvh(_) => "BVH nodes",
+                SceneAccel::Spheres(_) => "bounding spheres",
+                SceneAccel::Grid(_) => "grid cells",
+            },
+        )
+        .expect("counted render has visits");
         image::write_png(h, &hm)?;
     }
     let s = &out.stats;
@@ -73,6 +82,14 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let accel_desc = match &accel {
         SceneAccel::Brute(_) => "brute force (every primitive for every ray)".to_string(),
         SceneAccel::Bvh(b) => format!("BVH ({} nodes, depth {})", b.nodes.len(), b.max_depth),
+        SceneAccel::Spheres(s) => format!("bounding spheres ({} nodes)", s.nodes.len()),
+        SceneAccel::Grid(g) => format!(
+            "uniform grid ({}×{}×{} cells, {} references)",
+            g.dims[0],
+            g.dims[1],
+            g.dims[2],
+            g.references()
+        ),
     };
     println!(
         "rendered \"{}\" at {}×{}, {} sample{} per pixel, {}, {} thread{}",

@@ -47,7 +47,7 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
             scene.settings.spp - 1
         ));
     }
-    // The same accelerator the render would use, so BVH node visits appear in the trace.
+    // The same accelerator the render would use, so its node or cell visits appear in the trace.
     let prepared = PreparedScene::new(scene);
     let trace = prepared.record(x, y, args.sample);
     if let Some(k) = trace.truncated_at() {

@@ -1,4 +1,5 @@
-//! The heatmap of accelerator visits per pixel (BVH nodes visited), with a legend strip
+//! The heatmap of accelerator visits per pixel (BVH nodes, bounding spheres tested, grid cells
+//! entered), with a legend strip
 //! underneath: a title with the mean and the maximum, and the colour bar with its scale. The
 //! legend's text is drawn by the diagrams' one text renderer ([`super::Canvas`]).
 
@@ -9,7 +10,8 @@ use crate::render::image::HeatScale;
 use image::{Rgb, RgbImage};
 
 /// The heatmap of `out`'s per-pixel visit counts, or None when the render did not count them.
-pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
+/// `what` names what was visited: "BVH nodes", "bounding spheres", "grid cells".
+pub fn heatmap(out: &RenderOutput, what: &str) -> Option<RgbImage> {
     let visits = out.node_visits.as_ref()?;
     let scale = HeatScale::of(visits);
     let (w, h) = (out.width, out.height);
@@ -22,7 +24,7 @@ pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
             img.put_pixel(x, y, Rgb(scale.color(v)));
         }
     }
-    let legend = legend(&scale, w, legend_h, size);
+    let legend = legend(&scale, what, w, legend_h, size);
     for (x, y, p) in legend.enumerate_pixels() {
         img.put_pixel(x, h + y, Rgb([p[0], p[1], p[2]]));
     }
@@ -30,12 +32,12 @@ pub fn heatmap(out: &RenderOutput) -> Option<RgbImage> {
 }
 
 /// The legend strip, `width` × `height` pixels.
-fn legend(scale: &HeatScale, width: u32, height: u32, size: f32) -> image::RgbaImage {
+fn legend(scale: &HeatScale, what: &str, width: u32, height: u32, size: f32) -> image::RgbaImage {
     let mut c = Canvas::new(width, height, Theme::LIGHT);
     let ink = Theme::LIGHT.ink;
     let pad = size * 0.5;
     let title = format!(
-        "BVH node visits per pixel (mean {}, max {})",
+        "{what} visited per pixel (mean {}, max {})",
         fmt64(scale.mean, Style::Decimals(1)),
         scale.max
     );
@@ -79,7 +81,7 @@ mod tests {
             node_visits: Some((0..100).collect()),
             stats: Default::default(),
         };
-        let img = heatmap(&out).unwrap();
+        let img = heatmap(&out, "BVH nodes").unwrap();
         assert_eq!(img.width(), 10);
         assert!(img.height() > 10);
         let scale = HeatScale::of(&(0..100).collect::<Vec<u32>>());

@@ -2,7 +2,7 @@
 
 use crate::record::number::{num, opt, v3};
 use crate::record::words;
-use crate::record::{NodeAction, RayKind, RayRecord, Stage, Step, Trace};
+use crate::record::{RayKind, RayRecord, Stage, Step, Trace};
 use crate::shapes::{PlaneForm, RootChoice, SphereMethod, TriangleMethod};
 use std::fmt::Write;
 
@@ -44,13 +44,51 @@ pub fn describe(step: &Step) -> String {
             if n.leaf { ", leaf" } else { "" },
             num(n.test.t_near),
             num(n.test.t_far),
-            match n.action {
-                NodeAction::Culled => "culled",
-                NodeAction::Descend => "hit: descend into its children",
-                NodeAction::Pushed => "hit, but farther than its sibling: pushed for later",
-                NodeAction::TestPrimitives => "hit: test its primitives",
-            }
+            words::node_action(n.action)
         ),
+        Step::SphereNode {
+            node,
+            depth,
+            center,
+            radius,
+            test,
+            leaf,
+            action,
+            ..
+        } => format!(
+            "bounding sphere {node} (depth {depth}{}): centre {}, r = {}: {} → {}",
+            if *leaf { ", leaf" } else { "" },
+            v3(*center),
+            num(*radius),
+            match test.roots {
+                Some([t0, t1]) =>
+                    format!("the ray is inside it for t in [{}, {}]", num(t0), num(t1)),
+                None => "Δ < 0, the ray's line passes it by".into(),
+            },
+            words::node_action(*action)
+        ),
+        Step::Cell {
+            cell,
+            t_entry,
+            t_exit,
+            axis,
+            primitives,
+        } => format!(
+            "grid cell ({}, {}, {}){}: t from {} to {}, {primitives} primitive{} listed",
+            cell[0],
+            cell[1],
+            cell[2],
+            axis.map_or(" (the entry cell)".to_string(), |a| format!(
+                " (stepped along {})",
+                words::axis(a)
+            )),
+            num(*t_entry),
+            num(*t_exit),
+            if *primitives == 1 { "" } else { "s" }
+        ),
+        Step::MailboxSkip { name, .. } => {
+            format!("\"{name}\" was tested in an earlier cell and missed: the mailbox skips it")
+        }
         Step::Sphere { name, test, .. } => {
             let mut s = format!(
                 "sphere \"{name}\" ({}): a = {}, b = {}, c = {}, Δ = b² − 4ac = {}",

@@ -22,6 +22,10 @@ pub trait Observer {
     /// A BVH node was visited.
     #[inline(always)]
     fn node_visit(&mut self, _visit: impl FnOnce() -> NodeVisit) {}
+    /// A step of an accelerator other than the BVH (a bounding sphere tested, a grid cell
+    /// entered): counted as a node visit, recorded as a step.
+    #[inline(always)]
+    fn accel_visit(&mut self, _step: impl FnOnce() -> Step) {}
     /// Any other step.
     #[inline(always)]
     fn step(&mut self, _step: impl FnOnce() -> Step) {}
@@ -51,7 +55,7 @@ pub struct Counter {
     pub refraction: u64,
     /// Primitive intersection tests.
     pub prim_tests: u64,
-    /// BVH node visits (box tests).
+    /// Accelerator visits: BVH nodes (box tests), bounding spheres tested, grid cells entered.
     pub node_visits: u64,
 }
 
@@ -88,6 +92,10 @@ impl Observer for Counter {
     }
     #[inline(always)]
     fn node_visit(&mut self, _: impl FnOnce() -> NodeVisit) {
+        self.node_visits += 1;
+    }
+    #[inline(always)]
+    fn accel_visit(&mut self, _: impl FnOnce() -> Step) {
         self.node_visits += 1;
     }
 }
@@ -222,6 +230,11 @@ impl Observer for Recorder {
     fn node_visit(&mut self, visit: impl FnOnce() -> NodeVisit) {
         if !self.cut {
             self.push(Step::Node(visit()));
+        }
+    }
+    fn accel_visit(&mut self, step: impl FnOnce() -> Step) {
+        if !self.cut {
+            self.push(step());
         }
     }
     fn step(&mut self, step: impl FnOnce() -> Step) {

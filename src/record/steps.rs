@@ -94,6 +94,53 @@ pub enum Step {
     },
     /// A BVH node visit.
     Node(NodeVisit),
+    /// A node of the bounding-sphere hierarchy: the ray–sphere test of its bounding sphere
+    /// (lesson 2's test, used for culling).
+    SphereNode {
+        /// Node index in the tree.
+        node: u32,
+        /// Depth (root = 0).
+        depth: u32,
+        /// The bounding sphere's centre.
+        #[serde(with = "crate::jsonf")]
+        center: [f32; 3],
+        /// The bounding sphere's radius.
+        #[serde(with = "crate::jsonf")]
+        radius: f32,
+        /// The ray–sphere test against it (its two roots bound where the ray is inside).
+        test: SphereTest<f32>,
+        /// Whether the node is a leaf.
+        leaf: bool,
+        /// An inner node's two children (node indices).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        children: Option<[u32; 2]>,
+        /// What the traversal did with the node.
+        action: NodeAction,
+    },
+    /// The uniform grid's walk (3D-DDA) enters a cell.
+    Cell {
+        /// The cell's index on each axis.
+        cell: [u32; 3],
+        /// Where the ray enters the cell.
+        #[serde(with = "crate::jsonf")]
+        t_entry: f32,
+        /// Where the ray leaves it (a hit is accepted only up to here).
+        #[serde(with = "crate::jsonf")]
+        t_exit: f32,
+        /// The axis the walk stepped along to get here (none for the entry cell).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        axis: Option<u8>,
+        /// How many primitives the cell lists.
+        primitives: u32,
+    },
+    /// The grid's mailbox: a primitive listed in this cell was already tested (and missed) in an
+    /// earlier one, so it is not tested again.
+    MailboxSkip {
+        /// Object id.
+        object: u32,
+        /// Object name.
+        name: String,
+    },
     /// A ray–sphere test.
     Sphere {
         /// Object id.
@@ -348,7 +395,10 @@ impl Step {
     pub fn stage(&self) -> Stage {
         match self {
             Step::Camera { .. } => Stage::RayGeneration,
-            Step::Node(_) => Stage::Traversal,
+            Step::Node(_)
+            | Step::SphereNode { .. }
+            | Step::Cell { .. }
+            | Step::MailboxSkip { .. } => Stage::Traversal,
             Step::Sphere { .. } | Step::Plane { .. } | Step::Triangle { .. } => Stage::Intersection,
             Step::Accept { .. } => Stage::AnyHit,
             Step::Miss { .. } => Stage::Miss,

@@ -14,7 +14,7 @@
 //! );
 //! ```
 
-use super::steps::RayKind;
+use super::steps::{NodeAction, RayKind};
 use crate::shapes::{RootChoice, SphereCase};
 
 impl RayKind {
@@ -54,6 +54,21 @@ pub fn root_choice(choice: RootChoice) -> &'static str {
             "the usable root is beyond the closest hit so far: something nearer was already hit, a miss"
         }
     }
+}
+
+/// What an accelerator's traversal did with a node (a BVH box or a bounding sphere).
+pub fn node_action(action: NodeAction) -> &'static str {
+    match action {
+        NodeAction::Culled => "culled: nothing inside is tested",
+        NodeAction::Descend => "hit: descend into its children",
+        NodeAction::Pushed => "hit, but farther than its sibling: pushed for later",
+        NodeAction::TestPrimitives => "hit: test its primitives",
+    }
+}
+
+/// The name of an axis (0, 1, 2 → x, y, z; anything else "?").
+pub fn axis(a: u8) -> &'static str {
+    ["x", "y", "z"].get(a as usize).copied().unwrap_or("?")
 }
 
 /// A wording as a sentence: capital first letter, full stop.

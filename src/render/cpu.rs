@@ -24,7 +24,7 @@ pub struct RenderOptions {
     pub threads: Option<usize>,
     /// Show a progress bar on stderr (only when stderr is a terminal).
     pub progress: bool,
-    /// Count rays and tests, and BVH node visits per pixel (for the stats and the heatmap).
+    /// Count rays and tests, and accelerator visits per pixel (for the stats and the heatmap).
     pub count: bool,
     /// Where a watching UI sees the image build up, and can cancel it.
     pub live: Option<Arc<LiveRender>>,
@@ -126,7 +126,7 @@ impl RenderStats {
     }
 }
 
-/// A rendered image in linear RGB, with per-pixel BVH node visits when counted.
+/// A rendered image in linear RGB, with per-pixel accelerator visits when counted.
 #[derive(Debug, Clone)]
 pub struct RenderOutput {
     /// Width.
@@ -135,7 +135,8 @@ pub struct RenderOutput {
     pub height: u32,
     /// Linear RGB, row-major from the top-left.
     pub pixels: Vec<Vec3>,
-    /// BVH node visits per pixel (all rays of the pixel), when counted.
+    /// Accelerator visits per pixel (BVH nodes, bounding spheres, grid cells; all rays of the
+    /// pixel), when counted.
     pub node_visits: Option<Vec<u32>>,
     /// Statistics.
     pub stats: RenderStats,

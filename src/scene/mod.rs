@@ -80,6 +80,10 @@ pub enum AccelChoice {
     None,
     /// A bounding volume hierarchy.
     Bvh,
+    /// A hierarchy of bounding spheres (over the BVH's tree).
+    Spheres,
+    /// A uniform grid walked by 3D-DDA.
+    Grid,
 }
 
 /// Render and tracing settings (the scene's `[render]` table, possibly overridden on the command line).

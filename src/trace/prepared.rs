@@ -107,7 +107,7 @@ impl PreparedScene {
     pub fn bvh(&self) -> Option<&Bvh> {
         match self.accel.as_ref() {
             SceneAccel::Bvh(b) => Some(b),
-            SceneAccel::Brute(_) => None,
+            SceneAccel::Brute(_) | SceneAccel::Spheres(_) | SceneAccel::Grid(_) => None,
         }
     }
 

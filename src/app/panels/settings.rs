@@ -64,10 +64,16 @@ pub(super) fn settings_panel(
             .on_hover_text("test every primitive for every ray");
         ui.radio_value(&mut s.accel, AccelChoice::Bvh, "BVH")
             .on_hover_text("a bounding volume hierarchy: skip what a ray's boxes miss");
+        ui.radio_value(&mut s.accel, AccelChoice::Spheres, "spheres")
+            .on_hover_text("a hierarchy of bounding spheres: skip what a ray's spheres miss");
+        ui.radio_value(&mut s.accel, AccelChoice::Grid, "grid")
+            .on_hover_text("a uniform grid: walk the cells the ray crosses, nearest first");
     });
     if let Some(p) = &state.prepared {
         ui.label(match p.accel_choice() {
             AccelChoice::Bvh => "using a BVH",
+            AccelChoice::Spheres => "using bounding spheres",
+            AccelChoice::Grid => "using a uniform grid",
             _ => "testing every primitive for every ray",
         });
     }
@@ -159,7 +165,7 @@ pub(super) fn settings_panel(
             .on_hover_text("how many BVH nodes each pixel's rays visited");
         if p.heatmap {
             ui.label(format!(
-                "node visits per pixel, dark purple = 0 … yellow ≥ {}",
+                "accelerator visits per pixel (nodes or cells), dark purple = 0 … yellow ≥ {}",
                 views.heat_max()
             ));
         }
@@ -187,6 +193,8 @@ fn settings_summary(ui: &mut egui::Ui, s: &Settings) {
         AccelChoice::Auto => "automatic",
         AccelChoice::None => "naive loop",
         AccelChoice::Bvh => "BVH",
+        AccelChoice::Spheres => "bounding spheres",
+        AccelChoice::Grid => "uniform grid",
     };
     for line in [
         format!("samples per pixel: {}", s.spp),

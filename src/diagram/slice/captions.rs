@@ -1,6 +1,7 @@
 //! The slice's captions: one line per focused step, and its number formats.
 
 use super::*;
+use crate::record::words;
 
 /// One line saying what a step did (the subtitle while stepping).
 pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
@@ -9,17 +10,29 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
         |t: Option<f32>| t.map_or("miss".to_string(), |t| format!("hit at t = {}", label(t)));
     match step {
         Step::Camera { .. } => "camera: the primary ray from the eye through the pixel".into(),
-        Step::Node(n) => {
-            let what = match n.action {
-                NodeAction::Culled => "culled",
-                NodeAction::Descend => "hit, descend",
-                NodeAction::Pushed => "hit, pushed for later",
-                NodeAction::TestPrimitives => "hit, test its primitives",
-            };
-            format!(
-                "{kind} ray: BVH node {} (depth {}): {what}",
-                n.node, n.depth
-            )
+        Step::Node(n) => format!(
+            "{kind} ray: BVH node {} (depth {}): {}",
+            n.node,
+            n.depth,
+            words::node_action(n.action)
+        ),
+        Step::SphereNode {
+            node,
+            depth,
+            action,
+            ..
+        } => format!(
+            "{kind} ray: bounding sphere {node} (depth {depth}): {}",
+            words::node_action(*action)
+        ),
+        Step::Cell {
+            cell, primitives, ..
+        } => format!(
+            "{kind} ray: grid cell ({}, {}, {}), {primitives} listed",
+            cell[0], cell[1], cell[2]
+        ),
+        Step::MailboxSkip { name, .. } => {
+            format!("{kind} ray: \"{name}\" already missed: mailbox skip")
         }
         Step::Sphere { name, test, .. } => {
             let roots = match test.roots {

@@ -89,6 +89,9 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             direction,
         } => cx.camera(*pixel, *sample, *offset, *screen, *direction),
         Step::Node(n) => cx.node(n),
+        Step::SphereNode { .. } | Step::Cell { .. } | Step::MailboxSkip { .. } => {
+            cx.accel_step(step)
+        }
         Step::Sphere { object, name, test } => cx.sphere(*object, name, test),
         Step::Plane { name, test, .. } => cx.plane(name, test),
         Step::Triangle {

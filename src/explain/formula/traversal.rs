@@ -164,4 +164,98 @@ impl Ctx<'_> {
             conclusion,
         }
     }
+
+    /// A bounding sphere tested, a grid cell entered, a mailbox skip: the recorded numbers and
+    /// what the traversal did.
+    pub(super) fn accel_step(&self, step: &Step) -> Explanation {
+        match step {
+            Step::SphereNode {
+                node,
+                depth,
+                center,
+                radius,
+                test,
+                leaf,
+                children,
+                action,
+            } => {
+                let mut lines = vec![
+                    line("G", "the bounding sphere's centre", "", v3(*center), None),
+                    line("r", "its radius", "", num(*radius), None),
+                    line("Δ", "b² − 4ac", "", num(test.discriminant), None),
+                ];
+                if let Some([t0, t1]) = test.roots {
+                    lines.push(line(
+                        "t₀, t₁",
+                        "the roots: the ray is inside the sphere between them",
+                        "",
+                        format!("{}, {}", num(t0), num(t1)),
+                        None,
+                    ));
+                }
+                let why = match (action, children) {
+                    (NodeAction::Descend, Some([a, b])) => {
+                        format!("Hit: descend into children {a} and {b}.")
+                    }
+                    _ => crate::record::words::sentence(crate::record::words::node_action(*action)),
+                };
+                Explanation {
+                    title: format!(
+                        "Bounding sphere {node} (depth {depth}, {}): lesson 2's ray–sphere test, used for culling",
+                        if *leaf { "leaf" } else { "inner" }
+                    ),
+                    lines,
+                    conclusion: format!(
+                        "{why} (The sphere is culled when both roots lie outside (t_min, t_max) or there are none.)"
+                    ),
+                }
+            }
+            Step::Cell {
+                cell,
+                t_entry,
+                t_exit,
+                axis,
+                primitives,
+            } => Explanation {
+                title: format!("Grid cell ({}, {}, {})", cell[0], cell[1], cell[2]),
+                lines: vec![
+                    line(
+                        "t_entry",
+                        "where the ray enters the cell",
+                        "",
+                        num(*t_entry),
+                        None,
+                    ),
+                    line(
+                        "t_exit",
+                        "min over the axes of t_next (the next cell boundary)",
+                        "",
+                        num(*t_exit),
+                        Some("a hit is accepted here only if t ≤ t_exit".into()),
+                    ),
+                    line(
+                        "stepped along",
+                        "the axis whose t_next was smallest",
+                        "",
+                        axis.map_or("— (the entry cell)".to_string(), |a| {
+                            crate::record::words::axis(a).to_string()
+                        }),
+                        None,
+                    ),
+                ],
+                conclusion: format!(
+                    "The cell lists {primitives} primitive{}; each is tested unless the mailbox says it already missed.",
+                    if *primitives == 1 { "" } else { "s" }
+                ),
+            },
+            Step::MailboxSkip { name, .. } => Explanation {
+                title: format!("Mailbox: \"{name}\""),
+                lines: vec![],
+                conclusion: format!(
+                    "\"{name}\" spans several cells and was already tested (a miss) in an earlier one: a miss stays a miss as t_max only shrinks, so it is not tested again."
+                ),
+            },
+            _ => Explanation::default(),
+        }
+    }
 }

@@ -1,0 +1,365 @@
+//! The uniform grid: spatial subdivision, the seeds' third way of avoiding tests.
+//!
+//! The box around the scene's finite primitives is cut into equal cells; each cell lists every
+//! primitive whose bounding box overlaps it. A ray walks the cells it crosses, nearest first, by
+//! 3D-DDA (Amanatides & Woo, "A fast voxel traversal algorithm", Eurographics 1987), and tests
+//! only the primitives the cells list:
+//!
+//! - the entry cell is the cell of the point where the ray enters the grid (or of its origin,
+//!   inside the grid), its indices clamped into the grid, since rounding may put that point a
+//!   hair outside;
+//! - per axis, `t_next` is where the ray crosses the next cell boundary and `t_delta` how far
+//!   apart the crossings are; the walk steps along the axis with the smallest `t_next` (the lowest
+//!   axis on a tie);
+//! - a hit is accepted only if it lies inside the current cell (t ≤ the cell's exit): a primitive
+//!   that spans several cells may be hit beyond this one, where a nearer primitive listed only in
+//!   a later cell could still be in front of it;
+//! - the mailbox: a primitive already tested in an earlier cell *and missed* is not tested again
+//!   (a miss stays a miss: the ray's t interval only shrinks). One hit beyond its cell is tested
+//!   again where it is reached, so its hit is accepted in the right cell.
+//!
+//! Infinite planes stay outside the grid, as with the BVH: they are tested first and their hit
+//! tightens t_max.
+//!
+//! Resolution: Cleary & Wyvill's heuristic, cells per axis ∝ the box's extent so that the grid
+//! holds about λ·N cells for N primitives, i.e. λ^(1/3)·N^(1/3) per axis on a cube. λ =
+//! [`GRID_LAMBDA`], measured with `raystep bench --section accel-compare`.
+
+use super::bvh::shape_bounds;
+use super::{Accelerator, Hit, accept, test_object};
+use crate::math::Ray;
+use crate::record::{Observer, Step};
+use crate::scene::Scene;
+use crate::shapes::aabb::slab_robust;
+use glam::Vec3;
+use smallvec::SmallVec;
+
+/// Cells per primitive (λ): the grid holds about λ·N cells for N finite primitives.
+pub const GRID_LAMBDA: f32 = 4.0;
+
+/// The most cells along one axis (keeps a grid of a million triangles within memory).
+pub const MAX_CELLS_PER_AXIS: u32 = 256;
+
+/// A uniform grid over the scene's finite primitives.
+#[derive(Debug, Clone)]
+pub struct Grid {
+    /// The grid's box.
+    pub min: Vec3,
+    /// The grid's box.
+    pub max: Vec3,
+    /// Cells along x, y, z.
+    pub dims: [u32; 3],
+    cell_size: Vec3,
+    /// `starts[c]..starts[c + 1]` indexes `lists` for cell `c` (x fastest, then y, then z).
+    starts: Vec<u32>,
+    /// The primitives of every cell, ascending object ids within a cell.
+    lists: Vec<u32>,
+    /// Infinite planes, tested first.
+    planes: Vec<u32>,
+}
+
+impl Grid {
+    /// Builds the grid for `scene` (the heuristic of the module documentation).
+    pub fn build(scene: &Scene) -> Grid {
+        let mut planes = vec![];
+        let mut boxes = vec![];
+        for (id, o) in scene.objects.iter().enumerate() {
+            match shape_bounds(&o.shape) {
+                Some(b) => boxes.push((id as u32, b)),
+                None => planes.push(id as u32),
+            }
+        }
+        let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for (_, (lo, hi)) in &boxes {
+            min = min.min(*lo);
+            max = max.max(*hi);
+        }
+        if boxes.is_empty() {
+            return Grid {
+                min: Vec3::ZERO,
+                max: Vec3::ZERO,
+                dims: [0; 3],
+                cell_size: Vec3::ONE,
+                starts: vec![0],
+                lists: vec![],
+                planes,
+            };
+        }
+        // A flat scene (all primitives in one plane) still gets a grid one cell thick.
+        let extent =
+            (max - min).max(Vec3::splat((max - min).max_element() * 1e-3).max(Vec3::splat(1e-6)));
+        max = min + extent;
+        let n = boxes.len() as f32;
+        let volume = extent.x * extent.y * extent.z;
+        let per_unit = (GRID_LAMBDA * n / volume).cbrt();
+        let dims = extent.to_array().map(|e| {
+            let d = (e * per_unit).round();
+            if d.is_finite() {
+                (d as u32).clamp(1, MAX_CELLS_PER_AXIS)
+            } else {
+                1
+            }
+        });
+        let cell_size = extent / Vec3::new(dims[0] as f32, dims[1] as f32, dims[2] as f32);
+        let grid_cell = |p: Vec3| -> [u32; 3] {
+            let c = (p - min) / cell_size;
+            [0, 1, 2].map(|a| {
+                let f = c[a].floor();
+                if f.is_nan() || f < 0.0 {
+                    0
+                } else {
+                    (f as u32).min(dims[a] - 1)
+                }
+            })
+        };
+        let cells = (dims[0] * dims[1] * dims[2]) as usize;
+        let mut counts = vec![0u32; cells + 1];
+        let mut ranges = Vec::with_capacity(boxes.len());
+        // Each box grows by a thousandth of a cell before it is assigned, so a primitive lying on
+        // a cell boundary (a flat scene on a grid plane) is listed on both sides: a hit computed a
+        // rounding error past the boundary is still in a cell that lists it.
+        let margin = cell_size * 1e-3;
+        for (id, (lo, hi)) in &boxes {
+            let (a, b) = (grid_cell(*lo - margin), grid_cell(*hi + margin));
+            ranges.push((*id, a, b));
+            for z in a[2]..=b[2] {
+                for y in a[1]..=b[1] {
+                    for x in a[0]..=b[0] {
+                        counts[((z * dims[1] + y) * dims[0] + x) as usize] += 1;
+                    }
+                }
+            }
+        }
+        let mut starts = vec![0u32; cells + 1];
+        for c in 0..cells {
+            starts[c + 1] = starts[c] + counts[c];
+        }
+        let mut fill = starts.clone();
+        let mut lists = vec![0u32; starts[cells] as usize];
+        // Ascending ids within a cell: `ranges` is in object order.
+        for (id, a, b) in ranges {
+            for z in a[2]..=b[2] {
+                for y in a[1]..=b[1] {
+                    for x in a[0]..=b[0] {
+                        let c = ((z * dims[1] + y) * dims[0] + x) as usize;
+                        lists[fill[c] as usize] = id;
+                        fill[c] += 1;
+                    }
+                }
+            }
+        }
+        Grid {
+            min,
+            max,
+            dims,
+            cell_size,
+            starts,
+            lists,
+            planes,
+        }
+    }
+
+    /// Cells in the grid.
+    pub fn cells(&self) -> usize {
+        self.starts.len() - 1
+    }
+
+    /// Primitive references over all cells (a primitive spanning k cells counts k times).
+    pub fn references(&self) -> usize {
+        self.lists.len()
+    }
+
+    /// Bytes the grid takes (cell starts and lists).
+    pub fn memory(&self) -> usize {
+        (self.starts.len() + self.lists.len() + self.planes.len()) * 4
+    }
+
+    /// The primitives cell (x, y, z) lists.
+    pub fn cell(&self, c: [u32; 3]) -> &[u32] {
+        let i = ((c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]) as usize;
+        match (self.starts.get(i), self.starts.get(i + 1)) {
+            (Some(&a), Some(&b)) => self.lists.get(a as usize..b as usize).unwrap_or(&[]),
+            _ => &[],
+        }
+    }
+
+    /// The box of cell (x, y, z).
+    pub fn cell_box(&self, c: [u32; 3]) -> (Vec3, Vec3) {
+        let lo = self.min + self.cell_size * Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
+        (lo, lo + self.cell_size)
+    }
+
+    /// Walks the cells `ray` crosses, nearest first, calling `visit(cell, t_entry, t_exit,
+    /// axis stepped)` for each; `visit` returns false to stop. The walk also stops past the
+    /// ray's t_max (which `visit` may shrink through `ray`).
+    #[inline(always)]
+    pub fn walk(
+        &self,
+        ray: &mut Ray<f32>,
+        mut visit: impl FnMut(&Grid, [u32; 3], f32, f32, Option<u8>, &mut Ray<f32>) -> bool,
+    ) {
+        if self.dims[0] == 0 {
+            return;
+        }
+        let inv = Vec3::ONE / ray.dir;
+        let slab = slab_robust(ray, inv, self.min, self.max);
+        if !slab.hit {
+            return;
+        }
+        let t_start = slab.t_near.max(ray.t_min);
+        let t_end = slab.t_far;
+        let p = ray.origin + ray.dir * t_start;
+        let c = (p - self.min) / self.cell_size;
+        let mut cell = [0, 1, 2].map(|a| {
+            let f = c[a].floor();
+            if f.is_nan() || f < 0.0 {
+                0
+            } else {
+                (f as u32).min(self.dims[a] - 1)
+            }
+        });
+        let mut step = [0i32; 3];
+        let mut t_next = [f32::INFINITY; 3];
+        let mut t_delta = [f32::INFINITY; 3];
+        for a in 0..3 {
+            let d = ray.dir[a];
+            if d > 0.0 {
+                step[a] = 1;
+                let boundary = self.min[a] + self.cell_size[a] * (cell[a] + 1) as f32;
+                t_next[a] = (boundary - ray.origin[a]) * inv[a];
+                t_delta[a] = self.cell_size[a] * inv[a];
+            } else if d < 0.0 {
+                step[a] = -1;
+                let boundary = self.min[a] + self.cell_size[a] * cell[a] as f32;
+                t_next[a] = (boundary - ray.origin[a]) * inv[a];
+                t_delta[a] = -self.cell_size[a] * inv[a];
+            }
+        }
+        let mut t_entry = t_start;
+        let mut axis = None;
+        loop {
+            // Nothing in this cell or beyond can be nearer than a hit already found.
+            if t_entry > ray.t_max {
+                return;
+            }
+            // The axis with the nearest boundary (the lowest axis on a tie).
+            let mut a = 0;
+            if t_next[1] < t_next[a] {
+                a = 1;
+            }
+            if t_next[2] < t_next[a] {
+                a = 2;
+            }
+            let t_exit = t_next[a].min(t_end);
+            if !visit(self, cell, t_entry, t_exit, axis, ray) {
+                return;
+            }
+            if t_exit >= t_end || t_exit > ray.t_max || t_next[a].is_infinite() {
+                return;
+            }
+            let next = cell[a] as i64 + step[a] as i64;
+            if next < 0 || next >= self.dims[a] as i64 {
+                return;
+            }
+            cell[a] = next as u32;
+            t_entry = t_exit;
+            t_next[a] += t_delta[a];
+            axis = Some(a as u8);
+        }
+    }
+}
+
+impl Accelerator for Grid {
+    #[inline]
+    fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        let mut r = *ray;
+        let mut best: Option<Hit> = None;
+        for &id in &self.planes {
+            if let Some(h) = test_object(scene, id, &r, obs) {
+                accept(scene, &h, r.t_max, obs);
+                r.t_max = h.t;
+                best = Some(h);
+            }
+        }
+        // Primitives already tested and missed (the mailbox).
+        let mut missed: SmallVec<[u32; 32]> = SmallVec::new();
+        self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, r| {
+            let list = grid.cell(cell);
+            obs.accel_visit(|| Step::Cell {
+                cell,
+                t_entry,
+                t_exit,
+                axis,
+                primitives: list.len() as u32,
+            });
+            for &id in list {
+                if missed.contains(&id) {
+                    obs.step(|| Step::MailboxSkip {
+                        object: id,
+                        name: scene.object_name(id),
+                    });
+                    continue;
+                }
+                match test_object(scene, id, r, obs) {
+                    // Inside this cell: the nearest so far.
+                    Some(h) if h.t <= t_exit => {
+                        accept(scene, &h, r.t_max, obs);
+                        r.t_max = h.t;
+                        best = Some(h);
+                    }
+                    // Beyond this cell: tested again where the ray reaches it.
+                    Some(_) => {}
+                    None => missed.push(id),
+                }
+            }
+            // Done once the nearest hit lies in this cell.
+            best.is_none_or(|b| b.t > t_exit)
+        });
+        best
+    }
+
+    #[inline]
+    fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        for &id in &self.planes {
+            if let Some(h) = test_object(scene, id, ray, obs) {
+                accept(scene, &h, ray.t_max, obs);
+                return Some(h);
+            }
+        }
+        let mut found = None;
+        let mut tested: SmallVec<[u32; 32]> = SmallVec::new();
+        let mut r = *ray;
+        self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, r| {
+            let list = grid.cell(cell);
+            obs.accel_visit(|| Step::Cell {
+                cell,
+                t_entry,
+                t_exit,
+                axis,
+                primitives: list.len() as u32,
+            });
+            for &id in list {
+                if tested.contains(&id) {
+                    obs.step(|| Step::MailboxSkip {
+                        object: id,
+                        name: scene.object_name(id),
+                    });
+                    continue;
+                }
+                // Any hit in (t_min, t_max) blocks the shadow ray, wherever it lies.
+                if let Some(h) = test_object(scene, id, r, obs) {
+                    accept(scene, &h, r.t_max, obs);
+                    found = Some(h);
+                    return false;
+                }
+                tested.push(id);
+            }
+            true
+        });
+        found
+    }
+
+    fn name(&self) -> &'static str {
+        "uniform grid"
+    }
+}
