@@ -39,6 +39,7 @@ pub static ASSETS: &[Asset] = assets!(
     "scenes/icosahedron.obj",
     "scenes/leaky-edge.toml",
     "scenes/mirror-glass.toml",
+    "scenes/teapot-stadium.toml",
     "scenes/three-spheres.toml",
     "scenes/triangles.toml",
     "lessons/README.md",

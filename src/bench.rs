@@ -503,3 +503,53 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// Every accelerator on every scene, one thread, at most 160×120 pixels: build time, memory,
+/// primitive tests and node or cell visits per ray, rays per second and the speed-up over brute
+/// force (all ray kinds; the images are identical, which `tests/accelerators.rs` checks).
+pub fn accel_compare(scenes: &[Scene], reps: usize) {
+    println!("## Accelerators compared, one thread, at most 160×120 pixels (all ray kinds)");
+    println!(
+        "| scene | primitives | accelerator | build (ms) | memory (KiB) | tests / ray | visits / ray | Mrays/s | speed-up |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for scene in scenes {
+        let mut s = scene.clone();
+        s.camera.width = s.camera.width.min(160);
+        s.camera.height = s.camera.height.min(120);
+        let mut brute_time = None;
+        for choice in [
+            AccelChoice::None,
+            AccelChoice::Bvh,
+            AccelChoice::Spheres,
+            AccelChoice::Grid,
+        ] {
+            s.settings.accel = choice;
+            let builds: Vec<(SceneAccel, Duration)> = (0..reps.clamp(1, 3))
+                .map(|_| SceneAccel::build(&s))
+                .collect();
+            let mut times: Vec<Duration> = builds.iter().map(|b| b.1).collect();
+            times.sort();
+            let build = times[times.len() / 2];
+            let accel = &builds[0].0;
+            let tracer = Tracer::new(&s, accel);
+            let c = count_rays(&tracer);
+            let rays = c.rays().max(1) as f64;
+            let t = median_time(reps, || all_pixels(&tracer));
+            let brute = *brute_time.get_or_insert(t);
+            let n = |x: f64| crate::record::number::fmt64(x, crate::record::number::Style::Label);
+            println!(
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {}× |",
+                s.name,
+                s.features.primitives,
+                accel.name(),
+                n(build.as_secs_f64() * 1e3),
+                n(accel.memory() as f64 / 1024.0),
+                n(c.prim_tests as f64 / rays),
+                n(c.node_visits as f64 / rays),
+                n(rays / t.as_secs_f64() / 1e6),
+                n(brute.as_secs_f64() / t.as_secs_f64()),
+            );
+        }
+    }
+}

@@ -205,7 +205,7 @@ fn recorded_cell_walk_matches_an_independent_enumeration() {
         let mut ray = Ray::infinite(o, d).unwrap();
         let mut cells = vec![];
         let mut last = (f32::NAN, f32::NAN);
-        grid.walk(&mut ray, |_, c, t_in, t_out, _, _| {
+        grid.walk(&mut ray, |_, c, t_in, t_out, _, _, _| {
             cells.push(c);
             last = (t_in, t_out);
             true

@@ -34,6 +34,20 @@ fn expected() -> Vec<(&'static str, Features)> {
             },
         ),
         (
+            // 120 teapot spheres and 4 floodlight balls, 10 stadium triangles; nothing reflects.
+            "teapot-stadium.toml",
+            Features {
+                spheres: 124,
+                planes: 0,
+                triangles: 10,
+                meshes: 0,
+                lights: 1,
+                reflective: false,
+                transparent: false,
+                primitives: 134,
+            },
+        ),
+        (
             // middle, mirror, small on a floor plane; the "mirror" material reflects.
             "three-spheres.toml",
             Features {

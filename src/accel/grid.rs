@@ -13,7 +13,8 @@
 //!   axis on a tie);
 //! - a hit is accepted only if it lies inside the current cell (t ≤ the cell's exit): a primitive
 //!   that spans several cells may be hit beyond this one, where a nearer primitive listed only in
-//!   a later cell could still be in front of it;
+//!   a later cell could still be in front of it (in the walk's last cell any hit is accepted: no
+//!   cell follows);
 //! - the mailbox: a primitive already tested in an earlier cell *and missed* is not tested again
 //!   (a miss stays a miss: the ray's t interval only shrinks). One hit beyond its cell is tested
 //!   again where it is reached, so its hit is accepted in the right cell.
@@ -85,9 +86,13 @@ impl Grid {
                 planes,
             };
         }
-        // A flat scene (all primitives in one plane) still gets a grid one cell thick.
+        // A flat scene (all primitives in one plane) still gets a grid one cell thick; the box
+        // grows by a ten-thousandth on every side so that primitives on its faces (a room's
+        // walls) lie inside it, not on a boundary a rounding error may put them beyond.
         let extent =
             (max - min).max(Vec3::splat((max - min).max_element() * 1e-3).max(Vec3::splat(1e-6)));
+        min -= extent * 1e-4;
+        let extent = extent * (1.0 + 2e-4);
         max = min + extent;
         let n = boxes.len() as f32;
         let volume = extent.x * extent.y * extent.z;
@@ -196,7 +201,7 @@ impl Grid {
     pub fn walk(
         &self,
         ray: &mut Ray<f32>,
-        mut visit: impl FnMut(&Grid, [u32; 3], f32, f32, Option<u8>, &mut Ray<f32>) -> bool,
+        mut visit: impl FnMut(&Grid, [u32; 3], f32, f32, Option<u8>, bool, &mut Ray<f32>) -> bool,
     ) {
         if self.dims[0] == 0 {
             return;
@@ -251,14 +256,16 @@ impl Grid {
                 a = 2;
             }
             let t_exit = t_next[a].min(t_end);
-            if !visit(self, cell, t_entry, t_exit, axis, ray) {
-                return;
-            }
-            if t_exit >= t_end || t_exit > ray.t_max || t_next[a].is_infinite() {
-                return;
-            }
             let next = cell[a] as i64 + step[a] as i64;
-            if next < 0 || next >= self.dims[a] as i64 {
+            // The last cell of the walk: no cell follows, so any hit found here is the nearest.
+            let last = t_exit >= t_end
+                || t_next[a].is_infinite()
+                || next < 0
+                || next >= self.dims[a] as i64;
+            if !visit(self, cell, t_entry, t_exit, axis, last, ray) || last {
+                return;
+            }
+            if t_exit > ray.t_max {
                 return;
             }
             cell[a] = next as u32;
@@ -283,7 +290,7 @@ impl Accelerator for Grid {
         }
         // Primitives already tested and missed (the mailbox).
         let mut missed: SmallVec<[u32; 32]> = SmallVec::new();
-        self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, r| {
+        self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, last, r| {
             let list = grid.cell(cell);
             obs.accel_visit(|| Step::Cell {
                 cell,
@@ -301,8 +308,8 @@ impl Accelerator for Grid {
                     continue;
                 }
                 match test_object(scene, id, r, obs) {
-                    // Inside this cell: the nearest so far.
-                    Some(h) if h.t <= t_exit => {
+                    // Inside this cell (or in the last cell): the nearest so far.
+                    Some(h) if h.t <= t_exit || last => {
                         accept(scene, &h, r.t_max, obs);
                         r.t_max = h.t;
                         best = Some(h);
@@ -329,7 +336,7 @@ impl Accelerator for Grid {
         let mut found = None;
         let mut tested: SmallVec<[u32; 32]> = SmallVec::new();
         let mut r = *ray;
-        self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, r| {
+        self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, _, r| {
             let list = grid.cell(cell);
             obs.accel_visit(|| Step::Cell {
                 cell,

@@ -184,6 +184,22 @@ impl SceneAccel {
     }
 }
 
+impl SceneAccel {
+    /// Bytes the structure takes (the tree's nodes and object lists, the grid's cells and
+    /// lists; 0 for brute force).
+    pub fn memory(&self) -> usize {
+        match self {
+            SceneAccel::Brute(_) => 0,
+            SceneAccel::Bvh(b) => {
+                b.nodes.len() * std::mem::size_of::<bvh::Node>()
+                    + (b.leaf_objects.len() + b.planes.len()) * 4
+            }
+            SceneAccel::Spheres(s) => s.memory(),
+            SceneAccel::Grid(g) => g.memory(),
+        }
+    }
+}
+
 impl Accelerator for SceneAccel {
     #[inline]
     fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {

@@ -28,6 +28,9 @@ pub enum Section {
     Tracer,
     /// Brute force vs BVH by primitive count.
     Accel,
+    /// Every accelerator on every scene (the shipped ones and SPD balls, tetra and mount at two
+    /// sizes each): build time, memory, tests and visits per ray, rays per second, speed-up.
+    AccelCompare,
     /// Per-scene figures: build, threads, BVH vs brute force, traversal vs obvhs, one pixel.
     Scene,
     /// Drawing every diagram of one step.
@@ -74,6 +77,31 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     }
     if matches!(args.section, Section::Accel | Section::All) {
         crate::bench::accel_threshold(reps);
+        println!();
+    }
+    if args.section == Section::AccelCompare {
+        use crate::scene::spd::{SpdScene, generate};
+        let mut all = scenes.clone();
+        let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+        for (kind, size) in [
+            (SpdScene::Balls, 2),
+            (SpdScene::Balls, 4),
+            (SpdScene::Tetra, 3),
+            (SpdScene::Tetra, 6),
+            (SpdScene::Mount, 3),
+            (SpdScene::Mount, 6),
+        ] {
+            let out = generate(kind, size)?;
+            if let Some((name, obj)) = &out.obj {
+                std::fs::write(dir.path().join(name), obj).map_err(|e| e.to_string())?;
+            }
+            let name = format!("SPD {} {size}", kind.name());
+            let mut s = crate::scene::load_str(&out.toml, &name, Some(dir.path()))
+                .map_err(|e| e.to_string())?;
+            s.name = name;
+            all.push(s);
+        }
+        crate::bench::accel_compare(&all, reps);
         println!();
     }
     if matches!(args.section, Section::Diagram | Section::All) {
