@@ -434,3 +434,32 @@ fn traces_with_sphere_nodes_and_cells_save_load_and_explain() {
         }
     }
 }
+
+/// Every diagram draws every step of traces recorded with the sphere tree and the grid, at a
+/// small and a large size; the slice shows the walked cells and the tested spheres (its legend
+/// names them only when the trace has them).
+#[test]
+fn diagrams_draw_traces_of_every_accelerator() {
+    use raystep::diagram::{ViewOptions, available, draw};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/triangles.toml");
+    for accel in [AccelChoice::Spheres, AccelChoice::Grid] {
+        let mut scene = load_file(&path).unwrap();
+        scene.settings.accel = accel;
+        let trace = raystep::PreparedScene::new(scene).record(80, 130, 0);
+        let steps = trace.timeline().len();
+        for kind in available(&trace) {
+            for (w, h) in [(120, 90), (1200, 900)] {
+                for k in (0..steps).step_by(3) {
+                    let opts = ViewOptions {
+                        width: w,
+                        height: h,
+                        focus: Some(k),
+                        ..ViewOptions::default()
+                    };
+                    let c = draw(&trace, kind, &opts).unwrap();
+                    assert_eq!((c.width(), c.height()), (w as f32, h as f32));
+                }
+            }
+        }
+    }
+}

@@ -292,12 +292,17 @@ impl Accelerator for Grid {
         let mut missed: SmallVec<[u32; 32]> = SmallVec::new();
         self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, last, r| {
             let list = grid.cell(cell);
-            obs.accel_visit(|| Step::Cell {
-                cell,
-                t_entry,
-                t_exit,
-                axis,
-                primitives: list.len() as u32,
+            obs.accel_visit(|| {
+                let (min, max) = grid.cell_box(cell);
+                Step::Cell {
+                    cell,
+                    t_entry,
+                    t_exit,
+                    axis,
+                    primitives: list.len() as u32,
+                    min: min.to_array(),
+                    max: max.to_array(),
+                }
             });
             for &id in list {
                 if missed.contains(&id) {
@@ -338,12 +343,17 @@ impl Accelerator for Grid {
         let mut r = *ray;
         self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, _, r| {
             let list = grid.cell(cell);
-            obs.accel_visit(|| Step::Cell {
-                cell,
-                t_entry,
-                t_exit,
-                axis,
-                primitives: list.len() as u32,
+            obs.accel_visit(|| {
+                let (min, max) = grid.cell_box(cell);
+                Step::Cell {
+                    cell,
+                    t_entry,
+                    t_exit,
+                    axis,
+                    primitives: list.len() as u32,
+                    min: min.to_array(),
+                    max: max.to_array(),
+                }
             });
             for &id in list {
                 if tested.contains(&id) {

@@ -73,6 +73,7 @@ pub fn describe(step: &Step) -> String {
             t_exit,
             axis,
             primitives,
+            ..
         } => format!(
             "grid cell ({}, {}, {}){}: t from {} to {}, {primitives} primitive{} listed",
             cell[0],

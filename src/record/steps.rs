@@ -132,6 +132,12 @@ pub enum Step {
         axis: Option<u8>,
         /// How many primitives the cell lists.
         primitives: u32,
+        /// The cell's box (for the diagrams).
+        #[serde(with = "crate::jsonf")]
+        min: [f32; 3],
+        /// The cell's box.
+        #[serde(with = "crate::jsonf")]
+        max: [f32; 3],
     },
     /// The grid's mailbox: a primitive listed in this cell was already tested (and missed) in an
     /// earlier one, so it is not tested again.

@@ -54,6 +54,82 @@ impl Drawer<'_, '_> {
         }
     }
 
+    /// The other accelerators' visits of the same ray: the grid cells it walked (numbered in
+    /// walk order) and the bounding spheres it tested (culled ones faded and dashed).
+    pub(super) fn accel_visits(&mut self) {
+        let i = self.info.box_ray();
+        if !self.info.visible(i) {
+            return;
+        }
+        let bc = box_color(self.c);
+        let u = self.u;
+        let faded_all = self.info.faded(i);
+        let ray = self.info.rays[i].ray;
+        let focus_step = self.info.focused_step();
+        let mut cells = 0;
+        for (j, s) in ray.steps.iter().enumerate() {
+            if !self.info.shown(i, j) {
+                continue;
+            }
+            let is_focus = focus_step.is_some_and(|(fi, st)| fi == i && std::ptr::eq(st, &s.step));
+            let width = if is_focus { 2.6 * u } else { 1.3 * u };
+            match &s.step {
+                Step::Cell { min, max, .. } => {
+                    cells += 1;
+                    let (poly, cut) = box_outline(self.lay, v3(*min), v3(*max));
+                    if poly.len() < 2 {
+                        continue;
+                    }
+                    let mut col = bc;
+                    if faded_all && !is_focus {
+                        col = self.faded(col);
+                    }
+                    if cut {
+                        let fill = with_alpha(col, if is_focus { 40 } else { 12 });
+                        self.c.polygon(&poly, Some(fill), None, 0.0);
+                    }
+                    let mut closed = poly.clone();
+                    closed.push(poly[0]);
+                    self.c.polyline(&closed, col, width, !cut);
+                    let corner = poly
+                        .iter()
+                        .copied()
+                        .min_by(|a, b| (a[0] + a[1]).total_cmp(&(b[0] + b[1])))
+                        .unwrap_or(poly[0]);
+                    self.label(corner, format!("{cells}"), col, &[SE, E, S, NE]);
+                }
+                Step::SphereNode {
+                    center,
+                    radius,
+                    action,
+                    ..
+                } => {
+                    // The sphere's circle in the cutting plane (its silhouette when the plane
+                    // misses it or looking from above).
+                    let c = v3(*center);
+                    let f = &self.lay.frame;
+                    let dd = f.dist(c);
+                    let (cen, rad, cut) = if !self.lay.top_down && dd.abs() < *radius {
+                        (c - f.m * dd, (radius * radius - dd * dd).sqrt(), true)
+                    } else {
+                        (c, *radius, false)
+                    };
+                    let culled = *action == NodeAction::Culled;
+                    let mut col = if culled { self.c.theme.faded } else { bc };
+                    if faded_all && !is_focus {
+                        col = self.faded(col);
+                    }
+                    let p = self.lay.px(cen);
+                    let r = rad * self.lay.scale;
+                    let fill =
+                        (!culled && cut).then(|| with_alpha(col, if is_focus { 40 } else { 12 }));
+                    self.c.circle(p, r, fill, Some(col), width);
+                }
+                _ => {}
+            }
+        }
+    }
+
     pub(super) fn objects(&mut self) {
         let lay = self.lay;
         let u = self.u;

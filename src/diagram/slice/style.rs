@@ -102,7 +102,27 @@ pub(super) fn legend_entries(
     if nodes.iter().any(|(_, n)| n.action != NodeAction::Culled) {
         e.push((Sample::Box(None, false), "BVH box (visit order)".into()));
     }
-    if nodes.iter().any(|(_, n)| n.action == NodeAction::Culled) {
+    let steps = &info.rays[info.box_ray()].ray.steps;
+    if steps.iter().any(|s| matches!(s.step, Step::Cell { .. })) {
+        e.push((Sample::Box(None, false), "grid cell (walk order)".into()));
+    }
+    if steps
+        .iter()
+        .any(|s| matches!(s.step, Step::SphereNode { action, .. } if action != NodeAction::Culled))
+    {
+        e.push((Sample::Box(None, false), "bounding sphere".into()));
+    }
+    if nodes.iter().any(|(_, n)| n.action == NodeAction::Culled)
+        || steps.iter().any(|s| {
+            matches!(
+                s.step,
+                Step::SphereNode {
+                    action: NodeAction::Culled,
+                    ..
+                }
+            )
+        })
+    {
         e.push((Sample::Box(Some(t.faded), true), "culled".into()));
     }
     if opts.focus.is_some() {

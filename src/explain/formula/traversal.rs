@@ -216,6 +216,7 @@ impl Ctx<'_> {
                 t_exit,
                 axis,
                 primitives,
+                ..
             } => Explanation {
                 title: format!("Grid cell ({}, {}, {})", cell[0], cell[1], cell[2]),
                 lines: vec![
