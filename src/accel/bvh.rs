@@ -7,7 +7,7 @@
 //! S21), the ray's own t_min honoured (S23), and `<=` so flat boxes are hit (S22). Infinite planes
 //! stay outside the tree: they are tested first and their hit tightens t_max.
 
-use super::{Accelerator, Hit, accept, test_object};
+use super::{Accelerator, Hit, any_of, closest_of, test_any, test_closest};
 use crate::math::Ray;
 use crate::math::gamma;
 use crate::record::OutlineNode;
@@ -327,19 +327,9 @@ impl Accelerator for Bvh {
     fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
         let mut best = None;
-        for &id in &self.planes {
-            if let Some(h) = test_object(scene, id, &r, obs) {
-                accept(scene, &h, r.t_max, obs);
-                r.t_max = h.t;
-                best = Some(h);
-            }
-        }
+        closest_of(scene, &self.planes, &mut r, &mut best, obs);
         self.traverse(&mut r, obs, |id, r, obs| {
-            if let Some(h) = test_object(scene, id, r, obs) {
-                accept(scene, &h, r.t_max, obs);
-                r.t_max = h.t;
-                best = Some(h);
-            }
+            test_closest(scene, id, r, &mut best, obs);
             true
         });
         best
@@ -347,23 +337,13 @@ impl Accelerator for Bvh {
 
     #[inline]
     fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
-        for &id in &self.planes {
-            if let Some(h) = test_object(scene, id, ray, obs) {
-                accept(scene, &h, ray.t_max, obs);
-                return Some(h);
-            }
+        if let Some(h) = any_of(scene, &self.planes, ray, obs) {
+            return Some(h);
         }
         let mut found = None;
         let mut r = *ray;
         self.traverse(&mut r, obs, |id, r, obs| {
-            match test_object(scene, id, r, obs) {
-                Some(h) => {
-                    accept(scene, &h, r.t_max, obs);
-                    found = Some(h);
-                    false
-                }
-                None => true,
-            }
+            test_any(scene, id, r, &mut found, obs)
         });
         found
     }

@@ -27,7 +27,7 @@
 //! [`GRID_LAMBDA`], measured with `raystep bench --section accel-compare`.
 
 use super::bvh::shape_bounds;
-use super::{Accelerator, Hit, accept, test_object};
+use super::{Accelerator, Hit, accept, any_of, closest_of, test_any, test_object};
 use crate::math::Ray;
 use crate::record::{Observer, Step};
 use crate::scene::Scene;
@@ -194,6 +194,20 @@ impl Grid {
         (lo, lo + self.cell_size)
     }
 
+    /// The recorded step of entering cell `cell`.
+    fn cell_step(&self, cell: [u32; 3], t_entry: f32, t_exit: f32, axis: Option<u8>) -> Step {
+        let (min, max) = self.cell_box(cell);
+        Step::Cell {
+            cell,
+            t_entry,
+            t_exit,
+            axis,
+            primitives: self.cell(cell).len() as u32,
+            min: min.to_array(),
+            max: max.to_array(),
+        }
+    }
+
     /// Walks the cells `ray` crosses, nearest first, calling `visit(cell, t_entry, t_exit,
     /// axis stepped)` for each; `visit` returns false to stop. The walk also stops past the
     /// ray's t_max (which `visit` may shrink through `ray`).
@@ -281,29 +295,12 @@ impl Accelerator for Grid {
     fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
         let mut best: Option<Hit> = None;
-        for &id in &self.planes {
-            if let Some(h) = test_object(scene, id, &r, obs) {
-                accept(scene, &h, r.t_max, obs);
-                r.t_max = h.t;
-                best = Some(h);
-            }
-        }
+        closest_of(scene, &self.planes, &mut r, &mut best, obs);
         // Primitives already tested and missed (the mailbox).
         let mut missed: SmallVec<[u32; 32]> = SmallVec::new();
         self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, last, r| {
             let list = grid.cell(cell);
-            obs.accel_visit(|| {
-                let (min, max) = grid.cell_box(cell);
-                Step::Cell {
-                    cell,
-                    t_entry,
-                    t_exit,
-                    axis,
-                    primitives: list.len() as u32,
-                    min: min.to_array(),
-                    max: max.to_array(),
-                }
-            });
+            obs.accel_visit(|| grid.cell_step(cell, t_entry, t_exit, axis));
             for &id in list {
                 if missed.contains(&id) {
                     obs.step(|| Step::MailboxSkip {
@@ -332,29 +329,15 @@ impl Accelerator for Grid {
 
     #[inline]
     fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
-        for &id in &self.planes {
-            if let Some(h) = test_object(scene, id, ray, obs) {
-                accept(scene, &h, ray.t_max, obs);
-                return Some(h);
-            }
+        if let Some(h) = any_of(scene, &self.planes, ray, obs) {
+            return Some(h);
         }
         let mut found = None;
         let mut tested: SmallVec<[u32; 32]> = SmallVec::new();
         let mut r = *ray;
         self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, _, r| {
             let list = grid.cell(cell);
-            obs.accel_visit(|| {
-                let (min, max) = grid.cell_box(cell);
-                Step::Cell {
-                    cell,
-                    t_entry,
-                    t_exit,
-                    axis,
-                    primitives: list.len() as u32,
-                    min: min.to_array(),
-                    max: max.to_array(),
-                }
-            });
+            obs.accel_visit(|| grid.cell_step(cell, t_entry, t_exit, axis));
             for &id in list {
                 if tested.contains(&id) {
                     obs.step(|| Step::MailboxSkip {
@@ -364,9 +347,7 @@ impl Accelerator for Grid {
                     continue;
                 }
                 // Any hit in (t_min, t_max) blocks the shadow ray, wherever it lies.
-                if let Some(h) = test_object(scene, id, r, obs) {
-                    accept(scene, &h, r.t_max, obs);
-                    found = Some(h);
+                if !test_any(scene, id, r, &mut found, obs) {
                     return false;
                 }
                 tested.push(id);

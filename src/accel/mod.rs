@@ -136,6 +136,70 @@ pub fn accept<O: Observer>(scene: &Scene, hit: &Hit, previous: f32, obs: &mut O)
     });
 }
 
+/// Tests object `id` for the closest hit: a hit becomes the closest so far (recorded, and the
+/// ray's t_max shrinks to it, so farther candidates fail inside the kernels).
+#[inline(always)]
+pub fn test_closest<O: Observer>(
+    scene: &Scene,
+    id: u32,
+    r: &mut Ray<f32>,
+    best: &mut Option<Hit>,
+    obs: &mut O,
+) -> Option<Hit> {
+    let h = test_object(scene, id, r, obs)?;
+    accept(scene, &h, r.t_max, obs);
+    r.t_max = h.t;
+    *best = Some(h);
+    Some(h)
+}
+
+/// Tests each of `ids` for the closest hit, in order (the infinite planes an accelerator keeps
+/// outside its structure).
+#[inline(always)]
+pub fn closest_of<O: Observer>(
+    scene: &Scene,
+    ids: &[u32],
+    r: &mut Ray<f32>,
+    best: &mut Option<Hit>,
+    obs: &mut O,
+) {
+    for &id in ids {
+        test_closest(scene, id, r, best, obs);
+    }
+}
+
+/// Tests object `id` for any hit (shadow rays need no more): a hit is recorded and kept in
+/// `found`. Returns whether to go on looking.
+#[inline(always)]
+pub fn test_any<O: Observer>(
+    scene: &Scene,
+    id: u32,
+    ray: &Ray<f32>,
+    found: &mut Option<Hit>,
+    obs: &mut O,
+) -> bool {
+    match test_object(scene, id, ray, obs) {
+        Some(h) => {
+            accept(scene, &h, ray.t_max, obs);
+            *found = Some(h);
+            false
+        }
+        None => true,
+    }
+}
+
+/// The first of `ids` the ray hits (any-hit).
+#[inline(always)]
+pub fn any_of<O: Observer>(scene: &Scene, ids: &[u32], ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+    let mut found = None;
+    for &id in ids {
+        if !test_any(scene, id, ray, &mut found, obs) {
+            break;
+        }
+    }
+    found
+}
+
 /// Below this many finite primitives the naive loop beats the BVH (a per-ray traversal set-up
 /// and two box tests per level cost more than testing a handful of primitives directly).
 /// Measured with `raystep bench --section accel` (160×120, one light, one thread, medians of 7):

@@ -14,7 +14,7 @@
 //! planes stay outside the tree and are tested first.
 
 use super::bvh::shape_bounds;
-use super::{Accelerator, Bvh, Hit, accept, test_object};
+use super::{Accelerator, Bvh, Hit, any_of, closest_of, test_any, test_closest};
 use crate::math::Ray;
 use crate::record::{NodeAction, Observer, Step};
 use crate::scene::{Scene, Shape};
@@ -289,19 +289,9 @@ impl Accelerator for SphereTree {
     fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
         let mut best = None;
-        for &id in &self.planes {
-            if let Some(h) = test_object(scene, id, &r, obs) {
-                accept(scene, &h, r.t_max, obs);
-                r.t_max = h.t;
-                best = Some(h);
-            }
-        }
+        closest_of(scene, &self.planes, &mut r, &mut best, obs);
         self.traverse(scene, &mut r, obs, |id, r, obs| {
-            if let Some(h) = test_object(scene, id, r, obs) {
-                accept(scene, &h, r.t_max, obs);
-                r.t_max = h.t;
-                best = Some(h);
-            }
+            test_closest(scene, id, r, &mut best, obs);
             true
         });
         best
@@ -309,23 +299,13 @@ impl Accelerator for SphereTree {
 
     #[inline]
     fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
-        for &id in &self.planes {
-            if let Some(h) = test_object(scene, id, ray, obs) {
-                accept(scene, &h, ray.t_max, obs);
-                return Some(h);
-            }
+        if let Some(h) = any_of(scene, &self.planes, ray, obs) {
+            return Some(h);
         }
         let mut found = None;
         let mut r = *ray;
         self.traverse(scene, &mut r, obs, |id, r, obs| {
-            match test_object(scene, id, r, obs) {
-                Some(h) => {
-                    accept(scene, &h, r.t_max, obs);
-                    found = Some(h);
-                    false
-                }
-                None => true,
-            }
+            test_any(scene, id, r, &mut found, obs)
         });
         found
     }
