@@ -463,3 +463,46 @@ fn diagrams_draw_traces_of_every_accelerator() {
         }
     }
 }
+
+/// A trace file whose sphere-tree node claims itself as its child, or whose mailbox names an
+/// object the trace does not hold, is refused with the field named.
+#[test]
+fn corrupt_sphere_nodes_and_mailbox_skips_are_refused() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mirror-glass.toml");
+    let mut scene = load_file(&path).unwrap();
+    scene.settings.accel = AccelChoice::Spheres;
+    let trace = raystep::PreparedScene::new(scene).record(200, 150, 0);
+    let json = trace.to_json();
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    // The first inner sphere node's children become [0, 0].
+    let mut bad = v.clone();
+    let steps = bad["root"]["steps"].as_array_mut().unwrap();
+    let k = steps
+        .iter()
+        .position(|s| s["type"] == "sphere-node" && s.get("children").is_some())
+        .expect("an inner sphere node");
+    steps[k]["children"] = serde_json::json!([0, 0]);
+    let err = raystep::record::Trace::from_json(&bad.to_string(), "bad.json").unwrap_err();
+    assert!(err.to_string().contains("children"), "{err}");
+
+    let mut scene = load_file(&path).unwrap();
+    scene.settings.accel = AccelChoice::Grid;
+    let trace = raystep::PreparedScene::new(scene).record(200, 150, 0);
+    let mut v: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
+    let skip = find_key(&mut v, "mailbox-skip").expect("a mailbox skip in this pixel's trace");
+    skip["object"] = serde_json::json!(99_999);
+    let err = raystep::record::Trace::from_json(&v.to_string(), "bad.json").unwrap_err();
+    assert!(err.to_string().contains("object"), "{err}");
+}
+
+/// The first step object of type `ty` anywhere in a trace's JSON.
+fn find_key<'a>(v: &'a mut serde_json::Value, ty: &str) -> Option<&'a mut serde_json::Value> {
+    if v.get("type").and_then(|t| t.as_str()) == Some(ty) {
+        return Some(v);
+    }
+    match v {
+        serde_json::Value::Object(m) => m.values_mut().find_map(|x| find_key(x, ty)),
+        serde_json::Value::Array(a) => a.iter_mut().find_map(|x| find_key(x, ty)),
+        _ => None,
+    }
+}

@@ -361,6 +361,17 @@ impl Walk<'_> {
             }
             match &s.step {
                 Step::Node(v) => self.visit(&sat, v)?,
+                // A sphere tree follows the BVH's rules: depth bounded, two distinct children.
+                Step::SphereNode {
+                    node,
+                    depth,
+                    children,
+                    leaf,
+                    ..
+                } => self.node(&sat, *node, *depth, *children, *leaf)?,
+                Step::MailboxSkip { object, .. } => {
+                    self.object(format!("{sat}.object"), *object)?
+                }
                 Step::Sphere { object, .. } => self.object(format!("{sat}.object"), *object)?,
                 Step::Plane { object, test, .. } => {
                     self.object(format!("{sat}.object"), *object)?;
