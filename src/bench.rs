@@ -5,7 +5,7 @@
 
 use crate::accel::{Accelerator, BruteForce, Bvh, SceneAccel, test_object};
 use crate::math::Ray;
-use crate::record::{Counter, Silent};
+use crate::record::{Counter, RayKind, Silent};
 use crate::render::{RenderOptions, render};
 use crate::scene::{AccelChoice, Scene, load_str};
 use crate::trace::{PreparedScene, Tracer};
@@ -549,6 +549,124 @@ pub fn accel_compare(scenes: &[Scene], reps: usize) {
                 n(c.node_visits as f64 / rays),
                 n(rays / t.as_secs_f64() / 1e6),
                 n(brute.as_secs_f64() / t.as_secs_f64()),
+            );
+        }
+    }
+}
+
+/// One render's work captured for replay: every ray the tracer cast (its kind decides the
+/// accelerator query: any hit for shadow rays, the closest otherwise) and every primitive test
+/// (which ray, which object). Capturing costs nothing in the timed runs: they replay the lists.
+#[derive(Default)]
+struct Capture {
+    rays: Vec<(RayKind, Ray<f32>)>,
+    open: Vec<u32>,
+    tests: Vec<(u32, u32)>,
+}
+
+impl crate::record::Observer for Capture {
+    const RECORDS: bool = false;
+    fn begin_ray(&mut self, kind: RayKind, _: u32, ray: &Ray<f32>, _: f32) {
+        self.open.push(self.rays.len() as u32);
+        self.rays.push((kind, *ray));
+    }
+    fn prim_test(&mut self, step: impl FnOnce() -> crate::record::Step) {
+        use crate::record::Step;
+        if let (
+            Step::Sphere { object, .. }
+            | Step::Plane { object, .. }
+            | Step::Triangle { object, .. },
+            Some(&r),
+        ) = (step(), self.open.last())
+        {
+            self.tests.push((r, object));
+        }
+    }
+    fn end_ray(&mut self, _: impl FnOnce() -> Option<crate::record::HitRecord>, _: Vec3) {
+        self.open.pop();
+    }
+}
+
+/// Where the time goes: the share of one thread's render spent making camera rays, traversing
+/// the accelerator, testing primitives, and shading and spawning secondary rays, for brute force
+/// and each accelerator. Measured by replay, so no timer sits inside the loop it measures: the
+/// full render is timed; then, from one captured render, the camera rays alone, every
+/// accelerator query alone (traversal and tests) and every primitive test alone. Traversal is
+/// the queries minus the tests; shading and spawning is the render minus the camera and the
+/// queries. (Replayed tests see the ray's whole interval, not the shrinking t_max of the real
+/// run, so they can cost a little more: the test share is an upper bound.)
+pub fn stages(scenes: &[Scene], reps: usize) {
+    use crate::trace::sampling::sample_offset;
+    println!("## Where the time goes, one thread, at most 160×120 pixels (share of the render)");
+    println!(
+        "| scene | accelerator | render (ms) | camera rays | traversal | primitive tests | shading and spawning | tests / ray |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    for scene in scenes {
+        let mut s = scene.clone();
+        s.camera.width = s.camera.width.min(160);
+        s.camera.height = s.camera.height.min(120);
+        for choice in [
+            AccelChoice::None,
+            AccelChoice::Bvh,
+            AccelChoice::Spheres,
+            AccelChoice::Grid,
+        ] {
+            s.settings.accel = choice;
+            let (accel, _) = SceneAccel::build(&s);
+            let tracer = Tracer::new(&s, &accel);
+            let full = median_time(reps, || all_pixels(&tracer));
+            let mut cap = Capture::default();
+            for y in 0..s.camera.height {
+                for x in 0..s.camera.width {
+                    tracer.trace_pixel(x, y, &mut cap);
+                }
+            }
+            let st = &s.settings;
+            let camera = median_time(reps, || {
+                for y in 0..s.camera.height {
+                    for x in 0..s.camera.width {
+                        for k in 0..st.spp {
+                            let offset = sample_offset(x, y, k, st.spp, st.seed);
+                            std::hint::black_box(tracer.camera.ray(x, y, offset));
+                        }
+                    }
+                }
+            });
+            let queries = median_time(reps, || {
+                for (kind, ray) in &cap.rays {
+                    let h = if *kind == RayKind::Shadow {
+                        accel.any(&s, ray, &mut Silent)
+                    } else {
+                        accel.closest(&s, ray, &mut Silent)
+                    };
+                    std::hint::black_box(h);
+                }
+            });
+            let tests = median_time(reps, || {
+                for &(r, id) in &cap.tests {
+                    if let Some((_, ray)) = cap.rays.get(r as usize) {
+                        std::hint::black_box(test_object(&s, id, ray, &mut Silent));
+                    }
+                }
+            });
+            let f = full.as_secs_f64();
+            let share = |x: f64| format!("{:.0} %", 100.0 * (x / f).clamp(0.0, 1.0));
+            let (c, q, t) = (
+                camera.as_secs_f64(),
+                queries.as_secs_f64(),
+                tests.as_secs_f64(),
+            );
+            println!(
+                "| {} | {} | {:.1} | {} | {} | {} | {} | {:.1} |",
+                s.name,
+                accel.name(),
+                f * 1e3,
+                share(c),
+                share((q - t).max(0.0)),
+                share(t.min(q)),
+                share((f - c - q).max(0.0)),
+                cap.tests.len() as f64 / cap.rays.len().max(1) as f64,
             );
         }
     }

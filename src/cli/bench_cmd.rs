@@ -31,6 +31,10 @@ pub enum Section {
     /// Every accelerator on every scene (the shipped ones and SPD balls, tetra and mount at two
     /// sizes each): build time, memory, tests and visits per ray, rays per second, speed-up.
     AccelCompare,
+    /// Where the time goes: camera rays, traversal, primitive tests, shading and spawning, for
+    /// every accelerator (measured by replaying one captured render; the same scenes as
+    /// accel-compare).
+    Stages,
     /// Per-scene figures: build, threads, BVH vs brute force, traversal vs obvhs, one pixel.
     Scene,
     /// Drawing every diagram of one step.
@@ -79,7 +83,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         crate::bench::accel_threshold(reps);
         println!();
     }
-    if args.section == Section::AccelCompare {
+    if matches!(args.section, Section::AccelCompare | Section::Stages) {
         use crate::scene::spd::{SpdScene, generate};
         let mut all = scenes.clone();
         let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
@@ -101,7 +105,11 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             s.name = name;
             all.push(s);
         }
-        crate::bench::accel_compare(&all, reps);
+        if args.section == Section::Stages {
+            crate::bench::stages(&all, reps);
+        } else {
+            crate::bench::accel_compare(&all, reps);
+        }
         println!();
     }
     if matches!(args.section, Section::Diagram | Section::All) {
