@@ -506,3 +506,33 @@ fn find_key<'a>(v: &'a mut serde_json::Value, ty: &str) -> Option<&'a mut serde_
         _ => None,
     }
 }
+
+/// Ten thousand large triangles, each spanning the whole scene: a grid fine enough for their
+/// count would list each in tens of thousands of cells (hundreds of millions of references).
+/// The grid coarsens until its lists fit, and still finds what brute force finds.
+#[test]
+fn a_grid_of_many_large_primitives_stays_within_its_reference_budget() {
+    let mut r = Rng(9);
+    let mut t = String::new();
+    for _ in 0..10_000 {
+        let z = r.range(-10.0, 10.0);
+        let p = [
+            Vec3::new(-10.0, -10.0, z),
+            Vec3::new(10.0, -10.0, z + r.range(-1.0, 1.0)),
+            Vec3::new(0.0, 10.0, z + r.range(-1.0, 1.0)),
+        ];
+        t += &format!(
+            "[[triangle]]\nvertices = [{}, {}, {}]\n",
+            fmt(p[0]),
+            fmt(p[1]),
+            fmt(p[2])
+        );
+    }
+    let scene = load_str(&t, "big.toml", None).unwrap();
+    let grid = Grid::build(&scene);
+    assert!(grid.references() as u64 <= raystep::accel::grid::MAX_REFERENCES);
+    assert!(grid.references() >= 10_000);
+    let rays = random_rays(3, 200);
+    let hits = assert_same(&scene, &grid, &rays);
+    assert!(hits > 20, "{hits}");
+}

@@ -42,6 +42,10 @@ pub const GRID_LAMBDA: f32 = 4.0;
 /// The most cells along one axis (keeps a grid of a million triangles within memory).
 pub const MAX_CELLS_PER_AXIS: u32 = 256;
 
+/// The most primitive references the cells may hold together (a primitive spanning k cells
+/// counts k times): 32 M, 128 MiB of lists. A finer grid that would exceed it is coarsened.
+pub const MAX_REFERENCES: u64 = 32 << 20;
+
 /// A uniform grid over the scene's finite primitives.
 #[derive(Debug, Clone)]
 pub struct Grid {
@@ -106,28 +110,47 @@ impl Grid {
                 1
             }
         });
-        let cell_size = extent / Vec3::new(dims[0] as f32, dims[1] as f32, dims[2] as f32);
-        let grid_cell = |p: Vec3| -> [u32; 3] {
-            let c = (p - min) / cell_size;
-            [0, 1, 2].map(|a| {
-                let f = c[a].floor();
-                if f.is_nan() || f < 0.0 {
-                    0
-                } else {
-                    (f as u32).min(dims[a] - 1)
-                }
-            })
+        // The cells each primitive's box overlaps, and their total. Each box grows by a
+        // thousandth of a cell first, so a primitive lying on a cell boundary (a flat scene on a
+        // grid plane) is listed on both sides: a hit computed a rounding error past the boundary
+        // is still in a cell that lists it.
+        type Range = (u32, [u32; 3], [u32; 3]);
+        let plan = |dims: [u32; 3]| -> (Vec3, Vec<Range>, u64) {
+            let cell_size = extent / Vec3::new(dims[0] as f32, dims[1] as f32, dims[2] as f32);
+            let grid_cell = |p: Vec3| -> [u32; 3] {
+                let c = (p - min) / cell_size;
+                [0, 1, 2].map(|a| {
+                    let f = c[a].floor();
+                    if f.is_nan() || f < 0.0 {
+                        0
+                    } else {
+                        (f as u32).min(dims[a] - 1)
+                    }
+                })
+            };
+            let margin = cell_size * 1e-3;
+            let mut total = 0u64;
+            let ranges = boxes
+                .iter()
+                .map(|(id, (lo, hi))| {
+                    let (a, b) = (grid_cell(*lo - margin), grid_cell(*hi + margin));
+                    total += (0..3).map(|k| u64::from(b[k] - a[k] + 1)).product::<u64>();
+                    (*id, a, b)
+                })
+                .collect();
+            (cell_size, ranges, total)
         };
+        // Many large primitives could list themselves in millions of cells each: coarsen the
+        // grid until the lists fit (a grid of one cell lists every primitive once).
+        let mut dims = dims;
+        let (mut cell_size, mut ranges, mut total) = plan(dims);
+        while total > MAX_REFERENCES && dims.iter().any(|&d| d > 1) {
+            dims = dims.map(|d| d.div_ceil(2));
+            (cell_size, ranges, total) = plan(dims);
+        }
         let cells = (dims[0] * dims[1] * dims[2]) as usize;
         let mut counts = vec![0u32; cells + 1];
-        let mut ranges = Vec::with_capacity(boxes.len());
-        // Each box grows by a thousandth of a cell before it is assigned, so a primitive lying on
-        // a cell boundary (a flat scene on a grid plane) is listed on both sides: a hit computed a
-        // rounding error past the boundary is still in a cell that lists it.
-        let margin = cell_size * 1e-3;
-        for (id, (lo, hi)) in &boxes {
-            let (a, b) = (grid_cell(*lo - margin), grid_cell(*hi + margin));
-            ranges.push((*id, a, b));
+        for &(_, a, b) in &ranges {
             for z in a[2]..=b[2] {
                 for y in a[1]..=b[1] {
                     for x in a[0]..=b[0] {
