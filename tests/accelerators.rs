@@ -13,27 +13,9 @@ use raystep::scene::{AccelChoice, Scene, Shape, load_file, load_str};
 use raystep::trace::Tracer;
 use std::path::Path;
 
-/// A tiny deterministic generator (xorshift) so the test needs no extra crate.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-    fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {
-        Vec3::new(self.range(lo, hi), self.range(lo, hi), self.range(lo, hi))
-    }
-}
-
-fn fmt(v: Vec3) -> String {
-    format!("[{:e}, {:e}, {:e}]", v.x, v.y, v.z)
-}
-
+#[path = "common/rng.rs"]
+mod rng;
+use rng::{Rng, fmt};
 /// A scene of random spheres and triangles (and a plane); `flat` puts everything in z = 0.
 fn random_scene(seed: u64, spheres: usize, triangles: usize, flat: bool) -> Scene {
     let mut r = Rng(seed);
