@@ -504,6 +504,23 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// Brute force and every accelerator, in the order the comparisons print them.
+const ACCELERATORS: [AccelChoice; 4] = [
+    AccelChoice::None,
+    AccelChoice::Bvh,
+    AccelChoice::Spheres,
+    AccelChoice::Grid,
+];
+
+/// The scene at the comparisons' size: at most 160×120 pixels (brute force on a million
+/// triangles must finish).
+fn comparison_size(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    s.camera.width = s.camera.width.min(160);
+    s.camera.height = s.camera.height.min(120);
+    s
+}
+
 /// Every accelerator on every scene, one thread, at most 160×120 pixels: build time, memory,
 /// primitive tests and node or cell visits per ray, rays per second and the speed-up over brute
 /// force (all ray kinds; the images are identical, which `tests/accelerators.rs` checks).
@@ -514,16 +531,9 @@ pub fn accel_compare(scenes: &[Scene], reps: usize) {
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     for scene in scenes {
-        let mut s = scene.clone();
-        s.camera.width = s.camera.width.min(160);
-        s.camera.height = s.camera.height.min(120);
+        let mut s = comparison_size(scene);
         let mut brute_time = None;
-        for choice in [
-            AccelChoice::None,
-            AccelChoice::Bvh,
-            AccelChoice::Spheres,
-            AccelChoice::Grid,
-        ] {
+        for choice in ACCELERATORS {
             s.settings.accel = choice;
             let builds: Vec<(SceneAccel, Duration)> = (0..reps.clamp(1, 3))
                 .map(|_| SceneAccel::build(&s))
@@ -603,15 +613,8 @@ pub fn stages(scenes: &[Scene], reps: usize) {
     );
     println!("|---|---|---|---|---|---|---|---|");
     for scene in scenes {
-        let mut s = scene.clone();
-        s.camera.width = s.camera.width.min(160);
-        s.camera.height = s.camera.height.min(120);
-        for choice in [
-            AccelChoice::None,
-            AccelChoice::Bvh,
-            AccelChoice::Spheres,
-            AccelChoice::Grid,
-        ] {
+        let mut s = comparison_size(scene);
+        for choice in ACCELERATORS {
             s.settings.accel = choice;
             let (accel, _) = SceneAccel::build(&s);
             let tracer = Tracer::new(&s, &accel);
