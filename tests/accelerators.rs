@@ -446,6 +446,46 @@ fn diagrams_draw_traces_of_every_accelerator() {
     }
 }
 
+/// The tree diagram draws the bounding-sphere tree from its recorded visits: every visited node
+/// is numbered in the order of the trace's `sphere-node` steps (counted here from the steps, not
+/// by the diagram's code), with the action the traversal took, and each drawn edge joins a node
+/// to one of the children its visit names.
+#[test]
+fn the_tree_diagram_shows_the_sphere_trees_visits_in_order() {
+    use raystep::diagram::{DiagramKind, ViewOptions, available, bvh_tree};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/triangles.toml");
+    let mut scene = load_file(&path).unwrap();
+    scene.settings.accel = AccelChoice::Spheres;
+    let trace = raystep::PreparedScene::new(scene).record(160, 120, 0);
+    assert!(available(&trace).contains(&DiagramKind::Bvh));
+    let visits: Vec<(u32, NodeAction, Option<[u32; 2]>)> = trace
+        .root
+        .steps
+        .iter()
+        .filter_map(|s| match &s.step {
+            Step::SphereNode {
+                node,
+                action,
+                children,
+                ..
+            } => Some((*node, *action, *children)),
+            _ => None,
+        })
+        .collect();
+    assert!(visits.len() >= 3, "{visits:?}");
+    let lay = bvh_tree::layout(&trace, &ViewOptions::default(), 40.0);
+    for (k, (node, action, _)) in visits.iter().enumerate() {
+        let drawn = &lay.nodes[node];
+        assert_eq!(drawn.visit, Some((k + 1, *action)), "node #{node}");
+    }
+    for (p, c) in &lay.edges {
+        let named = visits
+            .iter()
+            .any(|(n, _, ch)| n == p && ch.is_some_and(|ch| ch.contains(c)));
+        assert!(named, "edge #{p} → #{c} not named by a visit");
+    }
+}
+
 /// A trace file whose sphere-tree node claims itself as its child, or whose mailbox names an
 /// object the trace does not hold, is refused with the field named.
 #[test]

@@ -1,5 +1,11 @@
 //! The BVH as a node-link tree: the top levels from the trace's outline, every node the focused
 //! ray visited (however deep), each visit numbered, hit or culled, leaves with their tests.
+//!
+//! The bounding-sphere tree is drawn the same way: it is a bounding-volume hierarchy too (built
+//! over the BVH's topology, so its nodes carry the same numbers), and its recorded visits
+//! ([`Step::SphereNode`]) read like the BVH's. A sphere-tree trace has no outline: its tree is
+//! drawn from the visits alone (each inner visit names both children, so the culled sibling at
+//! every level is shown).
 
 use super::canvas::{Anchor, Canvas, Rgba, with_alpha};
 use super::{ViewOptions, title};
@@ -32,13 +38,55 @@ pub struct TreeLayout {
     pub ray: Option<(RayKind, u32)>,
 }
 
+/// One recorded visit of a tree node, BVH box or bounding sphere alike.
+struct Visit {
+    node: u32,
+    depth: u32,
+    leaf: bool,
+    children: Option<[u32; 2]>,
+    action: NodeAction,
+}
+
+/// The node visit a step records, if it is one.
+fn visit(step: &Step) -> Option<Visit> {
+    match step {
+        Step::Node(v) => Some(Visit {
+            node: v.node,
+            depth: v.depth,
+            leaf: v.leaf,
+            children: v.children,
+            action: v.action,
+        }),
+        Step::SphereNode {
+            node,
+            depth,
+            leaf,
+            children,
+            action,
+            ..
+        } => Some(Visit {
+            node: *node,
+            depth: *depth,
+            leaf: *leaf,
+            children: *children,
+            action: *action,
+        }),
+        _ => None,
+    }
+}
+
+/// Whether `step` is a visit of a tree node (BVH or sphere tree).
+pub fn is_node_visit(step: &Step) -> bool {
+    matches!(step, Step::Node(_) | Step::SphereNode { .. })
+}
+
 /// The ray whose traversal the diagram shows: the one owning the focused step, else the first
 /// ray with node visits.
 fn shown_ray(trace: &Trace, focus: Option<usize>) -> Option<(&RayRecord, Option<usize>)> {
     let tl = trace.timeline();
     if let Some(k) = focus
         && let Some((r, _)) = tl.get(k)
-        && r.steps.iter().any(|s| matches!(s.step, Step::Node(_)))
+        && r.steps.iter().any(|s| is_node_visit(&s.step))
     {
         // Visits of this ray up to and including the focused step.
         let upto = tl[..=k]
@@ -50,7 +98,7 @@ fn shown_ray(trace: &Trace, focus: Option<usize>) -> Option<(&RayRecord, Option<
     trace
         .rays()
         .into_iter()
-        .find(|r| r.steps.iter().any(|s| matches!(s.step, Step::Node(_))))
+        .find(|r| r.steps.iter().any(|s| is_node_visit(&s.step)))
         .map(|r| (r, None))
 }
 
@@ -80,7 +128,7 @@ fn layout_to(trace: &Trace, opts: &ViewOptions, top: f32, bottom: f32) -> TreeLa
             if upto.is_some_and(|u| i >= u) {
                 break;
             }
-            if let Step::Node(v) = &s.step {
+            if let Some(v) = visit(&s.step) {
                 count += 1;
                 visits.insert(v.node, (count, v.action));
                 depth.insert(v.node, v.depth);
@@ -193,13 +241,23 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let th = c.theme;
     let ts = c.text_size;
     let shown = shown_ray(trace, opts.focus);
+    let spheres = shown.is_some_and(|(r, _)| {
+        r.steps
+            .iter()
+            .any(|s| matches!(s.step, Step::SphereNode { .. }))
+    });
+    let tree = if spheres {
+        "Bounding-sphere tree"
+    } else {
+        "BVH"
+    };
     let heading = match shown {
         Some((r, _)) => format!(
-            "BVH visits in order, {} ray (depth {})",
+            "{tree} visits in order, {} ray (depth {})",
             r.kind.name(),
             r.depth
         ),
-        None => "BVH".to_string(),
+        None => tree.to_string(),
     };
     let top = title(&mut c, &heading) + ts * 1.2;
     let legend = legend_rows(&c);
@@ -291,10 +349,11 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             if upto.is_some_and(|u| i >= u) {
                 break;
             }
+            if let Some(v) = visit(&s.step) {
+                current_leaf = (v.action == NodeAction::TestPrimitives).then_some(v.node);
+                continue;
+            }
             match &s.step {
-                Step::Node(v) => {
-                    current_leaf = (v.action == NodeAction::TestPrimitives).then_some(v.node)
-                }
                 Step::Sphere { test, .. } => bump(&mut leaf_tests, current_leaf, test.t.is_some()),
                 Step::Triangle { test, .. } => {
                     bump(&mut leaf_tests, current_leaf, test.t.is_some())

@@ -42,7 +42,7 @@ pub enum DiagramKind {
     Quadratic,
     /// The triangle in its own plane with the barycentric point of a Möller–Trumbore test.
     Barycentric,
-    /// The BVH as a node-link tree with the visited path.
+    /// The BVH (or the bounding-sphere tree) as a node-link tree with the visited path.
     Bvh,
     /// Primary → shadow / reflection / refraction rays with weights and colours.
     Raytree,
@@ -130,7 +130,7 @@ pub fn available(trace: &Trace) -> Vec<DiagramKind> {
     if has(&|s| matches!(s, Step::Triangle { .. })) {
         out.push(DiagramKind::Barycentric);
     }
-    if has(&|s| matches!(s, Step::Node(_))) {
+    if has(&bvh_tree::is_node_visit) {
         out.push(DiagramKind::Bvh);
     }
     out.push(DiagramKind::Raytree);
@@ -146,7 +146,7 @@ pub fn kinds_for_step(trace: &Trace, k: usize) -> Vec<DiagramKind> {
     match s.step {
         Step::Sphere { .. } => vec![DiagramKind::Quadratic, DiagramKind::Slice],
         Step::Triangle { .. } => vec![DiagramKind::Barycentric, DiagramKind::Slice],
-        Step::Node(_) => vec![DiagramKind::Bvh, DiagramKind::Slice],
+        Step::Node(_) | Step::SphereNode { .. } => vec![DiagramKind::Bvh, DiagramKind::Slice],
         Step::Light { .. }
         | Step::ShadowRay { .. }
         | Step::Reflect { .. }
