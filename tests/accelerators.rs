@@ -515,6 +515,25 @@ fn corrupt_sphere_nodes_and_mailbox_skips_are_refused() {
     skip["object"] = serde_json::json!(99_999);
     let err = raystep::record::Trace::from_json(&v.to_string(), "bad.json").unwrap_err();
     assert!(err.to_string().contains("object"), "{err}");
+
+    // The grid's outline: a cell the walk names beyond the grid, no cells on an axis, an
+    // inverted box.
+    let v: serde_json::Value = serde_json::from_str(&trace.to_json()).unwrap();
+    let cells = v["grid"]["cells"].clone();
+    assert!(cells.as_array().is_some_and(|c| c.len() == 3), "{cells}");
+    let mut bad = v.clone();
+    let cell = find_key(&mut bad, "cell").expect("a cell step");
+    cell["cell"] = serde_json::json!([cells[0], 0, 0]);
+    let err = raystep::record::Trace::from_json(&bad.to_string(), "bad.json").unwrap_err();
+    assert!(err.to_string().contains(".cell"), "{err}");
+    let mut bad = v.clone();
+    bad["grid"]["cells"] = serde_json::json!([0, 1, 1]);
+    let err = raystep::record::Trace::from_json(&bad.to_string(), "bad.json").unwrap_err();
+    assert!(err.to_string().contains("grid.cells"), "{err}");
+    let mut bad = v.clone();
+    bad["grid"]["max"] = serde_json::json!([-1e30, 0, 0]);
+    let err = raystep::record::Trace::from_json(&bad.to_string(), "bad.json").unwrap_err();
+    assert!(err.to_string().contains("grid.max"), "{err}");
 }
 
 /// The first step object of type `ty` anywhere in a trace's JSON.

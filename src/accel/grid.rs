@@ -40,7 +40,7 @@ use smallvec::SmallVec;
 pub const GRID_LAMBDA: f32 = 4.0;
 
 /// The most cells along one axis (keeps a grid of a million triangles within memory).
-pub const MAX_CELLS_PER_AXIS: u32 = 256;
+pub const MAX_CELLS_PER_AXIS: u32 = crate::record::validate::MAX_GRID_CELLS_PER_AXIS;
 
 /// The most primitive references the cells may hold together (a primitive spanning k cells
 /// counts k times): 32 M, 128 MiB of lists. A finer grid that would exceed it is coarsened.
@@ -383,5 +383,13 @@ impl Accelerator for Grid {
 
     fn name(&self) -> &'static str {
         "uniform grid"
+    }
+
+    fn grid_outline(&self) -> Option<crate::record::GridOutline> {
+        Some(crate::record::GridOutline {
+            min: self.min.to_array(),
+            max: self.max.to_array(),
+            cells: self.dims,
+        })
     }
 }

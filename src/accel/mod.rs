@@ -45,6 +45,10 @@ pub trait Accelerator: Sync {
     fn outline(&self, _depth: u32) -> Option<Vec<crate::record::OutlineNode>> {
         None
     }
+    /// The uniform grid's box and cell counts, for diagrams (None: not a grid).
+    fn grid_outline(&self) -> Option<crate::record::GridOutline> {
+        None
+    }
 }
 
 /// Tests object `id` with the scene's chosen method and reports the test to `obs`.
@@ -295,6 +299,12 @@ impl Accelerator for SceneAccel {
         match self {
             SceneAccel::Brute(_) | SceneAccel::Spheres(_) | SceneAccel::Grid(_) => None,
             SceneAccel::Bvh(b) => b.outline(depth),
+        }
+    }
+    fn grid_outline(&self) -> Option<crate::record::GridOutline> {
+        match self {
+            SceneAccel::Grid(g) => g.grid_outline(),
+            _ => None,
         }
     }
 }

@@ -41,6 +41,6 @@ pub mod words;
 
 pub use observer::{Counter, MAX_TRACE_STEPS, Observer, Recorder, Silent};
 pub use steps::{
-    HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step, StepRecord,
-    TRACE_VERSION, Trace, TraceError, TraceObject,
+    GridOutline, HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step,
+    StepRecord, TRACE_VERSION, Trace, TraceError, TraceObject,
 };

@@ -509,6 +509,20 @@ pub struct OutlineNode {
     pub max: [f32; 3],
 }
 
+/// The uniform grid's shape: its box and how many cells it has along each axis (the cells are
+/// equal boxes, `(max − min) / cells` wide).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct GridOutline {
+    /// The grid box's minimum corner.
+    #[serde(with = "crate::jsonf")]
+    pub min: [f32; 3],
+    /// The grid box's maximum corner.
+    #[serde(with = "crate::jsonf")]
+    pub max: [f32; 3],
+    /// Cells along x, y and z.
+    pub cells: [u32; 3],
+}
+
 /// A whole recorded trace of one sample of one pixel.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Trace {
@@ -537,6 +551,10 @@ pub struct Trace {
     /// The top levels of the BVH, when one was used (for the tree diagram).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bvh: Option<Vec<OutlineNode>>,
+    /// The uniform grid's box and cell counts, when the grid was used (for the slice, which draws
+    /// the cells its cutting plane crosses).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub grid: Option<GridOutline>,
     /// The sample's final colour (linear RGB), bit-identical to the render's.
     #[serde(with = "crate::jsonf")]
     pub color: [f32; 3],

@@ -15,6 +15,8 @@ use std::collections::BTreeMap;
 pub const MAX_BVH_DEPTH: u32 = 256;
 /// The largest `max_depth` a scene (and so a trace) may have.
 pub const MAX_RECURSION_DEPTH: u32 = 64;
+/// The most cells the uniform grid has along one axis (the builder's limit, and a trace's).
+pub const MAX_GRID_CELLS_PER_AXIS: u32 = 256;
 /// The largest image side a scene (and so a trace) may have.
 const MAX_DIMENSION: u32 = 16384;
 
@@ -190,6 +192,26 @@ pub fn validate(trace: &Trace) -> Check {
                 n.children,
                 n.children.is_none(),
             )?;
+        }
+    }
+    if let Some(g) = &trace.grid {
+        finite("grid.min", &g.min)?;
+        finite("grid.max", &g.max)?;
+        if (0..3).any(|a| g.min[a] > g.max[a]) {
+            return bad(
+                "grid.max",
+                format!("must not be below grid.min {:?}, got {:?}", g.min, g.max),
+            );
+        }
+        if let Some(n) = g
+            .cells
+            .iter()
+            .find(|n| !(1..=MAX_GRID_CELLS_PER_AXIS).contains(*n))
+        {
+            return bad(
+                "grid.cells",
+                format!("each axis has 1 to {MAX_GRID_CELLS_PER_AXIS} cells, got {n}"),
+            );
         }
     }
     if trace.root.kind != RayKind::Primary {
@@ -371,6 +393,16 @@ impl Walk<'_> {
                 } => self.node(&sat, *node, *depth, *children, *leaf)?,
                 Step::MailboxSkip { object, .. } => {
                     self.object(format!("{sat}.object"), *object)?
+                }
+                Step::Cell { cell, .. } => {
+                    if let Some(g) = &self.trace.grid
+                        && (0..3).any(|a| cell[a] >= g.cells[a])
+                    {
+                        return bad(
+                            format!("{sat}.cell"),
+                            format!("cell {cell:?} lies outside the grid's {:?} cells", g.cells),
+                        );
+                    }
                 }
                 Step::Sphere { object, .. } => self.object(format!("{sat}.object"), *object)?,
                 Step::Plane { object, test, .. } => {

@@ -328,6 +328,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             lights: self.scene.lights.clone(),
             objects,
             bvh: self.accel.outline(BVH_OUTLINE_DEPTH),
+            grid: self.accel.grid_outline(),
             color: color.to_array(),
         }
     }

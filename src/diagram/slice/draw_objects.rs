@@ -54,6 +54,31 @@ impl Drawer<'_, '_> {
         }
     }
 
+    /// The uniform grid where the cutting plane crosses it (faint lines under the walked cells):
+    /// every cell boundary plane meets the cutting plane in a line, drawn across the grid's box.
+    /// An axis whose lines would fall closer than 4 pixels apart is left out (too dense to read),
+    /// and so is an axis whose boundary planes are parallel to the cutting plane.
+    pub(super) fn grid_cut(&mut self) {
+        let Some(g) = &self.trace.grid else {
+            return;
+        };
+        let i = self.info.box_ray();
+        if !self.info.visible(i) {
+            return;
+        }
+        let (lo, hi) = (v3(g.min), v3(g.max));
+        let f = self.lay.frame;
+        let col = with_alpha(box_color(self.c), if self.info.faded(i) { 40 } else { 80 });
+        let width = 0.7 * self.u;
+        for (a, cells) in g.cells.iter().copied().enumerate() {
+            for (p, q) in grid_lines(&f, lo, hi, a, cells, self.lay.scale) {
+                if let Some((p, q)) = clip_to_rect(self.lay.plot, self.lay.px(p), self.lay.px(q)) {
+                    self.c.line(p, q, col, width);
+                }
+            }
+        }
+    }
+
     /// The other accelerators' visits of the same ray: the grid cells it walked (numbered in
     /// walk order) and the bounding spheres it tested (culled ones faded and dashed).
     pub(super) fn accel_visits(&mut self) {

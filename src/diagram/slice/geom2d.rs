@@ -165,3 +165,106 @@ pub(super) fn triangle_cut(f: &Frame, p: [Vec3; 3]) -> Option<[Vec3; 2]> {
     }
     (pts.len() >= 2).then(|| [pts[0], pts[pts.len() - 1]])
 }
+
+/// Where the grid's cell boundaries across `axis` (`cells` equal cells between `lo` and `hi`)
+/// meet the cutting plane: one segment per boundary plane the plane crosses inside the grid's
+/// box. Empty when the boundary planes are parallel to the cutting plane, or when, at `scale`
+/// pixels per unit, neighbouring lines would fall under 4 pixels apart.
+pub(super) fn grid_lines(
+    f: &Frame,
+    lo: Vec3,
+    hi: Vec3,
+    axis: usize,
+    cells: u32,
+    scale: f32,
+) -> Vec<(Vec3, Vec3)> {
+    let (Some(&l), Some(&h)) = (lo.as_ref().get(axis), hi.as_ref().get(axis)) else {
+        return vec![];
+    };
+    let e = Vec3::AXES.get(axis).copied().unwrap_or(Vec3::X);
+    // The boundary planes' normal projected into the cutting plane: moving along it changes
+    // only this axis's coordinate among directions in the plane.
+    let w = e - f.m * f.m.dot(e);
+    let wa = w.dot(e);
+    let cell = (h - l) / cells.max(1) as f32;
+    // Lines are cell / |w| apart in the plane (|w|² = wa).
+    if wa < 1e-4 || !(cell / wa.sqrt() * scale >= 4.0) {
+        return vec![];
+    }
+    // Along each line: the direction in the cutting plane that keeps this axis fixed.
+    let Some(dir) = f.m.cross(e).try_normalize() else {
+        return vec![];
+    };
+    let mut out = vec![];
+    for k in 0..=cells {
+        let x = l + cell * k as f32;
+        let p0 = f.cut_o + w * ((x - f.cut_o.dot(e)) / wa);
+        // Clip the line p0 + s·dir to the box on the other two axes.
+        let (mut s0, mut s1) = (f32::NEG_INFINITY, f32::INFINITY);
+        for b in (0..3).filter(|&b| b != axis) {
+            let (o, d) = (p0[b], dir[b]);
+            if d.abs() < 1e-9 {
+                if o < lo[b] || o > hi[b] {
+                    s0 = f32::INFINITY;
+                }
+                continue;
+            }
+            let (ta, tb) = ((lo[b] - o) / d, (hi[b] - o) / d);
+            s0 = s0.max(ta.min(tb));
+            s1 = s1.min(ta.max(tb));
+        }
+        if s0 < s1 && s0.is_finite() && s1.is_finite() {
+            out.push((p0 + dir * s0, p0 + dir * s1));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cutting plane z = 0 through a 2×3×2-cell grid over [0, 2]×[0, 3]×[−1, 1]: by hand,
+    /// the x boundaries meet it in the segments x = 0, 1, 2 from y = 0 to 3; the y boundaries in
+    /// y = 0 … 3 from x = 0 to 2; the z boundaries are parallel to it and give nothing.
+    #[test]
+    fn grid_lines_by_hand() {
+        let f = Frame {
+            o: Vec3::ZERO,
+            x: Vec3::X,
+            y: Vec3::Y,
+            m: Vec3::Z,
+            cut_o: Vec3::new(5.0, -7.0, 0.0),
+            d: Vec3::X,
+            top_down: false,
+        };
+        let (lo, hi) = (Vec3::new(0.0, 0.0, -1.0), Vec3::new(2.0, 3.0, 1.0));
+        let sorted = |mut v: Vec<(Vec3, Vec3)>| {
+            for s in &mut v {
+                if s.0.to_array() > s.1.to_array() {
+                    *s = (s.1, s.0);
+                }
+            }
+            v
+        };
+        let x = sorted(grid_lines(&f, lo, hi, 0, 2, 100.0));
+        let want: Vec<(Vec3, Vec3)> = (0..=2)
+            .map(|k| (Vec3::new(k as f32, 0.0, 0.0), Vec3::new(k as f32, 3.0, 0.0)))
+            .collect();
+        assert_eq!(x, want);
+        let y = sorted(grid_lines(&f, lo, hi, 1, 3, 100.0));
+        let want: Vec<(Vec3, Vec3)> = (0..=3)
+            .map(|k| (Vec3::new(0.0, k as f32, 0.0), Vec3::new(2.0, k as f32, 0.0)))
+            .collect();
+        assert_eq!(y, want);
+        assert!(grid_lines(&f, lo, hi, 2, 2, 100.0).is_empty());
+        // At 3 pixels per unit the 1-unit cells are under 4 pixels apart: left out.
+        assert!(grid_lines(&f, lo, hi, 0, 2, 3.0).is_empty());
+        // A plane that misses the box: nothing.
+        let far = Frame {
+            cut_o: Vec3::new(0.0, 0.0, 5.0),
+            ..f
+        };
+        assert!(grid_lines(&far, lo, hi, 0, 2, 100.0).is_empty());
+    }
+}

@@ -702,6 +702,7 @@ impl Drawer<'_, '_> {
 
     fn scene(&mut self) {
         self.boxes();
+        self.grid_cut();
         self.accel_visits();
         self.objects();
         self.camera();
