@@ -597,6 +597,91 @@ impl crate::record::Observer for Capture {
     }
 }
 
+/// Where one thread's render of a scene spends its time (see [`stages`] for the method).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Stages {
+    /// The whole render, seconds.
+    pub render: f64,
+    /// Making the camera rays, seconds.
+    pub camera: f64,
+    /// Every accelerator query (traversal and tests), seconds.
+    pub queries: f64,
+    /// Every primitive test alone, seconds.
+    pub tests: f64,
+    /// Primitive tests per ray.
+    pub tests_per_ray: f64,
+}
+
+impl Stages {
+    fn share(&self, x: f64) -> String {
+        let f = self.render.max(f64::MIN_POSITIVE);
+        format!("{:.0} %", 100.0 * (x / f).clamp(0.0, 1.0))
+    }
+    /// The four shares as text: camera rays, traversal, primitive tests, shading and spawning.
+    pub fn shares(&self) -> [String; 4] {
+        [
+            self.share(self.camera),
+            self.share((self.queries - self.tests).max(0.0)),
+            self.share(self.tests.min(self.queries)),
+            self.share((self.render - self.camera - self.queries).max(0.0)),
+        ]
+    }
+}
+
+/// Measures [`Stages`] for `scene` traced with `accel` on one thread, each part the median of
+/// `reps` runs.
+pub(crate) fn measure_stages<A: Accelerator>(s: &Scene, accel: &A, reps: usize) -> Stages {
+    use crate::trace::sampling::sample_offset;
+    let tracer = Tracer::new(s, accel);
+    let full = median_time(reps, || all_pixels(&tracer));
+    let mut cap = Capture::default();
+    for y in 0..s.camera.height {
+        for x in 0..s.camera.width {
+            tracer.trace_pixel(x, y, &mut cap);
+        }
+    }
+    let st = &s.settings;
+    let camera = median_time(reps, || {
+        for y in 0..s.camera.height {
+            for x in 0..s.camera.width {
+                for k in 0..st.spp {
+                    let offset = sample_offset(x, y, k, st.spp, st.seed);
+                    std::hint::black_box(tracer.camera.ray(x, y, offset));
+                }
+            }
+        }
+    });
+    let queries = median_time(reps, || {
+        for (kind, ray) in &cap.rays {
+            let h = if *kind == RayKind::Shadow {
+                accel.any(s, ray, &mut Silent)
+            } else {
+                accel.closest(s, ray, &mut Silent)
+            };
+            std::hint::black_box(h);
+        }
+    });
+    let tests = median_time(reps, || {
+        for &(r, id) in &cap.tests {
+            if let Some((_, ray)) = cap.rays.get(r as usize) {
+                std::hint::black_box(test_object(s, id, ray, &mut Silent));
+            }
+        }
+    });
+    Stages {
+        render: full.as_secs_f64(),
+        camera: camera.as_secs_f64(),
+        queries: queries.as_secs_f64(),
+        tests: tests.as_secs_f64(),
+        tests_per_ray: cap.tests.len() as f64 / cap.rays.len().max(1) as f64,
+    }
+}
+
+/// The scene as [`stages`] and `render --profile` measure it: at most 160×120 pixels.
+pub(crate) fn profile_size(scene: &Scene) -> Scene {
+    comparison_size(scene)
+}
+
 /// Where the time goes: the share of one thread's render spent making camera rays, traversing
 /// the accelerator, testing primitives, and shading and spawning secondary rays, for brute force
 /// and each accelerator. Measured by replay, so no timer sits inside the loop it measures: the
@@ -606,7 +691,6 @@ impl crate::record::Observer for Capture {
 /// queries. (Replayed tests see the ray's whole interval, not the shrinking t_max of the real
 /// run, so they can cost a little more: the test share is an upper bound.)
 pub fn stages(scenes: &[Scene], reps: usize) {
-    use crate::trace::sampling::sample_offset;
     println!("## Where the time goes, one thread, at most 160×120 pixels (share of the render)");
     println!(
         "| scene | accelerator | render (ms) | camera rays | traversal | primitive tests | shading and spawning | tests / ray |"
@@ -617,59 +701,14 @@ pub fn stages(scenes: &[Scene], reps: usize) {
         for choice in ACCELERATORS {
             s.settings.accel = choice;
             let (accel, _) = SceneAccel::build(&s);
-            let tracer = Tracer::new(&s, &accel);
-            let full = median_time(reps, || all_pixels(&tracer));
-            let mut cap = Capture::default();
-            for y in 0..s.camera.height {
-                for x in 0..s.camera.width {
-                    tracer.trace_pixel(x, y, &mut cap);
-                }
-            }
-            let st = &s.settings;
-            let camera = median_time(reps, || {
-                for y in 0..s.camera.height {
-                    for x in 0..s.camera.width {
-                        for k in 0..st.spp {
-                            let offset = sample_offset(x, y, k, st.spp, st.seed);
-                            std::hint::black_box(tracer.camera.ray(x, y, offset));
-                        }
-                    }
-                }
-            });
-            let queries = median_time(reps, || {
-                for (kind, ray) in &cap.rays {
-                    let h = if *kind == RayKind::Shadow {
-                        accel.any(&s, ray, &mut Silent)
-                    } else {
-                        accel.closest(&s, ray, &mut Silent)
-                    };
-                    std::hint::black_box(h);
-                }
-            });
-            let tests = median_time(reps, || {
-                for &(r, id) in &cap.tests {
-                    if let Some((_, ray)) = cap.rays.get(r as usize) {
-                        std::hint::black_box(test_object(&s, id, ray, &mut Silent));
-                    }
-                }
-            });
-            let f = full.as_secs_f64();
-            let share = |x: f64| format!("{:.0} %", 100.0 * (x / f).clamp(0.0, 1.0));
-            let (c, q, t) = (
-                camera.as_secs_f64(),
-                queries.as_secs_f64(),
-                tests.as_secs_f64(),
-            );
+            let m = measure_stages(&s, &accel, reps);
+            let [c, tr, te, sh] = m.shares();
             println!(
-                "| {} | {} | {:.1} | {} | {} | {} | {} | {:.1} |",
+                "| {} | {} | {:.1} | {c} | {tr} | {te} | {sh} | {:.1} |",
                 s.name,
                 accel.name(),
-                f * 1e3,
-                share(c),
-                share((q - t).max(0.0)),
-                share(t.min(q)),
-                share((f - c - q).max(0.0)),
-                cap.tests.len() as f64 / cap.rays.len().max(1) as f64,
+                m.render * 1e3,
+                m.tests_per_ray,
             );
         }
     }

@@ -486,6 +486,51 @@ fn the_tree_diagram_shows_the_sphere_trees_visits_in_order() {
     }
 }
 
+/// A counted render's per-pixel visits (the heatmap and the statistics) count each
+/// accelerator's own visits: for every accelerator, a pixel's count equals the number of BVH
+/// nodes, bounding spheres or grid cells its recorded trace holds (a different observer over
+/// the same pixel), and the grid and sphere tree count some.
+#[test]
+fn counted_renders_count_every_accelerators_visits() {
+    use raystep::render::{RenderOptions, render};
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/triangles.toml");
+    for accel in [AccelChoice::Bvh, AccelChoice::Spheres, AccelChoice::Grid] {
+        let mut scene = load_file(&path).unwrap();
+        scene.settings.accel = accel;
+        scene.camera.width = 40;
+        scene.camera.height = 30;
+        let prepared = raystep::PreparedScene::new(scene);
+        let opts = RenderOptions {
+            count: true,
+            threads: Some(2),
+            ..Default::default()
+        };
+        let out = render(&prepared.tracer(), &opts).unwrap();
+        let visits = out.node_visits.expect("counted");
+        assert!(visits.iter().any(|v| *v > 0), "{accel:?}");
+        for (x, y) in [(0, 0), (20, 15), (13, 27), (39, 29)] {
+            let trace = prepared.record(x, y, 0);
+            let recorded = trace
+                .timeline()
+                .iter()
+                .filter(|(_, s)| {
+                    matches!(
+                        s.step,
+                        Step::Node(_) | Step::SphereNode { .. } | Step::Cell { .. }
+                    )
+                })
+                .count();
+            assert_eq!(
+                visits[(y * 40 + x) as usize] as usize,
+                recorded,
+                "{accel:?} pixel ({x}, {y})"
+            );
+        }
+        let total: u64 = visits.iter().map(|v| *v as u64).sum();
+        assert_eq!(out.stats.counts.node_visits, total, "{accel:?}");
+    }
+}
+
 /// A trace file whose sphere-tree node claims itself as its child, or whose mailbox names an
 /// object the trace does not hold, is refused with the field named.
 #[test]

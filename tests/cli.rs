@@ -1490,3 +1490,60 @@ fn intersect_sphere_prints_the_recorded_intermediates() {
         assert!(stable.contains(want), "{want:?} in\n{stable}");
     }
 }
+
+/// `render --profile` adds the stages line: four shares (each 0 … 100 %) naming camera rays,
+/// traversal, primitive tests, and shading and spawning (their values are timings, so only their
+/// form is checked; the figures are in `bench --section stages`). `render` says what the accelerator visited per ray in its own words.
+#[test]
+fn render_profile_prints_where_the_time_goes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/triangles.toml");
+    let run = |accel: &str, profile: bool| {
+        let mut args = vec![
+            "render".to_string(),
+            scene.display().to_string(),
+            "-o".into(),
+            dir.path().join("t.png").display().to_string(),
+            "--accel".into(),
+            accel.into(),
+        ];
+        if profile {
+            args.push("--profile".into());
+        }
+        let out = raystep()
+            .args(&args)
+            .assert()
+            .success()
+            .get_output()
+            .clone();
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let out = run("none", true);
+    let line = out
+        .lines()
+        .find(|l| l.trim_start().starts_with("profile"))
+        .unwrap_or_else(|| panic!("{out}"));
+    let mut shares = vec![];
+    for name in [
+        "camera rays ",
+        "traversal ",
+        "primitive tests ",
+        "shading and spawning ",
+    ] {
+        let at = line.find(name).unwrap_or_else(|| panic!("{name}: {line}"));
+        let rest = &line[at + name.len()..];
+        let pct: f64 = rest[..rest.find(" %").unwrap()].parse().unwrap();
+        assert!((0.0..=100.0).contains(&pct), "{line}");
+        shares.push(pct);
+    }
+    assert_eq!(shares.len(), 4);
+    assert!(!run("bvh", false).contains("profile"));
+    for (accel, words) in [
+        ("bvh", "box tests per ray"),
+        ("spheres", "bounding-sphere tests per ray"),
+        ("grid", "cells walked per ray"),
+    ] {
+        let out = run(accel, false);
+        assert!(out.contains(words), "{accel}: {out}");
+    }
+}

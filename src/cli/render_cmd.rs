@@ -26,6 +26,11 @@ pub struct RenderArgs {
     /// colour-mapped PNG with a legend.
     #[arg(long, conflicts_with = "gpu")]
     pub heatmap: Option<PathBuf>,
+    /// Also measure where the time goes (camera rays, traversal, primitive tests, shading and
+    /// spawning) on one thread, by replaying a render of at most 160×120 pixels of the scene
+    /// (the method of `raystep bench --section stages`; adds a few seconds).
+    #[arg(long, conflicts_with = "gpu")]
+    pub profile: bool,
     /// Render on the GPU (wgpu, offscreen) with the WGSL tracer generated for the scene.
     #[arg(long)]
     pub gpu: bool,
@@ -122,16 +127,35 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         c.refraction,
         c.rays()
     );
+    let visits = match accel {
+        SceneAccel::Brute(_) => "",
+        SceneAccel::Bvh(_) => " and {} box tests",
+        SceneAccel::Spheres(_) => " and {} bounding-sphere tests",
+        SceneAccel::Grid(_) => " and {} cells walked",
+    }
+    .replace("{}", &format!("{:.1}", c.node_visits as f64 / rays));
     println!(
-        "  tests    {:.1} primitive tests and {:.1} box tests per ray",
+        "  tests    {:.1} primitive tests{visits} per ray",
         c.prim_tests as f64 / rays,
-        c.node_visits as f64 / rays
     );
     println!("  speed    {:.2} Mrays/s", s.mrays_per_s());
     if s.nan_rays > 0 || s.nan_pixels > 0 {
         println!(
             "  warning  {} rays and {} pixels are NaN (not finite)",
             s.nan_rays, s.nan_pixels
+        );
+    }
+    if args.profile {
+        let small = crate::bench::profile_size(scene);
+        // Five repetitions (medians) unless one replayed render would take over a second.
+        let fraction = (small.camera.width * small.camera.height) as f64
+            / (out.width * out.height).max(1) as f64;
+        let one = s.trace.as_secs_f64() * s.threads as f64 * fraction;
+        let m = crate::bench::measure_stages(&small, accel, if one < 1.0 { 5 } else { 1 });
+        let [c, tr, te, sh] = m.shares();
+        println!(
+            "  profile  camera rays {c}, traversal {tr}, primitive tests {te}, shading and spawning {sh} (one thread, {}×{} replayed)",
+            small.camera.width, small.camera.height
         );
     }
     println!("wrote {}", super::full_path(&args.output));

@@ -110,6 +110,10 @@ impl Observer for StatsObserver {
         self.counts.node_visit(visit);
     }
     #[inline(always)]
+    fn accel_visit(&mut self, step: impl FnOnce() -> Step) {
+        self.counts.accel_visit(step);
+    }
+    #[inline(always)]
     fn step(&mut self, step: impl FnOnce() -> Step) {
         self.counts.step(step);
     }
