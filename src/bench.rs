@@ -564,6 +564,52 @@ pub fn accel_compare(scenes: &[Scene], reps: usize) {
     }
 }
 
+/// The uniform grid's resolution swept: for each scene and λ (cells per primitive), the grid's
+/// cells and references, primitive tests and cells walked per ray, and its speed relative to
+/// λ = [`GRID_LAMBDA`](crate::accel::grid::GRID_LAMBDA), one thread, at most 160×120 pixels.
+pub fn grid_lambda(scenes: &[Scene], reps: usize) {
+    use crate::accel::grid::{GRID_LAMBDA, Grid};
+    const LAMBDAS: [f32; 7] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
+    println!("## The grid's λ swept, one thread, at most 160×120 pixels (all ray kinds)");
+    println!(
+        "| scene | λ | cells | references | tests / ray | cells / ray | Mrays/s | speed vs λ = {GRID_LAMBDA} |"
+    );
+    println!("|---|---|---|---|---|---|---|---|");
+    let n = |x: f64| crate::record::number::fmt64(x, crate::record::number::Style::Label);
+    for scene in scenes {
+        let s = comparison_size(scene);
+        let rows: Vec<_> = LAMBDAS
+            .iter()
+            .map(|&lambda| {
+                let grid = Grid::build_with_lambda(&s, lambda);
+                let tracer = Tracer::new(&s, &grid);
+                let c = count_rays(&tracer);
+                let t = median_time(reps, || all_pixels(&tracer));
+                (lambda, grid, c, t)
+            })
+            .collect();
+        let base = rows
+            .iter()
+            .find(|r| r.0 == GRID_LAMBDA)
+            .map_or(1.0, |r| r.3.as_secs_f64());
+        for (lambda, grid, c, t) in rows {
+            let rays = c.rays().max(1) as f64;
+            println!(
+                "| {} | {lambda} | {}×{}×{} | {} | {} | {} | {} | {}× |",
+                s.name,
+                grid.dims[0],
+                grid.dims[1],
+                grid.dims[2],
+                grid.references(),
+                n(c.prim_tests as f64 / rays),
+                n(c.node_visits as f64 / rays),
+                n(rays / t.as_secs_f64() / 1e6),
+                n(base / t.as_secs_f64()),
+            );
+        }
+    }
+}
+
 /// One render's work captured for replay: every ray the tracer cast (its kind decides the
 /// accelerator query: any hit for shadow rays, the closest otherwise) and every primitive test
 /// (which ray, which object). Capturing costs nothing in the timed runs: they replay the lists.

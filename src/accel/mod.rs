@@ -140,6 +140,26 @@ pub fn accept<O: Observer>(scene: &Scene, hit: &Hit, previous: f32, obs: &mut O)
     });
 }
 
+/// The ray object `id` is tested with for the closest hit once `best` is the closest so far.
+///
+/// Ties at exactly equal t go to the lower object id, whatever order an accelerator tests in:
+/// brute force tests in id order against `t < t_max`, so of two objects at the same t the first
+/// (lower id) keeps it. An accelerator may meet the higher id first; so an object with a lower
+/// id than the closest so far is tested against `t ≤ t_max` (`t_max` raised to the next float),
+/// one with a higher id against `t < t_max` as usual. The images then agree bit for bit with
+/// brute force even on exact ties (duplicated objects, meshes sharing an edge). The ray's own
+/// `t_max` stays the closest t: box and sphere culling already keep a node at exactly `t_max`.
+#[inline(always)]
+pub fn tie_ray(r: &Ray<f32>, id: u32, best: &Option<Hit>) -> Ray<f32> {
+    match best {
+        Some(b) if id < b.object => Ray {
+            t_max: r.t_max.next_up(),
+            ..*r
+        },
+        _ => *r,
+    }
+}
+
 /// Tests object `id` for the closest hit: a hit becomes the closest so far (recorded, and the
 /// ray's t_max shrinks to it, so farther candidates fail inside the kernels).
 #[inline(always)]
@@ -150,7 +170,7 @@ pub fn test_closest<O: Observer>(
     best: &mut Option<Hit>,
     obs: &mut O,
 ) -> Option<Hit> {
-    let h = test_object(scene, id, r, obs)?;
+    let h = test_object(scene, id, &tie_ray(r, id, best), obs)?;
     accept(scene, &h, r.t_max, obs);
     r.t_max = h.t;
     *best = Some(h);

@@ -35,6 +35,9 @@ pub enum Section {
     /// every accelerator (measured by replaying one captured render; the same scenes as
     /// accel-compare).
     Stages,
+    /// The uniform grid's resolution: λ (cells per primitive) from 0.5 to 32 on the
+    /// accel-compare scenes: cells, references, tests and cells per ray, speed relative to λ = 4.
+    GridLambda,
     /// Per-scene figures: build, threads, BVH vs brute force, traversal vs obvhs, one pixel.
     Scene,
     /// Drawing every diagram of one step.
@@ -83,7 +86,10 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         crate::bench::accel_threshold(reps);
         println!();
     }
-    if matches!(args.section, Section::AccelCompare | Section::Stages) {
+    if matches!(
+        args.section,
+        Section::AccelCompare | Section::Stages | Section::GridLambda
+    ) {
         use crate::scene::spd::{SpdScene, generate};
         let mut all = scenes.clone();
         let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
@@ -107,6 +113,8 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         }
         if args.section == Section::Stages {
             crate::bench::stages(&all, reps);
+        } else if args.section == Section::GridLambda {
+            crate::bench::grid_lambda(&all, reps);
         } else {
             crate::bench::accel_compare(&all, reps);
         }

@@ -188,7 +188,9 @@ pub(super) fn grid_lines(
     let wa = w.dot(e);
     let cell = (h - l) / cells.max(1) as f32;
     // Lines are cell / |w| apart in the plane (|w|² = wa).
-    if wa < 1e-4 || !(cell / wa.sqrt() * scale >= 4.0) {
+    let spacing = cell / wa.sqrt() * scale;
+    // (A NaN spacing, from a degenerate grid, draws nothing too.)
+    if wa < 1e-4 || spacing.is_nan() || spacing < 4.0 {
         return vec![];
     }
     // Along each line: the direction in the cutting plane that keeps this axis fixed.

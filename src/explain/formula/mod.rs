@@ -210,7 +210,7 @@ impl Ctx<'_> {
     /// The ray's t_max when step `idx` ran: the initial t_max, shrunk by every `Accept` before it
     /// (the accelerators set t_max to the accepted t, and only `Accept` changes it).
     fn t_max_at(&self, idx: Option<usize>) -> f32 {
-        let end = idx.unwrap_or(0);
+        let end = idx.unwrap_or(0).min(self.ray.steps.len());
         let mut t = self.ray.t_max.unwrap_or(f32::INFINITY);
         for s in &self.ray.steps[..end] {
             if let Step::Accept { t: a, .. } = s.step {
@@ -220,21 +220,60 @@ impl Ctx<'_> {
         t
     }
 
+    /// Whether this step's kernel kept a hit at exactly t_max: a test of an object with a lower
+    /// id than the closest so far, so that a tie at equal t goes to the lower id whatever order
+    /// the accelerator tests in ([`crate::accel::tie_ray`]).
+    fn ties_kept(&self) -> bool {
+        let end = self.idx.unwrap_or(0).min(self.ray.steps.len());
+        let closest = self.ray.steps[..end]
+            .iter()
+            .rev()
+            .find_map(|s| match s.step {
+                Step::Accept { object, .. } => Some(object),
+                _ => None,
+            });
+        let tested = self
+            .idx
+            .and_then(|i| self.ray.steps.get(i))
+            .and_then(|s| match s.step {
+                Step::Sphere { object, .. }
+                | Step::Plane { object, .. }
+                | Step::Triangle { object, .. } => Some(object),
+                _ => None,
+            });
+        matches!((tested, closest), (Some(id), Some(c)) if id < c)
+    }
+
+    /// Whether t lies in the interval this step's kernel tested against: t_min < t < t_max, or
+    /// t_min < t ≤ t_max when [`Self::ties_kept`].
+    fn in_range(&self, t: f32) -> bool {
+        let hi = self.t_max();
+        t > self.ray.t_min && (t < hi || (self.ties_kept() && t == hi))
+    }
+
+    /// The upper comparison this step's kernel made: "<", or "≤" when ties are kept.
+    fn upper(&self) -> &'static str {
+        if self.ties_kept() { "≤" } else { "<" }
+    }
+
     /// The t_max this step's kernel tested against.
     fn t_max(&self) -> f32 {
         self.t_max_at(self.idx)
     }
 
-    /// `t_min < t < t_max`, with the numbers.
+    /// `t_min < t < t_max` (or `≤ t_max`, see [`Self::ties_kept`]), with the numbers.
     fn range_line(&self, t: f32) -> Formula {
         let (lo, hi) = (self.ray.t_min, self.t_max());
-        let ok = t > lo && t < hi;
+        let ok = self.in_range(t);
+        let up = self.upper();
         line(
             "t in range?",
-            "t_min < t < t_max",
-            format!("{} < {} < {}", num(lo), num(t), num(hi)),
+            &format!("t_min < t {up} t_max"),
+            format!("{} < {} {up} {}", num(lo), num(t), num(hi)),
             yes_no(ok),
-            Some(if ok {
+            Some(if ok && self.ties_kept() && t == hi {
+                "a tie with the closest hit so far: the lower object id keeps it".into()
+            } else if ok {
                 "inside the ray's interval".into()
             } else if t <= lo {
                 "at or behind the origin (t ≤ t_min)".into()

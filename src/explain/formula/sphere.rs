@@ -217,33 +217,49 @@ impl Ctx<'_> {
                     None,
                 ));
             }
+            let up = self.upper();
             let (choice, sub, val) = match test.choice {
                 RootChoice::NearRoot => (
-                    "t_min < t₀ < t_max",
-                    format!("{} < {} < {}", num(rmin), num(lo), num(rmax)),
+                    format!("t_min < t₀ {up} t_max"),
+                    format!("{} < {} {up} {}", num(rmin), num(lo), num(rmax)),
                     num(lo),
                 ),
                 RootChoice::FarRoot => (
-                    "t₀ ≤ t_min < t₁ < t_max",
-                    format!("{} ≤ {} < {} < {}", num(lo), num(rmin), num(hi), num(rmax)),
+                    format!("t₀ ≤ t_min < t₁ {up} t_max"),
+                    format!(
+                        "{} ≤ {} < {} {up} {}",
+                        num(lo),
+                        num(rmin),
+                        num(hi),
+                        num(rmax)
+                    ),
                     num(hi),
                 ),
                 RootChoice::Behind => (
-                    "t₁ ≤ t_min",
+                    "t₁ ≤ t_min".into(),
                     format!("{} ≤ {}", num(hi), num(rmin)),
                     "none".into(),
                 ),
                 RootChoice::BeyondTMax => {
                     let first = if lo > rmin { lo } else { hi };
                     (
-                        "first root past t_min ≥ t_max",
-                        format!("{} ≥ {}", num(first), num(rmax)),
+                        if self.ties_kept() {
+                            "first root past t_min > t_max".into()
+                        } else {
+                            "first root past t_min ≥ t_max".into()
+                        },
+                        format!(
+                            "{} {} {}",
+                            num(first),
+                            if self.ties_kept() { ">" } else { "≥" },
+                            num(rmax)
+                        ),
                         "none".into(),
                     )
                 }
-                RootChoice::NoRoots => ("no roots", String::new(), "none".into()),
+                RootChoice::NoRoots => ("no roots".into(), String::new(), "none".into()),
             };
-            lines.push(line("t", choice, sub, val, None));
+            lines.push(line("t", &choice, sub, val, None));
         }
         let conclusion = match (test.case, test.choice) {
             (_, RootChoice::NoRoots) if test.discriminant.is_nan() => {

@@ -317,9 +317,7 @@ impl Ctx<'_> {
             ));
             lines.push(self.range_line(t));
         }
-        let in_range = test
-            .t_star
-            .is_some_and(|t| t > self.ray.t_min && t < self.t_max());
+        let in_range = test.t_star.is_some_and(|t| self.in_range(t));
         let conclusion = match stop {
             12 => format!(
                 "Hit at t = {}, with u = {}, v = {}.",
