@@ -68,6 +68,7 @@ pub mod render;
 pub mod scene;
 pub mod shapes;
 pub mod stability;
+pub mod student;
 pub mod trace;
 
 pub use scene::Scene;

@@ -8,6 +8,7 @@ mod diagram_cmd;
 mod diff_cmd;
 mod examples_cmd;
 mod exercise_cmd;
+mod grade_tracer_cmd;
 mod intersect;
 mod render_cmd;
 mod scene_cmd;
@@ -65,6 +66,10 @@ pub enum Command {
     Check(exercise_cmd::CheckArgs),
     /// Mark a class's answers (CSV) to an exercise sheet; write a grades CSV.
     Grade(exercise_cmd::GradeArgs),
+    /// Run a student's own ray tracer on scenes and pixels and check the trace it prints (the
+    /// student trace format) against raystep's, stage by stage; text, Gradescope JSON, or a
+    /// class's grades CSV.
+    GradeTracer(grade_tracer_cmd::GradeTracerArgs),
     /// List the scenes, lessons and exercise sheets built into raystep, or write them to a folder.
     Examples(examples_cmd::ExamplesArgs),
     /// Open the app on a scene (.toml), a built-in scene by name (`cornell`) or a saved trace
@@ -240,6 +245,7 @@ pub fn main() -> ExitCode {
         Some(Command::Exercise(args)) => exercise_cmd::run_exercise(&args),
         Some(Command::Check(args)) => exercise_cmd::run_check(&args),
         Some(Command::Grade(args)) => exercise_cmd::run_grade(&args),
+        Some(Command::GradeTracer(args)) => grade_tracer_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

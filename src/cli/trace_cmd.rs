@@ -17,14 +17,25 @@ pub struct TraceArgs {
     #[arg(long, default_value_t = 0)]
     pub sample: u32,
     /// Print the trace as JSON instead of a tree.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "format")]
     pub json: bool,
+    /// Print the trace in another format: `student`, the JSON Lines a student's own tracer
+    /// writes for `raystep grade-tracer` (lessons/student-tracer.md).
+    #[arg(long, value_enum)]
+    pub format: Option<TraceFormat>,
     /// Also save the trace as JSON to this file (written atomically).
     #[arg(long)]
     pub save: Option<PathBuf>,
     /// Setting overrides.
     #[command(flatten)]
     pub settings: SettingsArgs,
+}
+
+/// The formats `trace --format` prints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum TraceFormat {
+    /// raystep's trace in the student trace format.
+    Student,
 }
 
 /// Runs `raystep trace`.
@@ -62,7 +73,10 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
         // On stderr: stdout is the trace (often piped).
         eprintln!("wrote {}", super::full_path(path));
     }
-    if args.json {
+    if args.format == Some(TraceFormat::Student) {
+        let ours = crate::student::expected::expected(&trace);
+        super::emit(&crate::student::format::write(&ours.pixel))
+    } else if args.json {
         super::emit(&(json + "\n"))
     } else {
         super::emit(&describe::tree(&trace))

@@ -112,7 +112,7 @@
 //! ```
 
 mod answer;
-mod csv;
+pub(crate) mod csv;
 mod extract;
 mod grade;
 mod lessons;
@@ -271,7 +271,7 @@ pub(crate) fn line_col(text: &str, pos: usize) -> (usize, usize) {
 }
 
 /// A number in [0, 1) from the student, sheet, question and parameter.
-fn draw(sheet: &str, question: &str, student: &str, name: &str) -> u64 {
+pub(crate) fn draw(sheet: &str, question: &str, student: &str, name: &str) -> u64 {
     let mut h = Sha256::new();
     for part in ["raystep-exercise", sheet, question, student, name] {
         h.update(part.as_bytes());
@@ -285,7 +285,7 @@ fn uniform(bits: u64) -> f64 {
     (bits >> 11) as f64 / (1u64 << 53) as f64
 }
 
-fn pick_int(bits: u64, lo: i64, hi: i64) -> i64 {
+pub(crate) fn pick_int(bits: u64, lo: i64, hi: i64) -> i64 {
     let span = (hi as i128 - lo as i128 + 1) as u128;
     (lo as i128 + (bits as u128 % span) as i128) as i64
 }

@@ -1,0 +1,176 @@
+//! `raystep grade-tracer`: run a student's own tracer and check its trace against raystep's.
+
+use super::parse_pixel;
+use crate::student::compare::Stage;
+use crate::student::{self, Job, run::Limits};
+use crate::trace::PreparedScene;
+use std::path::{Path, PathBuf};
+
+/// Arguments of `raystep grade-tracer`.
+#[derive(Debug, clap::Args)]
+pub struct GradeTracerArgs {
+    /// The student's program, run once per pixel: `{scene}` (the scene file's path), `{x}` and
+    /// `{y}` are replaced inside its words (split like a shell would, but never run by one).
+    #[arg(long)]
+    pub run: String,
+    /// A grading sheet (TOML): scenes, pixels, per-student pixels, the last stage, limits.
+    #[arg(long, conflicts_with_all = ["scene", "pixels"])]
+    pub sheet: Option<PathBuf>,
+    /// A quick check without a sheet: the scene file.
+    #[arg(long, requires = "pixels")]
+    pub scene: Option<PathBuf>,
+    /// With --scene: the pixels, `X,Y;X,Y;…`.
+    #[arg(long)]
+    pub pixels: Option<String>,
+    /// The student's id (draws a sheet's per-student pixels; names the report).
+    #[arg(long, default_value = "student")]
+    pub student: String,
+    /// Grade a class: every subfolder of this folder is one submission (its name the student),
+    /// the program run inside it.
+    #[arg(long)]
+    pub class: Option<PathBuf>,
+    /// With --class: write the grades CSV here.
+    #[arg(long, requires = "class")]
+    pub csv: Option<PathBuf>,
+    /// With --class: write each student's report (`<student>.txt`) and Gradescope
+    /// `<student>.json` into this folder.
+    #[arg(long, requires = "class")]
+    pub out: Option<PathBuf>,
+    /// The last stage checked (each includes the ones before; default: the sheet's, else color).
+    #[arg(long, value_enum)]
+    pub upto: Option<Stage>,
+    /// Print Gradescope's `results.json` instead of the text report.
+    #[arg(long, conflicts_with = "class")]
+    pub json: bool,
+    /// Seconds per run of the program (default: the sheet's, else 10).
+    #[arg(long)]
+    pub timeout: Option<f64>,
+    /// Megabytes of output per run; more stops the program.
+    #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub max_output_mb: u32,
+}
+
+/// The quick check's pixels, `X,Y;X,Y`.
+fn parse_pixels(s: &str) -> Result<Vec<[u32; 2]>, String> {
+    s.split(';')
+        .filter(|p| !p.trim().is_empty())
+        .map(|p| parse_pixel(p).map_err(|e| format!("--pixels: {e}")))
+        .collect::<Result<Vec<_>, _>>()
+        .and_then(|v| {
+            if v.is_empty() {
+                Err("--pixels lists no pixel (X,Y;X,Y…)".into())
+            } else {
+                Ok(v)
+            }
+        })
+}
+
+/// Runs `raystep grade-tracer`.
+pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
+    let sheet = match &args.sheet {
+        Some(p) => Some(student::load_sheet(p)?),
+        None => None,
+    };
+    let quick: Option<(PathBuf, std::sync::Arc<PreparedScene>, Vec<[u32; 2]>)> =
+        match (&args.scene, &args.pixels) {
+            (Some(path), Some(px)) => {
+                let pixels = parse_pixels(px)?;
+                let scene = crate::scene::load_file(path).map_err(|e| e.to_string())?;
+                let (w, h) = (scene.camera.width, scene.camera.height);
+                if let Some([x, y]) = pixels.iter().find(|[x, y]| *x >= w || *y >= h) {
+                    return Err(format!(
+                        "--pixels: ({x}, {y}) is outside the {w}×{h} image of {}",
+                        path.display()
+                    ));
+                }
+                let abs = std::path::absolute(path).unwrap_or(path.clone());
+                Some((abs, std::sync::Arc::new(PreparedScene::new(scene)), pixels))
+            }
+            _ if sheet.is_none() => {
+                return Err("give a --sheet, or --scene and --pixels".into());
+            }
+            _ => None,
+        };
+    let upto = args
+        .upto
+        .or(sheet.as_ref().map(|s| s.upto))
+        .unwrap_or(Stage::Color);
+    let tol = sheet.as_ref().and_then(|s| s.tolerance).unwrap_or_default();
+    let timeout = args
+        .timeout
+        .or(sheet.as_ref().and_then(|s| s.timeout_s))
+        .unwrap_or(10.0);
+    if !(timeout.is_finite() && timeout > 0.0 && timeout <= 3600.0) {
+        return Err(format!(
+            "--timeout {timeout}: give a number of seconds in (0, 3600]"
+        ));
+    }
+    let limits = Limits {
+        timeout: student::seconds(timeout),
+        max_output: args.max_output_mb as usize * (1 << 20),
+    };
+    let jobs_for = |who: &str| -> Result<Vec<Job>, String> {
+        match (&sheet, &args.sheet, &quick) {
+            (Some(s), Some(p), _) => student::sheet_jobs(s, p, who),
+            (_, _, Some((path, prepared, pixels))) => Ok(vec![Job {
+                path: path.clone(),
+                prepared: prepared.clone(),
+                pixels: pixels.clone(),
+            }]),
+            _ => Err("no scenes to grade".into()),
+        }
+    };
+    if let Some(class) = &args.class {
+        let reports = student::grade_class(class, &args.run, &jobs_for, upto, &tol, limits)?;
+        if reports.is_empty() {
+            return Err(format!("{}: no submission folders in it", class.display()));
+        }
+        if let Some(dir) = &args.out {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("{}: cannot create: {e}", dir.display()))?;
+            for r in &reports {
+                crate::io::write_atomic(
+                    &dir.join(format!("{}.txt", r.student)),
+                    r.text().as_bytes(),
+                )?;
+                crate::io::write_atomic(
+                    &dir.join(format!("{}.json", r.student)),
+                    student::gradescope_json(r).as_bytes(),
+                )?;
+            }
+        }
+        let csv = student::grades_csv(&reports);
+        if let Some(p) = &args.csv {
+            crate::io::write_atomic(p, csv.as_bytes())?;
+        }
+        let mut text = String::new();
+        for r in &reports {
+            text += &format!(
+                "{}: {} / {} ({:.1} s)\n",
+                r.student,
+                r.score(),
+                r.max_score(),
+                r.seconds
+            );
+        }
+        if let Some(p) = &args.csv {
+            text += &format!("wrote {}\n", super::full_path(p));
+        }
+        return super::emit(&text);
+    }
+    let jobs = jobs_for(&args.student)?;
+    let report = student::grade_submission(
+        &args.student,
+        &args.run,
+        Path::new("."),
+        &jobs,
+        upto,
+        &tol,
+        limits,
+    );
+    if args.json {
+        super::emit(&student::gradescope_json(&report))
+    } else {
+        super::emit(&report.text())
+    }
+}

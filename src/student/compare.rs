@@ -1,0 +1,822 @@
+//! Lining a student's trace up with raystep's and saying, in words, where it first differs.
+
+use super::expected::Expected;
+use super::format::{Pixel, Ray, Test};
+use serde::{Deserialize, Serialize};
+
+/// What a course checks, one stage after another (each includes the ones before).
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    PartialOrd,
+    Ord,
+    Hash,
+    Serialize,
+    Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stage {
+    /// The primary ray: origin and direction.
+    Camera,
+    /// Ray–sphere tests: a, b, c, the discriminant, t.
+    Sphere,
+    /// Ray–plane and ray–triangle tests.
+    PlaneTriangle,
+    /// The closest hit: object, t, point, normal.
+    ClosestHit,
+    /// Shadows: each light blocked or not (and the shadow rays' tests).
+    Shadows,
+    /// Reflection and refraction rays (and their tests and hits).
+    Secondary,
+    /// The pixel's colour.
+    Color,
+}
+
+impl Stage {
+    /// Every stage, in order.
+    pub const ALL: [Stage; 7] = [
+        Stage::Camera,
+        Stage::Sphere,
+        Stage::PlaneTriangle,
+        Stage::ClosestHit,
+        Stage::Shadows,
+        Stage::Secondary,
+        Stage::Color,
+    ];
+
+    /// The stage's name as the command line and sheets spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Camera => "camera",
+            Stage::Sphere => "sphere",
+            Stage::PlaneTriangle => "plane-triangle",
+            Stage::ClosestHit => "closest-hit",
+            Stage::Shadows => "shadows",
+            Stage::Secondary => "secondary",
+            Stage::Color => "color",
+        }
+    }
+}
+
+/// How close a student's number must be: |yours − raystep's| ≤ abs + rel·|raystep's|, on values
+/// scaled to a unit-length direction. Colours use `color`, spawned rays' origins `offset`
+/// (a student's own offset off the surface is allowed).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Tolerance {
+    /// Relative.
+    pub rel: f64,
+    /// Absolute.
+    pub abs: f64,
+    /// Absolute, for colour channels.
+    pub color: f64,
+    /// Absolute, for the origins of shadow, reflection and refraction rays.
+    pub offset: f64,
+}
+
+impl Default for Tolerance {
+    /// Loose enough for a student's f32 arithmetic (rounding differs in the 7th digit), tight
+    /// enough to catch any formula mistake.
+    fn default() -> Self {
+        Tolerance {
+            rel: 1e-3,
+            abs: 1e-4,
+            color: 4e-3,
+            offset: 2e-2,
+        }
+    }
+}
+
+/// The verdict of one stage for one pixel.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Check {
+    /// The stage.
+    pub stage: Stage,
+    /// Passed?
+    pub pass: bool,
+    /// The first divergence in words (empty when passed), with the common mistake named when it
+    /// is recognised.
+    pub message: String,
+    /// The timeline step of raystep's trace that shows the right numbers.
+    pub step: Option<usize>,
+}
+
+fn len(v: [f64; 3]) -> f64 {
+    (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
+}
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let l = len(v);
+    if l > 0.0 { v.map(|x| x / l) } else { v }
+}
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    len([a[0] - b[0], a[1] - b[1], a[2] - b[2]])
+}
+
+/// A number as feedback shows it.
+fn n(x: f64) -> String {
+    crate::record::number::fmt64(x, crate::record::number::Style::Label)
+}
+fn v(x: [f64; 3]) -> String {
+    format!("({}, {}, {})", n(x[0]), n(x[1]), n(x[2]))
+}
+
+impl Tolerance {
+    fn close(&self, yours: f64, want: f64) -> bool {
+        (yours - want).abs() <= self.abs + self.rel * want.abs()
+    }
+    fn close3(&self, yours: [f64; 3], want: [f64; 3], abs: f64) -> bool {
+        dist(yours, want) <= abs + self.rel * len(want)
+    }
+}
+
+/// Which student ray answers each of raystep's (None: the student has no such ray). The
+/// primary ray is the student's first primary ray; a child is the student's ray of the same kind
+/// under the matched parent (for shadow rays, towards the same light if named), nearest in
+/// direction.
+pub fn match_rays(e: &Pixel, s: &Pixel) -> Vec<Option<usize>> {
+    let mut m: Vec<Option<usize>> = vec![None; e.rays.len()];
+    let mut used = vec![false; s.rays.len()];
+    if let Some(first) = s.rays.iter().position(|r| r.kind == "primary")
+        && !m.is_empty()
+    {
+        m[0] = Some(first);
+        used[first] = true;
+    }
+    for i in 1..e.rays.len() {
+        let er = &e.rays[i];
+        let Some(sp) = er.parent.and_then(|p| m.get(p).copied().flatten()) else {
+            continue;
+        };
+        let cands: Vec<usize> = (0..s.rays.len())
+            .filter(|&k| !used[k] && s.rays[k].parent == Some(sp) && s.rays[k].kind == er.kind)
+            .collect();
+        let named: Vec<usize> = cands
+            .iter()
+            .copied()
+            .filter(|&k| er.light.is_some() && s.rays[k].light == er.light)
+            .collect();
+        let pool = if named.is_empty() { cands } else { named };
+        let ed = er.direction.map(unit);
+        let best = pool.into_iter().min_by(|&a, &b| {
+            let score = |k: usize| match (ed, s.rays[k].direction) {
+                (Some(e), Some(d)) => -dot(e, unit(d)),
+                _ => 0.0,
+            };
+            score(a).total_cmp(&score(b))
+        });
+        if let Some(k) = best {
+            m[i] = Some(k);
+            used[k] = true;
+        }
+    }
+    m
+}
+
+/// Which rays a stage looks at: the primary always, shadow rays from `Shadows`, reflection and
+/// refraction rays from `Secondary`.
+fn in_scope(kind: &str, upto: Stage) -> bool {
+    match kind {
+        "primary" => true,
+        "shadow" => upto >= Stage::Shadows,
+        _ => upto >= Stage::Secondary,
+    }
+}
+
+/// How feedback names raystep's ray `i`.
+pub fn ray_name(e: &Pixel, i: usize) -> String {
+    let Some(r) = e.rays.get(i) else {
+        return format!("ray {i}");
+    };
+    let what = match (r.kind.as_str(), &r.light) {
+        ("primary", _) => "the primary ray".to_string(),
+        ("shadow", Some(l)) => format!("the shadow ray towards light \"{l}\""),
+        (k, _) => format!("the {k} ray"),
+    };
+    format!("ray {i} ({what}, depth {})", r.depth)
+}
+
+/// Grades one pixel: a check per stage up to `upto`.
+pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &Tolerance) -> Vec<Check> {
+    let m = match_rays(&e.pixel, s);
+    Stage::ALL
+        .iter()
+        .copied()
+        .filter(|st| *st <= upto)
+        .map(|stage| {
+            let found = match stage {
+                Stage::Camera => camera(e, s, &m, tol),
+                Stage::Sphere | Stage::PlaneTriangle => tests(e, s, &m, stage, upto, tol),
+                Stage::ClosestHit => hits(e, s, &m, upto, tol),
+                Stage::Shadows => shadows(e, s, &m, tol),
+                Stage::Secondary => secondary(e, s, &m, tol),
+                Stage::Color => color(e, s, &m, tol),
+            };
+            match found {
+                None => Check {
+                    stage,
+                    pass: true,
+                    message: String::new(),
+                    step: None,
+                },
+                Some((message, step)) => Check {
+                    stage,
+                    pass: false,
+                    message,
+                    step,
+                },
+            }
+        })
+        .collect()
+}
+
+type Divergence = Option<(String, Option<usize>)>;
+
+fn camera(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+    let step = e.ray_step.first().copied();
+    let Some(er) = e.pixel.rays.first() else {
+        return None;
+    };
+    let Some(sr) = m.first().copied().flatten().and_then(|k| s.rays.get(k)) else {
+        return Some((
+            "no primary ray: print a `ray` record of kind \"primary\"".into(),
+            step,
+        ));
+    };
+    if let (Some(o), Some(eo)) = (sr.origin, er.origin)
+        && !tol.close3(o, eo, tol.abs * len(eo).max(1.0))
+    {
+        return Some((
+            format!(
+                "{}: your origin is {}, raystep's is {} (the camera's position, `from`)",
+                ray_name(&e.pixel, 0),
+                v(o),
+                v(eo)
+            ),
+            step,
+        ));
+    }
+    if let (Some(d), Some(ed)) = (sr.direction, er.direction)
+        && !tol.close3(unit(d), unit(ed), tol.abs * 10.0)
+    {
+        let (ud, ue) = (unit(d), unit(ed));
+        let hint = if dot(ud, ue) < -0.99 {
+            " — it points backwards: the direction is the pixel's point on the image plane minus the eye"
+        } else if (ud[1] + ue[1]).abs() < 1e-3 && (ud[0] - ue[0]).abs() < 1e-3 {
+            " — y is flipped: pixel rows count down from the top, the camera's up counts up"
+        } else if (ud[0] + ue[0]).abs() < 1e-3 && (ud[1] - ue[1]).abs() < 1e-3 {
+            " — x is flipped: check the sign of the camera's right vector"
+        } else {
+            " — check the pixel's centre (x + 0.5, y + 0.5), the field of view and the aspect ratio (lesson 1)"
+        };
+        return Some((
+            format!(
+                "{}: your direction (normalized) is {}, raystep's is {}{hint}",
+                ray_name(&e.pixel, 0),
+                v(ud),
+                v(ue)
+            ),
+            step,
+        ));
+    }
+    None
+}
+
+/// The scale of a student's ray against raystep's: (student |Q|, raystep |Q|).
+fn scales(er: &Ray, sr: &Ray) -> (f64, f64) {
+    let le = er.direction.map_or(1.0, len).max(f64::MIN_POSITIVE);
+    let ls = sr.direction.map_or(le, len).max(f64::MIN_POSITIVE);
+    (ls, le)
+}
+
+fn tests(
+    e: &Expected,
+    s: &Pixel,
+    m: &[Option<usize>],
+    stage: Stage,
+    upto: Stage,
+    tol: &Tolerance,
+) -> Divergence {
+    for (i, er) in e.pixel.rays.iter().enumerate() {
+        if !in_scope(&er.kind, upto) {
+            continue;
+        }
+        let Some(sr) = m.get(i).copied().flatten().and_then(|k| s.rays.get(k)) else {
+            continue;
+        };
+        let (ls, le) = scales(er, sr);
+        for (j, et) in er.tests.iter().enumerate() {
+            let step = e.test_step.get(i).and_then(|t| t.get(j)).copied();
+            let st = sr.tests.iter().find(|t| {
+                t.object() == et.object()
+                    && std::mem::discriminant(*t) == std::mem::discriminant(et)
+            });
+            let Some(st) = st else { continue };
+            let at = |what: &str| {
+                format!(
+                    "{}, {} \"{}\": {what}",
+                    ray_name(&e.pixel, i),
+                    match et {
+                        Test::Sphere { .. } => "sphere",
+                        Test::Plane { .. } => "plane",
+                        Test::Triangle { .. } => "triangle",
+                    },
+                    et.object()
+                )
+            };
+            let t_check = |yours: Option<Option<f64>>,
+                           want: Option<Option<f64>>|
+             -> Option<String> {
+                match (yours, want) {
+                    (Some(Some(y)), Some(Some(w))) if !tol.close(y * ls, w * le) => Some(format!(
+                        "your t is {}, raystep's is {} (as distances along a unit direction: {} and {})",
+                        n(y),
+                        n(w),
+                        n(y * ls),
+                        n(w * le)
+                    )),
+                    (Some(Some(y)), Some(None)) => Some(format!(
+                        "you hit it at t = {}, raystep's ray misses it (no root in front of the origin)",
+                        n(y)
+                    )),
+                    (Some(None), Some(Some(w))) => Some(format!(
+                        "you miss it, raystep's ray hits it at t = {}",
+                        n(w)
+                    )),
+                    _ => None,
+                }
+            };
+            match (stage, et, st) {
+                (
+                    Stage::Sphere,
+                    Test::Sphere {
+                        abcd: ea, t: etv, ..
+                    },
+                    Test::Sphere {
+                        abcd: sa, t: stv, ..
+                    },
+                ) => {
+                    // a scales with |Q|², b with |Q|, c not at all, the discriminant with |Q|².
+                    let names = ["a", "b", "c", "discriminant"];
+                    let sc = [(ls * ls, le * le), (ls, le), (1.0, 1.0), (ls * ls, le * le)];
+                    for k in 0..4 {
+                        let (Some(y), Some(w)) = (sa[k], ea[k]) else {
+                            continue;
+                        };
+                        let (ys, ws) = (y / sc[k].0, w / sc[k].1);
+                        // The discriminant cancels: judge it against the size of its terms.
+                        let ok = if k == 3 {
+                            let size = ea[1].map_or(0.0, |b| (b / le).powi(2))
+                                + ea[0]
+                                    .zip(ea[2])
+                                    .map_or(0.0, |(a, c)| (4.0 * a * c / (le * le)).abs());
+                            (ys - ws).abs() <= tol.abs + tol.rel * size.max(ws.abs())
+                        } else {
+                            tol.close(ys, ws)
+                        };
+                        if ok {
+                            continue;
+                        }
+                        let hint = if k == 1 && tol.close(ys * 2.0, ws) {
+                            " — your b looks like f·Q: the seeds' b is 2 f·Q"
+                        } else if k == 1 && tol.close(-ys, ws) {
+                            " — the sign is wrong: f = S − G (from the centre to the origin)"
+                        } else if k == 2 && tol.close(ys, ws + 2.0 * ws.abs()) {
+                            " — check c = f·f − r²"
+                        } else if k == 3 {
+                            " — check the discriminant b² − 4ac"
+                        } else {
+                            ""
+                        };
+                        return Some((
+                            at(&format!(
+                                "your {} is {}, raystep's is {}{hint}",
+                                names[k],
+                                n(y),
+                                n(w)
+                            )),
+                            step,
+                        ));
+                    }
+                    if let Some(msg) = t_check(*stv, *etv) {
+                        return Some((at(&msg), step));
+                    }
+                }
+                (
+                    Stage::PlaneTriangle,
+                    Test::Plane {
+                        denominator: ed,
+                        t: etv,
+                        ..
+                    },
+                    Test::Plane {
+                        denominator: sd,
+                        t: stv,
+                        ..
+                    },
+                ) => {
+                    if let (Some(y), Some(w)) = (sd, ed)
+                        && !tol.close(y / ls, w / le)
+                    {
+                        let hint = if tol.close(-y / ls, w / le) {
+                            " — the sign is wrong: the denominator is Q·n with the plane's own normal"
+                        } else {
+                            ""
+                        };
+                        return Some((
+                            at(&format!(
+                                "your denominator Q·n is {}, raystep's is {}{hint}",
+                                n(*y),
+                                n(*w)
+                            )),
+                            step,
+                        ));
+                    }
+                    if let Some(msg) = t_check(*stv, *etv) {
+                        return Some((at(&msg), step));
+                    }
+                }
+                (
+                    Stage::PlaneTriangle,
+                    Test::Triangle {
+                        det_u_v: ev,
+                        t: etv,
+                        ..
+                    },
+                    Test::Triangle {
+                        det_u_v: sv,
+                        t: stv,
+                        ..
+                    },
+                ) => {
+                    let names = ["det D0", "u", "v"];
+                    let sc = [(ls, le), (1.0, 1.0), (1.0, 1.0)];
+                    for k in 0..3 {
+                        let (Some(y), Some(w)) = (sv[k], ev[k]) else {
+                            continue;
+                        };
+                        if !tol.close(y / sc[k].0, w / sc[k].1) {
+                            let hint = if k == 0 && tol.close(-y / ls, w / le) {
+                                " — the sign is wrong: D0 = det(−Q, E1, E2)"
+                            } else if k > 0 && sv[3 - k].is_some_and(|o| tol.close(o, w)) {
+                                " — u and v are swapped: u weighs P1, v weighs P2"
+                            } else {
+                                ""
+                            };
+                            return Some((
+                                at(&format!(
+                                    "your {} is {}, raystep's is {}{hint}",
+                                    names[k],
+                                    n(y),
+                                    n(w)
+                                )),
+                                step,
+                            ));
+                        }
+                    }
+                    if let Some(msg) = t_check(*stv, *etv) {
+                        return Some((at(&msg), step));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    None
+}
+
+fn hits(e: &Expected, s: &Pixel, m: &[Option<usize>], upto: Stage, tol: &Tolerance) -> Divergence {
+    for (i, er) in e.pixel.rays.iter().enumerate() {
+        if !in_scope(&er.kind, upto) || er.kind == "shadow" {
+            continue;
+        }
+        let Some(sr) = m.get(i).copied().flatten().and_then(|k| s.rays.get(k)) else {
+            continue;
+        };
+        let step = e
+            .hit_step
+            .get(i)
+            .copied()
+            .flatten()
+            .or(e.ray_step.get(i).copied());
+        let name = ray_name(&e.pixel, i);
+        let (ls, le) = scales(er, sr);
+        let Some(eh) = &er.hit else { continue };
+        let Some(sh) = &sr.hit else {
+            return Some((
+                format!(
+                    "{name}: no `hit` record: print the ray's closest hit (object null for none)"
+                ),
+                step,
+            ));
+        };
+        match (eh, sh) {
+            (None, None) => {}
+            (Some(h), None) => {
+                return Some((
+                    format!(
+                        "{name}: you found no hit, raystep's closest hit is \"{}\" at t = {}",
+                        h.object.clone().unwrap_or_default(),
+                        h.t.map_or("?".into(), n)
+                    ),
+                    step,
+                ));
+            }
+            (None, Some(h)) => {
+                return Some((
+                    format!(
+                        "{name}: you hit \"{}\", raystep's ray hits nothing",
+                        h.object.clone().unwrap_or_default()
+                    ),
+                    step,
+                ));
+            }
+            (Some(eh), Some(sh)) => {
+                if let (Some(so), Some(eo)) = (&sh.object, &eh.object)
+                    && so != eo
+                {
+                    return Some((
+                        format!(
+                            "{name}: your closest hit is \"{so}\"{}, raystep's is \"{eo}\" at t = {} — keep the smallest t past t_min",
+                            sh.t.map_or(String::new(), |t| format!(" at t = {}", n(t))),
+                            eh.t.map_or("?".into(), n)
+                        ),
+                        step,
+                    ));
+                }
+                if let (Some(y), Some(w)) = (sh.t, eh.t)
+                    && !tol.close(y * ls, w * le)
+                {
+                    return Some((
+                        format!("{name}: your closest t is {}, raystep's is {}", n(y), n(w)),
+                        step,
+                    ));
+                }
+                if let (Some(y), Some(w)) = (sh.point, eh.point)
+                    && !tol.close3(y, w, tol.abs * len(w).max(1.0))
+                {
+                    return Some((
+                        format!(
+                            "{name}: your hit point is {}, raystep's is {} — P = S + t·Q",
+                            v(y),
+                            v(w)
+                        ),
+                        step,
+                    ));
+                }
+                if let (Some(y), Some(w)) = (sh.normal, eh.normal)
+                    && !tol.close3(y, w, tol.abs * 10.0)
+                {
+                    let l = len(y);
+                    let hint = if (l - 1.0).abs() > 1e-3 && tol.close3(unit(y), w, tol.abs * 10.0) {
+                        format!(" — your normal has length {}: normalize it", n(l))
+                    } else if tol.close3(y.map(|x| -x), w, tol.abs * 10.0) {
+                        " — it points away from the ray: flip it when the ray meets the surface from behind (Q·n > 0)".to_string()
+                    } else {
+                        String::new()
+                    };
+                    return Some((
+                        format!(
+                            "{name}: your normal is {}, raystep's is {}{hint}",
+                            v(y),
+                            v(w)
+                        ),
+                        step,
+                    ));
+                }
+            }
+        }
+    }
+    None
+}
+
+fn shadows(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+    for (i, er) in e.pixel.rays.iter().enumerate() {
+        if er.kind == "shadow" || er.shadows.is_empty() {
+            continue;
+        }
+        let Some(sk) = m.get(i).copied().flatten() else {
+            continue;
+        };
+        let Some(sr) = s.rays.get(sk) else { continue };
+        for (j, (light, blocked)) in er.shadows.iter().enumerate() {
+            let step = e.light_step.get(i).and_then(|l| l.get(j)).copied();
+            let name = ray_name(&e.pixel, i);
+            let Some((_, yours)) = sr.shadows.iter().find(|(l, _)| l == light) else {
+                return Some((
+                    format!(
+                        "{name}: no `shadow` record for light \"{light}\": print whether it is blocked"
+                    ),
+                    step,
+                ));
+            };
+            let (Some(y), Some(w)) = (yours, blocked) else {
+                continue;
+            };
+            if y == w {
+                continue;
+            }
+            // Acne: the student's shadow ray towards this light starts on the surface.
+            let hit_point = er.hit.clone().flatten().and_then(|h| h.point);
+            let shadow_ray = s.rays.iter().find(|r| {
+                r.parent == Some(sk)
+                    && r.kind == "shadow"
+                    && r.light.as_deref().is_none_or(|l| l == light)
+            });
+            let on_surface = match (shadow_ray.and_then(|r| r.origin), hit_point) {
+                (Some(o), Some(p)) => dist(o, p) <= 1e-9 * len(p).max(1.0),
+                _ => false,
+            };
+            let hint = if *y && on_surface {
+                " — your shadow ray starts exactly on the surface and hits it again (shadow acne): move its origin off the surface along the normal (lesson 7)"
+            } else if *y {
+                " — check that only hits between the point and the light block it (0 < t < the light's distance)"
+            } else {
+                " — test every object, up to the light's distance"
+            };
+            return Some((
+                format!(
+                    "{name}: light \"{light}\": you say {}, raystep says {}{hint}",
+                    if *y { "blocked" } else { "not blocked" },
+                    if *w { "blocked" } else { "not blocked" }
+                ),
+                step,
+            ));
+        }
+    }
+    // The shadow rays themselves, where the student printed them.
+    for (i, er) in e.pixel.rays.iter().enumerate() {
+        if er.kind != "shadow" {
+            continue;
+        }
+        let Some(sr) = m.get(i).copied().flatten().and_then(|k| s.rays.get(k)) else {
+            continue;
+        };
+        if let Some(d) = direction_divergence(e, i, er, sr, tol) {
+            return Some(d);
+        }
+    }
+    None
+}
+
+/// A spawned ray's origin (within the offset tolerance) and direction against raystep's.
+fn direction_divergence(e: &Expected, i: usize, er: &Ray, sr: &Ray, tol: &Tolerance) -> Divergence {
+    let step = e.ray_step.get(i).copied();
+    let name = ray_name(&e.pixel, i);
+    if let (Some(o), Some(eo)) = (sr.origin, er.origin)
+        && dist(o, eo) > tol.offset * len(eo).max(1.0)
+    {
+        return Some((
+            format!(
+                "{name}: your origin is {}, raystep's is {} — it starts at the hit point (moved off the surface)",
+                v(o),
+                v(eo)
+            ),
+            step,
+        ));
+    }
+    if let (Some(d), Some(ed)) = (sr.direction, er.direction)
+        && !tol.close3(unit(d), unit(ed), tol.abs * 10.0)
+    {
+        let hint = bend_hint(e, i, unit(d)).unwrap_or_default();
+        return Some((
+            format!(
+                "{name}: your direction (normalized) is {}, raystep's is {}{hint}",
+                v(unit(d)),
+                v(unit(ed))
+            ),
+            step,
+        ));
+    }
+    None
+}
+
+/// Names a wrong reflection sign or an inverted Snell ratio, when the student's direction is
+/// what that mistake gives.
+fn bend_hint(e: &Expected, i: usize, yours: [f64; 3]) -> Option<String> {
+    let r = e.pixel.rays.get(i)?;
+    let p = e.pixel.rays.get(r.parent?)?;
+    let d = unit(p.direction?);
+    let nrm = unit(p.hit.clone().flatten()?.normal?);
+    let dn = dot(d, nrm);
+    let close = |a: [f64; 3]| dist(unit(a), yours) < 1e-3;
+    match r.kind.as_str() {
+        "reflection" => {
+            let wrong = [0, 1, 2].map(|k| d[k] + 2.0 * dn * nrm[k]);
+            close(wrong).then(|| " — the sign is wrong: r = d − 2(d·n)n".to_string())
+        }
+        "refraction" => {
+            let eta = e.bends.get(r.parent?)?.eta?;
+            let inv = refract(d, nrm, 1.0 / eta)?;
+            close(inv).then(|| {
+                format!(
+                    " — Snell's ratio is inverted: η = n1/n2 = {} (from the side the ray comes from), not {}",
+                    n(eta),
+                    n(1.0 / eta)
+                )
+            })
+        }
+        _ => None,
+    }
+}
+
+/// Refraction of unit `d` at unit normal `nrm` (facing d) with η = n1/n2; None on total
+/// internal reflection.
+fn refract(d: [f64; 3], nrm: [f64; 3], eta: f64) -> Option<[f64; 3]> {
+    let cos_i = -dot(d, nrm);
+    let sin2_t = eta * eta * (1.0 - cos_i * cos_i);
+    if sin2_t > 1.0 {
+        return None;
+    }
+    let cos_t = (1.0 - sin2_t).sqrt();
+    Some([0, 1, 2].map(|k| eta * d[k] + (eta * cos_i - cos_t) * nrm[k]))
+}
+
+fn secondary(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+    for (i, er) in e.pixel.rays.iter().enumerate() {
+        if er.kind != "reflection" && er.kind != "refraction" {
+            continue;
+        }
+        // Only where the student reached the parent.
+        let parent_matched = er
+            .parent
+            .and_then(|p| m.get(p).copied().flatten())
+            .is_some();
+        if !parent_matched {
+            continue;
+        }
+        let Some(sr) = m.get(i).copied().flatten().and_then(|k| s.rays.get(k)) else {
+            return Some((
+                format!(
+                    "{}: you cast no {} ray here (depth {})",
+                    ray_name(&e.pixel, i),
+                    er.kind,
+                    er.depth
+                ),
+                e.ray_step.get(i).copied(),
+            ));
+        };
+        if let Some(d) = direction_divergence(e, i, er, sr, tol) {
+            return Some(d);
+        }
+    }
+    None
+}
+
+fn color(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+    let er = e.pixel.rays.first()?;
+    let step = e.ray_step.first().copied();
+    let sr = m.first().copied().flatten().and_then(|k| s.rays.get(k));
+    let (Some(want), Some(sr)) = (er.color, sr) else {
+        return None;
+    };
+    let Some(yours) = sr.color else {
+        return Some((
+            "the primary ray has no `color` record: print the pixel's linear colour".into(),
+            step,
+        ));
+    };
+    if (0..3).all(|k| (yours[k] - want[k]).abs() <= tol.color) {
+        return None;
+    }
+    Some((
+        format!(
+            "the pixel's colour is {}, raystep's is {} (linear RGB, before gamma)",
+            v(yours),
+            v(want)
+        ),
+        step,
+    ))
+}
+
+/// Grades `student`'s output for one pixel against raystep's trace.
+pub fn grade(expected: &Expected, student: &[Pixel], upto: Stage, tol: &Tolerance) -> Vec<Check> {
+    let at = expected.pixel.at;
+    // The pixel's own records, else the only pixel printed.
+    let mine = student
+        .iter()
+        .find(|p| p.at.is_some() && p.at == at)
+        .or_else(|| (student.len() == 1).then(|| &student[0]));
+    match mine {
+        Some(p) => grade_pixel(expected, p, upto, tol),
+        None => Stage::ALL
+            .iter()
+            .copied()
+            .filter(|s| *s <= upto)
+            .map(|stage| Check {
+                stage,
+                pass: false,
+                message: format!(
+                    "no records for pixel {}: print a `pixel` record, then its rays",
+                    at.map_or("?".into(), |[x, y]| format!("({x}, {y})"))
+                ),
+                step: None,
+            })
+            .collect(),
+    }
+}

@@ -1,0 +1,398 @@
+//! Checking a student's own ray tracer against raystep's trace, step by step.
+//!
+//! The student's program prints its trace in a JSON Lines format any language can write
+//! ([`format`], documented in `lessons/student-tracer.md`); raystep traces the same pixel
+//! ([`expected`]), lines the two up ray by ray and test by test ([`compare`]) and says in words
+//! where the student first went wrong, naming common mistakes, with the command that opens
+//! raystep at the step showing the right numbers. [`grade_submission`] runs a program on a set
+//! of scenes and pixels ([`run`]: a time and an output limit, never through a shell) and scores
+//! one test per pixel and stage; [`gradescope_json`] writes Gradescope's `results.json`.
+//!
+//! ```
+//! use raystep::student::{compare::{Stage, Tolerance, grade}, expected::expected, format};
+//!
+//! let trace = raystep::PreparedScene::new(raystep::scene::default_scene()).record(160, 120, 0);
+//! let ours = expected(&trace);
+//! // raystep's own trace, written in the format and read back, gets full marks.
+//! let text = format::write(&ours.pixel);
+//! let checks = grade(&ours, &format::parse(&text).unwrap(), Stage::Color, &Tolerance::default());
+//! assert!(checks.iter().all(|c| c.pass));
+//! ```
+
+pub mod compare;
+pub mod expected;
+pub mod format;
+pub mod run;
+
+use crate::record::number::{Style, fmt64};
+use crate::trace::PreparedScene;
+use compare::{Stage, Tolerance};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// One scene of a grading run and the pixels to check in it.
+#[derive(Debug, Clone)]
+pub struct Job {
+    /// The scene file the student's program is given.
+    pub path: PathBuf,
+    /// The scene, prepared once.
+    pub prepared: std::sync::Arc<PreparedScene>,
+    /// The pixels.
+    pub pixels: Vec<[u32; 2]>,
+}
+
+/// One scored test (one pixel and stage), as Gradescope lists it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TestResult {
+    /// e.g. `three-spheres.toml (160, 120): sphere`.
+    pub name: String,
+    /// 0 or 1.
+    pub score: f64,
+    /// 1.
+    pub max_score: f64,
+    /// What went wrong, in words (empty when right).
+    pub output: String,
+    /// Gradescope's visibility.
+    pub visibility: String,
+}
+
+/// A submission's grade.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Report {
+    /// The student (a class folder's subfolder name, or `--student`).
+    pub student: String,
+    /// Every test.
+    pub tests: Vec<TestResult>,
+    /// Seconds spent, the student's program included.
+    pub seconds: f64,
+}
+
+impl Report {
+    /// The points scored.
+    pub fn score(&self) -> f64 {
+        self.tests.iter().map(|t| t.score).sum()
+    }
+    /// The points possible.
+    pub fn max_score(&self) -> f64 {
+        self.tests.iter().map(|t| t.max_score).sum()
+    }
+    /// The report as text: the score, then every failed test's feedback.
+    pub fn text(&self) -> String {
+        let mut s = format!(
+            "{}: {} / {} ({} tests, {:.1} s)\n",
+            self.student,
+            self.score(),
+            self.max_score(),
+            self.tests.len(),
+            self.seconds
+        );
+        for t in &self.tests {
+            if t.score < t.max_score {
+                s += &format!("\n✗ {}\n", t.name);
+                for l in t.output.lines() {
+                    s += &format!("  {l}\n");
+                }
+            }
+        }
+        if self.tests.iter().all(|t| t.score >= t.max_score) {
+            s += "every test passed\n";
+        }
+        s
+    }
+}
+
+/// Gradescope's autograder `results.json` for a report: the score, the maximum, every test with
+/// its name, score, max_score, output and visibility.
+pub fn gradescope_json(r: &Report) -> String {
+    let v = serde_json::json!({
+        "score": r.score(),
+        "max_score": r.max_score(),
+        "execution_time": (r.seconds * 1000.0).round() / 1000.0,
+        "output": format!("raystep grade-tracer: {} / {}", r.score(), r.max_score()),
+        "visibility": "visible",
+        "stdout_visibility": "hidden",
+        "tests": r.tests,
+    });
+    serde_json::to_string_pretty(&v).unwrap_or_default() + "\n"
+}
+
+/// Grades the program `template` (run in `dir`) on every job's pixels, up to stage `upto`.
+/// Nothing the program does (crash, hang, garbage, too much output) stops the grading: that
+/// pixel's tests score 0 with the reason.
+pub fn grade_submission(
+    student: &str,
+    template: &str,
+    dir: &Path,
+    jobs: &[Job],
+    upto: Stage,
+    tol: &Tolerance,
+    limits: run::Limits,
+) -> Report {
+    let start = Instant::now();
+    let mut tests = vec![];
+    for job in jobs {
+        let file = job
+            .path
+            .file_name()
+            .map_or("scene".into(), |f| f.to_string_lossy().to_string());
+        for &[x, y] in &job.pixels {
+            let trace = job.prepared.record(x, y, 0);
+            let exp = expected::expected(&trace);
+            let name = |st: Stage| format!("{file} ({x}, {y}): {}", st.name());
+            let stages: Vec<Stage> = Stage::ALL.iter().copied().filter(|s| *s <= upto).collect();
+            let out = run::run(template, dir, &job.path, x, y, limits)
+                .map_err(|e| e.to_string())
+                .and_then(|text| {
+                    format::parse(&text).map_err(|e| format!("your program's output, {e}"))
+                });
+            match out {
+                Err(why) => {
+                    for st in stages {
+                        tests.push(TestResult {
+                            name: name(st),
+                            score: 0.0,
+                            max_score: 1.0,
+                            output: why.clone(),
+                            visibility: "visible".into(),
+                        });
+                    }
+                }
+                Ok(pixels) => {
+                    for c in compare::grade(&exp, &pixels, upto, tol) {
+                        let mut output = c.message.clone();
+                        if !c.pass
+                            && let Some(k) = c.step
+                        {
+                            output += &format!(
+                                "\nSee raystep's numbers: raystep open {} --pixel {x},{y} --step {k}",
+                                job.path.display()
+                            );
+                        }
+                        tests.push(TestResult {
+                            name: name(c.stage),
+                            score: if c.pass { 1.0 } else { 0.0 },
+                            max_score: 1.0,
+                            output,
+                            visibility: "visible".into(),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    Report {
+        student: student.to_string(),
+        tests,
+        seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// A grading sheet (TOML): which scenes and pixels, up to which stage, with what limits.
+///
+/// ```toml
+/// title = "Checkpoint 2: spheres and planes"
+/// upto = "closest-hit"          # camera, sphere, plane-triangle, closest-hit, shadows, secondary, color
+/// timeout_s = 10                # per run
+/// [[scene]]
+/// file = "../scenes/three-spheres.toml"   # relative to the sheet
+/// pixels = [[160, 120], [40, 200]]
+/// random_pixels = 2             # plus this many drawn per student (from the student id)
+/// ```
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Sheet {
+    /// A title for reports.
+    #[serde(default)]
+    pub title: String,
+    /// Salts the per-student pixels (default: the sheet's file stem).
+    #[serde(default)]
+    pub id: Option<String>,
+    /// The last stage checked.
+    #[serde(default = "all_stages")]
+    pub upto: Stage,
+    /// Seconds per run.
+    #[serde(default)]
+    pub timeout_s: Option<f64>,
+    /// Tolerances.
+    #[serde(default)]
+    pub tolerance: Option<Tolerance>,
+    /// The scenes.
+    pub scene: Vec<SheetScene>,
+}
+
+fn all_stages() -> Stage {
+    Stage::Color
+}
+
+/// One scene of a sheet.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SheetScene {
+    /// The scene file, relative to the sheet.
+    pub file: PathBuf,
+    /// Pixels every student gets.
+    #[serde(default)]
+    pub pixels: Vec<[u32; 2]>,
+    /// Pixels drawn per student.
+    #[serde(default)]
+    pub random_pixels: u32,
+}
+
+/// Reads a sheet; errors name the file, line and column.
+pub fn load_sheet(path: &Path) -> Result<Sheet, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+    let sheet: Sheet = toml::from_str(&text).map_err(|e| {
+        let (line, col) = e
+            .span()
+            .map(|s| crate::lesson::line_col(&text, s.start))
+            .unwrap_or((0, 0));
+        format!("{}:{line}:{col}: {}", path.display(), e.message())
+    })?;
+    if sheet.scene.is_empty() {
+        return Err(format!("{}: the sheet lists no [[scene]]", path.display()));
+    }
+    if sheet
+        .timeout_s
+        .is_some_and(|t| !(t.is_finite() && t > 0.0 && t <= 3600.0))
+    {
+        return Err(format!(
+            "{}: timeout_s must be a number of seconds in (0, 3600]",
+            path.display()
+        ));
+    }
+    if let Some(t) = &sheet.tolerance
+        && ![t.rel, t.abs, t.color, t.offset]
+            .iter()
+            .all(|x| x.is_finite() && *x >= 0.0)
+    {
+        return Err(format!(
+            "{}: tolerance values must be finite and not negative",
+            path.display()
+        ));
+    }
+    Ok(sheet)
+}
+
+/// The jobs of a sheet for one student: its pixels plus the student's drawn ones, each inside
+/// the scene's image (a listed pixel outside it is an error naming it).
+pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec<Job>, String> {
+    let base = sheet_path.parent().unwrap_or(Path::new("."));
+    let id = sheet.id.clone().unwrap_or_else(|| {
+        sheet_path
+            .file_stem()
+            .map_or("sheet".into(), |s| s.to_string_lossy().to_string())
+    });
+    let mut jobs = vec![];
+    for sc in &sheet.scene {
+        let path = base.join(&sc.file);
+        let scene = crate::scene::load_file(&path).map_err(|e| e.to_string())?;
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let mut pixels = vec![];
+        for &[x, y] in &sc.pixels {
+            if x >= w || y >= h {
+                return Err(format!(
+                    "{}: pixel ({x}, {y}) of {} is outside its {w}×{h} image",
+                    sheet_path.display(),
+                    sc.file.display()
+                ));
+            }
+            pixels.push([x, y]);
+        }
+        let file = sc.file.display().to_string();
+        for k in 0..sc.random_pixels.min(1000) {
+            let px = crate::lesson::draw(&id, &file, student, &format!("pixel {k} x"));
+            let py = crate::lesson::draw(&id, &file, student, &format!("pixel {k} y"));
+            pixels.push([
+                crate::lesson::pick_int(px, 0, w as i64 - 1) as u32,
+                crate::lesson::pick_int(py, 0, h as i64 - 1) as u32,
+            ]);
+        }
+        jobs.push(Job {
+            path: std::path::absolute(&path).unwrap_or(path),
+            prepared: std::sync::Arc::new(PreparedScene::new(scene)),
+            pixels,
+        });
+    }
+    Ok(jobs)
+}
+
+/// A class run: every subfolder of `class` is one student's submission (the folder's name is
+/// the student); returns each report, in name order.
+pub fn grade_class(
+    class: &Path,
+    template: &str,
+    jobs_for: &dyn Fn(&str) -> Result<Vec<Job>, String>,
+    upto: Stage,
+    tol: &Tolerance,
+    limits: run::Limits,
+) -> Result<Vec<Report>, String> {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(class)
+        .map_err(|e| format!("{}: cannot read: {e}", class.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    let mut out = vec![];
+    for d in dirs {
+        let student = d
+            .file_name()
+            .map_or("?".into(), |f| f.to_string_lossy().to_string());
+        let jobs = jobs_for(&student)?;
+        out.push(grade_submission(
+            &student, template, &d, &jobs, upto, tol, limits,
+        ));
+    }
+    Ok(out)
+}
+
+/// The grades CSV of a class run: `student,score,max_score,<one column per stage>,notes`
+/// (a stage's column: its tests passed out of its tests).
+pub fn grades_csv(reports: &[Report]) -> String {
+    let mut rows = vec![];
+    let mut head: Vec<String> = vec!["student".into(), "score".into(), "max_score".into()];
+    head.extend(Stage::ALL.iter().map(|s| s.name().to_string()));
+    head.push("notes".into());
+    rows.push(head);
+    for r in reports {
+        let mut row = vec![
+            r.student.clone(),
+            fmt64(r.score(), Style::Exact),
+            fmt64(r.max_score(), Style::Exact),
+        ];
+        for st in Stage::ALL {
+            let suffix = format!(": {}", st.name());
+            let of: Vec<&TestResult> = r
+                .tests
+                .iter()
+                .filter(|t| t.name.ends_with(&suffix))
+                .collect();
+            row.push(if of.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "{}/{}",
+                    of.iter().filter(|t| t.score >= t.max_score).count(),
+                    of.len()
+                )
+            });
+        }
+        // The first failure's first line, as a note.
+        row.push(
+            r.tests
+                .iter()
+                .find(|t| t.score < t.max_score)
+                .and_then(|t| t.output.lines().next())
+                .unwrap_or("")
+                .to_string(),
+        );
+        rows.push(row);
+    }
+    crate::lesson::csv::write_csv(&rows)
+}
+
+/// The time limit as a duration (seconds from a sheet or the command line).
+pub fn seconds(s: f64) -> Duration {
+    Duration::from_secs_f64(s.clamp(0.001, 3600.0))
+}
