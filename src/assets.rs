@@ -1,7 +1,8 @@
 //! The scenes, lessons and exercise sheets that ship with raystep, **built into the binary**, so a
 //! `cargo install`ed raystep has them from any folder.
 //!
-//! Every file of `scenes/`, `lessons/` and `lessons/exercises/` is compiled in with
+//! Every file of `scenes/`, `lessons/`, `lessons/exercises/` and `lessons/starter/` (the student
+//! tracer's starter kit) is compiled in with
 //! `include_bytes!` (a test checks the list below against the folders, so a new file cannot be
 //! forgotten). The tracer, the lessons and the sheets refer to one another by relative paths (a
 //! lesson's scene from the repository root, a sheet's scene from the sheet, a scene's OBJ from the
@@ -55,6 +56,8 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/10-antialiasing.md",
     "lessons/11-ray-tracing-on-the-gpu.md",
     "lessons/12-numerical-robustness.md",
+    "lessons/starter/README.md",
+    "lessons/starter/tracer.py",
     "lessons/exercises/01-camera.toml",
     "lessons/exercises/02-sphere.toml",
     "lessons/exercises/03-plane.toml",
@@ -257,7 +260,7 @@ mod tests {
     fn every_file_of_the_shipped_folders_is_built_in() {
         let root = Path::new(env!("CARGO_MANIFEST_DIR"));
         let mut on_disk = vec![];
-        for sub in ["scenes", "lessons", "lessons/exercises"] {
+        for sub in ["scenes", "lessons", "lessons/exercises", "lessons/starter"] {
             for e in std::fs::read_dir(root.join(sub)).unwrap() {
                 let p = e.unwrap().path();
                 if p.is_file() {

@@ -713,3 +713,109 @@ mod never_panics {
         }
     }
 }
+
+/// The whole-image check: raystep's own render (written by `raystep render`) passes with no
+/// pixel off; the same image with a 20×20 block painted over has exactly 400 pixels off, fails,
+/// and its difference image is red exactly there; an image of the wrong size or a missing file
+/// fails with a message saying so.
+#[test]
+fn the_image_check_counts_the_pixels_off() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = root().join("scenes/first-sphere.toml");
+    let png = dir.path().join("first-sphere.png");
+    raystep()
+        .args([
+            "render",
+            &scene.display().to_string(),
+            "-o",
+            &png.display().to_string(),
+        ])
+        .assert()
+        .success();
+    let check = |pattern: &str| -> Value {
+        let out = raystep()
+            .current_dir(dir.path())
+            .args([
+                "grade-tracer",
+                "--scene",
+                &scene.display().to_string(),
+                "--pixels",
+                "160,120",
+                "--upto",
+                "camera",
+                "--json",
+                "--run",
+                &raystep_as_student(),
+                "--image",
+                pattern,
+                "--diff",
+                "diff-{stem}.png",
+            ])
+            .assert()
+            .success()
+            .get_output()
+            .clone();
+        let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["tests"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|t| t["name"] == "first-sphere.toml: image")
+            .cloned()
+            .unwrap()
+    };
+    let t = check("{stem}.png");
+    assert_eq!(t["score"], 1.0, "{t}");
+    assert!(
+        t["output"]
+            .as_str()
+            .unwrap()
+            .starts_with("0 of 76800 pixels"),
+        "{t}"
+    );
+
+    let mut img = image::open(&png).unwrap().to_rgb8();
+    for y in 100..120 {
+        for x in 10..30 {
+            let p = img.get_pixel(x, y).0;
+            img.put_pixel(x, y, image::Rgb([p[0] ^ 0x80, p[1], p[2]]));
+        }
+    }
+    img.save(dir.path().join("painted.png")).unwrap();
+    let t = check("painted.png");
+    assert_eq!(t["score"], 0.0, "{t}");
+    assert!(
+        t["output"]
+            .as_str()
+            .unwrap()
+            .starts_with("400 of 76800 pixels"),
+        "{t}"
+    );
+    let diff = image::open(dir.path().join("diff-first-sphere.png"))
+        .unwrap()
+        .to_rgb8();
+    for (x, y, p) in diff.enumerate_pixels() {
+        let inside = (10..30).contains(&x) && (100..120).contains(&y);
+        assert_eq!(p.0[0] >= 128 && p.0[1] == 0, inside, "({x}, {y}) {p:?}");
+    }
+
+    image::RgbImage::new(10, 10)
+        .save(dir.path().join("small.png"))
+        .unwrap();
+    let t = check("small.png");
+    assert!(
+        t["output"]
+            .as_str()
+            .unwrap()
+            .contains("your image is 10×10, the scene's is 320×240"),
+        "{t}"
+    );
+    let t = check("missing.png");
+    assert!(
+        t["output"]
+            .as_str()
+            .unwrap()
+            .contains("cannot read your image"),
+        "{t}"
+    );
+}

@@ -45,6 +45,18 @@ pub struct GradeTracerArgs {
     /// Seconds per run of the program (default: the sheet's, else 10).
     #[arg(long)]
     pub timeout: Option<f64>,
+    /// Also check the student's rendered image of each scene: a PNG named by this pattern
+    /// (`{stem}`: the scene file's stem), relative to the submission's folder (the current
+    /// folder without --class), against raystep's render.
+    #[arg(long)]
+    pub image: Option<String>,
+    /// With --image: levels of 255 a channel may differ by.
+    #[arg(long, default_value_t = 2, requires = "image")]
+    pub image_tolerance: u8,
+    /// With --image: write the difference image here (`{stem}` and `{student}` replaced; with
+    /// --class and --out, default `<out>/{student}-{stem}-diff.png`).
+    #[arg(long, requires = "image")]
+    pub diff: Option<String>,
     /// Megabytes of output per run; more stops the program.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub max_output_mb: u32,
@@ -71,26 +83,29 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         Some(p) => Some(student::load_sheet(p)?),
         None => None,
     };
-    let quick: Option<(PathBuf, std::sync::Arc<PreparedScene>, Vec<[u32; 2]>)> =
-        match (&args.scene, &args.pixels) {
-            (Some(path), Some(px)) => {
-                let pixels = parse_pixels(px)?;
-                let scene = crate::scene::load_file(path).map_err(|e| e.to_string())?;
-                let (w, h) = (scene.camera.width, scene.camera.height);
-                if let Some([x, y]) = pixels.iter().find(|[x, y]| *x >= w || *y >= h) {
-                    return Err(format!(
-                        "--pixels: ({x}, {y}) is outside the {w}×{h} image of {}",
-                        path.display()
-                    ));
-                }
-                let abs = std::path::absolute(path).unwrap_or(path.clone());
-                Some((abs, std::sync::Arc::new(PreparedScene::new(scene)), pixels))
+    let quick: Option<Job> = match (&args.scene, &args.pixels) {
+        (Some(path), Some(px)) => {
+            let pixels = parse_pixels(px)?;
+            let scene = crate::scene::load_file(path).map_err(|e| e.to_string())?;
+            let (w, h) = (scene.camera.width, scene.camera.height);
+            if let Some([x, y]) = pixels.iter().find(|[x, y]| *x >= w || *y >= h) {
+                return Err(format!(
+                    "--pixels: ({x}, {y}) is outside the {w}×{h} image of {}",
+                    path.display()
+                ));
             }
-            _ if sheet.is_none() => {
-                return Err("give a --sheet, or --scene and --pixels".into());
-            }
-            _ => None,
-        };
+            let abs = std::path::absolute(path).unwrap_or(path.clone());
+            Some(Job::new(
+                abs,
+                std::sync::Arc::new(PreparedScene::new(scene)),
+                pixels,
+            ))
+        }
+        _ if sheet.is_none() => {
+            return Err("give a --sheet, or --scene and --pixels".into());
+        }
+        _ => None,
+    };
     let upto = args
         .upto
         .or(sheet.as_ref().map(|s| s.upto))
@@ -112,16 +127,30 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
     let jobs_for = |who: &str| -> Result<Vec<Job>, String> {
         match (&sheet, &args.sheet, &quick) {
             (Some(s), Some(p), _) => student::sheet_jobs(s, p, who),
-            (_, _, Some((path, prepared, pixels))) => Ok(vec![Job {
-                path: path.clone(),
-                prepared: prepared.clone(),
-                pixels: pixels.clone(),
-            }]),
+            (_, _, Some(job)) => Ok(vec![job.clone()]),
             _ => Err("no scenes to grade".into()),
         }
     };
+    let image = args.image.as_ref().map(|pattern| student::ImageSpec {
+        pattern: pattern.clone(),
+        tolerance: args.image_tolerance,
+        diff: args.diff.clone().or_else(|| {
+            (args.class.is_some())
+                .then_some(args.out.as_ref())
+                .flatten()
+                .map(|o| o.join("{student}-{stem}-diff.png").display().to_string())
+        }),
+    });
     if let Some(class) = &args.class {
-        let reports = student::grade_class(class, &args.run, &jobs_for, upto, &tol, limits)?;
+        let reports = student::grade_class(
+            class,
+            &args.run,
+            &jobs_for,
+            upto,
+            &tol,
+            limits,
+            image.as_ref(),
+        )?;
         if reports.is_empty() {
             return Err(format!("{}: no submission folders in it", class.display()));
         }
@@ -159,7 +188,7 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         return super::emit(&text);
     }
     let jobs = jobs_for(&args.student)?;
-    let report = student::grade_submission(
+    let mut report = student::grade_submission(
         &args.student,
         &args.run,
         Path::new("."),
@@ -168,6 +197,9 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         &tol,
         limits,
     );
+    if let Some(spec) = &image {
+        student::check_images(&mut report, Path::new("."), &jobs, spec);
+    }
     if args.json {
         super::emit(&student::gradescope_json(&report))
     } else {

@@ -20,7 +20,7 @@ pub struct TraceArgs {
     #[arg(long, conflicts_with = "format")]
     pub json: bool,
     /// Print the trace in another format: `student`, the JSON Lines a student's own tracer
-    /// writes for `raystep grade-tracer` (lessons/student-tracer.md).
+    /// writes for `raystep grade-tracer` (lessons/starter/README.md).
     #[arg(long, value_enum)]
     pub format: Option<TraceFormat>,
     /// Also save the trace as JSON to this file (written atomically).

@@ -316,7 +316,40 @@ fn tests(
                 t.object() == et.object()
                     && std::mem::discriminant(*t) == std::mem::discriminant(et)
             });
-            let Some(st) = st else { continue };
+            let this_stage = matches!(
+                (stage, et),
+                (Stage::Sphere, Test::Sphere { .. })
+                    | (
+                        Stage::PlaneTriangle,
+                        Test::Plane { .. } | Test::Triangle { .. }
+                    )
+            );
+            let Some(st) = st else {
+                // Skipped tests are fine (a student's own culling), but not the test of the
+                // object the ray hits: every correct tracer makes that one.
+                let hit_object = er
+                    .hit
+                    .clone()
+                    .flatten()
+                    .and_then(|h| h.object)
+                    .is_some_and(|o| o == et.object());
+                if this_stage && hit_object {
+                    return Some((
+                        format!(
+                            "{}: you printed no test of \"{}\", the object this ray hits: print a `{}` record for each test",
+                            ray_name(&e.pixel, i),
+                            et.object(),
+                            match et {
+                                Test::Sphere { .. } => "sphere",
+                                Test::Plane { .. } => "plane",
+                                Test::Triangle { .. } => "triangle",
+                            }
+                        ),
+                        step,
+                    ));
+                }
+                continue;
+            };
             let at = |what: &str| {
                 format!(
                     "{}, {} \"{}\": {what}",

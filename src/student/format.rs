@@ -1,5 +1,5 @@
 //! The student trace format: JSON Lines, one record per line, that a tracer in any language can
-//! write (documented in `lessons/student-tracer.md`, version [`FORMAT_VERSION`]).
+//! write (documented in `lessons/starter/README.md`, version [`FORMAT_VERSION`]).
 //!
 //! Every key but `type` may be left out; the checker compares only what is there. A line that is
 //! blank or starts with `#` is skipped (so a tracer may print comments), and so is a record of a

@@ -1,7 +1,7 @@
 //! Checking a student's own ray tracer against raystep's trace, step by step.
 //!
 //! The student's program prints its trace in a JSON Lines format any language can write
-//! ([`format`], documented in `lessons/student-tracer.md`); raystep traces the same pixel
+//! ([`format`], documented in `lessons/starter/README.md`); raystep traces the same pixel
 //! ([`expected`]), lines the two up ray by ray and test by test ([`compare`]) and says in words
 //! where the student first went wrong, naming common mistakes, with the command that opens
 //! raystep at the step showing the right numbers. [`grade_submission`] runs a program on a set
@@ -22,6 +22,7 @@
 pub mod compare;
 pub mod expected;
 pub mod format;
+pub mod image;
 pub mod run;
 
 use crate::record::number::{Style, fmt64};
@@ -40,6 +41,36 @@ pub struct Job {
     pub prepared: std::sync::Arc<PreparedScene>,
     /// The pixels.
     pub pixels: Vec<[u32; 2]>,
+    /// raystep's render, made once when an image is checked.
+    pub reference: std::sync::Arc<std::sync::OnceLock<Result<::image::RgbImage, String>>>,
+}
+
+impl Job {
+    /// A job for `path` (absolute) and its pixels.
+    pub fn new(
+        path: PathBuf,
+        prepared: std::sync::Arc<PreparedScene>,
+        pixels: Vec<[u32; 2]>,
+    ) -> Job {
+        Job {
+            path,
+            prepared,
+            pixels,
+            reference: Default::default(),
+        }
+    }
+}
+
+/// The whole-image check of a submission: the student's PNG of each scene, named by a pattern
+/// (`{stem}` is the scene file's stem) relative to the submission's folder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImageSpec {
+    /// e.g. `render-{stem}.png`.
+    pub pattern: String,
+    /// Levels of 255 a channel may differ by.
+    pub tolerance: u8,
+    /// Where to write each difference image (`{stem}` and `{student}` replaced), if anywhere.
+    pub diff: Option<String>,
 }
 
 /// One scored test (one pixel and stage), as Gradescope lists it.
@@ -188,6 +219,59 @@ pub fn grade_submission(
     }
 }
 
+/// Adds the whole-image test of each job to `report`: passed when at most one pixel in a
+/// thousand differs from raystep's render by more than the tolerance.
+pub fn check_images(report: &mut Report, dir: &Path, jobs: &[Job], spec: &ImageSpec) {
+    for job in jobs {
+        let stem = job
+            .path
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().to_string());
+        let file = dir.join(spec.pattern.replace("{stem}", &stem));
+        let reference = job
+            .reference
+            .get_or_init(|| image::reference(&job.prepared));
+        let result = reference
+            .as_ref()
+            .map_err(|e| format!("raystep's render failed: {e}"))
+            .and_then(|r| image::compare(&file, r, spec.tolerance));
+        let (score, output) = match result {
+            Err(e) => (0.0, e),
+            Ok(c) => {
+                let mut out = format!(
+                    "{} of {} pixels differ from raystep's render by more than {}/255 (the largest difference: {}/255)",
+                    c.off, c.pixels, spec.tolerance, c.max_diff
+                );
+                if let Some(d) = &spec.diff {
+                    let path = PathBuf::from(
+                        d.replace("{stem}", &stem)
+                            .replace("{student}", &report.student),
+                    );
+                    match crate::render::image::write_png(&path, &c.diff) {
+                        Ok(()) => out += &format!("; difference image: {}", path.display()),
+                        Err(e) => {
+                            out += &format!("; the difference image could not be written: {e}")
+                        }
+                    }
+                }
+                ((c.off * 1000 <= c.pixels) as u8 as f64, out)
+            }
+        };
+        report.tests.push(TestResult {
+            name: format!(
+                "{}: image",
+                job.path
+                    .file_name()
+                    .map_or("scene".into(), |f| f.to_string_lossy().to_string())
+            ),
+            score,
+            max_score: 1.0,
+            output,
+            visibility: "visible".into(),
+        });
+    }
+}
+
 /// A grading sheet (TOML): which scenes and pixels, up to which stage, with what limits.
 ///
 /// ```toml
@@ -309,11 +393,11 @@ pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec
                 crate::lesson::pick_int(py, 0, h as i64 - 1) as u32,
             ]);
         }
-        jobs.push(Job {
-            path: std::path::absolute(&path).unwrap_or(path),
-            prepared: std::sync::Arc::new(PreparedScene::new(scene)),
+        jobs.push(Job::new(
+            std::path::absolute(&path).unwrap_or(path),
+            std::sync::Arc::new(PreparedScene::new(scene)),
             pixels,
-        });
+        ));
     }
     Ok(jobs)
 }
@@ -327,6 +411,7 @@ pub fn grade_class(
     upto: Stage,
     tol: &Tolerance,
     limits: run::Limits,
+    image: Option<&ImageSpec>,
 ) -> Result<Vec<Report>, String> {
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(class)
         .map_err(|e| format!("{}: cannot read: {e}", class.display()))?
@@ -340,9 +425,11 @@ pub fn grade_class(
             .file_name()
             .map_or("?".into(), |f| f.to_string_lossy().to_string());
         let jobs = jobs_for(&student)?;
-        out.push(grade_submission(
-            &student, template, &d, &jobs, upto, tol, limits,
-        ));
+        let mut r = grade_submission(&student, template, &d, &jobs, upto, tol, limits);
+        if let Some(spec) = image {
+            check_images(&mut r, &d, &jobs, spec);
+        }
+        out.push(r);
     }
     Ok(out)
 }
