@@ -1,7 +1,7 @@
 //! Checking a student's own ray tracer against raystep's trace, step by step.
 //!
 //! The student's program prints its trace in a JSON Lines format any language can write
-//! ([`format`], documented in `lessons/starter/README.md`); raystep traces the same pixel
+//! ([`format`](mod@format), documented in `lessons/starter/README.md`); raystep traces the same pixel
 //! ([`expected`]), lines the two up ray by ray and test by test ([`compare`]) and says in words
 //! where the student first went wrong, naming common mistakes, with the command that opens
 //! raystep at the step showing the right numbers. [`grade_submission`] runs a program on a set

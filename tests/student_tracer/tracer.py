@@ -1,0 +1,694 @@
+#!/usr/bin/env python3
+"""A model student's Whitted ray tracer, in plain Python (standard library only).
+
+What it is
+----------
+This is the ray tracer a student of the raystep course could write by following the lessons
+(camera, ray–sphere, ray–plane, ray–triangle, the naive closest-hit loop, shadows, reflection,
+refraction, Phong shading).  It is *independent* of raystep: it reads the same scene file
+(TOML, with OBJ meshes) and computes everything itself, in double precision, with the formulas
+of the lessons.  It traces one pixel and prints that pixel's trace in raystep's *student trace
+format* (JSON Lines: `format`, `pixel`, `ray`, `sphere`, `plane`, `triangle`, `hit`, `shadow`,
+`color` records; see `src/student/format.rs`).
+
+How the tests use it
+--------------------
+The test suite runs it as the "student" of `raystep grade-tracer`:
+
+    raystep grade-tracer --scene scenes/mirror-glass.toml --pixels "200,150;10,10" \\
+        --run "python3 tests/student_tracer/tracer.py {scene} {x} {y}"
+
+raystep traces the same pixel, lines the two traces up ray by ray and test by test, and scores
+one test per pixel and stage (camera, sphere, plane-triangle, closest-hit, shadows, secondary,
+color).  Without `--bug` this tracer gets full marks (but see "Known limits").  With
+`--bug NAME` it makes one classic student mistake, so the tests can check that the grader takes
+marks off and names the mistake:
+
+    half-b               b = f·Q instead of 2 f·Q in the sphere test
+    unnormalized-normal  the sphere's normal P − G is not divided by the radius (no effect on
+                         spheres of radius 1)
+    no-shadow-offset     shadow rays start exactly on the surface, t_min = 0 (shadow acne)
+    reflect-sign         reflect(d, n) = d + 2(d·n)n instead of d − 2(d·n)n (the one helper is
+                         used for mirror rays and for Phong's highlight, as in a student's code)
+    snell-inverted       η = n2/n1 instead of n1/n2
+
+Usage:  python3 tracer.py SCENE.toml X Y [--bug NAME] [--epsilon E]
+
+Known limits
+------------
+raystep traces in single precision (f32); this tracer in double.  Where raystep's answer is
+decided by f32 rounding, an exact student cannot agree with it:
+- scenes/acne.toml (offset = "none"): raystep's shadow rays hit their own surface at t ≈ 1e-10
+  (acne), and c = f·f − r² of the ball (r = 5000) comes out as −2, 0 or 2 (f32 spacing 2).
+- scenes/leaky-edge.toml, centre row (y = 100): the rays run along shared triangle edges and
+  which triangle raystep's f32 Möller–Trumbore picks (or none: the leak) is rounding noise.
+
+(Two other places where f32 and f64 part ways are absorbed by the checker: the test of the
+surface a spawned ray leaves is compared by its t only, since its b and c depend on the offset,
+e.g. on scenes/far-sphere.toml; and the tolerance grows with the depth of the ray, so long
+chains of bounces inside mirror-glass's bubble pass.)
+
+Conventions (the ones raystep uses, so the numbers can be compared):
+- A ray is P(t) = S + t·Q for t in (t_min, t_max); S the origin, Q the direction.
+- Every primitive's test is printed with the nearest t past t_min, *ignoring* the closest hit
+  found so far; the closest hit is chosen afterwards (lesson 5).
+- Normals are unit vectors facing the incoming ray.
+- Each ray's `color` record is the colour that ray returns, before its parent weighs it.
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import sys
+import tomllib
+
+BUGS = ("half-b", "unnormalized-normal", "no-shadow-offset", "reflect-sign", "snell-inverted")
+BUG = None  # set from --bug
+
+# How far spawned rays (shadow, reflection, refraction) start off the surface, along the normal,
+# on the side the new ray leaves (The Ray Tracer Challenge's over_point / under_point).
+#
+# Why this small: the checker compares the tests of the spawned rays too, and the test of the
+# sphere a ray leaves has c = f·f − r² ≈ 2·r·EPSILON and b = 2 f·Q off by ≈ 2·EPSILON·|Q|, which
+# are compared to raystep's (whose own offset is a rounding-error bound, ~1e-7) with an absolute
+# tolerance of 1e-4.  EPSILON = 1e-4 would fail that for spheres of radius ≥ 0.5.  In double
+# precision 1e-6 is still far above the rounding error of the shipped scenes' coordinates.
+EPSILON = 1e-6
+
+# Shadow rays stop just short of the light: t_max = 1 − SHADOW_EPSILON for Q = L − S.
+SHADOW_EPSILON = 1e-4
+
+# Reflection and refraction rays whose share of the pixel (the product of the weights down from
+# the camera) is below 1/512 are not traced: their colour counts as black (raystep does the same).
+WEIGHT_CUTOFF = 1.0 / 512.0
+
+
+# ---------------------------------------------------------------------------------------------
+# Vectors: plain tuples (x, y, z).
+# ---------------------------------------------------------------------------------------------
+
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def scale(a, k):
+    return (a[0] * k, a[1] * k, a[2] * k)
+
+
+def mul(a, b):
+    """Component-wise product (colours)."""
+    return (a[0] * b[0], a[1] * b[1], a[2] * b[2])
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def length(a):
+    return math.sqrt(dot(a, a))
+
+
+def normalize(a):
+    return scale(a, 1.0 / length(a))
+
+
+def neg(a):
+    return (-a[0], -a[1], -a[2])
+
+
+BLACK = (0.0, 0.0, 0.0)
+
+
+# ---------------------------------------------------------------------------------------------
+# The scene file (raystep's schema and defaults: src/scene/model.rs, load.rs).
+# ---------------------------------------------------------------------------------------------
+
+class Material:
+    """A Phong material with The Ray Tracer Challenge's defaults."""
+
+    def __init__(self, d=None):
+        d = d or {}
+        self.name = d.get("name", "default")
+        self.color = tuple(float(c) for c in d.get("color", (1.0, 1.0, 1.0)))
+        self.ambient = float(d.get("ambient", 0.1))
+        self.diffuse = float(d.get("diffuse", 0.9))
+        self.specular = float(d.get("specular", 0.9))
+        self.shininess = float(d.get("shininess", 200.0))
+        self.reflective = float(d.get("reflective", 0.0))
+        self.transparency = float(d.get("transparency", 0.0))
+        self.refractive_index = float(d.get("refractive_index", 1.0))
+
+
+class Sphere:
+    kind = "sphere"
+
+    def __init__(self, name, center, radius, material):
+        self.name, self.center, self.radius, self.material = name, center, radius, material
+
+
+class Plane:
+    """The plane X·n = offset (n a unit vector; for `axis` planes, the unit axis)."""
+    kind = "plane"
+
+    def __init__(self, name, normal, offset, material):
+        self.name, self.normal, self.offset, self.material = name, normal, offset, material
+
+
+class Triangle:
+    kind = "triangle"
+
+    def __init__(self, name, p0, p1, p2, material):
+        self.name, self.p, self.material = name, (p0, p1, p2), material
+
+
+class Light:
+    def __init__(self, name, position, color):
+        self.name, self.position, self.color = name, position, color
+
+
+class Scene:
+    pass
+
+
+def vec(v):
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+def load_obj(path, translate, k):
+    """The triangles of an OBJ file (faces fanned into triangles), scaled by k then moved."""
+    vertices, triangles = [], []
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            words = line.split()
+            if not words:
+                continue
+            if words[0] == "v":
+                vertices.append(add(scale(vec(words[1:4]), k), translate))
+            elif words[0] == "f":
+                idx = []
+                for w in words[1:]:
+                    i = int(w.split("/")[0])
+                    idx.append(i - 1 if i > 0 else len(vertices) + i)
+                for j in range(1, len(idx) - 1):
+                    triangles.append((vertices[idx[0]], vertices[idx[j]], vertices[idx[j + 1]]))
+    return triangles
+
+
+def object_order(text, counts):
+    """The kinds of the scene's objects in file order ([[sphere]], [[plane]], … interleaved):
+    raystep numbers and tests objects in the order they appear in the file."""
+    kinds = re.findall(r"(?m)^\s*\[\[\s*(sphere|plane|triangle|mesh)\s*\]\]", text)
+    if all(kinds.count(k) == counts[k] for k in counts):
+        return kinds
+    # Tables written some other way: kind by kind.
+    return [k for k in ("sphere", "plane", "triangle", "mesh") for _ in range(counts[k])]
+
+
+def load_scene(path):
+    with open(path, "rb") as f:
+        raw = f.read()
+    doc = tomllib.loads(raw.decode("utf-8"))
+    scene = Scene()
+
+    cam = doc.get("camera", {})
+    scene.eye = vec(cam.get("from", (0, 0, -5)))
+    scene.look_at = vec(cam.get("at", (0, 0, 0)))
+    scene.up = vec(cam.get("up", (0, 1, 0)))
+    scene.fov = float(cam.get("fov", 60.0))
+    scene.width = int(cam.get("width", 320))
+    scene.height = int(cam.get("height", 240))
+
+    render = doc.get("render", {})
+    scene.max_depth = int(render.get("max_depth", 5))
+    scene.spp = int(render.get("spp", 1))
+    scene.seed = int(render.get("seed", 0))
+    scene.background = vec(render.get("background", (0, 0, 0)))
+
+    scene.lights = []
+    for i, d in enumerate(doc.get("light", [])):
+        scene.lights.append(Light(d.get("name", f"light {i}"),
+                                  vec(d.get("position", (-10, 10, -10))),
+                                  vec(d.get("color", (1, 1, 1)))))
+
+    materials = {}
+    for i, d in enumerate(doc.get("material", [])):
+        m = Material(d)
+        m.name = d.get("name", f"material {i}")
+        materials[m.name] = m
+    default = Material()
+
+    def material(d):
+        return materials[d["material"]] if "material" in d else default
+
+    tables = {k: doc.get(k, []) for k in ("sphere", "plane", "triangle", "mesh")}
+    seen = {k: 0 for k in tables}
+    scene.objects = []
+    for kind in object_order(raw.decode("utf-8"), {k: len(v) for k, v in tables.items()}):
+        i = seen[kind]
+        seen[kind] += 1
+        d = tables[kind][i]
+        name = d.get("name", f"{kind} {i}")
+        if kind == "sphere":
+            scene.objects.append(Sphere(name, vec(d.get("center", (0, 0, 0))),
+                                        float(d.get("radius", 1.0)), material(d)))
+        elif kind == "plane":
+            if "axis" in d:
+                normal = {"x": (1.0, 0.0, 0.0), "y": (0.0, 1.0, 0.0), "z": (0.0, 0.0, 1.0)}[d["axis"]]
+                offset = float(d.get("offset", 0.0))
+            else:
+                normal = normalize(vec(d.get("normal", (0, 1, 0))))
+                offset = dot(vec(d.get("point", (0, 0, 0))), normal)
+            scene.objects.append(Plane(name, normal, offset, material(d)))
+        elif kind == "triangle":
+            p = [vec(v) for v in d["vertices"]]
+            scene.objects.append(Triangle(name, p[0], p[1], p[2], material(d)))
+        else:
+            obj = os.path.join(os.path.dirname(path), d["obj"])
+            tris = load_obj(obj, vec(d.get("translate", (0, 0, 0))), float(d.get("scale", 1.0)))
+            # A mesh's triangles are named after the mesh: `icosahedron[5]` (one triangle: no index).
+            for k, (p0, p1, p2) in enumerate(tris):
+                tname = name if len(tris) == 1 else f"{name}[{k}]"
+                scene.objects.append(Triangle(tname, p0, p1, p2, material(d)))
+    return scene
+
+
+# ---------------------------------------------------------------------------------------------
+# Printing the trace (JSON Lines).
+# ---------------------------------------------------------------------------------------------
+
+def emit(record):
+    print(json.dumps(record))
+
+
+class Ray:
+    """P(t) = S + t·Q for t in (t_min, t_max)."""
+
+    def __init__(self, origin, direction, kind, depth, t_min=0.0, t_max=math.inf, light=None):
+        self.origin, self.direction = origin, direction
+        self.kind, self.depth = kind, depth
+        self.t_min, self.t_max = t_min, t_max
+        self.light = light
+
+    def at(self, t):
+        return add(self.origin, scale(self.direction, t))
+
+    def print(self):
+        r = {"type": "ray", "kind": self.kind, "depth": self.depth,
+             "origin": list(self.origin), "direction": list(self.direction)}
+        if self.light is not None:
+            r["light"] = self.light
+        emit(r)
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 1: the camera (Ray Tracing in One Weekend's basis).
+# ---------------------------------------------------------------------------------------------
+
+def pcg_hash(v):
+    """PCG hash (Jarzynski & Olano 2020), 32-bit: raystep's jitter for spp > 1."""
+    state = (v * 747796405 + 2891336453) & 0xFFFFFFFF
+    word = (((state >> ((state >> 28) + 4)) ^ state) * 277803737) & 0xFFFFFFFF
+    return (word >> 22) ^ word
+
+
+def sample_offset(scene, x, y, sample=0):
+    """Where in pixel (x, y) the sample lies: its centre (0.5, 0.5) with one sample per pixel;
+    otherwise a jittered cell of a ⌈√spp⌉-column grid (lesson 10)."""
+    if scene.spp <= 1:
+        return (0.5, 0.5)
+    cols = math.ceil(math.sqrt(scene.spp))
+    rows = -(-scene.spp // cols)
+    cx, cy = sample % cols, sample // cols
+    h1 = pcg_hash(x ^ pcg_hash(y ^ pcg_hash(sample ^ pcg_hash(scene.seed))))
+    h2 = pcg_hash(h1)
+    return ((cx + (h1 >> 8) / 16777216.0) / cols, (cy + (h2 >> 8) / 16777216.0) / rows)
+
+
+def camera_ray(scene, x, y):
+    """The primary ray through pixel (x, y).
+
+    w = normalize(from − at), u = normalize(up × w), v = w × u;
+    sx = 2(x + ox)/width − 1, sy = 1 − 2(y + oy)/height (rows count down from the top);
+    Q = normalize(sx·tan(fov/2)·(width/height)·u + sy·tan(fov/2)·v − w).
+    """
+    w = normalize(sub(scene.eye, scene.look_at))
+    u = normalize(cross(scene.up, w))
+    v = cross(w, u)
+    half_h = math.tan(math.radians(scene.fov) / 2)
+    half_w = half_h * scene.width / scene.height
+    ox, oy = sample_offset(scene, x, y)
+    sx = 2 * (x + ox) / scene.width - 1
+    sy = 1 - 2 * (y + oy) / scene.height
+    q = sub(add(scale(u, sx * half_w), scale(v, sy * half_h)), w)
+    return Ray(scene.eye, normalize(q), "primary", 0)
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 2: ray–sphere.  |S + tQ − G|² = r²  ⇔  a t² + b t + c = 0 with f = S − G,
+# a = Q·Q, b = 2 f·Q, c = f·f − r², discriminant b² − 4ac, t = (−b ± √(b² − 4ac)) / 2a.
+# ---------------------------------------------------------------------------------------------
+
+def intersect_sphere(ray, s):
+    f = sub(ray.origin, s.center)
+    a = dot(ray.direction, ray.direction)
+    b = 2 * dot(f, ray.direction)
+    if BUG == "half-b":
+        b = dot(f, ray.direction)  # BUG: the factor 2 is missing
+    c = dot(f, f) - s.radius * s.radius
+    disc = b * b - 4 * a * c
+    t = None
+    if disc >= 0:
+        root = math.sqrt(disc)
+        for cand in ((-b - root) / (2 * a), (-b + root) / (2 * a)):
+            if cand > ray.t_min:  # the nearest root in front of the origin
+                t = cand
+                break
+    emit({"type": "sphere", "object": s.name, "a": a, "b": b, "c": c,
+          "discriminant": disc, "t": t})
+    return t
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 3: ray–plane.  (S + tQ)·n = offset  ⇒  t = (offset − S·n) / (Q·n); Q·n = 0: parallel.
+# ---------------------------------------------------------------------------------------------
+
+def intersect_plane(ray, p):
+    denom = dot(ray.direction, p.normal)
+    t = None
+    if denom != 0:
+        cand = (p.offset - dot(ray.origin, p.normal)) / denom
+        if cand > ray.t_min:
+            t = cand
+    emit({"type": "plane", "object": p.name, "denominator": denom, "t": t})
+    return t
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 4: ray–triangle, Möller–Trumbore.  S + tQ = (1 − u − v)P0 + u·P1 + v·P2, i.e.
+# [−Q, E1, E2]·(t, u, v) = S − P0 with E1 = P1 − P0, E2 = P2 − P0, solved by Cramer's rule:
+# D0 = det(−Q, E1, E2), t = det(T, E1, E2)/D0, u = det(−Q, T, E2)/D0, v = det(−Q, E1, T)/D0,
+# with T = S − P0 and det(a, b, c) = a·(b × c).  A hit: t > t_min, u ≥ 0, v ≥ 0, u + v ≤ 1.
+# ---------------------------------------------------------------------------------------------
+
+def det3(a, b, c):
+    return dot(a, cross(b, c))
+
+
+def intersect_triangle(ray, tri):
+    p0, p1, p2 = tri.p
+    e1, e2 = sub(p1, p0), sub(p2, p0)
+    mq = neg(ray.direction)
+    d0 = det3(mq, e1, e2)
+    rec = {"type": "triangle", "object": tri.name, "det": d0}
+    t = None
+    if d0 != 0:
+        tv = sub(ray.origin, p0)
+        cand = det3(tv, e1, e2) / d0
+        u = det3(mq, tv, e2) / d0
+        v = det3(mq, e1, tv) / d0
+        rec["u"], rec["v"] = u, v
+        if cand > ray.t_min and u >= 0 and v >= 0 and u + v <= 1:
+            t = cand
+    rec["t"] = t
+    emit(rec)
+    return t
+
+
+def intersect(ray, obj):
+    if obj.kind == "sphere":
+        return intersect_sphere(ray, obj)
+    if obj.kind == "plane":
+        return intersect_plane(ray, obj)
+    return intersect_triangle(ray, obj)
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 5: the naive loop — test every object, keep the smallest t in (t_min, t_max).
+# ---------------------------------------------------------------------------------------------
+
+def closest_hit(scene, ray):
+    best, best_t = None, ray.t_max
+    for obj in scene.objects:
+        t = intersect(ray, obj)
+        if t is not None and t < best_t:  # ties go to the object listed first
+            best, best_t = obj, t
+    return best, best_t
+
+
+def any_hit(scene, ray):
+    """Whether anything lies on the ray in (t_min, t_max) (shadow rays need no more)."""
+    blocked = False
+    for obj in scene.objects:
+        t = intersect(ray, obj)
+        if t is not None and t < ray.t_max:
+            blocked = True
+    return blocked
+
+
+class Surface:
+    """Where a ray met an object: point P, unit normal n facing the ray, unit eye vector e."""
+
+
+def surface_at(ray, obj, t):
+    s = Surface()
+    s.obj = obj
+    s.point = ray.at(t)  # P = S + t·Q
+    if obj.kind == "sphere":
+        outward = sub(s.point, obj.center)
+        if BUG != "unnormalized-normal":
+            outward = scale(outward, 1.0 / obj.radius)  # n = (P − G)/r
+    elif obj.kind == "plane":
+        outward = obj.normal
+    else:
+        p0, p1, p2 = obj.p
+        outward = normalize(cross(sub(p1, p0), sub(p2, p0)))  # n = E1 × E2, normalized
+    s.eye = normalize(neg(ray.direction))
+    # Flip the normal when the ray meets the surface from behind (Q·n > 0).
+    s.inside = dot(outward, s.eye) < 0
+    s.normal = neg(outward) if s.inside else outward
+    return s
+
+
+def spawn_origin(s, direction):
+    """Where a ray leaving the surface starts: the hit point moved EPSILON along the normal, to
+    the side the new ray leaves on (outside for reflection, inside for refraction)."""
+    side = 1.0 if dot(direction, s.normal) >= 0 else -1.0
+    return add(s.point, scale(s.normal, EPSILON * side))
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 7: shadows.  A shadow ray from the hit point towards the light: Q = L − S, so the light
+# is at t = 1; anything hit for t in (0, 1 − ε) blocks it.  Lights behind the surface
+# ((L − P)·n ≤ 0) light only the ambient term: no shadow ray.
+# ---------------------------------------------------------------------------------------------
+
+def light_blocked(scene, s, light, depth):
+    to_light = sub(light.position, s.point)
+    if dot(to_light, s.normal) <= 0:
+        return False  # the light is behind the surface
+    if BUG == "no-shadow-offset":
+        origin = s.point  # BUG: starts exactly on the surface (and t_min = 0)
+    else:
+        origin = spawn_origin(s, to_light)
+    shadow = Ray(origin, sub(light.position, origin), "shadow", depth + 1,
+                 t_min=0.0, t_max=1.0 - SHADOW_EPSILON, light=light.name)
+    shadow.print()
+    return any_hit(scene, shadow)
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 8: reflection.  The mirror direction of d about the unit normal n (used for mirror
+# rays, weighted by the material's `reflective`, and for Phong's highlight).
+# ---------------------------------------------------------------------------------------------
+
+def reflect(v, n):
+    """Mirror v about the unit normal n: v − 2(v·n)n."""
+    if BUG == "reflect-sign":
+        return add(v, scale(n, 2 * dot(v, n)))  # BUG: wrong sign
+    return sub(v, scale(n, 2 * dot(v, n)))
+
+
+# ---------------------------------------------------------------------------------------------
+# Phong shading (The Ray Tracer Challenge, ch. 6), summed over the lights.
+# ---------------------------------------------------------------------------------------------
+
+
+def phong(m, light, s, in_shadow):
+    """ambient + diffuse + specular from one light:
+    ambient = c·I·k_a; diffuse = c·I·k_d·(l·n) when l·n ≥ 0;
+    specular = I·k_s·(r·e)^shininess when r·e > 0, with r = reflect(−l, n);
+    in shadow, ambient only."""
+    effective = mul(m.color, light.color)
+    l = normalize(sub(light.position, s.point))
+    color = scale(effective, m.ambient)
+    l_dot_n = dot(l, s.normal)
+    if not in_shadow and l_dot_n >= 0:
+        color = add(color, scale(effective, m.diffuse * l_dot_n))
+        r_dot_e = dot(reflect(neg(l), s.normal), s.eye)
+        if r_dot_e > 0:
+            color = add(color, scale(light.color, m.specular * r_dot_e ** m.shininess))
+    return color
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 9: refraction.  Snell: η = n1/n2, cos θi = e·n, sin² θt = η²(1 − cos² θi); total
+# internal reflection when sin² θt > 1; otherwise cos θt = √(1 − sin² θt) and
+# t = n(η cos θi − cos θt) − η e.  Fresnel by Schlick: R0 = ((n1 − n2)/(n1 + n2))²,
+# R = R0 + (1 − R0)(1 − cos)^5 with cos = cos θi, or cos θt when n1 > n2 (1 under TIR).
+# ---------------------------------------------------------------------------------------------
+
+def refract(eye, n, n1, n2):
+    eta = n1 / n2
+    if BUG == "snell-inverted":
+        eta = n2 / n1  # BUG: the ratio upside down
+    cos_i = dot(eye, n)
+    sin2_t = eta * eta * (1 - cos_i * cos_i)
+    if sin2_t > 1:
+        return None  # total internal reflection
+    cos_t = math.sqrt(1 - sin2_t)
+    return sub(scale(n, eta * cos_i - cos_t), scale(eye, eta))
+
+
+def schlick(cos_i, n1, n2):
+    cos = cos_i
+    if n1 > n2:
+        ratio = n1 / n2
+        sin2_t = ratio * ratio * (1 - cos * cos)
+        if sin2_t > 1:
+            return 1.0
+        cos = math.sqrt(1 - sin2_t)
+    r0 = ((n1 - n2) / (n1 + n2)) ** 2
+    return r0 + (1 - r0) * (1 - cos) ** 5
+
+
+class Media:
+    """The transparent objects the ray is inside, innermost last, with their indices
+    (The Ray Tracer Challenge's `containers`), carried down the recursion."""
+
+    def __init__(self, stack=()):
+        self.stack = tuple(stack)  # ((object, index), ...)
+
+    def top(self, stack=None):
+        stack = self.stack if stack is None else stack
+        return stack[-1][1] if stack else 1.0  # air outside everything
+
+    def indices(self, obj, ior):
+        """(n1, n2) for crossing obj's surface: leaving it if we are inside it."""
+        n1 = self.top()
+        if any(o is obj for o, _ in self.stack):
+            return n1, self.top(tuple(e for e in self.stack if e[0] is not obj))
+        return n1, ior
+
+    def crossed(self, obj, ior):
+        if any(o is obj for o, _ in self.stack):
+            return Media(e for e in self.stack if e[0] is not obj)
+        return Media(self.stack + ((obj, ior),))
+
+
+# ---------------------------------------------------------------------------------------------
+# The recursive Whitted tracer.
+# ---------------------------------------------------------------------------------------------
+
+def trace(scene, ray, throughput=1.0, media=None):
+    """Traces `ray`, printing its records, and returns the colour it brings back.
+    `throughput`: what this colour is multiplied by on its way to the pixel; `media`: the
+    transparent objects the ray travels inside (none for a primary ray)."""
+    media = media or Media()
+    ray.print()
+    d = ray.depth
+    obj, t = closest_hit(scene, ray)
+    if obj is None:
+        emit({"type": "hit", "object": None, "depth": d})
+        emit({"type": "color", "rgb": list(scene.background), "depth": d})
+        return scene.background
+    s = surface_at(ray, obj, t)
+    emit({"type": "hit", "object": obj.name, "t": t, "point": list(s.point),
+          "normal": list(s.normal), "depth": d})
+    m = obj.material
+
+    # Direct light: Phong from each light (ambient only when its shadow ray is blocked).
+    if not scene.lights:
+        surface = scale(m.color, m.ambient)  # no lights: show the ambient colour
+    else:
+        surface = BLACK
+        for light in scene.lights:
+            blocked = light_blocked(scene, s, light, d)
+            emit({"type": "shadow", "light": light.name, "blocked": blocked, "depth": d})
+            surface = add(surface, phong(m, light, s, blocked))
+
+    can_recurse = d < scene.max_depth  # the primary ray has depth 0
+    transparent = m.transparency > 0
+    # A surface both reflective and transparent blends the two by Schlick's reflectance R:
+    # colour = surface + R·reflected + (1 − R)·refracted.  (Computed first: the reflection's
+    # share of the pixel depends on it.)
+    blend = transparent and m.reflective > 0
+    n1 = n2 = None
+    if transparent:
+        n1, n2 = media.indices(obj, m.refractive_index)  # from the side the ray comes from
+    reflectance = schlick(dot(s.eye, s.normal), n1, n2) if blend else 1.0
+
+    # Lesson 8: reflection, r = d − 2(d·n)n, weighted by `reflective` (not traced past max_depth
+    # or when its share of the pixel is below the cut-off).
+    reflected = BLACK
+    if m.reflective > 0 and can_recurse:
+        direction = reflect(ray.direction, s.normal)
+        share = m.reflective * reflectance if blend else m.reflective
+        if throughput * share >= WEIGHT_CUTOFF:
+            child = Ray(spawn_origin(s, direction), direction, "reflection", d + 1)
+            reflected = scale(trace(scene, child, throughput * share, media), m.reflective)
+
+    # Lesson 9: refraction, weighted by `transparency`.
+    refracted = BLACK
+    if transparent and can_recurse:
+        direction = refract(s.eye, s.normal, n1, n2)
+        share = m.transparency * (1 - reflectance) if blend else m.transparency
+        if direction is not None and throughput * share >= WEIGHT_CUTOFF:
+            child = Ray(spawn_origin(s, direction), direction, "refraction", d + 1)
+            inner = media.crossed(obj, m.refractive_index)
+            refracted = scale(trace(scene, child, throughput * share, inner), m.transparency)
+
+    if blend:
+        color = add(surface, add(scale(reflected, reflectance), scale(refracted, 1 - reflectance)))
+    else:
+        color = add(surface, add(reflected, refracted))
+    # A recursive tracer prints a ray's colour after its children's: name the depth.
+    emit({"type": "color", "rgb": list(color), "depth": d})
+    return color
+
+
+def main(argv=None):
+    global BUG, EPSILON
+    ap = argparse.ArgumentParser(description="A model student's Whitted ray tracer: prints the "
+                                 "trace of one pixel in raystep's student trace format.")
+    ap.add_argument("scene")
+    ap.add_argument("x", type=int)
+    ap.add_argument("y", type=int)
+    ap.add_argument("--bug", choices=BUGS, default=None, help="make one classic mistake")
+    ap.add_argument("--epsilon", type=float, default=EPSILON,
+                    help=f"how far spawned rays start off the surface (default {EPSILON})")
+    args = ap.parse_args(argv)
+    BUG = args.bug
+    EPSILON = args.epsilon
+    sys.setrecursionlimit(10000)
+    scene = load_scene(args.scene)
+    emit({"type": "format", "version": 1})
+    emit({"type": "pixel", "x": args.x, "y": args.y})
+    trace(scene, camera_ray(scene, args.x, args.y))
+
+
+if __name__ == "__main__":
+    try:
+        main()
+    except BrokenPipeError:  # piped into `head`: stop quietly
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        sys.exit(1)
