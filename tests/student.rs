@@ -9,21 +9,11 @@ use raystep::student::compare::{Stage, Tolerance, grade};
 use raystep::student::expected::{Expected, expected};
 use raystep::student::format::{self, Test, parse, write};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn shipped() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    v
-}
+#[path = "common/scenes.rs"]
+mod scenes;
+use scenes::{root, shipped};
 
 fn traced(scene: &Path, x: u32, y: u32) -> Expected {
     let s = raystep::scene::load_file(scene).unwrap();

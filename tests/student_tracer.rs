@@ -7,21 +7,11 @@
 
 use assert_cmd::Command;
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn shipped() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("scenes"))
-        .unwrap()
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    v
-}
+#[path = "common/scenes.rs"]
+mod scenes;
+use scenes::{root, shipped};
 
 /// Grades `run` on `scene` at `pixels` up to `upto`; the Gradescope JSON.
 fn grade(scene: &Path, pixels: &str, upto: &str, run: &str) -> Value {

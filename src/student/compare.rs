@@ -118,6 +118,15 @@ fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     len([a[0] - b[0], a[1] - b[1], a[2] - b[2]])
 }
 
+/// "your b is −4.1, raystep's is −8.2" and a hint naming the likely mistake.
+fn yours_vs(name: &str, yours: f64, want: f64, hint: &str) -> String {
+    format!(
+        "your {name} is {}, raystep's is {}{hint}",
+        n(yours),
+        n(want)
+    )
+}
+
 /// A number as feedback shows it.
 fn n(x: f64) -> String {
     crate::record::number::fmt64(x, crate::record::number::Style::Label)
@@ -461,22 +470,14 @@ fn tests(
                             " — your b looks like f·Q: the seeds' b is 2 f·Q"
                         } else if k == 1 && tol.close(-ys, ws) {
                             " — the sign is wrong: f = S − G (from the centre to the origin)"
-                        } else if k == 2 && tol.close(ys, ws + 2.0 * ws.abs()) {
+                        } else if k == 2 {
                             " — check c = f·f − r²"
                         } else if k == 3 {
                             " — check the discriminant b² − 4ac"
                         } else {
                             ""
                         };
-                        return Some((
-                            at(&format!(
-                                "your {} is {}, raystep's is {}{hint}",
-                                names[k],
-                                n(y),
-                                n(w)
-                            )),
-                            step,
-                        ));
+                        return Some((at(&yours_vs(names[k], y, w, hint)), step));
                     }
                     if let Some(msg) = t_check(*stv, *etv) {
                         return Some((at(&msg), step));
@@ -503,14 +504,7 @@ fn tests(
                         } else {
                             ""
                         };
-                        return Some((
-                            at(&format!(
-                                "your denominator Q·n is {}, raystep's is {}{hint}",
-                                n(*y),
-                                n(*w)
-                            )),
-                            step,
-                        ));
+                        return Some((at(&yours_vs("denominator Q·n", *y, *w, hint)), step));
                     }
                     if let Some(msg) = t_check(*stv, *etv) {
                         return Some((at(&msg), step));
@@ -543,15 +537,7 @@ fn tests(
                             } else {
                                 ""
                             };
-                            return Some((
-                                at(&format!(
-                                    "your {} is {}, raystep's is {}{hint}",
-                                    names[k],
-                                    n(y),
-                                    n(w)
-                                )),
-                                step,
-                            ));
+                            return Some((at(&yours_vs(names[k], y, w, hint)), step));
                         }
                     }
                     if let Some(msg) = t_check(*stv, *etv) {
