@@ -135,6 +135,11 @@ fn layout_to(trace: &Trace, opts: &ViewOptions, top: f32, bottom: f32) -> TreeLa
                 leaf.insert(v.node, v.leaf);
                 if let Some(c) = v.children {
                     children.insert(v.node, c);
+                    // A child not visited (yet) is still drawn, one level down (the sphere
+                    // tree has no outline to name it).
+                    for k in c {
+                        depth.entry(k).or_insert(v.depth + 1);
+                    }
                 }
             }
         }
@@ -148,6 +153,14 @@ fn layout_to(trace: &Trace, opts: &ViewOptions, top: f32, bottom: f32) -> TreeLa
         .map(|(n, _)| *n)
         .collect();
     drawn.extend(visits.keys().copied());
+    // The children of every node the ray descended into, visited or not (yet).
+    for (n, (_, action)) in &visits {
+        if *action == NodeAction::Descend
+            && let Some(c) = children.get(n)
+        {
+            drawn.extend(c.iter().filter(|k| depth.contains_key(k)));
+        }
+    }
     drawn.insert(0);
     // Keep only nodes whose parent is drawn (the tree stays connected).
     let mut parent: BTreeMap<u32, u32> = BTreeMap::new();

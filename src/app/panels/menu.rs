@@ -110,7 +110,7 @@ pub(super) fn menu_bar(
             ui.checkbox(&mut p.show_settings, "Settings panel");
             ui.checkbox(&mut p.show_tree, "Trace tree");
             if Views::has_heatmap(state) {
-                ui.checkbox(&mut p.heatmap, "BVH heatmap over the render");
+                ui.checkbox(&mut p.heatmap, "Visits heatmap over the render");
             }
             if p.show_tree {
                 ui.checkbox(&mut p.layout.tree_collapsed, "Fold the trace tree");

@@ -161,8 +161,22 @@ pub(super) fn settings_panel(
     if Views::has_heatmap(state) {
         ui.separator();
         let mut p = state.prefs.clone();
-        ui.checkbox(&mut p.heatmap, "BVH heatmap")
-            .on_hover_text("how many BVH nodes each pixel's rays visited");
+        // Named after what it counts: BVH nodes, bounding spheres or grid cells.
+        let (label, hover) = match state.prepared.as_ref().map(|p| p.accel_choice()) {
+            Some(AccelChoice::Spheres) => (
+                "Spheres heatmap",
+                "how many bounding spheres each pixel's rays tested",
+            ),
+            Some(AccelChoice::Grid) => (
+                "Grid heatmap",
+                "how many grid cells each pixel's rays walked",
+            ),
+            _ => (
+                "BVH heatmap",
+                "how many BVH nodes each pixel's rays visited",
+            ),
+        };
+        ui.checkbox(&mut p.heatmap, label).on_hover_text(hover);
         if p.heatmap {
             ui.label(format!(
                 "accelerator visits per pixel (nodes or cells), dark purple = 0 … yellow ≥ {}",
