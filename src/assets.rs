@@ -57,6 +57,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/11-ray-tracing-on-the-gpu.md",
     "lessons/12-numerical-robustness.md",
     "lessons/starter/README.md",
+    "lessons/starter/sheet.toml",
     "lessons/starter/tracer.py",
     "lessons/exercises/01-camera.toml",
     "lessons/exercises/02-sphere.toml",

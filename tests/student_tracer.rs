@@ -221,3 +221,37 @@ fn planted_bugs_are_found_at_the_right_ray_and_named() {
     assert!(text.contains("(the refraction ray, depth"), "{text}");
     assert!(text.contains("Snell's ratio is inverted"), "{text}");
 }
+
+/// The example sheet shipped with the starter kit grades the model student full marks (its
+/// listed and per-student pixels, up to the closest hit), and the starter kit short of that.
+#[test]
+fn the_shipped_sheet_grades_the_model_student() {
+    let run = |tracer: &str, student: &str| -> Value {
+        let out = Command::cargo_bin("raystep")
+            .unwrap()
+            .current_dir(root())
+            .args([
+                "grade-tracer",
+                "--sheet",
+                "lessons/starter/sheet.toml",
+                "--student",
+                student,
+                "--json",
+                "--run",
+                &format!("python3 {tracer} {{scene}} {{x}} {{y}}"),
+            ])
+            .assert()
+            .success()
+            .get_output()
+            .clone();
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    // 3 + 2 pixels of three-spheres and 1 + 1 of first-sphere, four stages each.
+    for student in ["s1001", "s1002"] {
+        let v = run("tests/student_tracer/tracer.py", student);
+        assert_eq!(failures(&v), Vec::<String>::new(), "{student}");
+        assert_eq!(v["max_score"], 28.0, "{v}");
+    }
+    let v = run("lessons/starter/tracer.py", "s1001");
+    assert!(v["score"].as_f64().unwrap() < 28.0, "{v}");
+}
