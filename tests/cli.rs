@@ -1329,11 +1329,11 @@ fn examples_write_every_built_in_file_and_refuse_to_overwrite() {
     let dir = tempfile::tempdir().unwrap();
     let out = ok(&Cli::with("examples --write @", &[&dir.path()]));
     let root = std::fs::canonicalize(dir.path()).unwrap();
-    // Every file of the repository's scenes/ and lessons/ folders, byte for byte, named with its
-    // full path.
+    // Every file of the repository's scenes/ and lessons/ folders (the starter kit too), byte
+    // for byte, named with its full path.
     let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut count = 0;
-    for sub in ["scenes", "lessons", "lessons/exercises"] {
+    for sub in ["scenes", "lessons", "lessons/exercises", "lessons/starter"] {
         for e in std::fs::read_dir(repo.join(sub)).unwrap() {
             let p = e.unwrap().path();
             if p.is_dir() {
