@@ -809,3 +809,63 @@ fn the_image_check_counts_the_pixels_off() {
         "{t}"
     );
 }
+
+/// `--scene` takes a built-in scene's name too (the student's program gets its unpacked file);
+/// bad arguments are refused with a message and a non-zero exit before anything runs.
+#[test]
+fn grade_tracer_arguments() {
+    let out = raystep()
+        .args([
+            "grade-tracer",
+            "--scene",
+            "first-sphere",
+            "--pixels",
+            "160,120",
+            "--run",
+            &raystep_as_student(),
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.starts_with("student: 7 / 7"), "{text}");
+    let scene = root()
+        .join("scenes/first-sphere.toml")
+        .display()
+        .to_string();
+    for (args, words) in [
+        (vec!["--scene", &scene, "--pixels", "a,b"], "--pixels"),
+        (
+            vec!["--scene", &scene, "--pixels", "999,0"],
+            "outside the 320×240 image",
+        ),
+        (vec!["--scene", &scene, "--pixels", ";"], "lists no pixel"),
+        (
+            vec!["--scene", &scene, "--pixels", "1,1", "--timeout", "0"],
+            "--timeout 0",
+        ),
+        (
+            vec!["--scene", "no-such.toml", "--pixels", "1,1"],
+            "no-such.toml",
+        ),
+        (vec!["--run-twice"], "unexpected argument"),
+    ] {
+        let mut all = vec!["grade-tracer", "--run", "python3 x.py"];
+        all.extend(args.iter().copied());
+        let out = raystep().args(&all).assert().failure().get_output().clone();
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains(words), "{all:?}: {err}");
+    }
+    let out = raystep()
+        .args(["grade-tracer", "--run", "python3 x.py"])
+        .assert()
+        .failure()
+        .get_output()
+        .clone();
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("give a --sheet, or --scene and --pixels")
+    );
+}

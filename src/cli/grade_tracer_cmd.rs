@@ -16,7 +16,7 @@ pub struct GradeTracerArgs {
     /// A grading sheet (TOML): scenes, pixels, per-student pixels, the last stage, limits.
     #[arg(long, conflicts_with_all = ["scene", "pixels"])]
     pub sheet: Option<PathBuf>,
-    /// A quick check without a sheet: the scene file.
+    /// A quick check without a sheet: the scene file, or a built-in scene's name (`cornell`).
     #[arg(long, requires = "pixels")]
     pub scene: Option<PathBuf>,
     /// With --scene: the pixels, `X,Y;X,Y;…`.
@@ -84,8 +84,11 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         None => None,
     };
     let quick: Option<Job> = match (&args.scene, &args.pixels) {
-        (Some(path), Some(px)) => {
+        (Some(arg), Some(px)) => {
             let pixels = parse_pixels(px)?;
+            // A file, or a built-in scene by name (its unpacked copy is what the student's
+            // program is given).
+            let path = &crate::assets::resolve_scene(arg)?;
             let scene = crate::scene::load_file(path).map_err(|e| e.to_string())?;
             let (w, h) = (scene.camera.width, scene.camera.height);
             if let Some([x, y]) = pixels.iter().find(|[x, y]| *x >= w || *y >= h) {
