@@ -255,3 +255,97 @@ fn the_shipped_sheet_grades_the_model_student() {
     let v = run("lessons/starter/tracer.py", "s1001");
     assert!(v["score"].as_f64().unwrap() < 28.0, "{v}");
 }
+
+/// A sheet can vary the scene per student: each student's program is given their own variant
+/// file (values drawn from the student id, the same id the same values; comments kept; a mesh
+/// still found), raystep grades against that variant, and the model student gets full marks on
+/// it. A `vary` naming no object of the scene is refused, naming the sheet and the object.
+#[test]
+fn sheets_vary_the_scene_per_student() {
+    let dir = tempfile::tempdir().unwrap();
+    let sheet = dir.path().join("vary.toml");
+    let scenes = root().join("scenes");
+    std::fs::write(
+        &sheet,
+        format!(
+            "upto = \"color\"\n\
+             [[scene]]\nfile = \"{0}/three-spheres.toml\"\npixels = [[150, 110], [100, 160]]\n\
+             [[scene.vary]]\nobject = \"middle\"\nkey = \"radius\"\nrange = [0.8, 1.2]\n\
+             [[scene.vary]]\nobject = \"key\"\nkey = \"position\"\nindex = 1\nrange = [6, 14]\ndecimals = 1\n\
+             [[scene]]\nfile = \"{0}/triangles.toml\"\npixels = [[80, 130]]\n\
+             [[scene.vary]]\nobject = \"icosahedron\"\nkey = \"scale\"\nrange = [0.9, 1.1]\n",
+            scenes.display()
+        ),
+    )
+    .unwrap();
+    let s = raystep::student::load_sheet(&sheet).unwrap();
+    let jobs = |who: &str| raystep::student::sheet_jobs(&s, &sheet, who).unwrap();
+    let (a, a2, b) = (jobs("ada"), jobs("ada"), jobs("bob"));
+    let radius = |j: &raystep::student::Job| {
+        let sc = j.prepared.scene();
+        let id = (0..sc.objects.len() as u32)
+            .find(|&i| sc.object_name(i) == "middle")
+            .unwrap();
+        match sc.objects[id as usize].shape {
+            raystep::scene::Shape::Sphere { radius, .. } => radius,
+            other => panic!("{other:?}"),
+        }
+    };
+    assert_eq!(radius(&a[0]), radius(&a2[0]));
+    assert_ne!(
+        (radius(&a[0]), a[0].variant.clone()),
+        (radius(&b[0]), b[0].variant.clone())
+    );
+    assert!((0.8..=1.2).contains(&radius(&a[0])));
+    let text = std::fs::read_to_string(&a[0].path).unwrap();
+    assert!(
+        text.starts_with("# Three spheres on a plane, one light"),
+        "{text}"
+    );
+    assert!(
+        a[0].variant
+            .as_deref()
+            .unwrap()
+            .starts_with("middle.radius = "),
+        "{:?}",
+        a[0].variant
+    );
+    assert!(a[1].prepared.scene().objects.len() > 20, "the mesh loaded");
+    // The model student reads the variant it is given: full marks.
+    let out = Command::cargo_bin("raystep")
+        .unwrap()
+        .current_dir(root())
+        .args([
+            "grade-tracer",
+            "--sheet",
+            &sheet.display().to_string(),
+            "--student",
+            "ada",
+            "--json",
+            "--run",
+            MODEL,
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(failures(&v), Vec::<String>::new());
+    assert_eq!(v["max_score"], 21.0);
+    // A vary of an object the scene lacks.
+    std::fs::write(
+        &sheet,
+        format!(
+            "[[scene]]\nfile = \"{}/three-spheres.toml\"\npixels = [[1, 1]]\n\
+             [[scene.vary]]\nobject = \"nobody\"\nkey = \"radius\"\nrange = [1, 2]\n",
+            scenes.display()
+        ),
+    )
+    .unwrap();
+    let s = raystep::student::load_sheet(&sheet).unwrap();
+    let err = raystep::student::sheet_jobs(&s, &sheet, "ada").unwrap_err();
+    assert!(
+        err.contains("vary.toml") && err.contains("named \"nobody\""),
+        "{err}"
+    );
+}

@@ -281,7 +281,7 @@ pub(crate) fn draw(sheet: &str, question: &str, student: &str, name: &str) -> u6
     u64::from_le_bytes(d[..8].try_into().expect("eight bytes"))
 }
 
-fn uniform(bits: u64) -> f64 {
+pub(crate) fn uniform(bits: u64) -> f64 {
     (bits >> 11) as f64 / (1u64 << 53) as f64
 }
 

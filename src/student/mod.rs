@@ -43,6 +43,8 @@ pub struct Job {
     pub pixels: Vec<[u32; 2]>,
     /// raystep's render, made once when an image is checked.
     pub reference: std::sync::Arc<std::sync::OnceLock<Result<::image::RgbImage, String>>>,
+    /// The values drawn for this student's variant of the scene, if it varies.
+    pub variant: Option<String>,
 }
 
 impl Job {
@@ -57,6 +59,7 @@ impl Job {
             prepared,
             pixels,
             reference: Default::default(),
+            variant: None,
         }
     }
 }
@@ -193,6 +196,11 @@ pub fn grade_submission(
                     for c in compare::grade(&exp, &pixels, upto, tol) {
                         let mut output = c.message.clone();
                         if !c.pass
+                            && let Some(v) = &job.variant
+                        {
+                            output += &format!("\n(Your variant of the scene: {v}.)");
+                        }
+                        if !c.pass
                             && let Some(k) = c.step
                         {
                             output += &format!(
@@ -321,6 +329,120 @@ pub struct SheetScene {
     /// Pixels drawn per student.
     #[serde(default)]
     pub random_pixels: u32,
+    /// Scene values drawn per student (each student grades on their own variant of the scene).
+    #[serde(default)]
+    pub vary: Vec<Vary>,
+}
+
+/// One value of a scene drawn per student: key `key` (element `index` of a vector) of the object,
+/// light or material named `object`, uniformly in `range`, rounded to `decimals` places.
+///
+/// ```toml
+/// [[scene.vary]]
+/// object = "middle"
+/// key = "radius"
+/// range = [0.8, 1.2]
+/// ```
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Vary {
+    /// The `name` of a `[[sphere]]`, `[[plane]]`, `[[triangle]]`, `[[mesh]]`, `[[light]]` or
+    /// `[[material]]` of the scene file.
+    pub object: String,
+    /// The key to set (a number, or a vector with `index`).
+    pub key: String,
+    /// Which element of a vector key (0 = x).
+    #[serde(default)]
+    pub index: Option<usize>,
+    /// The interval the value is drawn from.
+    pub range: [f64; 2],
+    /// Decimal places (default 2).
+    #[serde(default = "two")]
+    pub decimals: u32,
+}
+
+fn two() -> u32 {
+    2
+}
+
+/// The scene file's text with `vary`'s values for `student` set in it (by `toml_edit`, so the
+/// file keeps its comments and layout) and mesh files made absolute, so the variant can live in
+/// another folder; and a line saying what was drawn.
+fn variant_text(
+    text: &str,
+    scene_dir: &Path,
+    vary: &[Vary],
+    id: &str,
+    file: &str,
+    student: &str,
+) -> Result<(String, String), String> {
+    let mut doc: toml_edit::DocumentMut = text.parse().map_err(|e| format!("{e}"))?;
+    let mut drawn = vec![];
+    for v in vary {
+        let [lo, hi] = v.range;
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(format!(
+                "vary {}.{}: range must be two finite numbers, low first",
+                v.object, v.key
+            ));
+        }
+        let what = format!(
+            "{}.{}{}",
+            v.object,
+            v.key,
+            v.index.map_or(String::new(), |i| format!("[{i}]"))
+        );
+        let u = crate::lesson::uniform(crate::lesson::draw(id, file, student, &what));
+        let scale = 10f64.powi(v.decimals.min(9) as i32);
+        let x = ((lo + u * (hi - lo)) * scale).round() / scale;
+        let mut found = false;
+        for kind in ["sphere", "plane", "triangle", "mesh", "light", "material"] {
+            let Some(tables) = doc.get_mut(kind).and_then(|t| t.as_array_of_tables_mut()) else {
+                continue;
+            };
+            for t in tables.iter_mut() {
+                if t.get("name").and_then(|n| n.as_str()) != Some(v.object.as_str()) {
+                    continue;
+                }
+                found = true;
+                match v.index {
+                    None => {
+                        t[v.key.as_str()] = toml_edit::value(x);
+                    }
+                    Some(i) => {
+                        let arr = t
+                            .get_mut(v.key.as_str())
+                            .and_then(|k| k.as_array_mut())
+                            .filter(|a| i < a.len())
+                            .ok_or_else(|| {
+                                format!(
+                                    "vary {what}: \"{}\" has no vector {} with an element {i}",
+                                    v.object, v.key
+                                )
+                            })?;
+                        arr.replace(i, x);
+                    }
+                }
+            }
+        }
+        if !found {
+            return Err(format!(
+                "vary {what}: the scene has no object, light or material named \"{}\"",
+                v.object
+            ));
+        }
+        drawn.push(format!("{what} = {x}"));
+    }
+    // Mesh files, relative to the original scene, made absolute.
+    if let Some(meshes) = doc.get_mut("mesh").and_then(|t| t.as_array_of_tables_mut()) {
+        for m in meshes.iter_mut() {
+            if let Some(obj) = m.get("obj").and_then(|o| o.as_str()).map(str::to_string) {
+                let abs = scene_dir.join(obj);
+                m["obj"] = toml_edit::value(abs.display().to_string());
+            }
+        }
+    }
+    Ok((doc.to_string(), drawn.join(", ")))
 }
 
 /// Reads a sheet; errors name the file, line and column.
@@ -370,7 +492,50 @@ pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec
     });
     let mut jobs = vec![];
     for sc in &sheet.scene {
-        let path = base.join(&sc.file);
+        let mut path = base.join(&sc.file);
+        let mut variant = None;
+        if !sc.vary.is_empty() {
+            // The student's own variant of the scene, written where it outlives the grading
+            // (the feedback's `raystep open` links point at it).
+            let text = std::fs::read_to_string(&path)
+                .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+            let dir = std::path::absolute(path.parent().unwrap_or(Path::new(".")))
+                .map_err(|e| e.to_string())?;
+            let (varied, drawn) = variant_text(
+                &text,
+                &dir,
+                &sc.vary,
+                &id,
+                &sc.file.display().to_string(),
+                student,
+            )
+            .map_err(|e| format!("{}: {}: {e}", sheet_path.display(), sc.file.display()))?;
+            let safe: String = student
+                .chars()
+                .map(|c| {
+                    if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                        c
+                    } else {
+                        '_'
+                    }
+                })
+                .collect();
+            let out = std::env::temp_dir()
+                .join("raystep-grade")
+                .join(&id)
+                .join(safe)
+                .join(
+                    sc.file
+                        .file_name()
+                        .unwrap_or(std::ffi::OsStr::new("scene.toml")),
+                );
+            if let Some(d) = out.parent() {
+                std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+            }
+            crate::io::write_atomic(&out, varied.as_bytes())?;
+            path = out;
+            variant = Some(drawn);
+        }
         let scene = crate::scene::load_file(&path).map_err(|e| e.to_string())?;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let mut pixels = vec![];
@@ -393,11 +558,13 @@ pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec
                 crate::lesson::pick_int(py, 0, h as i64 - 1) as u32,
             ]);
         }
-        jobs.push(Job::new(
+        let mut job = Job::new(
             std::path::absolute(&path).unwrap_or(path),
             std::sync::Arc::new(PreparedScene::new(scene)),
             pixels,
-        ));
+        );
+        job.variant = variant;
+        jobs.push(job);
     }
     Ok(jobs)
 }
