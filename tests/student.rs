@@ -174,6 +174,17 @@ fn edit(text: &str, ty: &str, k: usize, f: impl Fn(&mut Value)) -> String {
 /// and the common ones are named: b without its 2, a normal not normalized or not flipped, a
 /// light said blocked, a wrong colour, a missing hit; skipped tests, shuffled tests and a
 /// student's own extra records are not errors.
+/// Multiplies a `hit` record's normal by `k`.
+fn scale_normal(v: &mut Value, k: f64) {
+    let n: Vec<f64> = v["normal"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| k * x.as_f64().unwrap())
+        .collect();
+    v["normal"] = Value::from(n);
+}
+
 #[test]
 fn planted_mistakes_are_found_and_named() {
     let scene = root().join("scenes/mirror-glass.toml");
@@ -195,28 +206,12 @@ fn planted_mistakes_are_found_and_named() {
     assert!(msg.contains("looks like f·Q"), "{msg}");
     assert!(msg.starts_with("ray 0 (the primary ray"), "{msg}");
 
-    let flipped = edit(&ours, "hit", 0, |v| {
-        let n: Vec<f64> = v["normal"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| -x.as_f64().unwrap())
-            .collect();
-        v["normal"] = Value::from(n);
-    });
+    let flipped = edit(&ours, "hit", 0, |v| scale_normal(v, -1.0));
     let (st, msg) = first_failure(&e, &flipped).unwrap();
     assert_eq!(st, Stage::ClosestHit);
     assert!(msg.contains("points away from the ray"), "{msg}");
 
-    let long = edit(&ours, "hit", 0, |v| {
-        let n: Vec<f64> = v["normal"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|x| 2.0 * x.as_f64().unwrap())
-            .collect();
-        v["normal"] = Value::from(n);
-    });
+    let long = edit(&ours, "hit", 0, |v| scale_normal(v, 2.0));
     let (_, msg) = first_failure(&e, &long).unwrap();
     assert!(msg.contains("has length 2.000: normalize it"), "{msg}");
 
