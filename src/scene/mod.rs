@@ -3,6 +3,7 @@
 //! [`SceneError`].
 
 pub mod camera;
+pub mod edit;
 mod features;
 mod load;
 mod model;
