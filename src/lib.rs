@@ -70,6 +70,7 @@ pub mod shapes;
 pub mod stability;
 pub mod student;
 pub mod trace;
+pub mod view3d;
 
 pub use scene::Scene;
 pub use trace::{PreparedScene, Tracer};

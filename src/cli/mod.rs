@@ -14,6 +14,7 @@ mod render_cmd;
 mod scene_cmd;
 mod stability_cmd;
 mod trace_cmd;
+mod view_cmd;
 
 use crate::scene::{AccelChoice, OffsetPolicy, Scene};
 use crate::shapes::{SphereMethod, TriangleMethod};
@@ -52,6 +53,9 @@ pub enum Command {
     /// Render a scene at spp 1, 2, 4, … with several seeds against a high-spp reference; error
     /// against spp and trace time (Markdown, CSV, plots).
     Converge(converge_cmd::ConvergeArgs),
+    /// Draw the 3D scene view — the scene, the camera with its image plane and a pixel's rays up
+    /// to a step — into a PNG (on the GPU adapter; lavapipe on a machine without a GPU).
+    View(view_cmd::ViewArgs),
     /// Draw a traced pixel's diagrams (PNG), or every step as an animated GIF or PNG frames.
     Diagram(diagram_cmd::DiagramArgs),
     /// Compare two saved traces step by step and report the first divergence (exit 0 equal,
@@ -238,6 +242,7 @@ pub fn main() -> ExitCode {
         Some(Command::Compare(args)) => compare_cmd::run(&args),
         Some(Command::Bench(args)) => bench_cmd::run(&args),
         Some(Command::Diagram(args)) => diagram_cmd::run(&args),
+        Some(Command::View(args)) => view_cmd::run(&args),
         Some(Command::Stability(args)) => stability_cmd::run_cmd(&args),
         Some(Command::Converge(args)) => converge_cmd::run_cmd(&args),
         // Its own exit status: 1 means "the traces differ", 2 bad input.

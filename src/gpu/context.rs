@@ -88,7 +88,7 @@ impl GpuContext {
 
     /// Runs `f` inside a validation and an out-of-memory error scope; a captured error becomes
     /// a [`GpuError`] instead of wgpu's default panic.
-    pub(super) fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+    pub(crate) fn checked<T>(&self, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f();
@@ -100,7 +100,7 @@ impl GpuContext {
         }
     }
 
-    pub(super) fn wait(&self) -> Result<(), GpuError> {
+    pub(crate) fn wait(&self) -> Result<(), GpuError> {
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: None,
