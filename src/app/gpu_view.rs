@@ -29,6 +29,8 @@ pub enum CentralTab {
     Gpu,
     /// CPU − GPU, pixel by pixel.
     Difference,
+    /// The scene in 3D with the pixel's rays, and the editor.
+    Scene3d,
 }
 
 /// The orbit applied to the scene's camera in the GPU view.
@@ -297,6 +299,11 @@ pub fn tabs(ui: &mut egui::Ui, gpu: &mut GpuView) {
                 CentralTab::Difference,
                 "CPU − GPU",
                 "where the two renders differ, and by how much",
+            ),
+            (
+                CentralTab::Scene3d,
+                "3D view",
+                "the scene in space: the camera, its image plane and the pixel's rays; edit the scene",
             ),
         ] {
             if ui

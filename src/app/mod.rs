@@ -16,6 +16,7 @@ pub mod lab;
 pub mod layout;
 pub mod panels;
 pub mod prefs;
+pub mod scene3d;
 pub mod state;
 mod stepping;
 pub mod view;
@@ -288,6 +289,30 @@ impl RaystepApp {
             return;
         }
         use egui::Key;
+        // Editing: redo first (Ctrl+Shift+Z would also match Ctrl+Z, which ignores Shift).
+        {
+            use egui::{KeyboardShortcut, Modifiers};
+            use state::editing::EditCmd;
+            let shift_cmd = Modifiers::COMMAND | Modifiers::SHIFT;
+            let (redo, undo, save) = ctx.input_mut(|i| {
+                let redo = i.consume_shortcut(&KeyboardShortcut::new(shift_cmd, Key::Z))
+                    || i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Y));
+                let undo = i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Z));
+                let save = i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::S));
+                (redo, undo, save)
+            });
+            if self.state.editor.is_some() {
+                if redo {
+                    cmds.push(Command::Edit(EditCmd::Redo));
+                }
+                if undo {
+                    cmds.push(Command::Edit(EditCmd::Undo));
+                }
+                if save {
+                    cmds.push(Command::Edit(EditCmd::Save(None)));
+                }
+            }
+        }
         // Every press event counts (auto-repeat included), not "was it pressed this frame":
         // two quick presses that land in one frame are two steps.
         let pressed: Vec<Key> = ctx.input(|i| {

@@ -70,6 +70,13 @@ pub struct Views {
     pub markdown: egui_commonmark::CommonMarkCache,
     /// The GPU view (and which tab the central panel shows).
     pub gpu: super::gpu_view::GpuView,
+    /// The 3D scene view.
+    pub scene3d: super::scene3d::Scene3dView,
+    /// The 3D view docked in the diagram panel (beside the render), and whether it is shown
+    /// there in place of the diagram.
+    pub scene3d_docked: super::scene3d::Scene3dView,
+    /// Show the docked 3D view in the diagram panel.
+    pub diagram_3d: bool,
     /// The stability lab window.
     pub lab: super::lab::LabView,
 }

@@ -181,6 +181,13 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut V
                 CentralTab::Cpu => view::render_view(ui, state, views, cmds),
                 CentralTab::Gpu => gpu_view::gpu_tab(ui, state, &mut views.gpu),
                 CentralTab::Difference => gpu_view::difference_tab(ui, state, &mut views.gpu),
+                CentralTab::Scene3d => super::scene3d::tab(
+                    ui,
+                    state,
+                    &mut views.scene3d,
+                    views.gpu.render_state.as_ref(),
+                    cmds,
+                ),
             }
         }
     });
@@ -728,6 +735,15 @@ fn diagram_panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &
     }
     if p != state.prefs {
         cmds.push(Command::SetPrefs(p));
+    }
+    if views.gpu.available() {
+        ui.toggle_value(&mut views.diagram_3d, "3D view here")
+            .on_hover_text("the 3D view of the scene and the pixel's rays, beside the render");
+    }
+    if views.diagram_3d && views.gpu.available() {
+        let rs = views.gpu.render_state.clone();
+        super::scene3d::docked(ui, state, &mut views.scene3d_docked, rs.as_ref(), cmds);
+        return;
     }
     let avail = ui.available_size();
     let ppp = ui.ctx().pixels_per_point();

@@ -2,6 +2,7 @@
 //! settings, the background render, the selected pixel's trace and the step being shown. Panels
 //! read it and return [`Command`]s; [`AppState::apply`] is the only place that changes it.
 
+pub mod editing;
 pub mod learn;
 mod save;
 
@@ -64,6 +65,8 @@ pub enum SaveKind {
     DiagramPng,
     /// Every step of the current diagram as an animated GIF.
     StepsGif,
+    /// The edited scene as TOML ("Save as").
+    Scene,
 }
 
 impl SaveKind {
@@ -73,6 +76,7 @@ impl SaveKind {
             SaveKind::Trace => "Save trace (JSON)",
             SaveKind::DiagramPng => "Export diagram (PNG)",
             SaveKind::StepsGif => "Export all steps (animated GIF)",
+            SaveKind::Scene => "Save scene as (TOML)",
         }
     }
 }
@@ -127,6 +131,8 @@ pub enum Command {
     DismissError,
     /// Put the panels back to their default sizes (for the mode in force).
     ResetLayout,
+    /// Edit the scene, select an object, undo, redo, save.
+    Edit(editing::EditCmd),
 }
 
 /// A message for the status line.
@@ -192,6 +198,15 @@ pub struct AppState {
     pub trace_generation: u64,
     /// The lessons and the exercise session.
     pub learn: Learn,
+    /// The open scene's TOML document being edited (None: not editable, e.g. an exercise's
+    /// variant or a saved trace).
+    pub editor: Option<crate::scene::edit::SceneDoc>,
+    /// The file the editor saves to (None: the built-in scene, saved with "Save as").
+    pub editor_path: Option<PathBuf>,
+    /// The selected object group (the 3D view and the editor).
+    pub selected: Option<u32>,
+    /// How many edits were applied (views key their caches on it).
+    pub edits: u64,
     /// Settings a lesson laid over the file it opened (kept when that file reloads).
     overrides: Option<(PathBuf, LessonSettings)>,
     last_play: Option<Instant>,
@@ -234,6 +249,10 @@ impl AppState {
             dialog: None,
             trace_generation: 0,
             learn: Learn::load(&prefs.student),
+            editor: None,
+            editor_path: None,
+            selected: None,
+            edits: 0,
             overrides: None,
             last_play: None,
             loading: None,
@@ -270,6 +289,8 @@ impl AppState {
             }
             Command::OpenBuiltin => {
                 self.set_scene(Arc::new(crate::scene::default_scene()), None);
+                self.editor = Self::make_editor(crate::scene::DEFAULT_SCENE, None);
+                self.editor_path = None;
             }
             Command::Reload => self.reload(),
             Command::SetSettings(s) => {
@@ -329,6 +350,7 @@ impl AppState {
             Command::ShowDialog(d) => self.dialog = Some(d),
             Command::CloseDialog => self.dialog = None,
             Command::Learn(c) => self.apply_learn(c),
+            Command::Edit(c) => self.apply_edit(c),
         }
     }
 
@@ -507,10 +529,15 @@ impl AppState {
         if path_is_none(&self.doc) {
             self.watch = None;
         }
+        let path = self.path().map(Path::to_path_buf);
+        self.refresh_editor(path.as_deref());
         self.restart_render();
     }
 
     fn open_trace(&mut self, trace: Trace, path: &Path) {
+        self.editor = None;
+        self.editor_path = None;
+        self.selected = None;
         self.job = None;
         self.prepared = None;
         self.rendered = None;

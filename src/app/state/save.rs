@@ -21,11 +21,16 @@ impl AppState {
             SaveKind::Trace => format!("{stem}-{x}-{y}.json"),
             SaveKind::DiagramPng => format!("{stem}-{x}-{y}-{kind_name}-step{}.png", self.step),
             SaveKind::StepsGif => format!("{stem}-{x}-{y}-steps.gif"),
+            SaveKind::Scene => format!("{stem}-edited.toml"),
         }
     }
 
     pub(super) fn save(&mut self, kind: SaveKind, path: &Path) {
         self.dialog = None;
+        if kind == SaveKind::Scene {
+            self.apply_edit(editing::EditCmd::Save(Some(path.to_path_buf())));
+            return;
+        }
         if kind == SaveKind::StepsGif {
             self.export_gif(path);
             return;
@@ -52,6 +57,7 @@ impl AppState {
             SaveKind::Trace => "json",
             SaveKind::DiagramPng => "png",
             SaveKind::StepsGif => "gif",
+            SaveKind::Scene => "toml",
         };
         if !path
             .extension()
@@ -72,6 +78,7 @@ impl AppState {
                 Ok(format!("{} diagram, step {}", kind.name(), self.step))
             }
             SaveKind::StepsGif => Err("GIFs are written in the background".into()),
+            SaveKind::Scene => Err("scenes are saved by the editor".into()),
         }
     }
 
