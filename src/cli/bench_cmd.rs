@@ -49,6 +49,9 @@ pub enum Section {
     /// The GPU view at 1280×720: fragment vs compute, generated vs full shader, shader sizes
     /// (the scenes plus the sphereflake, SPD balls size 3).
     Gpu,
+    /// The 3D view at 1280×720 (with and without the 8×8 fan) and the time from an edit to the
+    /// updated trace, on the scenes and the 7,381-sphere sphereflake (SPD balls size 4).
+    View3d,
     /// Everything.
     All,
 }
@@ -132,6 +135,28 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             println!("## {}", s.name);
             crate::bench::traversal_vs_obvhs(&s, &bvh, reps, args.side);
         }
+    }
+    if args.section == Section::View3d {
+        let mut inputs = vec![];
+        for p in &paths {
+            let text = crate::io::read_text(p, crate::io::limits::SCENE, "scene file")
+                .map_err(|e| format!("{}: {e}", p.display()))?;
+            let name = p.file_name().map_or_else(
+                || p.display().to_string(),
+                |n| n.to_string_lossy().into_owned(),
+            );
+            inputs.push((name, text, p.parent().map(std::path::Path::to_path_buf)));
+        }
+        if inputs.is_empty() {
+            inputs.push((
+                crate::scene::DEFAULT_SCENE_NAME.to_string(),
+                crate::scene::DEFAULT_SCENE.to_string(),
+                None,
+            ));
+        }
+        let flake = crate::scene::spd::generate(crate::scene::spd::SpdScene::Balls, 4)?;
+        inputs.push(("SPD balls 4 (sphereflake)".into(), flake.toml, None));
+        crate::bench::view3d(&inputs, reps)?;
     }
     if args.section == Section::Gpu {
         let flake = crate::scene::spd::generate(crate::scene::spd::SpdScene::Balls, 3)?;
