@@ -100,6 +100,26 @@ impl GpuContext {
         }
     }
 
+    /// Maps a `MAP_READ` buffer whose copy has been submitted, waits for the GPU, and returns
+    /// its bytes (the buffer is unmapped again).
+    pub(crate) fn read_mapped(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        let slice = buffer.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        rx.recv()
+            .map_err(|e| GpuError::Device(e.to_string()))?
+            .map_err(|e| GpuError::Device(format!("mapping the readback buffer: {e}")))?;
+        let bytes = slice
+            .get_mapped_range()
+            .map_err(|e| GpuError::Device(format!("reading the readback buffer: {e:?}")))?
+            .to_vec();
+        buffer.unmap();
+        Ok(bytes)
+    }
+
     pub(crate) fn wait(&self) -> Result<(), GpuError> {
         self.device
             .poll(wgpu::PollType::Wait {

@@ -436,20 +436,7 @@ impl Renderer {
             self.ctx.queue.submit([encoder.finish()]);
             buffer
         })?;
-        let slice = buffer.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.ctx.wait()?;
-        rx.recv()
-            .map_err(|e| GpuError::Device(e.to_string()))?
-            .map_err(|e| GpuError::Device(format!("mapping the 3D view: {e}")))?;
-        let bytes = slice
-            .get_mapped_range()
-            .map_err(|e| GpuError::Device(format!("reading the 3D view: {e:?}")))?
-            .to_vec();
-        buffer.unmap();
+        let bytes = self.ctx.read_mapped(&buffer)?;
         let used = (w * 4) as usize;
         let pixels: Vec<u8> = bytes
             .chunks(row as usize)

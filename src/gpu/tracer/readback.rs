@@ -26,21 +26,7 @@ impl GpuTracer {
     }
 
     fn map(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-        let slice = buffer.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        self.ctx.wait()?;
-        rx.recv()
-            .map_err(|e| GpuError::Device(e.to_string()))?
-            .map_err(|e| GpuError::Device(format!("mapping the readback buffer: {e}")))?;
-        let bytes = slice
-            .get_mapped_range()
-            .map_err(|e| GpuError::Device(format!("reading the readback buffer: {e:?}")))?
-            .to_vec();
-        buffer.unmap();
-        Ok(bytes)
+        self.ctx.read_mapped(buffer)
     }
 
     /// Copies `texture` (the target's size, `texel` bytes per pixel) into a buffer and returns
