@@ -855,3 +855,73 @@ pub fn view3d(
     }
     Ok(())
 }
+
+/// How the cost of a ray grows with the scene: the SPD scenes from tens to a million primitives,
+/// each with the BVH, one thread, at most 160×120 pixels, all ray kinds: the build, the tree's
+/// depth, node visits and primitive tests per ray, time per ray, and time per ray divided by
+/// log₂ n (flat where the cost is logarithmic). Brute force is timed where it finishes (up to
+/// 1,000 primitives) to show the linear cost the tree avoids.
+pub fn growth(reps: usize) -> Result<(), String> {
+    use crate::scene::spd::{SpdScene, generate};
+    println!("## Cost per ray against the number of primitives (BVH, one thread, all ray kinds)");
+    println!(
+        "| scene | primitives | build (ms) | depth | visits / ray | tests / ray | ns / ray | ns / ray ÷ log₂ n | brute force ns / ray |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
+    let n = |x: f64| crate::record::number::fmt64(x, crate::record::number::Style::Label);
+    let plan: [(SpdScene, &[u32]); 3] = [
+        (SpdScene::Balls, &[1, 2, 3, 4, 5]),
+        (SpdScene::Tetra, &[1, 2, 4, 6, 8, 9]),
+        (SpdScene::Mount, &[1, 2, 4, 6, 8, 9]),
+    ];
+    for (kind, sizes) in plan {
+        for &size in sizes {
+            let out = generate(kind, size)?;
+            if let Some((name, obj)) = &out.obj {
+                std::fs::write(dir.path().join(name), obj).map_err(|e| e.to_string())?;
+            }
+            let name = format!("SPD {} {size}", kind.name());
+            let mut s = load_str(&out.toml, &name, Some(dir.path())).map_err(|e| e.to_string())?;
+            s.name = name;
+            let mut s = comparison_size(&s);
+            s.settings.accel = AccelChoice::Bvh;
+            let mut builds: Vec<(SceneAccel, Duration)> = (0..reps.clamp(1, 3))
+                .map(|_| SceneAccel::build(&s))
+                .collect();
+            builds.sort_by_key(|b| b.1);
+            let build = builds[builds.len() / 2].1;
+            let accel = &builds[0].0;
+            let depth = match accel {
+                SceneAccel::Bvh(b) => b.max_depth,
+                _ => 0,
+            };
+            let tracer = Tracer::new(&s, accel);
+            let c = count_rays(&tracer);
+            let rays = c.rays().max(1) as f64;
+            let t = median_time(reps, || all_pixels(&tracer));
+            let per_ray = t.as_secs_f64() * 1e9 / rays;
+            let prims = s.features.primitives.max(2) as f64;
+            let brute = if s.features.primitives <= 1000 {
+                s.settings.accel = AccelChoice::None;
+                let (b, _) = SceneAccel::build(&s);
+                let bt = Tracer::new(&s, &b);
+                let tb = median_time(reps.min(3), || all_pixels(&bt));
+                n(tb.as_secs_f64() * 1e9 / rays)
+            } else {
+                "—".into()
+            };
+            println!(
+                "| {} | {} | {} | {depth} | {} | {} | {} | {} | {brute} |",
+                s.name,
+                s.features.primitives,
+                n(build.as_secs_f64() * 1e3),
+                n(c.node_visits as f64 / rays),
+                n(c.prim_tests as f64 / rays),
+                n(per_ray),
+                n(per_ray / prims.log2()),
+            );
+        }
+    }
+    Ok(())
+}

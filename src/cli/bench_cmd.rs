@@ -52,6 +52,10 @@ pub enum Section {
     /// The 3D view at 1280×720 (with and without the 8×8 fan) and the time from an edit to the
     /// updated trace, on the scenes and the 7,381-sphere sphereflake (SPD balls size 4).
     View3d,
+    /// How the cost of a ray grows with the number of primitives: SPD balls, tetra and mount
+    /// from tens to a million primitives with the BVH (build, depth, visits, tests, time per ray
+    /// and time per ray ÷ log₂ n), brute force beside it up to 1,000 primitives.
+    Growth,
     /// Everything.
     All,
 }
@@ -135,6 +139,9 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             println!("## {}", s.name);
             crate::bench::traversal_vs_obvhs(&s, &bvh, reps, args.side);
         }
+    }
+    if args.section == Section::Growth {
+        crate::bench::growth(reps)?;
     }
     if args.section == Section::View3d {
         let mut inputs = vec![];
