@@ -68,7 +68,7 @@ pub struct Scene3dView {
     renderer: Option<Result<Renderer, String>>,
     texture: Option<egui::TextureId>,
     key: Option<DrawKey>,
-    fan_cache: Option<(usize, Vec<Trace>)>,
+    fan_cache: Option<(usize, Arc<Vec<Trace>>)>,
     drag: Option<Drag>,
     /// The view camera of the last frame and where the picture was drawn (screen points).
     pub last_view: Option<(ViewCamera, Rect)>,
@@ -97,18 +97,20 @@ impl Scene3dView {
         r.as_mut().map_err(|e| e.clone())
     }
 
-    fn fan(&mut self, state: &AppState) -> Vec<Trace> {
+    /// The fan's traces for the prepared scene, recorded once per scene and settings.
+    fn fan(&mut self, state: &AppState) -> Arc<Vec<Trace>> {
         let Some(p) = &state.prepared else {
-            return vec![];
+            return Arc::default();
         };
         let key = Arc::as_ptr(p) as usize;
-        if self.fan_cache.as_ref().is_none_or(|(k, _)| *k != key) {
-            self.fan_cache = Some((key, view3d::fan_traces(p, FAN)));
+        match &self.fan_cache {
+            Some((k, t)) if *k == key => Arc::clone(t),
+            _ => {
+                let t = Arc::new(view3d::fan_traces(p, FAN));
+                self.fan_cache = Some((key, Arc::clone(&t)));
+                t
+            }
         }
-        self.fan_cache
-            .as_ref()
-            .map(|(_, t)| t.clone())
-            .unwrap_or_default()
     }
 }
 
@@ -297,8 +299,12 @@ fn picture_ui(
             ui.visuals().dark_mode,
         ),
     };
-    let fan = if view.fan { view.fan(state) } else { vec![] };
     if view.key.as_ref() != Some(&key) || view.texture.is_none() {
+        let fan = if view.fan {
+            view.fan(state)
+        } else {
+            Arc::default()
+        };
         let options = geometry::Options {
             step: trace.as_ref().map(|_| state.step),
             bvh: view.bvh,
@@ -527,9 +533,7 @@ fn interact(
             }
             Drag::Pan => {
                 if let Viewpoint::Orbit(mut o) = view.viewpoint {
-                    let w = (cam.eye - cam.target).normalize_or(Vec3::Z);
-                    let u = cam.up.cross(w).normalize_or(Vec3::X);
-                    let v = w.cross(u);
+                    let (u, v, _) = cam.basis();
                     let k = cam.world_per_pixel(cam.target, rect.height());
                     let shift = (u * -delta.x + v * delta.y) * k;
                     o.pan = (Vec3::from(o.pan) + shift).to_array();

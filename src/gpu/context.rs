@@ -100,6 +100,60 @@ impl GpuContext {
         }
     }
 
+    /// Copies `texture` (`size` pixels, `texel` bytes each) into a mappable buffer, waits, and
+    /// returns its rows tightly packed, row-major from the top-left.
+    pub(crate) fn read_texture(
+        &self,
+        texture: &wgpu::Texture,
+        size: [u32; 2],
+        texel: u32,
+    ) -> Result<Vec<u8>, GpuError> {
+        let [w, h] = size;
+        let row = (w * texel).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+        let device = &self.device;
+        let buffer = self.checked("reading the image back", || {
+            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("raystep readback"),
+                size: u64::from(row) * u64::from(h),
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let mut encoder = device.create_command_encoder(&Default::default());
+            encoder.copy_texture_to_buffer(
+                wgpu::TexelCopyTextureInfo {
+                    texture,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d::ZERO,
+                    aspect: wgpu::TextureAspect::All,
+                },
+                wgpu::TexelCopyBufferInfo {
+                    buffer: &buffer,
+                    layout: wgpu::TexelCopyBufferLayout {
+                        offset: 0,
+                        bytes_per_row: Some(row),
+                        rows_per_image: Some(h),
+                    },
+                },
+                wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+            );
+            self.queue.submit([encoder.finish()]);
+            buffer
+        })?;
+        let bytes = self.read_mapped(&buffer)?;
+        let used = (w * texel) as usize;
+        Ok(bytes
+            .chunks(row as usize)
+            .take(h as usize)
+            .flat_map(|r| &r[..used])
+            .copied()
+            .collect())
+    }
+
     /// Maps a `MAP_READ` buffer whose copy has been submitted, waits for the GPU, and returns
     /// its bytes (the buffer is unmapped again).
     pub(crate) fn read_mapped(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {

@@ -131,18 +131,33 @@ impl ViewCamera {
 
     /// World → clip space (wgpu's depth range 0…1).
     pub fn view_proj(&self) -> Mat4 {
-        let view = glam::camera::rh::view::look_at_mat4(
-            self.eye,
-            self.target,
-            self.up.normalize_or(Vec3::Y),
-        );
-        let proj = glam::camera::rh::proj::directx::perspective(
+        self.projection() * self.view_from(self.eye)
+    }
+
+    /// View → clip space.
+    fn projection(&self) -> Mat4 {
+        glam::camera::rh::proj::directx::perspective(
             self.fov_y.to_radians(),
             self.aspect,
             self.near,
             self.far,
-        );
-        proj * view
+        )
+    }
+
+    /// World → view space with the eye at `eye` (the origin, for points given relative to it).
+    fn view_from(&self, eye: Vec3) -> Mat4 {
+        glam::camera::rh::view::look_to_mat4(
+            eye,
+            (self.target - self.eye).normalize(),
+            self.up.normalize_or(Vec3::Y),
+        )
+    }
+
+    /// The view's right, up and backward unit vectors (u, v, w), as the scene camera's are made.
+    pub fn basis(&self) -> (Vec3, Vec3, Vec3) {
+        let w = (self.eye - self.target).normalize_or(Vec3::Z);
+        let u = self.up.cross(w).normalize_or(Vec3::X);
+        (u, w.cross(u), w)
     }
 
     /// Where `p` lands in a `width`×`height` picture, in pixels from the top-left (pixel (x, y)
@@ -151,19 +166,8 @@ impl ViewCamera {
         // Relative to the eye: with the eye far from the origin, the view matrix's translation
         // (−R·eye) and R·p cancel in f32 and move a point near the eye by a good part of a pixel
         // (acne.toml's camera, 26 000 units out: a third of a pixel).
-        let rel = glam::camera::rh::view::look_at_mat4(
-            Vec3::ZERO,
-            self.target - self.eye,
-            self.up.normalize_or(Vec3::Y),
-        );
-        let proj = glam::camera::rh::proj::directx::perspective(
-            self.fov_y.to_radians(),
-            self.aspect,
-            self.near,
-            self.far,
-        );
         let q = p - self.eye;
-        let c = proj * rel * Vec4::new(q.x, q.y, q.z, 1.0);
+        let c = self.projection() * self.view_from(Vec3::ZERO) * Vec4::new(q.x, q.y, q.z, 1.0);
         if c.w <= 0.0 {
             return None;
         }
@@ -174,9 +178,7 @@ impl ViewCamera {
     /// The ray from the eye through point `at` (pixels from the top-left) of a `width`×`height`
     /// picture: origin and unit direction (for picking objects with the mouse).
     pub fn ray_through(&self, at: [f32; 2], width: f32, height: f32) -> (Vec3, Vec3) {
-        let w = (self.eye - self.target).normalize_or(Vec3::Z);
-        let u = self.up.cross(w).normalize_or(Vec3::X);
-        let v = w.cross(u);
+        let (u, v, w) = self.basis();
         let hh = (self.fov_y.to_radians() * 0.5).tan();
         let hw = hh * self.aspect;
         let sx = 2.0 * at[0] / width.max(1.0) - 1.0;

@@ -579,14 +579,14 @@ impl RaySpan<'_> {
 
 fn spans(t: &Trace) -> Vec<RaySpan<'_>> {
     let mut out: Vec<RaySpan> = vec![];
+    // Each ray's place in `out`, by address (a long trace has thousands of rays).
+    let mut index: std::collections::HashMap<*const RayRecord, usize> = Default::default();
     for (k, (r, _)) in t.timeline().into_iter().enumerate() {
-        match out.iter_mut().find(|s| std::ptr::eq(s.ray, r)) {
-            Some(s) => s.at.push(k),
-            None => out.push(RaySpan {
-                ray: r,
-                at: vec![k],
-            }),
-        }
+        let i = *index.entry(std::ptr::from_ref(r)).or_insert_with(|| {
+            out.push(RaySpan { ray: r, at: vec![] });
+            out.len() - 1
+        });
+        out[i].at.push(k);
     }
     out
 }

@@ -400,51 +400,8 @@ impl Renderer {
         let Some(t) = &self.target else {
             return Err(GpuError::Device("nothing was drawn yet".into()));
         };
-        let [w, h] = t.size;
-        let row = (w * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let device = &self.ctx.device;
-        let buffer = self.ctx.checked("reading the 3D view back", || {
-            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("3D view readback"),
-                size: u64::from(row) * u64::from(h),
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let mut encoder = device.create_command_encoder(&Default::default());
-            encoder.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture: &t.resolve,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &buffer,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row),
-                        rows_per_image: Some(h),
-                    },
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-            );
-            self.ctx.queue.submit([encoder.finish()]);
-            buffer
-        })?;
-        let bytes = self.ctx.read_mapped(&buffer)?;
-        let used = (w * 4) as usize;
-        let pixels: Vec<u8> = bytes
-            .chunks(row as usize)
-            .take(h as usize)
-            .flat_map(|r| &r[..used])
-            .copied()
-            .collect();
-        image::RgbaImage::from_raw(w, h, pixels)
+        let pixels = self.ctx.read_texture(&t.resolve, t.size, 4)?;
+        image::RgbaImage::from_raw(t.size[0], t.size[1], pixels)
             .ok_or_else(|| GpuError::Device("the 3D view's readback has the wrong size".into()))
     }
 }

@@ -3,28 +3,6 @@
 use super::*;
 
 impl GpuTracer {
-    /// Copies `bytes` bytes from a GPU copy source into a mappable buffer and returns them.
-    fn read_back(
-        &self,
-        size: u64,
-        copy: impl FnOnce(&mut wgpu::CommandEncoder, &wgpu::Buffer),
-    ) -> Result<Vec<u8>, GpuError> {
-        let device = &self.ctx.device;
-        let buffer = self.ctx.checked("reading the image back", || {
-            let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("raystep readback"),
-                size,
-                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            });
-            let mut encoder = device.create_command_encoder(&Default::default());
-            copy(&mut encoder, &buffer);
-            self.ctx.queue.submit([encoder.finish()]);
-            buffer
-        })?;
-        self.map(&buffer)
-    }
-
     fn map(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
         self.ctx.read_mapped(buffer)
     }
@@ -32,39 +10,8 @@ impl GpuTracer {
     /// Copies `texture` (the target's size, `texel` bytes per pixel) into a buffer and returns
     /// its rows tightly packed, row-major from the top-left.
     fn read_texture(&self, texture: &wgpu::Texture, texel: u32) -> Result<Vec<u8>, GpuError> {
-        let (w, h) = (self.target.width, self.target.height);
-        let row = (w * texel).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
-            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let bytes = self.read_back(row as u64 * h as u64, |encoder, buffer| {
-            encoder.copy_texture_to_buffer(
-                wgpu::TexelCopyTextureInfo {
-                    texture,
-                    mip_level: 0,
-                    origin: wgpu::Origin3d::ZERO,
-                    aspect: wgpu::TextureAspect::All,
-                },
-                wgpu::TexelCopyBufferInfo {
-                    buffer,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row),
-                        rows_per_image: Some(h),
-                    },
-                },
-                wgpu::Extent3d {
-                    width: w,
-                    height: h,
-                    depth_or_array_layers: 1,
-                },
-            );
-        })?;
-        let used = (w * texel) as usize;
-        Ok(bytes
-            .chunks(row as usize)
-            .take(h as usize)
-            .flat_map(|r| &r[..used])
-            .copied()
-            .collect())
+        self.ctx
+            .read_texture(texture, [self.target.width, self.target.height], texel)
     }
 
     pub(super) fn read_linear(&self) -> Result<Vec<Vec3>, GpuError> {
