@@ -19,7 +19,6 @@ use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{Bvh2, builder::build_bvh2};
 use obvhs::{Boundable, BvhBuildParams};
-use smallvec::SmallVec;
 use std::time::{Duration, Instant};
 
 /// How many levels of the tree the outline keeps (the ray tree diagram asks for at most this).
@@ -61,6 +60,7 @@ struct FastRay {
     inv: Vec3A,
     negative: BVec3A,
     enlarge: Vec3A,
+    t_min: Vec3A,
 }
 
 impl FastRay {
@@ -72,26 +72,115 @@ impl FastRay {
             inv: Vec3A::from(inv),
             negative: BVec3A::new(bits & 1 != 0, bits & 2 != 0, bits & 4 != 0),
             enlarge: Vec3A::splat(1.0 + 2.0 * gamma::<f32>(3)),
+            t_min: Vec3A::splat(ray.t_min),
         }
     }
 
-    /// (t_near, t_far) of the node's box.
+    /// (t_near, t_far) of the node's box, with `t_max` the ray's t_max in every lane.
+    ///
+    /// `ORDERED`: every slab distance is a number (no NaN), so entry and exit are simply the
+    /// smaller and the larger of the two — what the sign select gives, in two instructions
+    /// instead of six. The caller chooses it only when the direction, its reciprocals, the
+    /// origin and every box are finite (a difference, finite or overflowed to ±∞, times a
+    /// finite non-zero reciprocal is never NaN).
     #[inline(always)]
-    fn interval(&self, node: &Node, t_min: f32, t_max: f32) -> (f32, f32) {
+    fn interval<const ORDERED: bool>(&self, node: &Node, t_max: Vec3A) -> (f32, f32) {
         let t0 = (node.min - self.origin) * self.inv;
         let t1 = (node.max - self.origin) * self.inv;
-        let entry = Vec3A::select(self.negative, t1, t0);
-        let exit = Vec3A::select(self.negative, t0, t1) * self.enlarge;
+        let (entry, exit) = if ORDERED {
+            (t0.min(t1), t0.max(t1))
+        } else {
+            (
+                Vec3A::select(self.negative, t1, t0),
+                Vec3A::select(self.negative, t0, t1),
+            )
+        };
+        let exit = exit * self.enlarge;
         // A NaN slab distance (a ray lying in a face plane, 0·∞) imposes no limit — the scalar
-        // test gets this from f32::max ignoring NaN; here NaN lanes become ∓∞ so the plain SIMD
-        // horizontal max/min give the same values.
-        let entry = Vec3A::select(entry.is_nan_mask(), Vec3A::NEG_INFINITY, entry);
-        let exit = Vec3A::select(exit.is_nan_mask(), Vec3A::INFINITY, exit);
-        let (e, x) = (entry.max_element(), exit.min_element());
-        (
-            if e > t_min { e } else { t_min },
-            if x < t_max { x } else { t_max },
-        )
+        // test gets this from f32::max ignoring NaN. Here each lane is first limited by t_min
+        // (t_max), a NaN lane becoming t_min (t_max), which cannot change the result.
+        let entry = max_or_second(entry, self.t_min);
+        let exit = min_or_second(exit, t_max);
+        (entry.max_element(), exit.min_element())
+    }
+}
+
+/// Lane-wise `a > b ? a : b`: the larger, and `b` where `a` is NaN. On x86 this is exactly
+/// `MAXPS a, b`, which returns its second operand when either is NaN (Intel SDM), so it is one
+/// instruction; elsewhere (NEON's `vmaxq` propagates NaN) it is written out as a select.
+#[inline(always)]
+fn max_or_second(a: Vec3A, b: Vec3A) -> Vec3A {
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+    {
+        a.max(b)
+    }
+    #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+    {
+        Vec3A::select(a.cmpgt(b), a, b)
+    }
+}
+
+/// Lane-wise `a < b ? a : b`: the smaller, and `b` where `a` is NaN (`MINPS a, b` on x86).
+#[inline(always)]
+fn min_or_second(a: Vec3A, b: Vec3A) -> Vec3A {
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+    {
+        a.min(b)
+    }
+    #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+    {
+        Vec3A::select(a.cmplt(b), a, b)
+    }
+}
+
+/// The traversal's list of subtrees still to visit (first child index, and the children's depth
+/// when the observer records): the first 32 indices in an array on the machine stack, any beyond
+/// (a tree deeper than 32 levels on a ray that defers a subtree at every level) in a vector.
+/// Written out rather than a `SmallVec` because its push and pop are the traversal's inner loop;
+/// `records` (the observer's constant) keeps the depths, in a vector, only when they are recorded.
+struct Todo {
+    first: [u32; 32],
+    len: usize,
+    spill: Vec<u32>,
+    depth: Vec<u32>,
+}
+
+impl Todo {
+    #[inline(always)]
+    fn new() -> Self {
+        Todo {
+            first: [0; 32],
+            len: 0,
+            spill: Vec::new(),
+            depth: Vec::new(),
+        }
+    }
+
+    #[inline(always)]
+    fn push(&mut self, first: u32, depth: u32, records: bool) {
+        if records {
+            self.depth.push(depth);
+        }
+        match self.first.get_mut(self.len) {
+            Some(f) => {
+                *f = first;
+                self.len += 1;
+            }
+            None => self.spill.push(first),
+        }
+    }
+
+    #[inline(always)]
+    fn pop(&mut self, records: bool) -> Option<(u32, u32)> {
+        let first = match self.spill.pop() {
+            Some(top) => top,
+            None => {
+                self.len = self.len.checked_sub(1)?;
+                *self.first.get(self.len)?
+            }
+        };
+        let depth = if records { self.depth.pop()? } else { 0 };
+        Some((first, depth))
     }
 }
 
@@ -133,6 +222,9 @@ pub struct Bvh {
     pub outline: Vec<OutlineNode>,
     /// obvhs's tree itself (kept for comparisons with its own traversal).
     pub obvhs: Bvh2,
+    /// Whether every node's box is finite (then a ray with a finite origin and reciprocals takes
+    /// the box test without NaN handling).
+    finite_boxes: bool,
 }
 
 impl Bvh {
@@ -176,6 +268,7 @@ impl Bvh {
             .map(|&i| finite[i as usize])
             .collect();
         let max_depth = tree_depth(&nodes);
+        let finite_boxes = nodes.iter().all(|n| n.min.is_finite() && n.max.is_finite());
         let outline = compute_outline(&nodes, OUTLINE_DEPTH);
         let _ = core;
         Bvh {
@@ -186,13 +279,17 @@ impl Bvh {
             build_time: start.elapsed(),
             outline,
             obvhs: bvh2,
+            finite_boxes,
         }
     }
 
     /// A leaf's objects (one bounds check for the whole leaf).
     #[inline(always)]
     fn leaf(&self, node: &Node) -> &[u32] {
-        &self.leaf_objects[node.first as usize..(node.first + node.count) as usize]
+        let start = node.first as usize;
+        self.leaf_objects
+            .get(start..start + node.count as usize)
+            .unwrap_or_default()
     }
 
     /// Walks the tree for `ray`, calling `leaf(object, ray)` for each primitive in the leaves the
@@ -203,16 +300,33 @@ impl Bvh {
         &self,
         ray: &mut Ray<f32>,
         obs: &mut O,
-        mut leaf: impl FnMut(u32, &mut Ray<f32>, &mut O) -> bool,
+        leaf: impl FnMut(u32, &mut Ray<f32>, &mut O) -> bool,
     ) {
-        if self.nodes.is_empty() {
-            return;
-        }
         // True IEEE reciprocals: ±∞ for zero components, the sign of zero kept.
         let inv = Vec3::ONE / ray.dir;
+        // A finite direction has a non-zero reciprocal, so with finite boxes and origin no slab
+        // distance can be 0·∞ or ∞·0.
+        if self.finite_boxes && inv.is_finite() && ray.dir.is_finite() && ray.origin.is_finite() {
+            self.walk::<O, true>(ray, inv, obs, leaf)
+        } else {
+            self.walk::<O, false>(ray, inv, obs, leaf)
+        }
+    }
+
+    /// [`Bvh::traverse`] with the box test `ORDERED` or not (see [`FastRay::interval`]).
+    #[inline(always)]
+    fn walk<O: Observer, const ORDERED: bool>(
+        &self,
+        ray: &mut Ray<f32>,
+        inv: Vec3,
+        obs: &mut O,
+        mut leaf: impl FnMut(u32, &mut Ray<f32>, &mut O) -> bool,
+    ) {
         let fast = FastRay::new(ray, inv);
-        let root = &self.nodes[0];
-        let (t_near, t_far) = fast.interval(root, ray.t_min, ray.t_max);
+        let Some(root) = self.nodes.first() else {
+            return;
+        };
+        let (t_near, t_far) = fast.interval::<ORDERED>(root, Vec3A::splat(ray.t_max));
         let root_action = match (t_near <= t_far, root.is_leaf()) {
             (false, _) => NodeAction::Culled,
             (true, true) => NodeAction::TestPrimitives,
@@ -238,18 +352,22 @@ impl Bvh {
             }
             _ => {}
         }
-        // (first child index, depth of the children)
-        let mut stack: SmallVec<[(u32, u32); 64]> = SmallVec::new();
+        let mut todo = Todo::new();
+        // (first child index, depth of the children); the depth is only kept when recorded.
         let mut current = (root.first, 1u32);
         loop {
             let (first, depth) = current;
             // t_max as the boxes were tested, so a record shows the values the decision used
             // even after a leaf shrinks it (origin, direction and t_min never change).
             let t_max_tested = ray.t_max;
-            let a = &self.nodes[first as usize];
-            let b = &self.nodes[first as usize + 1];
-            let ia = fast.interval(a, ray.t_min, ray.t_max);
-            let ib = fast.interval(b, ray.t_min, ray.t_max);
+            // Siblings are adjacent: one bounds check for the pair.
+            let (a, b) = match self.nodes.get(first as usize..first as usize + 2) {
+                Some([a, b]) => (a, b),
+                _ => return,
+            };
+            let t_max = Vec3A::splat(t_max_tested);
+            let ia = fast.interval::<ORDERED>(a, t_max);
+            let ib = fast.interval::<ORDERED>(b, t_max);
             // Nearer first.
             let a_first = ia.0 <= ib.0;
             let (near, near_id, near_t) = if a_first {
@@ -262,6 +380,7 @@ impl Bvh {
             } else {
                 (a, first, ia)
             };
+            let child_depth = if O::RECORDS { depth + 1 } else { 0 };
             let mut next: Option<(u32, u32)> = None;
             // Visits one child: decide, report, then test its primitives or schedule it.
             macro_rules! visit {
@@ -269,7 +388,7 @@ impl Bvh {
                     let node: &Node = $node;
                     let (t_near, t_far) = $t;
                     // The far box is re-checked against t_max, which the near leaf may have shrunk.
-                    let hit = t_near <= t_far && t_near <= ray.t_max;
+                    let hit = t_near <= t_far && ($is_near || t_near <= ray.t_max);
                     let descend = $is_near || next.is_none();
                     obs.node_visit(|| {
                         let tested = Ray::<f32> {
@@ -305,16 +424,16 @@ impl Bvh {
                                 }
                             }
                         } else if descend {
-                            next = Some((node.first, depth + 1));
+                            next = Some((node.first, child_depth));
                         } else {
-                            stack.push((node.first, depth + 1));
+                            todo.push(node.first, child_depth, O::RECORDS);
                         }
                     }
                 }};
             }
             visit!(near, near_id, near_t, true);
             visit!(far, far_id, far_t, false);
-            current = match next.or_else(|| stack.pop()) {
+            current = match next.or_else(|| todo.pop(O::RECORDS)) {
                 Some(n) => n,
                 None => return,
             };
@@ -421,4 +540,109 @@ fn compute_outline(nodes: &[Node], depth: u32) -> Vec<OutlineNode> {
     }
     out.sort_by_key(|n| n.node);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Coordinates that make the hard cases likely: zeros of both signs, coincident values (a ray
+    /// lying in a face plane, a flat box), and arbitrary numbers.
+    fn coordinate() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            Just(0.0f32),
+            Just(-0.0f32),
+            Just(1.0f32),
+            Just(-1.0f32),
+            Just(2.5f32),
+            -4.0f32..4.0,
+        ]
+    }
+
+    fn vec3() -> impl Strategy<Value = Vec3> {
+        (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+    }
+
+    /// Both SIMD box tests the traversal uses give the recorded scalar test's decision and its
+    /// (t_near, t_far) — the ordered one whenever the traversal would choose it.
+    fn check(origin: Vec3, dir: Vec3, a: Vec3, b: Vec3, t_max: f32) -> Result<(), TestCaseError> {
+        let (min, max) = (a.min(b), a.max(b));
+        let ray = Ray {
+            origin,
+            dir,
+            t_min: 0.0,
+            t_max,
+        };
+        let inv = Vec3::ONE / dir;
+        let node = Node {
+            min: Vec3A::from(min),
+            max: Vec3A::from(max),
+            first: 0,
+            count: 1,
+        };
+        let scalar = slab_robust(&ray, inv, min, max);
+        let fast = FastRay::new(&ray, inv);
+        let t_max_v = Vec3A::splat(t_max);
+        let mut tests = vec![fast.interval::<false>(&node, t_max_v)];
+        if inv.is_finite() && dir.is_finite() {
+            tests.push(fast.interval::<true>(&node, t_max_v));
+        }
+        for (near, far) in tests {
+            prop_assert_eq!(near <= far, scalar.hit, "decision, ray {:?}", ray);
+            // Equal as numbers (the sign of a zero t decides nothing).
+            prop_assert!(
+                near == scalar.t_near,
+                "t_near {} vs {}",
+                near,
+                scalar.t_near
+            );
+            prop_assert!(far == scalar.t_far, "t_far {} vs {}", far, scalar.t_far);
+        }
+        Ok(())
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        #[test]
+        fn simd_box_tests_agree_with_the_recorded_test(
+            origin in vec3(),
+            dir in vec3(),
+            a in vec3(),
+            b in vec3(),
+            t_max in prop_oneof![Just(f32::INFINITY), 0.5f32..10.0],
+        ) {
+            prop_assume!(dir != Vec3::ZERO);
+            check(origin, dir, a, b, t_max)?;
+        }
+    }
+
+    #[test]
+    fn a_ray_in_a_face_plane_is_inside_that_slab() {
+        // Along +x in the plane y = 0, the box's bottom face: hit, from t = 1 to t = 2 (× 1 + 2γ₃).
+        let r = check(
+            Vec3::new(0.0, 0.0, 0.5),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.0, 1.0, 1.0),
+            f32::INFINITY,
+        );
+        assert!(r.is_ok(), "{r:?}");
+        let ray = Ray {
+            origin: Vec3::new(0.0, 0.0, 0.5),
+            dir: Vec3::new(1.0, -0.0, 0.0),
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        };
+        let inv = Vec3::ONE / ray.dir;
+        let node = Node {
+            min: Vec3A::new(1.0, 0.0, 0.0),
+            max: Vec3A::new(2.0, 1.0, 1.0),
+            first: 0,
+            count: 1,
+        };
+        let (near, far) = FastRay::new(&ray, inv).interval::<false>(&node, Vec3A::INFINITY);
+        assert_eq!(near, 1.0);
+        assert!(far >= 2.0 && far < 2.0001, "{far}");
+    }
 }
