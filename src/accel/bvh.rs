@@ -643,6 +643,6 @@ mod tests {
         };
         let (near, far) = FastRay::new(&ray, inv).interval::<false>(&node, Vec3A::INFINITY);
         assert_eq!(near, 1.0);
-        assert!(far >= 2.0 && far < 2.0001, "{far}");
+        assert!((2.0..2.0001).contains(&far), "{far}");
     }
 }
