@@ -46,7 +46,8 @@
 //! - [`app`]: the eframe app; [`cli`]: the `raystep` command line; [`fuzzing`]: the entry points
 //!   the fuzzers and the property tests feed hostile input; [`io`]: bounded reading and atomic
 //!   writing of files.
-// One function opts in, with its reason: gpu::tracer's request for wgpu's experimental ray queries.
+// Two places opt in, with their reasons: gpu::tracer's request for wgpu's experimental ray queries,
+// and the BVH's calls of its AVX2 + FMA build after checking that the CPU has both.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 

@@ -688,3 +688,33 @@ fn a_grid_of_many_large_primitives_stays_within_its_reference_budget() {
     let hits = assert_same(&scene, &grid, &rays);
     assert!(hits > 20, "{hits}");
 }
+
+/// The BVH's AVX2 + FMA build and its baseline x86-64 build render the same image, bit for bit,
+/// with either triangle test (on a CPU without AVX2 and FMA both runs take the baseline build
+/// and the test still holds, trivially).
+#[test]
+fn wide_instructions_render_what_the_baseline_build_renders() {
+    use raystep::scene::spd::SpdScene;
+    use raystep::shapes::triangle::TriangleMethod;
+    let mut scenes = shipped();
+    scenes.push(spd(SpdScene::Balls, 2));
+    scenes.push(spd(SpdScene::Tetra, 3));
+    scenes.push(spd(SpdScene::Mount, 3));
+    for mut scene in scenes {
+        scene.camera.width = scene.camera.width.min(96);
+        scene.camera.height = scene.camera.height.min(72);
+        for method in [TriangleMethod::Watertight, TriangleMethod::MollerTrumbore] {
+            scene.settings.triangle_method = method;
+            raystep::accel::set_baseline_only(true);
+            let baseline = render_with(&scene, AccelChoice::Bvh);
+            raystep::accel::set_baseline_only(false);
+            let wide = render_with(&scene, AccelChoice::Bvh);
+            let diff = baseline.iter().zip(&wide).filter(|(x, y)| x != y).count();
+            assert_eq!(
+                diff, 0,
+                "{method:?} on \"{}\": {diff} pixels differ",
+                scene.name
+            );
+        }
+    }
+}

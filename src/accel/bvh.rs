@@ -7,7 +7,7 @@
 //! S21), the ray's own t_min honoured (S23), and `<=` so flat boxes are hit (S22). Infinite planes
 //! stay outside the tree: they are tested first and their hit tightens t_max.
 
-use super::{Accelerator, Hit, any_of, closest_of, test_any, test_closest};
+use super::{Accelerator, Hit, any_of, closest_of, test_any_shape, test_closest_shape};
 use crate::math::Ray;
 use crate::math::gamma;
 use crate::record::OutlineNode;
@@ -212,6 +212,9 @@ pub struct Bvh {
     pub nodes: Vec<Node>,
     /// Object ids in leaf order.
     pub leaf_objects: Vec<u32>,
+    /// Their shapes, in the same order: a leaf's primitives lie side by side in memory, as the
+    /// traversal reads them (the scene's own list is in file order).
+    leaf_shapes: Vec<Shape>,
     /// Infinite primitives (planes), tested before the tree.
     pub planes: Vec<u32>,
     /// The tree's depth.
@@ -262,10 +265,14 @@ impl Bvh {
                 }
             })
             .collect();
-        let leaf_objects = bvh2
+        let leaf_objects: Vec<u32> = bvh2
             .primitive_indices
             .iter()
             .map(|&i| finite[i as usize])
+            .collect();
+        let leaf_shapes = leaf_objects
+            .iter()
+            .map(|&id| scene.objects[id as usize].shape)
             .collect();
         let max_depth = tree_depth(&nodes);
         let finite_boxes = nodes.iter().all(|n| n.min.is_finite() && n.max.is_finite());
@@ -274,6 +281,7 @@ impl Bvh {
         Bvh {
             nodes,
             leaf_objects,
+            leaf_shapes,
             planes,
             max_depth,
             build_time: start.elapsed(),
@@ -283,25 +291,27 @@ impl Bvh {
         }
     }
 
-    /// A leaf's objects (one bounds check for the whole leaf).
-    #[inline(always)]
-    fn leaf(&self, node: &Node) -> &[u32] {
-        let start = node.first as usize;
-        self.leaf_objects
-            .get(start..start + node.count as usize)
-            .unwrap_or_default()
+    /// Bytes the tree takes: its nodes, object ids and leaf-ordered shapes, and the plane list.
+    pub fn memory(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<Node>()
+            + self.leaf_shapes.len() * std::mem::size_of::<Shape>()
+            + (self.leaf_objects.len() + self.planes.len()) * 4
     }
 
-    /// Walks the tree for `ray`, calling `leaf(object, ray)` for each primitive in the leaves the
+    /// A leaf's object ids and shapes (one bounds check each for the whole leaf).
+    #[inline(always)]
+    fn leaf(&self, node: &Node) -> impl Iterator<Item = (u32, &Shape)> {
+        let range = node.first as usize..node.first as usize + node.count as usize;
+        let ids = self.leaf_objects.get(range.clone()).unwrap_or_default();
+        let shapes = self.leaf_shapes.get(range).unwrap_or_default();
+        ids.iter().copied().zip(shapes)
+    }
+
+    /// Walks the tree for `ray`, calling `leaf.test(object, ray)` for each primitive in the leaves the
     /// ray reaches, nearer subtrees first. `leaf` returns false to stop (any-hit). t_max shrinks
     /// as `leaf` finds closer hits (it updates `ray.t_max`).
     #[inline(always)]
-    fn traverse<O: Observer>(
-        &self,
-        ray: &mut Ray<f32>,
-        obs: &mut O,
-        leaf: impl FnMut(u32, &mut Ray<f32>, &mut O) -> bool,
-    ) {
+    fn traverse<O: Observer>(&self, ray: &mut Ray<f32>, obs: &mut O, leaf: &mut impl LeafTest<O>) {
         // True IEEE reciprocals: ±∞ for zero components, the sign of zero kept.
         let inv = Vec3::ONE / ray.dir;
         // A finite direction has a non-zero reciprocal, so with finite boxes and origin no slab
@@ -320,7 +330,7 @@ impl Bvh {
         ray: &mut Ray<f32>,
         inv: Vec3,
         obs: &mut O,
-        mut leaf: impl FnMut(u32, &mut Ray<f32>, &mut O) -> bool,
+        leaf: &mut impl LeafTest<O>,
     ) {
         let fast = FastRay::new(ray, inv);
         let Some(root) = self.nodes.first() else {
@@ -343,8 +353,8 @@ impl Bvh {
         match root_action {
             NodeAction::Culled => return,
             NodeAction::TestPrimitives => {
-                for &id in self.leaf(root) {
-                    if !leaf(id, ray, obs) {
+                for (id, shape) in self.leaf(root) {
+                    if !leaf.test(id, shape, ray, obs) {
                         return;
                     }
                 }
@@ -418,8 +428,8 @@ impl Bvh {
                     });
                     if hit {
                         if node.is_leaf() {
-                            for &id in self.leaf(node) {
-                                if !leaf(id, ray, obs) {
+                            for (id, shape) in self.leaf(node) {
+                                if !leaf.test(id, shape, ray, obs) {
                                     return;
                                 }
                             }
@@ -441,30 +451,106 @@ impl Bvh {
     }
 }
 
-impl Accelerator for Bvh {
-    #[inline]
-    fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+/// What the traversal does with each primitive of a leaf it reaches. A trait with always-inlined
+/// methods rather than a closure, so that the whole query — traversal, leaf tests and kernels —
+/// is one function, compiled once more for AVX2 and FMA (see [`Bvh::closest`]).
+trait LeafTest<O: Observer> {
+    /// Tests object `id` (whose shape is `shape`) against `ray` (shrinking its t_max on a closer hit); false stops the
+    /// traversal.
+    fn test(&mut self, id: u32, shape: &Shape, ray: &mut Ray<f32>, obs: &mut O) -> bool;
+}
+
+/// The closest hit so far.
+struct ClosestHit<'a> {
+    scene: &'a Scene,
+    best: Option<Hit>,
+}
+
+impl<O: Observer> LeafTest<O> for ClosestHit<'_> {
+    #[inline(always)]
+    fn test(&mut self, id: u32, shape: &Shape, ray: &mut Ray<f32>, obs: &mut O) -> bool {
+        test_closest_shape(self.scene, id, shape, ray, &mut self.best, obs);
+        true
+    }
+}
+
+/// The first hit found (shadow rays).
+struct AnyHit<'a> {
+    scene: &'a Scene,
+    found: Option<Hit>,
+}
+
+impl<O: Observer> LeafTest<O> for AnyHit<'_> {
+    #[inline(always)]
+    fn test(&mut self, id: u32, shape: &Shape, ray: &mut Ray<f32>, obs: &mut O) -> bool {
+        test_any_shape(self.scene, id, shape, ray, &mut self.found, obs)
+    }
+}
+
+impl Bvh {
+    #[inline(always)]
+    fn closest_in<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
-        let mut best = None;
-        closest_of(scene, &self.planes, &mut r, &mut best, obs);
-        self.traverse(&mut r, obs, |id, r, obs| {
-            test_closest(scene, id, r, &mut best, obs);
-            true
-        });
-        best
+        let mut leaf = ClosestHit { scene, best: None };
+        closest_of(scene, &self.planes, &mut r, &mut leaf.best, obs);
+        self.traverse(&mut r, obs, &mut leaf);
+        leaf.best
     }
 
-    #[inline]
-    fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+    #[inline(always)]
+    fn any_in<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         if let Some(h) = any_of(scene, &self.planes, ray, obs) {
             return Some(h);
         }
-        let mut found = None;
+        let mut leaf = AnyHit { scene, found: None };
         let mut r = *ray;
-        self.traverse(&mut r, obs, |id, r, obs| {
-            test_any(scene, id, r, &mut found, obs)
-        });
-        found
+        self.traverse(&mut r, obs, &mut leaf);
+        leaf.found
+    }
+
+    /// [`Bvh::closest_in`] compiled for AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn closest_avx2<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        self.closest_in(scene, ray, obs)
+    }
+
+    /// [`Bvh::any_in`] compiled for AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn any_avx2<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        self.any_in(scene, ray, obs)
+    }
+}
+
+/// Both queries run the same code twice compiled: for the baseline x86-64 the binary targets and,
+/// when the CPU has them, for AVX2 and FMA. The answers are the same bit for bit: Rust never
+/// fuses a multiply and an add on its own, so the only FMAs are the kernels' explicit
+/// `mul_add`s, which are correctly rounded whether the FMA instruction or the C library computes
+/// them (the baseline build calls `fmaf`, six calls per watertight triangle test); every other
+/// operation is the same IEEE operation in either encoding. `tests/accelerators.rs` renders with
+/// both and compares.
+impl Accelerator for Bvh {
+    #[inline]
+    #[allow(unsafe_code)] // calling a #[target_feature] function, after checking the CPU has it
+    fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        #[cfg(target_arch = "x86_64")]
+        if super::avx2_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (just checked).
+            return unsafe { self.closest_avx2(scene, ray, obs) };
+        }
+        self.closest_in(scene, ray, obs)
+    }
+
+    #[inline]
+    #[allow(unsafe_code)] // calling a #[target_feature] function, after checking the CPU has it
+    fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        #[cfg(target_arch = "x86_64")]
+        if super::avx2_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (just checked).
+            return unsafe { self.any_avx2(scene, ray, obs) };
+        }
+        self.any_in(scene, ray, obs)
     }
 
     fn name(&self) -> &'static str {

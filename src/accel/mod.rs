@@ -59,8 +59,21 @@ pub fn test_object<O: Observer>(
     ray: &Ray<f32>,
     obs: &mut O,
 ) -> Option<Hit> {
+    test_shape(scene, id, &scene.objects[id as usize].shape, ray, obs)
+}
+
+/// [`test_object`] with the object's shape given (an accelerator may keep its own copy, in the
+/// order it visits them).
+#[inline(always)]
+pub fn test_shape<O: Observer>(
+    scene: &Scene,
+    id: u32,
+    shape: &Shape,
+    ray: &Ray<f32>,
+    obs: &mut O,
+) -> Option<Hit> {
     let s = &scene.settings;
-    match scene.objects[id as usize].shape {
+    match *shape {
         Shape::Sphere { center, radius } => {
             // Each method reports its own record and hands on only t: the two records are
             // never merged into one value the render would have to carry.
@@ -170,7 +183,20 @@ pub fn test_closest<O: Observer>(
     best: &mut Option<Hit>,
     obs: &mut O,
 ) -> Option<Hit> {
-    let h = test_object(scene, id, &tie_ray(r, id, best), obs)?;
+    test_closest_shape(scene, id, &scene.objects[id as usize].shape, r, best, obs)
+}
+
+/// [`test_closest`] with the object's shape given.
+#[inline(always)]
+pub fn test_closest_shape<O: Observer>(
+    scene: &Scene,
+    id: u32,
+    shape: &Shape,
+    r: &mut Ray<f32>,
+    best: &mut Option<Hit>,
+    obs: &mut O,
+) -> Option<Hit> {
+    let h = test_shape(scene, id, shape, &tie_ray(r, id, best), obs)?;
     accept(scene, &h, r.t_max, obs);
     r.t_max = h.t;
     *best = Some(h);
@@ -202,7 +228,27 @@ pub fn test_any<O: Observer>(
     found: &mut Option<Hit>,
     obs: &mut O,
 ) -> bool {
-    match test_object(scene, id, ray, obs) {
+    test_any_shape(
+        scene,
+        id,
+        &scene.objects[id as usize].shape,
+        ray,
+        found,
+        obs,
+    )
+}
+
+/// [`test_any`] with the object's shape given.
+#[inline(always)]
+pub fn test_any_shape<O: Observer>(
+    scene: &Scene,
+    id: u32,
+    shape: &Shape,
+    ray: &Ray<f32>,
+    found: &mut Option<Hit>,
+    obs: &mut O,
+) -> bool {
+    match test_shape(scene, id, shape, ray, obs) {
         Some(h) => {
             accept(scene, &h, ray.t_max, obs);
             *found = Some(h);
@@ -222,6 +268,24 @@ pub fn any_of<O: Observer>(scene: &Scene, ids: &[u32], ray: &Ray<f32>, obs: &mut
         }
     }
     found
+}
+
+/// Whether queries may run the AVX2 + FMA build of the traversal and kernels (x86-64 CPUs that
+/// have both, unless [`set_baseline_only`] turned it off). The answers are identical either way.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(crate) fn avx2_fma() -> bool {
+    !BASELINE_ONLY.load(std::sync::atomic::Ordering::Relaxed)
+        && std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("fma")
+}
+
+static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Makes every later query run the baseline build only (`true`) or the fastest the CPU allows
+/// (`false`, the default) — for the tests that compare the two and for benchmarks. Process-wide.
+pub fn set_baseline_only(baseline: bool) {
+    BASELINE_ONLY.store(baseline, std::sync::atomic::Ordering::Relaxed);
 }
 
 /// Below this many finite primitives the naive loop beats the BVH (a per-ray traversal set-up
@@ -278,10 +342,7 @@ impl SceneAccel {
     pub fn memory(&self) -> usize {
         match self {
             SceneAccel::Brute(_) => 0,
-            SceneAccel::Bvh(b) => {
-                b.nodes.len() * std::mem::size_of::<bvh::Node>()
-                    + (b.leaf_objects.len() + b.planes.len()) * 4
-            }
+            SceneAccel::Bvh(b) => b.memory(),
             SceneAccel::Spheres(s) => s.memory(),
             SceneAccel::Grid(g) => g.memory(),
         }

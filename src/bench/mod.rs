@@ -13,10 +13,12 @@ use glam::{Vec3, Vec3A};
 use std::time::{Duration, Instant};
 
 mod accelerators;
+mod throughput;
 mod view3d;
 
 pub use accelerators::{accel_compare, grid_lambda, growth, stages};
 pub(crate) use accelerators::{measure_stages, profile_size};
+pub use throughput::throughput;
 pub use view3d::view3d;
 
 /// Median wall time of `reps` runs of `f`.

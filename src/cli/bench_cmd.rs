@@ -19,6 +19,14 @@ pub struct BenchArgs {
     /// For `traversal`: which traversal to run (one side alone is for instruction counting).
     #[arg(long, value_enum, default_value_t = crate::bench::Side::Both)]
     pub side: crate::bench::Side,
+    /// For `rays`: also write the scene's finite primitives, the rays and raystep's answers to
+    /// this file, for `tools/embree-compare` (one scene only).
+    #[arg(long)]
+    pub export: Option<PathBuf>,
+    /// Run the BVH's baseline x86-64 build only, not its AVX2 + FMA build (the answers are the
+    /// same; this measures what the wider instructions buy).
+    #[arg(long)]
+    pub baseline: bool,
 }
 
 /// Benchmark sections.
@@ -56,6 +64,10 @@ pub enum Section {
     /// from tens to a million primitives with the BVH (build, depth, visits, tests, time per ray
     /// and time per ray ÷ log₂ n), brute force beside it up to 1,000 primitives.
     Growth,
+    /// Rays per second on a fixed set: the camera's 2560×1440 primary rays and one shadow ray
+    /// per hit, 1 and 2 threads, finite primitives only, with the BVH's build time and SAH cost
+    /// (`--export FILE` writes the set for Embree to trace: `tools/embree-compare`).
+    Rays,
     /// Everything.
     All,
 }
@@ -80,6 +92,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         scenes.push(crate::scene::default_scene());
     }
     let reps = args.reps as usize;
+    crate::accel::set_baseline_only(args.baseline);
     println!(
         "raystep {} bench, {} logical CPUs\n",
         env!("CARGO_PKG_VERSION"),
@@ -138,6 +151,15 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             let bvh = crate::accel::Bvh::build(&s);
             println!("## {}", s.name);
             crate::bench::traversal_vs_obvhs(&s, &bvh, reps, args.side);
+        }
+    }
+    if args.section == Section::Rays {
+        if args.export.is_some() && scenes.len() != 1 {
+            return Err("--export needs exactly one scene".into());
+        }
+        for s in &scenes {
+            crate::bench::throughput(s, reps, args.export.as_deref())?;
+            println!();
         }
     }
     if args.section == Section::Growth {

@@ -1,0 +1,269 @@
+//! Rays per second on a fixed set of rays, and the export that lets Embree trace the very same
+//! rays (`tools/embree-compare/`, see the README's "Side by side with Embree").
+//!
+//! The set: the scene's camera at 2560×1440, one ray through each pixel centre (closest hit),
+//! then for each primary hit one shadow ray towards the first light, spawned exactly as the
+//! Whitted tracer spawns it (offset origin, t in (0, 1 − 10⁻⁴)), traced as any-hit. Only the
+//! finite primitives take part (infinite planes have no Embree counterpart): the scene is traced
+//! without them, on raystep's BVH with the silent observer — the render's own traversal.
+
+use super::median_time;
+use crate::accel::bvh::shape_bounds;
+use crate::accel::{Accelerator, Bvh, Hit};
+use crate::math::Ray;
+use crate::record::Silent;
+use crate::scene::{Scene, Shape};
+use crate::trace::Tracer;
+use crate::trace::whitted::{SHADOW_EPSILON, interact, spawn_origin};
+use rayon::prelude::*;
+use std::io::Write;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// The primary rays' image size.
+pub const SIZE: (u32, u32) = (2560, 1440);
+
+/// What tracing the set found: hits and the sum of their t (primary), blocked (shadow).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Found {
+    hits: usize,
+    t_sum: f64,
+}
+
+/// Traces `rays` for the closest hit on `threads` threads (1: the calling thread).
+fn closest_all(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>], threads: usize) -> Vec<Option<Hit>> {
+    let one = |r: &Ray<f32>| bvh.closest(scene, r, &mut Silent);
+    if threads <= 1 {
+        return rays.iter().map(one).collect();
+    }
+    in_pool(threads, || {
+        rays.par_iter().with_min_len(1024).map(one).collect()
+    })
+}
+
+/// Traces `rays` for any hit (occlusion) on `threads` threads.
+fn any_all(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>], threads: usize) -> Vec<bool> {
+    let one = |r: &Ray<f32>| bvh.any(scene, r, &mut Silent).is_some();
+    if threads <= 1 {
+        return rays.iter().map(one).collect();
+    }
+    in_pool(threads, || {
+        rays.par_iter().with_min_len(1024).map(one).collect()
+    })
+}
+
+/// Runs `f` in a rayon pool of `threads` threads (the global pool if one cannot be made).
+fn in_pool<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
+    match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
+        Ok(pool) => pool.install(f),
+        Err(_) => f(),
+    }
+}
+
+/// The scene without its infinite planes (the set traces finite primitives only).
+pub fn finite_only(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    s.objects.retain(|o| shape_bounds(&o.shape).is_some());
+    s.camera.width = SIZE.0;
+    s.camera.height = SIZE.1;
+    s
+}
+
+/// The primary rays (row by row) of `scene`'s camera.
+fn primary_rays(scene: &Scene, bvh: &Bvh) -> Vec<Ray<f32>> {
+    let tracer = Tracer::new(scene, bvh);
+    (0..scene.camera.height)
+        .flat_map(|y| (0..scene.camera.width).map(move |x| (x, y)))
+        .map(|(x, y)| tracer.camera.ray(x, y, [0.5, 0.5]).0)
+        .collect()
+}
+
+/// One shadow ray towards the first light from each primary hit that faces it.
+fn shadow_rays(scene: &Scene, rays: &[Ray<f32>], hits: &[Option<Hit>]) -> Vec<Ray<f32>> {
+    let Some(light) = scene.lights.first() else {
+        return vec![];
+    };
+    let s = &scene.settings;
+    rays.iter()
+        .zip(hits)
+        .filter_map(|(r, h)| {
+            let it = interact(scene, h.as_ref()?, r);
+            let to_light = light.position - it.point;
+            if to_light.dot(it.normal) <= 0.0 {
+                return None;
+            }
+            let o = spawn_origin(s.offset, s.epsilon, &it, to_light);
+            Ray::new(o, light.position - o, 0.0, 1.0 - SHADOW_EPSILON).ok()
+        })
+        .collect()
+}
+
+fn found(hits: &[Option<Hit>]) -> Found {
+    Found {
+        hits: hits.iter().flatten().count(),
+        t_sum: hits.iter().flatten().map(|h| f64::from(h.t)).sum(),
+    }
+}
+
+fn rate(n: usize, t: Duration) -> f64 {
+    n as f64 / t.as_secs_f64().max(1e-9) / 1e6
+}
+
+/// Prints raystep's rates on the set (1 and 2 threads, primary and shadow rays, medians of
+/// `reps`), the build time, and optionally writes the set for `tools/embree-compare`.
+pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(), String> {
+    let s = finite_only(scene);
+    let start = Instant::now();
+    let bvh = Bvh::build(&s);
+    let build = start.elapsed();
+    let primary = primary_rays(&s, &bvh);
+    let hits = closest_all(&s, &bvh, &primary, 1);
+    let shadow = shadow_rays(&s, &primary, &hits);
+    let blocked = any_all(&s, &bvh, &shadow, 1);
+    let f = found(&hits);
+    let time = |threads: usize, shadows: bool| {
+        median_time(reps, || {
+            if shadows {
+                std::hint::black_box(any_all(&s, &bvh, &shadow, threads));
+            } else {
+                std::hint::black_box(closest_all(&s, &bvh, &primary, threads));
+            }
+        })
+    };
+    let (p1, p2, s1, s2) = (time(1, false), time(2, false), time(1, true), time(2, true));
+    // Node visits and primitive tests per ray, counted on a separate pass.
+    let per_ray = |rays: &[Ray<f32>], shadows: bool| {
+        let mut c = crate::record::Counter::default();
+        for r in rays {
+            if shadows {
+                bvh.any(&s, r, &mut c);
+            } else {
+                bvh.closest(&s, r, &mut c);
+            }
+        }
+        let n = rays.len().max(1) as f64;
+        (c.node_visits as f64 / n, c.prim_tests as f64 / n)
+    };
+    let (pv, pt) = per_ray(&primary, false);
+    let (sv, st) = per_ray(&shadow, true);
+    println!(
+        "## {} — {} finite primitives, {} primary rays ({}×{}), {} shadow rays",
+        scene.name,
+        s.objects.len(),
+        primary.len(),
+        SIZE.0,
+        SIZE.1,
+        shadow.len()
+    );
+    println!(
+        "- build {:.0} ms (obvhs PLOC medium + raystep's layout), SAH cost {:.1}",
+        build.as_secs_f64() * 1e3,
+        sah_cost(&bvh)
+    );
+    println!(
+        "- primary: {} hits, mean t {:.6}; {pv:.1} visits and {pt:.1} tests per ray; 1 thread {:.2} Mrays/s, 2 threads {:.2} Mrays/s ({:.2}×)",
+        f.hits,
+        f.t_sum / f.hits.max(1) as f64,
+        rate(primary.len(), p1),
+        rate(primary.len(), p2),
+        p1.as_secs_f64() / p2.as_secs_f64().max(1e-9)
+    );
+    println!(
+        "- shadow: {} blocked; {sv:.1} visits and {st:.1} tests per ray; 1 thread {:.2} Mrays/s, 2 threads {:.2} Mrays/s ({:.2}×)",
+        blocked.iter().filter(|&&b| b).count(),
+        rate(shadow.len(), s1),
+        rate(shadow.len(), s2),
+        s1.as_secs_f64() / s2.as_secs_f64().max(1e-9)
+    );
+    if let Some(path) = export {
+        write_set(path, &s, &primary, &hits, &shadow, &blocked)?;
+        println!("- wrote {}", path.display());
+    }
+    Ok(())
+}
+
+/// The tree's SAH cost: Σ over inner nodes of area/root area × 1 (a box test pair) plus Σ over
+/// leaves of area/root area × primitives (each test costing one) — the usual measure of tree
+/// quality, comparable between builders only on the same scene.
+pub fn sah_cost(bvh: &Bvh) -> f64 {
+    let area = |n: &crate::accel::bvh::Node| {
+        let d = (n.max - n.min).max(glam::Vec3A::ZERO);
+        2.0 * f64::from(d.x * d.y + d.y * d.z + d.z * d.x)
+    };
+    let Some(root) = bvh.nodes.first() else {
+        return 0.0;
+    };
+    let root_area = area(root).max(f64::MIN_POSITIVE);
+    bvh.nodes
+        .iter()
+        .map(|n| area(n) / root_area * if n.is_leaf() { f64::from(n.count) } else { 1.0 })
+        .sum()
+}
+
+/// Writes the set in the little-endian layout `tools/embree-compare/embree_compare.c` reads:
+/// magic `RSEMBRT1`, counts (u32: triangles, spheres, primary rays, shadow rays), triangles
+/// (9 f32), spheres (centre, radius), primary rays (origin, direction), shadow rays (origin,
+/// direction, t_min, t_max), then raystep's answers: per primary ray a hit byte and t (f32),
+/// per shadow ray a blocked byte. Written to a temporary file and renamed, so a failed export
+/// leaves no half-written file.
+fn write_set(
+    path: &Path,
+    s: &Scene,
+    primary: &[Ray<f32>],
+    hits: &[Option<Hit>],
+    shadow: &[Ray<f32>],
+    blocked: &[bool],
+) -> Result<(), String> {
+    let mut tris = vec![];
+    let mut spheres = vec![];
+    for o in &s.objects {
+        match o.shape {
+            Shape::Triangle { p } => tris.extend(p.iter().flat_map(|v| v.to_array())),
+            Shape::Sphere { center, radius } => {
+                spheres.extend(center.to_array());
+                spheres.push(radius);
+            }
+            Shape::Plane { .. } | Shape::AxisPlane { .. } => {}
+        }
+    }
+    let mut out = Vec::with_capacity(64 + 4 * (tris.len() + spheres.len()) + primary.len() * 33);
+    out.extend_from_slice(b"RSEMBRT1");
+    for n in [
+        tris.len() / 9,
+        spheres.len() / 4,
+        primary.len(),
+        shadow.len(),
+    ] {
+        let n =
+            u32::try_from(n).map_err(|_| "too many rays or primitives to export".to_string())?;
+        out.extend_from_slice(&n.to_le_bytes());
+    }
+    let mut floats = |v: &[f32]| {
+        v.iter()
+            .for_each(|x| out.extend_from_slice(&x.to_le_bytes()))
+    };
+    floats(&tris);
+    floats(&spheres);
+    for r in primary {
+        floats(&r.origin.to_array());
+        floats(&r.dir.to_array());
+    }
+    for r in shadow {
+        floats(&r.origin.to_array());
+        floats(&r.dir.to_array());
+        floats(&[r.t_min, r.t_max]);
+    }
+    for h in hits {
+        out.push(u8::from(h.is_some()));
+        out.extend_from_slice(&h.map_or(f32::INFINITY, |h| h.t).to_le_bytes());
+    }
+    out.extend(blocked.iter().map(|&b| u8::from(b)));
+    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
+    let mut tmp = tempfile::NamedTempFile::new_in(dir.unwrap_or(Path::new(".")))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    tmp.write_all(&out)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    tmp.persist(path)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(())
+}
