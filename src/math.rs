@@ -30,6 +30,10 @@ pub trait Vector<T>:
     fn cross(self, o: Self) -> Self;
     /// Component `i` (0 = x, 1 = y, 2 = z).
     fn at(self, i: usize) -> T;
+    /// The components rotated so that component `k` comes last: k = 0 → (y, z, x), 1 →
+    /// (z, x, y), otherwise (x, y, z) — the watertight triangle test's permutation, as moves
+    /// of whole components rather than three indexings by a run-time index.
+    fn rotate_last(self, k: usize) -> [T; 3];
     /// Component-wise absolute value.
     fn abs(self) -> Self;
     /// Component-wise product.
@@ -88,6 +92,14 @@ macro_rules! impl_vector {
             #[inline(always)]
             fn at(self, i: usize) -> $t {
                 self[i]
+            }
+            #[inline(always)]
+            fn rotate_last(self, k: usize) -> [$t; 3] {
+                match k {
+                    0 => [self.y, self.z, self.x],
+                    1 => [self.z, self.x, self.y],
+                    _ => [self.x, self.y, self.z],
+                }
             }
             #[inline(always)]
             fn abs(self) -> Self {

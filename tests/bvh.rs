@@ -336,3 +336,23 @@ fn render_is_identical_whatever_the_thread_count() {
     };
     assert_eq!(bits(&one), bits(&two));
 }
+
+/// obvhs builds in parallel; the tree must not depend on the thread count (a recorded pixel
+/// shows node ids, and a class comparing traces across machines must see the same ones).
+#[test]
+fn tree_is_the_same_whatever_the_thread_count() {
+    let scene = random_scene(7, 40_000, 40_000, 10.0);
+    let build = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| Bvh::build(&scene))
+    };
+    let one = build(1);
+    for threads in [2, 3, 8] {
+        let other = build(threads);
+        assert_eq!(one.nodes, other.nodes, "{threads} threads");
+        assert_eq!(one.leaf_objects, other.leaf_objects, "{threads} threads");
+    }
+}

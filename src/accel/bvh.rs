@@ -219,8 +219,10 @@ pub struct Bvh {
     pub planes: Vec<u32>,
     /// The tree's depth.
     pub max_depth: usize,
-    /// Wall time of obvhs's core build.
+    /// Wall time of the whole build (boxes, obvhs's build, raystep's layout).
     pub build_time: Duration,
+    /// Wall time of obvhs's core build alone.
+    pub core_time: Duration,
     /// The top levels of the tree for diagrams (see [`Accelerator::outline`]).
     pub outline: Vec<OutlineNode>,
     /// obvhs's tree itself (kept for comparisons with its own traversal).
@@ -277,7 +279,6 @@ impl Bvh {
         let max_depth = tree_depth(&nodes);
         let finite_boxes = nodes.iter().all(|n| n.min.is_finite() && n.max.is_finite());
         let outline = compute_outline(&nodes, OUTLINE_DEPTH);
-        let _ = core;
         Bvh {
             nodes,
             leaf_objects,
@@ -285,6 +286,7 @@ impl Bvh {
             planes,
             max_depth,
             build_time: start.elapsed(),
+            core_time: core,
             outline,
             obvhs: bvh2,
             finite_boxes,

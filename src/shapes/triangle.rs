@@ -287,13 +287,13 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     let kx = if kz == 2 { 0 } else { kz + 1 };
     let ky = if kx == 2 { 0 } else { kx + 1 };
     out.permutation = Some([kx, ky, kz]);
-    let perm = |v: T::V| [v.at(kx), v.at(ky), v.at(kz)];
+    // [v.at(kx), v.at(ky), v.at(kz)], as a rotation of the components.
     let mut q = [
-        perm(p[0] - ray.origin),
-        perm(p[1] - ray.origin),
-        perm(p[2] - ray.origin),
+        (p[0] - ray.origin).rotate_last(kz),
+        (p[1] - ray.origin).rotate_last(kz),
+        (p[2] - ray.origin).rotate_last(kz),
     ];
-    let dp = perm(d);
+    let dp = d.rotate_last(kz);
     // Shear so the ray runs along +z.
     let sx = -dp[0] / dp[2];
     let sy = -dp[1] / dp[2];
