@@ -347,6 +347,42 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize, side: Side) {
     );
 }
 
+/// How a full render scales from one thread to two: each scene at its own size (shadows,
+/// reflections and refractions included), medians of `reps`, the ratio of the two times.
+pub fn threads(scenes: &[Scene], reps: usize) {
+    println!("| scene | primitives | size | rays | 1 thread (ms) | 2 threads (ms) | 2T / 1T |");
+    println!("|---|---|---|---|---|---|---|");
+    for scene in scenes {
+        let (accel, _) = SceneAccel::build(scene);
+        let tracer = Tracer::new(scene, &accel);
+        let rays = count_rays(&tracer).rays();
+        let time = |threads: usize| {
+            median_time(reps, || {
+                std::hint::black_box(render(
+                    &tracer,
+                    &RenderOptions {
+                        threads: Some(threads),
+                        ..Default::default()
+                    },
+                ))
+                .ok();
+            })
+        };
+        let (one, two) = (time(1), time(2));
+        println!(
+            "| {} | {} | {}×{} | {} | {:.1} | {:.1} | {:.2}× |",
+            scene.name,
+            scene.features.primitives,
+            scene.camera.width,
+            scene.camera.height,
+            rays,
+            one.as_secs_f64() * 1e3,
+            two.as_secs_f64() * 1e3,
+            one.as_secs_f64() / two.as_secs_f64().max(1e-9)
+        );
+    }
+}
+
 /// Diagram cost: drawing every diagram the trace offers for one step at 800×600.
 pub fn diagrams(scenes: &[Scene], reps: usize) {
     use crate::diagram::{ViewOptions, available, draw};

@@ -68,6 +68,9 @@ pub enum Section {
     /// per hit, 1 and 2 threads, finite primitives only, with the BVH's build time and SAH cost
     /// (`--export FILE` writes the set for Embree to trace: `tools/embree-compare`).
     Rays,
+    /// Two threads against one: full renders of the scenes and SPD balls, tetra and mount at
+    /// two sizes each, shadows and reflections included.
+    Threads,
     /// Everything.
     All,
 }
@@ -108,7 +111,7 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     }
     if matches!(
         args.section,
-        Section::AccelCompare | Section::Stages | Section::GridLambda
+        Section::AccelCompare | Section::Stages | Section::GridLambda | Section::Threads
     ) {
         use crate::scene::spd::{SpdScene, generate};
         let mut all = scenes.clone();
@@ -131,7 +134,9 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             s.name = name;
             all.push(s);
         }
-        if args.section == Section::Stages {
+        if args.section == Section::Threads {
+            crate::bench::threads(&all, reps);
+        } else if args.section == Section::Stages {
             crate::bench::stages(&all, reps);
         } else if args.section == Section::GridLambda {
             crate::bench::grid_lambda(&all, reps);

@@ -236,16 +236,23 @@ pub fn render<A: Accelerator>(
     let mut node_visits = count.then(|| vec![0u32; (width * height) as usize]);
     let mut counts = Counter::default();
     let (mut nan_rays, mut nan_pixels) = (0, 0);
+    // Row by row: a tile's rows are contiguous in its results and in the image (a division per
+    // pixel here took a third of a small render's time, and the loop runs on one thread).
     for (t, (px, visits, c)) in tiles.iter().zip(results) {
         counts.merge(&c.counts);
         nan_rays += c.nan_rays;
-        for (k, p) in px.into_iter().enumerate() {
-            nan_pixels += p.is_nan() as u64;
-            let (dx, dy) = (k as u32 % t.w, k as u32 / t.w);
-            let i = ((t.y0 + dy) * width + t.x0 + dx) as usize;
-            pixels[i] = p;
-            if let Some(nv) = &mut node_visits {
-                nv[i] = visits[k];
+        nan_pixels += px.iter().filter(|p| p.is_nan()).count() as u64;
+        let w = t.w as usize;
+        for (dy, row) in px.chunks(w.max(1)).enumerate() {
+            let start = ((t.y0 as usize + dy) * width as usize) + t.x0 as usize;
+            if let Some(dst) = pixels.get_mut(start..start + row.len()) {
+                dst.copy_from_slice(row);
+            }
+            if let (Some(nv), Some(src)) =
+                (&mut node_visits, visits.get(dy * w..dy * w + row.len()))
+                && let Some(dst) = nv.get_mut(start..start + row.len())
+            {
+                dst.copy_from_slice(src);
             }
         }
     }
