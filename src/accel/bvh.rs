@@ -7,7 +7,7 @@
 //! S21), the ray's own t_min honoured (S23), and `<=` so flat boxes are hit (S22). Infinite planes
 //! stay outside the tree: they are tested first and their hit tightens t_max.
 
-use super::{Accelerator, Hit, any_of, closest_of, test_any_shape, test_closest_shape};
+use super::{Accelerator, Hit, PerRay, any_of, closest_of, test_any_shape, test_closest_shape};
 use crate::math::Ray;
 use crate::math::gamma;
 use crate::record::OutlineNode;
@@ -477,12 +477,21 @@ trait LeafTest<O: Observer> {
 struct ClosestHit<'a> {
     scene: &'a Scene,
     best: Option<Hit>,
+    per: PerRay,
 }
 
 impl<O: Observer> LeafTest<O> for ClosestHit<'_> {
     #[inline(always)]
     fn test(&mut self, id: u32, shape: &Shape, ray: &mut Ray<f32>, obs: &mut O) -> bool {
-        test_closest_shape(self.scene, id, shape, ray, &mut self.best, obs);
+        test_closest_shape(
+            self.scene,
+            id,
+            shape,
+            ray,
+            &mut self.best,
+            &mut self.per,
+            obs,
+        );
         true
     }
 }
@@ -491,12 +500,21 @@ impl<O: Observer> LeafTest<O> for ClosestHit<'_> {
 struct AnyHit<'a> {
     scene: &'a Scene,
     found: Option<Hit>,
+    per: PerRay,
 }
 
 impl<O: Observer> LeafTest<O> for AnyHit<'_> {
     #[inline(always)]
     fn test(&mut self, id: u32, shape: &Shape, ray: &mut Ray<f32>, obs: &mut O) -> bool {
-        test_any_shape(self.scene, id, shape, ray, &mut self.found, obs)
+        test_any_shape(
+            self.scene,
+            id,
+            shape,
+            ray,
+            &mut self.found,
+            &mut self.per,
+            obs,
+        )
     }
 }
 
@@ -504,7 +522,11 @@ impl Bvh {
     #[inline(always)]
     fn closest_in<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
-        let mut leaf = ClosestHit { scene, best: None };
+        let mut leaf = ClosestHit {
+            scene,
+            best: None,
+            per: PerRay::default(),
+        };
         closest_of(scene, &self.planes, &mut r, &mut leaf.best, obs);
         self.traverse(&mut r, obs, &mut leaf);
         leaf.best
@@ -515,7 +537,11 @@ impl Bvh {
         if let Some(h) = any_of(scene, &self.planes, ray, obs) {
             return Some(h);
         }
-        let mut leaf = AnyHit { scene, found: None };
+        let mut leaf = AnyHit {
+            scene,
+            found: None,
+            per: PerRay::default(),
+        };
         let mut r = *ray;
         self.traverse(&mut r, obs, &mut leaf);
         leaf.found

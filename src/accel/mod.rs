@@ -17,6 +17,7 @@ pub use spheres::SphereTree;
 use crate::math::Ray;
 use crate::record::{Observer, Step};
 use crate::scene::{AccelChoice, Scene, Shape};
+use crate::shapes::triangle::TriangleMethod;
 use crate::shapes::{SphereMethod, SphereTest, plane, sphere, triangle};
 use std::time::{Duration, Instant};
 
@@ -59,7 +60,24 @@ pub fn test_object<O: Observer>(
     ray: &Ray<f32>,
     obs: &mut O,
 ) -> Option<Hit> {
-    test_shape(scene, id, &scene.objects[id as usize].shape, ray, obs)
+    let shape = &scene.objects[id as usize].shape;
+    test_shape(scene, id, shape, ray, &mut PerRay::default(), obs)
+}
+
+/// What the kernels compute once per ray rather than once per test — the watertight triangle
+/// test's [`Shear`](crate::shapes::triangle::Shear) — filled on first use. The values are the
+/// ones each test would compute, so the answers do not change.
+#[derive(Debug, Default, Clone, Copy)]
+pub struct PerRay {
+    shear: Option<triangle::Shear<f32>>,
+}
+
+impl PerRay {
+    /// The ray's shear (every ray of one query has the same direction).
+    #[inline(always)]
+    fn shear(&mut self, ray: &Ray<f32>) -> triangle::Shear<f32> {
+        *self.shear.get_or_insert_with(|| triangle::Shear::of(ray))
+    }
 }
 
 /// [`test_object`] with the object's shape given (an accelerator may keep its own copy, in the
@@ -70,6 +88,7 @@ pub fn test_shape<O: Observer>(
     id: u32,
     shape: &Shape,
     ray: &Ray<f32>,
+    per: &mut PerRay,
     obs: &mut O,
 ) -> Option<Hit> {
     let s = &scene.settings;
@@ -125,7 +144,10 @@ pub fn test_shape<O: Observer>(
             })
         }
         Shape::Triangle { p } => {
-            let test = triangle::intersect(ray, p, s.triangle_method);
+            let test = match s.triangle_method {
+                TriangleMethod::Watertight => triangle::watertight_sheared(ray, &per.shear(ray), p),
+                TriangleMethod::MollerTrumbore => triangle::moller_trumbore(ray, p),
+            };
             obs.prim_test(|| Step::Triangle {
                 object: id,
                 name: scene.object_name(id),
@@ -183,7 +205,8 @@ pub fn test_closest<O: Observer>(
     best: &mut Option<Hit>,
     obs: &mut O,
 ) -> Option<Hit> {
-    test_closest_shape(scene, id, &scene.objects[id as usize].shape, r, best, obs)
+    let shape = &scene.objects[id as usize].shape;
+    test_closest_shape(scene, id, shape, r, best, &mut PerRay::default(), obs)
 }
 
 /// [`test_closest`] with the object's shape given.
@@ -194,9 +217,10 @@ pub fn test_closest_shape<O: Observer>(
     shape: &Shape,
     r: &mut Ray<f32>,
     best: &mut Option<Hit>,
+    per: &mut PerRay,
     obs: &mut O,
 ) -> Option<Hit> {
-    let h = test_shape(scene, id, shape, &tie_ray(r, id, best), obs)?;
+    let h = test_shape(scene, id, shape, &tie_ray(r, id, best), per, obs)?;
     accept(scene, &h, r.t_max, obs);
     r.t_max = h.t;
     *best = Some(h);
@@ -228,14 +252,8 @@ pub fn test_any<O: Observer>(
     found: &mut Option<Hit>,
     obs: &mut O,
 ) -> bool {
-    test_any_shape(
-        scene,
-        id,
-        &scene.objects[id as usize].shape,
-        ray,
-        found,
-        obs,
-    )
+    let shape = &scene.objects[id as usize].shape;
+    test_any_shape(scene, id, shape, ray, found, &mut PerRay::default(), obs)
 }
 
 /// [`test_any`] with the object's shape given.
@@ -246,9 +264,10 @@ pub fn test_any_shape<O: Observer>(
     shape: &Shape,
     ray: &Ray<f32>,
     found: &mut Option<Hit>,
+    per: &mut PerRay,
     obs: &mut O,
 ) -> bool {
-    match test_shape(scene, id, shape, ray, obs) {
+    match test_shape(scene, id, shape, ray, per, obs) {
         Some(h) => {
             accept(scene, &h, ray.t_max, obs);
             *found = Some(h);

@@ -251,9 +251,53 @@ fn difference_of_products<T: Real>(a: T, b: T, c: T, d: T) -> T {
     dop + err
 }
 
+/// The part of the watertight test that depends on the ray alone: which axis becomes z (the
+/// largest |Q| component), the direction permuted, and the shear (Sx, Sy, Sz). A renderer
+/// computes it once per ray ([`watertight_sheared`]); [`watertight`] computes it per test. The
+/// values are the same either way, so are the answers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shear<T> {
+    /// The axis that becomes z.
+    pub kz: usize,
+    /// Sx = −Qx/Qz, Sy = −Qy/Qz, Sz = 1/Qz (permuted components).
+    pub s: [T; 3],
+}
+
+impl<T: Real> Shear<T> {
+    /// The ray's shear.
+    #[inline(always)]
+    pub fn of(ray: &Ray<T>) -> Shear<T> {
+        let d = ray.dir;
+        let ad = d.abs();
+        let kz = if ad.at(0) > ad.at(1) {
+            if ad.at(0) > ad.at(2) { 0 } else { 2 }
+        } else if ad.at(1) > ad.at(2) {
+            1
+        } else {
+            2
+        };
+        // [d.at(kx), d.at(ky), d.at(kz)], as a rotation of the components.
+        let dp = d.rotate_last(kz);
+        Shear {
+            kz,
+            s: [-dp[0] / dp[2], -dp[1] / dp[2], T::one() / dp[2]],
+        }
+    }
+}
+
 /// The watertight test (Woop, Benthin, Wald 2013; pbrt-v4 `IntersectTriangle`).
 #[inline(always)]
 pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
+    watertight_sheared(ray, &Shear::of(ray), p)
+}
+
+/// [`watertight`] with the ray's [`Shear`] computed beforehand (it must be `Shear::of(ray)`).
+#[inline(always)]
+pub fn watertight_sheared<T: Real>(
+    ray: &Ray<T>,
+    shear: &Shear<T>,
+    p: [T::V; 3],
+) -> TriangleTest<T> {
     let mut out = TriangleTest {
         method: TriangleMethod::Watertight,
         det: T::zero(),
@@ -275,15 +319,7 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         t: None,
     };
     // Translate so the origin is at 0, permute so z is the largest |Q| component.
-    let d = ray.dir;
-    let ad = d.abs();
-    let kz = if ad.at(0) > ad.at(1) {
-        if ad.at(0) > ad.at(2) { 0 } else { 2 }
-    } else if ad.at(1) > ad.at(2) {
-        1
-    } else {
-        2
-    };
+    let kz = shear.kz;
     let kx = if kz == 2 { 0 } else { kz + 1 };
     let ky = if kx == 2 { 0 } else { kx + 1 };
     out.permutation = Some([kx, ky, kz]);
@@ -293,11 +329,8 @@ pub fn watertight<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
         (p[1] - ray.origin).rotate_last(kz),
         (p[2] - ray.origin).rotate_last(kz),
     ];
-    let dp = d.rotate_last(kz);
     // Shear so the ray runs along +z.
-    let sx = -dp[0] / dp[2];
-    let sy = -dp[1] / dp[2];
-    let sz = T::one() / dp[2];
+    let [sx, sy, sz] = shear.s;
     for v in q.iter_mut() {
         v[0] = v[0] + sx * v[2];
         v[1] = v[1] + sy * v[2];
