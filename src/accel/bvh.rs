@@ -106,6 +106,69 @@ impl FastRay {
     }
 }
 
+impl FastRay {
+    /// Both siblings' `interval::<true>` at once: on the AVX path the two boxes share one
+    /// 256-bit register, so each operation of the ordered slab test runs once for the pair. The
+    /// same IEEE operations in the same operand order, lane for lane, as [`FastRay::interval`]
+    /// (its `MINPS`/`MAXPS` and glam's horizontal max/min shuffles), so the same values bit for
+    /// bit — `tests` compares the two on random boxes. Only called with `WIDE`, which only the
+    /// AVX2 build of the query sets.
+    #[inline(always)]
+    #[allow(unsafe_code)] // calling the AVX function; reached only from the AVX2 build
+    fn interval_pair(&self, a: &Node, b: &Node, t_max: Vec3A) -> ((f32, f32), (f32, f32)) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            // SAFETY: `WIDE` is true only inside `closest_avx2`/`any_avx2`, which run only after
+            // `avx2_fma()` found AVX2 (hence AVX) on this CPU.
+            unsafe { wide::interval_pair(self, a, b, t_max) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            (
+                self.interval::<true>(a, t_max),
+                self.interval::<true>(b, t_max),
+            )
+        }
+    }
+}
+
+/// The AVX form of the pair test.
+#[cfg(target_arch = "x86_64")]
+#[allow(unsafe_code)]
+mod wide {
+    use super::{FastRay, Node};
+    use glam::Vec3A;
+    use std::arch::x86_64::*;
+
+    /// See [`FastRay::interval_pair`].
+    #[inline]
+    #[target_feature(enable = "avx")]
+    pub(super) fn interval_pair(
+        ray: &FastRay,
+        a: &Node,
+        b: &Node,
+        t_max: Vec3A,
+    ) -> ((f32, f32), (f32, f32)) {
+        let pair = |x: Vec3A, y: Vec3A| _mm256_set_m128(y.into(), x.into());
+        let origin = pair(ray.origin, ray.origin);
+        let inv = pair(ray.inv, ray.inv);
+        let t0 = _mm256_mul_ps(_mm256_sub_ps(pair(a.min, b.min), origin), inv);
+        let t1 = _mm256_mul_ps(_mm256_sub_ps(pair(a.max, b.max), origin), inv);
+        let entry = _mm256_min_ps(t0, t1);
+        let exit = _mm256_mul_ps(_mm256_max_ps(t0, t1), pair(ray.enlarge, ray.enlarge));
+        let entry = _mm256_max_ps(entry, pair(ray.t_min, ray.t_min));
+        let exit = _mm256_min_ps(exit, pair(t_max, t_max));
+        // glam's max_element / min_element, in each half.
+        let e = _mm256_max_ps(entry, _mm256_permute_ps::<0b00_00_10_10>(entry));
+        let e = _mm256_max_ps(e, _mm256_permute_ps::<0b00_00_00_01>(e));
+        let x = _mm256_min_ps(exit, _mm256_permute_ps::<0b01_01_10_10>(exit));
+        let x = _mm256_min_ps(x, _mm256_permute_ps::<0b00_00_00_01>(x));
+        let low = |v: __m256| _mm_cvtss_f32(_mm256_castps256_ps128(v));
+        let high = |v: __m256| _mm_cvtss_f32(_mm256_extractf128_ps::<1>(v));
+        ((low(e), low(x)), (high(e), high(x)))
+    }
+}
+
 /// Lane-wise `a > b ? a : b`: the larger, and `b` where `a` is NaN. On x86 this is exactly
 /// `MAXPS a, b`, which returns its second operand when either is NaN (Intel SDM), so it is one
 /// instruction; elsewhere (NEON's `vmaxq` propagates NaN) it is written out as a select.
@@ -324,21 +387,26 @@ impl Bvh {
     /// ray reaches, nearer subtrees first. `leaf` returns false to stop (any-hit). t_max shrinks
     /// as `leaf` finds closer hits (it updates `ray.t_max`).
     #[inline(always)]
-    fn traverse<O: Observer>(&self, ray: &mut Ray<f32>, obs: &mut O, leaf: &mut impl LeafTest<O>) {
+    fn traverse<O: Observer, const WIDE: bool>(
+        &self,
+        ray: &mut Ray<f32>,
+        obs: &mut O,
+        leaf: &mut impl LeafTest<O>,
+    ) {
         // True IEEE reciprocals: ±∞ for zero components, the sign of zero kept.
         let inv = Vec3::ONE / ray.dir;
         // A finite direction has a non-zero reciprocal, so with finite boxes and origin no slab
         // distance can be 0·∞ or ∞·0.
         if self.finite_boxes && inv.is_finite() && ray.dir.is_finite() && ray.origin.is_finite() {
-            self.walk::<O, true>(ray, inv, obs, leaf)
+            self.walk::<O, true, WIDE>(ray, inv, obs, leaf)
         } else {
-            self.walk::<O, false>(ray, inv, obs, leaf)
+            self.walk::<O, false, WIDE>(ray, inv, obs, leaf)
         }
     }
 
     /// [`Bvh::traverse`] with the box test `ORDERED` or not (see [`FastRay::interval`]).
     #[inline(always)]
-    fn walk<O: Observer, const ORDERED: bool>(
+    fn walk<O: Observer, const ORDERED: bool, const WIDE: bool>(
         &self,
         ray: &mut Ray<f32>,
         inv: Vec3,
@@ -389,8 +457,14 @@ impl Bvh {
                 _ => return,
             };
             let t_max = Vec3A::splat(t_max_tested);
-            let ia = fast.interval::<ORDERED>(a, t_max);
-            let ib = fast.interval::<ORDERED>(b, t_max);
+            let (ia, ib) = if WIDE && ORDERED {
+                fast.interval_pair(a, b, t_max)
+            } else {
+                (
+                    fast.interval::<ORDERED>(a, t_max),
+                    fast.interval::<ORDERED>(b, t_max),
+                )
+            };
             // Nearer first.
             let a_first = ia.0 <= ib.0;
             let (near, near_id, near_t) = if a_first {
@@ -520,7 +594,12 @@ impl<O: Observer> LeafTest<O> for AnyHit<'_> {
 
 impl Bvh {
     #[inline(always)]
-    fn closest_in<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+    fn closest_in<O: Observer, const WIDE: bool>(
+        &self,
+        scene: &Scene,
+        ray: &Ray<f32>,
+        obs: &mut O,
+    ) -> Option<Hit> {
         let mut r = *ray;
         let mut leaf = ClosestHit {
             scene,
@@ -528,12 +607,17 @@ impl Bvh {
             per: PerRay::default(),
         };
         closest_of(scene, &self.planes, &mut r, &mut leaf.best, obs);
-        self.traverse(&mut r, obs, &mut leaf);
+        self.traverse::<O, WIDE>(&mut r, obs, &mut leaf);
         leaf.best
     }
 
     #[inline(always)]
-    fn any_in<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+    fn any_in<O: Observer, const WIDE: bool>(
+        &self,
+        scene: &Scene,
+        ray: &Ray<f32>,
+        obs: &mut O,
+    ) -> Option<Hit> {
         if let Some(h) = any_of(scene, &self.planes, ray, obs) {
             return Some(h);
         }
@@ -543,7 +627,7 @@ impl Bvh {
             per: PerRay::default(),
         };
         let mut r = *ray;
-        self.traverse(&mut r, obs, &mut leaf);
+        self.traverse::<O, WIDE>(&mut r, obs, &mut leaf);
         leaf.found
     }
 
@@ -551,14 +635,14 @@ impl Bvh {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn closest_avx2<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
-        self.closest_in(scene, ray, obs)
+        self.closest_in::<O, true>(scene, ray, obs)
     }
 
     /// [`Bvh::any_in`] compiled for AVX2 and FMA.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn any_avx2<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
-        self.any_in(scene, ray, obs)
+        self.any_in::<O, true>(scene, ray, obs)
     }
 }
 
@@ -578,7 +662,7 @@ impl Accelerator for Bvh {
             // SAFETY: the CPU has AVX2 and FMA (just checked).
             return unsafe { self.closest_avx2(scene, ray, obs) };
         }
-        self.closest_in(scene, ray, obs)
+        self.closest_in::<O, false>(scene, ray, obs)
     }
 
     #[inline]
@@ -589,7 +673,7 @@ impl Accelerator for Bvh {
             // SAFETY: the CPU has AVX2 and FMA (just checked).
             return unsafe { self.any_avx2(scene, ray, obs) };
         }
-        self.any_in(scene, ray, obs)
+        self.any_in::<O, false>(scene, ray, obs)
     }
 
     fn name(&self) -> &'static str {
@@ -685,6 +769,17 @@ mod tests {
         ]
     }
 
+    /// Direction components for the ordered test (which needs finite reciprocals).
+    fn nonzero() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            Just(1.0f32),
+            Just(-1.0f32),
+            Just(2.5f32),
+            -4.0f32..-1e-3,
+            1e-3f32..4.0,
+        ]
+    }
+
     fn vec3() -> impl Strategy<Value = Vec3> {
         (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
     }
@@ -739,6 +834,60 @@ mod tests {
         ) {
             prop_assume!(dir != Vec3::ZERO);
             check(origin, dir, a, b, t_max)?;
+        }
+    }
+
+    /// The AVX pair test gives each box's ordered interval bit for bit.
+    #[cfg(target_arch = "x86_64")]
+    fn check_pair(
+        origin: Vec3,
+        dir: Vec3,
+        boxes: [Vec3; 4],
+        t_max: f32,
+    ) -> Result<(), TestCaseError> {
+        if !std::arch::is_x86_feature_detected!("avx") {
+            return Ok(());
+        }
+        let ray = Ray {
+            origin,
+            dir,
+            t_min: 0.0,
+            t_max,
+        };
+        let inv = Vec3::ONE / dir;
+        let node = |p: Vec3, q: Vec3| Node {
+            min: Vec3A::from(p.min(q)),
+            max: Vec3A::from(p.max(q)),
+            first: 0,
+            count: 1,
+        };
+        let (a, b) = (node(boxes[0], boxes[1]), node(boxes[2], boxes[3]));
+        let fast = FastRay::new(&ray, inv);
+        let t_max_v = Vec3A::splat(t_max);
+        #[allow(unsafe_code)]
+        // SAFETY: AVX was detected above.
+        let (pa, pb) = unsafe { wide::interval_pair(&fast, &a, &b, t_max_v) };
+        let (sa, sb) = (
+            fast.interval::<true>(&a, t_max_v),
+            fast.interval::<true>(&b, t_max_v),
+        );
+        let bits = |(n, f): (f32, f32)| (n.to_bits(), f.to_bits());
+        prop_assert_eq!(bits(pa), bits(sa));
+        prop_assert_eq!(bits(pb), bits(sb));
+        Ok(())
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+        #[test]
+        fn the_avx_pair_test_equals_two_single_tests(
+            origin in vec3(),
+            dir in (nonzero(), nonzero(), nonzero()).prop_map(|(x, y, z)| Vec3::new(x, y, z)),
+            p in vec3(), q in vec3(), r in vec3(), s in vec3(),
+            t_max in prop_oneof![Just(f32::INFINITY), 0.5f32..10.0],
+        ) {
+            check_pair(origin, dir, [p, q, r, s], t_max)?;
         }
     }
 
