@@ -1,0 +1,163 @@
+//! The SIMD box tests against the recorded scalar test.
+
+use super::*;
+use proptest::prelude::*;
+
+/// Coordinates that make the hard cases likely: zeros of both signs, coincident values (a ray
+/// lying in a face plane, a flat box), and arbitrary numbers.
+fn coordinate() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        Just(0.0f32),
+        Just(-0.0f32),
+        Just(1.0f32),
+        Just(-1.0f32),
+        Just(2.5f32),
+        -4.0f32..4.0,
+    ]
+}
+
+/// Direction components for the ordered test (which needs finite reciprocals).
+fn nonzero() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        Just(1.0f32),
+        Just(-1.0f32),
+        Just(2.5f32),
+        -4.0f32..-1e-3,
+        1e-3f32..4.0,
+    ]
+}
+
+fn vec3() -> impl Strategy<Value = Vec3> {
+    (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// Both SIMD box tests the traversal uses give the recorded scalar test's decision and its
+/// (t_near, t_far) — the ordered one whenever the traversal would choose it.
+fn check(origin: Vec3, dir: Vec3, a: Vec3, b: Vec3, t_max: f32) -> Result<(), TestCaseError> {
+    let (min, max) = (a.min(b), a.max(b));
+    let ray = Ray {
+        origin,
+        dir,
+        t_min: 0.0,
+        t_max,
+    };
+    let inv = Vec3::ONE / dir;
+    let node = Node {
+        min: Vec3A::from(min),
+        max: Vec3A::from(max),
+        first: 0,
+        count: 1,
+    };
+    let scalar = slab_robust(&ray, inv, min, max);
+    let fast = FastRay::new(&ray, inv);
+    let t_max_v = Vec3A::splat(t_max);
+    let mut tests = vec![fast.interval::<false>(&node, t_max_v)];
+    if inv.is_finite() && dir.is_finite() {
+        tests.push(fast.interval::<true>(&node, t_max_v));
+    }
+    for (near, far) in tests {
+        prop_assert_eq!(near <= far, scalar.hit, "decision, ray {:?}", ray);
+        // Equal as numbers (the sign of a zero t decides nothing).
+        prop_assert!(
+            near == scalar.t_near,
+            "t_near {} vs {}",
+            near,
+            scalar.t_near
+        );
+        prop_assert!(far == scalar.t_far, "t_far {} vs {}", far, scalar.t_far);
+    }
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(20_000))]
+    #[test]
+    fn simd_box_tests_agree_with_the_recorded_test(
+        origin in vec3(),
+        dir in vec3(),
+        a in vec3(),
+        b in vec3(),
+        t_max in prop_oneof![Just(f32::INFINITY), 0.5f32..10.0],
+    ) {
+        prop_assume!(dir != Vec3::ZERO);
+        check(origin, dir, a, b, t_max)?;
+    }
+}
+
+/// The AVX pair test gives each box's ordered interval bit for bit.
+#[cfg(target_arch = "x86_64")]
+fn check_pair(origin: Vec3, dir: Vec3, boxes: [Vec3; 4], t_max: f32) -> Result<(), TestCaseError> {
+    if !std::arch::is_x86_feature_detected!("avx") {
+        return Ok(());
+    }
+    let ray = Ray {
+        origin,
+        dir,
+        t_min: 0.0,
+        t_max,
+    };
+    let inv = Vec3::ONE / dir;
+    let node = |p: Vec3, q: Vec3| Node {
+        min: Vec3A::from(p.min(q)),
+        max: Vec3A::from(p.max(q)),
+        first: 0,
+        count: 1,
+    };
+    let (a, b) = (node(boxes[0], boxes[1]), node(boxes[2], boxes[3]));
+    let fast = FastRay::new(&ray, inv);
+    let t_max_v = Vec3A::splat(t_max);
+    #[allow(unsafe_code)]
+    // SAFETY: AVX was detected above.
+    let (pa, pb) = unsafe { ray_box::wide::interval_pair(&fast, &a, &b, t_max_v) };
+    let (sa, sb) = (
+        fast.interval::<true>(&a, t_max_v),
+        fast.interval::<true>(&b, t_max_v),
+    );
+    let bits = |(n, f): (f32, f32)| (n.to_bits(), f.to_bits());
+    prop_assert_eq!(bits(pa), bits(sa));
+    prop_assert_eq!(bits(pb), bits(sb));
+    Ok(())
+}
+
+#[cfg(target_arch = "x86_64")]
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(20_000))]
+    #[test]
+    fn the_avx_pair_test_equals_two_single_tests(
+        origin in vec3(),
+        dir in (nonzero(), nonzero(), nonzero()).prop_map(|(x, y, z)| Vec3::new(x, y, z)),
+        p in vec3(), q in vec3(), r in vec3(), s in vec3(),
+        t_max in prop_oneof![Just(f32::INFINITY), 0.5f32..10.0],
+    ) {
+        check_pair(origin, dir, [p, q, r, s], t_max)?;
+    }
+}
+
+#[test]
+fn a_ray_in_a_face_plane_is_inside_that_slab() {
+    // Along +x in the plane y = 0, the box's bottom face: hit, from t = 1 to t = 2 (× 1 + 2γ₃).
+    let r = check(
+        Vec3::new(0.0, 0.0, 0.5),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        Vec3::new(2.0, 1.0, 1.0),
+        f32::INFINITY,
+    );
+    assert!(r.is_ok(), "{r:?}");
+    let ray = Ray {
+        origin: Vec3::new(0.0, 0.0, 0.5),
+        dir: Vec3::new(1.0, -0.0, 0.0),
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    let inv = Vec3::ONE / ray.dir;
+    let node = Node {
+        min: Vec3A::new(1.0, 0.0, 0.0),
+        max: Vec3A::new(2.0, 1.0, 1.0),
+        first: 0,
+        count: 1,
+    };
+    let (near, far) = FastRay::new(&ray, inv).interval::<false>(&node, Vec3A::INFINITY);
+    assert_eq!(near, 1.0);
+    assert!((2.0..2.0001).contains(&far), "{far}");
+}
