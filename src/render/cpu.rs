@@ -170,10 +170,19 @@ pub fn render<A: Accelerator>(
             });
         }
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| format!("cannot start the worker threads: {e}"))?;
+    // One thread: the calling thread, no pool to start. Otherwise a pool of the render's own, so
+    // that a render in the background never holds up work the app gives rayon's global pool
+    // (the BVH build, for one).
+    let pool = match opts.threads {
+        Some(1) => None,
+        n => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n.unwrap_or(0))
+                .build()
+                .map_err(|e| format!("cannot start the worker threads: {e}"))?,
+        ),
+    };
+    let threads = pool.as_ref().map_or(1, |p| p.current_num_threads());
     let bar = if opts.progress && std::io::stderr().is_terminal() && tiles.len() > 64 {
         let b = indicatif::ProgressBar::new(tiles.len() as u64);
         b.set_style(
@@ -194,37 +203,36 @@ pub fn render<A: Accelerator>(
     let count = opts.count;
     let live = opts.live.as_deref();
     let cancelled = || live.is_some_and(|l| l.cancel.load(Ordering::Relaxed));
-    let results: Vec<(Vec<Vec3>, Vec<u32>, StatsObserver)> = pool.install(|| {
-        tiles
-            .par_iter()
-            .map(|t| {
-                if cancelled() {
-                    return (vec![], vec![], StatsObserver::default());
+    let per_tile = |t: &Tile| {
+        if cancelled() {
+            return (vec![], vec![], StatsObserver::default());
+        }
+        let mut px = Vec::with_capacity((t.w * t.h) as usize);
+        let mut visits = vec![];
+        let mut counter = StatsObserver::default();
+        for y in t.y0..t.y0 + t.h {
+            for x in t.x0..t.x0 + t.w {
+                if count {
+                    let before = counter.counts.node_visits;
+                    px.push(tracer.trace_pixel(x, y, &mut counter));
+                    visits.push((counter.counts.node_visits - before) as u32);
+                } else {
+                    px.push(tracer.trace_pixel(x, y, &mut Silent));
                 }
-                let mut px = Vec::with_capacity((t.w * t.h) as usize);
-                let mut visits = vec![];
-                let mut counter = StatsObserver::default();
-                for y in t.y0..t.y0 + t.h {
-                    for x in t.x0..t.x0 + t.w {
-                        if count {
-                            let before = counter.counts.node_visits;
-                            px.push(tracer.trace_pixel(x, y, &mut counter));
-                            visits.push((counter.counts.node_visits - before) as u32);
-                        } else {
-                            px.push(tracer.trace_pixel(x, y, &mut Silent));
-                        }
-                    }
-                }
-                if let Some(b) = &bar {
-                    b.inc(1);
-                }
-                if let Some(l) = live {
-                    publish_tile(l, t, width, &px);
-                }
-                (px, visits, counter)
-            })
-            .collect()
-    });
+            }
+        }
+        if let Some(b) = &bar {
+            b.inc(1);
+        }
+        if let Some(l) = live {
+            publish_tile(l, t, width, &px);
+        }
+        (px, visits, counter)
+    };
+    let results: Vec<(Vec<Vec3>, Vec<u32>, StatsObserver)> = match &pool {
+        None => tiles.iter().map(per_tile).collect(),
+        Some(p) => p.install(|| tiles.par_iter().map(per_tile).collect()),
+    };
     let trace = start.elapsed();
     if let Some(b) = bar {
         b.finish_and_clear();
@@ -264,7 +272,7 @@ pub fn render<A: Accelerator>(
         stats: RenderStats {
             trace,
             counts,
-            threads: pool.current_num_threads(),
+            threads,
             nan_rays,
             nan_pixels,
         },
