@@ -289,8 +289,9 @@ pub fn any_of<O: Observer>(scene: &Scene, ids: &[u32], ray: &Ray<f32>, obs: &mut
     found
 }
 
-/// Whether queries may run the AVX2 + FMA build of the traversal and kernels (x86-64 CPUs that
-/// have both, unless [`set_baseline_only`] turned it off). The answers are identical either way.
+/// Whether a BVH's queries may run the AVX2 + FMA build of the traversal and kernels (x86-64 CPUs
+/// that have both, unless [`set_baseline_only`] turned it off). The answers are identical either
+/// way.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(crate) fn avx2_fma() -> bool {
@@ -301,8 +302,9 @@ pub(crate) fn avx2_fma() -> bool {
 
 static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// Makes every later query run the baseline build only (`true`) or the fastest the CPU allows
-/// (`false`, the default) — for the tests that compare the two and for benchmarks. Process-wide.
+/// Makes every BVH built afterwards run the baseline build only (`true`) or the fastest the CPU
+/// allows (`false`, the default) — for the tests that compare the two and for benchmarks.
+/// Process-wide; a tree keeps the choice made when it was built.
 pub fn set_baseline_only(baseline: bool) {
     BASELINE_ONLY.store(baseline, std::sync::atomic::Ordering::Relaxed);
 }

@@ -150,6 +150,10 @@ pub struct Bvh {
     /// Whether every node's box is finite (then a ray with a finite origin and reciprocals takes
     /// the box test without NaN handling).
     finite_boxes: bool,
+    /// Whether queries take the AVX2 + FMA build: decided once, at build time, so a query reads
+    /// a field of the tree rather than process-wide flags (shared cache lines that other threads
+    /// may be writing next to).
+    wide: bool,
 }
 
 impl Bvh {
@@ -220,6 +224,10 @@ impl Bvh {
             outline,
             obvhs: bvh2,
             finite_boxes,
+            #[cfg(target_arch = "x86_64")]
+            wide: super::avx2_fma(),
+            #[cfg(not(target_arch = "x86_64"))]
+            wide: false,
         }
     }
 
@@ -514,7 +522,7 @@ impl Accelerator for Bvh {
     #[allow(unsafe_code)] // calling a #[target_feature] function, after checking the CPU has it
     fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         #[cfg(target_arch = "x86_64")]
-        if super::avx2_fma() {
+        if self.wide {
             // SAFETY: the CPU has AVX2 and FMA (just checked).
             return unsafe { self.closest_avx2(scene, ray, obs) };
         }
@@ -525,7 +533,7 @@ impl Accelerator for Bvh {
     #[allow(unsafe_code)] // calling a #[target_feature] function, after checking the CPU has it
     fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         #[cfg(target_arch = "x86_64")]
-        if super::avx2_fma() {
+        if self.wide {
             // SAFETY: the CPU has AVX2 and FMA (just checked).
             return unsafe { self.any_avx2(scene, ray, obs) };
         }
