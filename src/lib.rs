@@ -46,8 +46,8 @@
 //! - [`app`]: the eframe app; [`cli`]: the `raystep` command line; [`fuzzing`]: the entry points
 //!   the fuzzers and the property tests feed hostile input; [`io`]: bounded reading and atomic
 //!   writing of files.
-// Two places opt in, with their reasons: gpu::tracer's request for wgpu's experimental ray queries,
-// and the BVH's calls of its AVX2 + FMA build after checking that the CPU has both.
+// A few places opt in, with their reasons: gpu::tracer's request for wgpu's experimental ray
+// queries, and the BVH's calls of its AVX2 + FMA build and AVX box test after checking the CPU.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 
