@@ -375,18 +375,25 @@ fn render_with(scene: &Scene, accel: AccelChoice) -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// Bit-identical images: every shipped scene and three SPD scenes, each accelerator against
-/// brute force.
-#[test]
-fn every_accelerator_renders_what_brute_force_renders() {
+/// Every shipped scene and three small SPD scenes, at most 96×72 pixels.
+fn small_scenes() -> Vec<Scene> {
     use raystep::scene::spd::SpdScene;
     let mut scenes = shipped();
     scenes.push(spd(SpdScene::Balls, 2));
     scenes.push(spd(SpdScene::Tetra, 3));
     scenes.push(spd(SpdScene::Mount, 3));
-    for mut scene in scenes {
+    for scene in &mut scenes {
         scene.camera.width = scene.camera.width.min(96);
         scene.camera.height = scene.camera.height.min(72);
+    }
+    scenes
+}
+
+/// Bit-identical images: every shipped scene and three SPD scenes, each accelerator against
+/// brute force.
+#[test]
+fn every_accelerator_renders_what_brute_force_renders() {
+    for scene in small_scenes() {
         let brute = render_with(&scene, AccelChoice::None);
         for a in [AccelChoice::Bvh, AccelChoice::Spheres, AccelChoice::Grid] {
             let img = render_with(&scene, a);
@@ -694,15 +701,8 @@ fn a_grid_of_many_large_primitives_stays_within_its_reference_budget() {
 /// and the test still holds, trivially).
 #[test]
 fn wide_instructions_render_what_the_baseline_build_renders() {
-    use raystep::scene::spd::SpdScene;
     use raystep::shapes::triangle::TriangleMethod;
-    let mut scenes = shipped();
-    scenes.push(spd(SpdScene::Balls, 2));
-    scenes.push(spd(SpdScene::Tetra, 3));
-    scenes.push(spd(SpdScene::Mount, 3));
-    for mut scene in scenes {
-        scene.camera.width = scene.camera.width.min(96);
-        scene.camera.height = scene.camera.height.min(72);
+    for mut scene in small_scenes() {
         for method in [TriangleMethod::Watertight, TriangleMethod::MollerTrumbore] {
             scene.settings.triangle_method = method;
             raystep::accel::set_baseline_only(true);

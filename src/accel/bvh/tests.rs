@@ -31,23 +31,32 @@ fn vec3() -> impl Strategy<Value = Vec3> {
     (coordinate(), coordinate(), coordinate()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
 }
 
-/// Both SIMD box tests the traversal uses give the recorded scalar test's decision and its
-/// (t_near, t_far) — the ordered one whenever the traversal would choose it.
-fn check(origin: Vec3, dir: Vec3, a: Vec3, b: Vec3, t_max: f32) -> Result<(), TestCaseError> {
-    let (min, max) = (a.min(b), a.max(b));
-    let ray = Ray {
+fn ray_to(origin: Vec3, dir: Vec3, t_max: f32) -> Ray<f32> {
+    Ray {
         origin,
         dir,
         t_min: 0.0,
         t_max,
-    };
-    let inv = Vec3::ONE / dir;
-    let node = Node {
-        min: Vec3A::from(min),
-        max: Vec3A::from(max),
+    }
+}
+
+/// A leaf whose box has corners `p` and `q`.
+fn leaf_box(p: Vec3, q: Vec3) -> Node {
+    Node {
+        min: Vec3A::from(p.min(q)),
+        max: Vec3A::from(p.max(q)),
         first: 0,
         count: 1,
-    };
+    }
+}
+
+/// Both SIMD box tests the traversal uses give the recorded scalar test's decision and its
+/// (t_near, t_far) — the ordered one whenever the traversal would choose it.
+fn check(origin: Vec3, dir: Vec3, a: Vec3, b: Vec3, t_max: f32) -> Result<(), TestCaseError> {
+    let (min, max) = (a.min(b), a.max(b));
+    let ray = ray_to(origin, dir, t_max);
+    let inv = Vec3::ONE / dir;
+    let node = leaf_box(a, b);
     let scalar = slab_robust(&ray, inv, min, max);
     let fast = FastRay::new(&ray, inv);
     let t_max_v = Vec3A::splat(t_max);
@@ -90,20 +99,9 @@ fn check_pair(origin: Vec3, dir: Vec3, boxes: [Vec3; 4], t_max: f32) -> Result<(
     if !std::arch::is_x86_feature_detected!("avx") {
         return Ok(());
     }
-    let ray = Ray {
-        origin,
-        dir,
-        t_min: 0.0,
-        t_max,
-    };
+    let ray = ray_to(origin, dir, t_max);
     let inv = Vec3::ONE / dir;
-    let node = |p: Vec3, q: Vec3| Node {
-        min: Vec3A::from(p.min(q)),
-        max: Vec3A::from(p.max(q)),
-        first: 0,
-        count: 1,
-    };
-    let (a, b) = (node(boxes[0], boxes[1]), node(boxes[2], boxes[3]));
+    let (a, b) = (leaf_box(boxes[0], boxes[1]), leaf_box(boxes[2], boxes[3]));
     let fast = FastRay::new(&ray, inv);
     let t_max_v = Vec3A::splat(t_max);
     #[allow(unsafe_code)]
