@@ -13,6 +13,10 @@ use raystep::record::number::num;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+#[path = "common/app_harness.rs"]
+mod app_harness;
+use app_harness::wgpu_harness;
+
 fn harness(file: Option<&Path>) -> Harness<'static, RaystepApp> {
     let file = file.map(Path::to_path_buf);
     Harness::builder()
@@ -319,45 +323,6 @@ fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
         h.mask(r);
     }
     n
-}
-
-/// Whether wgpu finds an adapter (lavapipe on a machine without a GPU).
-fn have_adapter() -> bool {
-    let instance = eframe::wgpu::Instance::new(
-        eframe::wgpu::InstanceDescriptor::new_without_display_handle_from_env(),
-    );
-    !pollster::block_on(instance.enumerate_adapters(eframe::wgpu::Backends::all())).is_empty()
-}
-
-/// The whole app rendered through wgpu at 1400×860 on `file` (with the GPU view when
-/// `gpu_view`), or None — after saying why — where wgpu finds no adapter. Under CI a missing
-/// adapter fails the test: .ci/run installs lavapipe.
-fn wgpu_harness(
-    test: &str,
-    file: Option<PathBuf>,
-    gpu_view: bool,
-) -> Option<Harness<'static, RaystepApp>> {
-    if !have_adapter() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must run {test}: install Mesa's lavapipe (mesa-vulkan-drivers)"
-        );
-        eprintln!("SKIPPED {test}: wgpu found no adapter (install mesa-vulkan-drivers)");
-        return None;
-    }
-    Some(
-        Harness::builder()
-            .with_size(egui::vec2(1400.0, 860.0))
-            .wgpu()
-            .build_eframe(move |cc| {
-                let app = RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), file.clone());
-                if gpu_view {
-                    app.with_wgpu(cc.wgpu_render_state.clone())
-                } else {
-                    app
-                }
-            }),
-    )
 }
 
 /// Snapshots of the main views rendered with wgpu on the software adapter. The thresholds

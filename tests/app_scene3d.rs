@@ -9,38 +9,19 @@ use egui_kittest::kittest::Queryable as _;
 use raystep::app::RaystepApp;
 use raystep::app::gpu_view::CentralTab;
 use raystep::app::state::editing::EditCmd;
-use raystep::app::state::{Command, Prefs, StepMove};
+use raystep::app::state::{Command, StepMove};
 use raystep::scene::Shape;
 use raystep::scene::edit::Edit;
 use raystep::view3d::Viewpoint;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-fn have_adapter() -> bool {
-    let instance = eframe::wgpu::Instance::new(
-        eframe::wgpu::InstanceDescriptor::new_without_display_handle_from_env(),
-    );
-    !pollster::block_on(instance.enumerate_adapters(eframe::wgpu::Backends::all())).is_empty()
-}
+#[path = "common/app_harness.rs"]
+mod app_harness;
 
+/// The whole app with the GPU view on `file` (None where wgpu finds no adapter, outside CI).
 fn harness(test: &str, file: PathBuf) -> Option<Harness<'static, RaystepApp>> {
-    if !have_adapter() {
-        assert!(
-            std::env::var("CI").is_err(),
-            "CI must run {test}: install Mesa's lavapipe (mesa-vulkan-drivers)"
-        );
-        eprintln!("SKIPPED {test}: wgpu found no adapter (install mesa-vulkan-drivers)");
-        return None;
-    }
-    Some(
-        Harness::builder()
-            .with_size(egui::vec2(1400.0, 860.0))
-            .wgpu()
-            .build_eframe(move |cc| {
-                RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), Some(file.clone()))
-                    .with_wgpu(cc.wgpu_render_state.clone())
-            }),
-    )
+    app_harness::wgpu_harness(test, Some(file), true)
 }
 
 /// Steps the UI until `done` holds (the render runs on other threads), at most 60 s.

@@ -93,24 +93,7 @@ fn parse_scale(s: &str) -> Result<f32, String> {
 }
 
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WxH, got \"{s}\""))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .map_err(|_| format!("\"{w}\" is not a width"))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .map_err(|_| format!("\"{h}\" is not a height"))?;
-    let max = diagram::MAX_SIDE;
-    if !(64..=max).contains(&w) || !(64..=max).contains(&h) {
-        return Err(format!(
-            "{w}x{h}: each side must be between 64 and {max} pixels"
-        ));
-    }
-    Ok([w, h])
+    super::parse_size_within(s, diagram::MAX_SIDE)
 }
 
 /// Loads or makes the trace the command draws.

@@ -154,6 +154,27 @@ pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     Ok(out)
 }
 
+/// Parses `WxH`, each side a whole number of pixels from 64 to `max`.
+pub(crate) fn parse_size_within(s: &str, max: u32) -> Result<[u32; 2], String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WxH, got \"{s}\""))?;
+    let w: u32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{w}\" is not a width"))?;
+    let h: u32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("\"{h}\" is not a height"))?;
+    if !(64..=max).contains(&w) || !(64..=max).contains(&h) {
+        return Err(format!(
+            "{w}x{h}: each side must be a whole number of pixels from 64 to {max}"
+        ));
+    }
+    Ok([w, h])
+}
+
 /// Parses `X,Y` into a pixel position.
 pub fn parse_pixel(s: &str) -> Result<[u32; 2], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();

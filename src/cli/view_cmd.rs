@@ -92,22 +92,7 @@ fn parse_distance(s: &str) -> Result<f32, String> {
 }
 
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| format!("expected WxH, got \"{s}\""))?;
-    let side = |t: &str| -> Result<u32, String> {
-        t.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|v| (64..=view3d::gpu::MAX_SIDE).contains(v))
-            .ok_or_else(|| {
-                format!(
-                    "{s}: each side must be a whole number from 64 to {}",
-                    view3d::gpu::MAX_SIDE
-                )
-            })
-    };
-    Ok([side(w)?, side(h)?])
+    super::parse_size_within(s, view3d::gpu::MAX_SIDE)
 }
 
 /// The picture's size. Looking through the camera draws the camera's view at the camera's

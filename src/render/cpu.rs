@@ -244,8 +244,8 @@ pub fn render<A: Accelerator>(
     let mut node_visits = count.then(|| vec![0u32; (width * height) as usize]);
     let mut counts = Counter::default();
     let (mut nan_rays, mut nan_pixels) = (0, 0);
-    // Row by row: a tile's rows are contiguous in its results and in the image (a division per
-    // pixel here took a third of a small render's time, and the loop runs on one thread).
+    // Row by row: a tile's rows are contiguous in its results and in the image, so whole rows are
+    // copied (this loop runs on one thread; it used to divide per pixel to find its place).
     for (t, (px, visits, c)) in tiles.iter().zip(results) {
         counts.merge(&c.counts);
         nan_rays += c.nan_rays;

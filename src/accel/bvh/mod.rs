@@ -194,9 +194,7 @@ impl Bvh {
         let leaf_objects = map_in_order(&bvh2.primitive_indices, |&i| finite[i as usize]);
         let leaf_shapes = map_in_order(&leaf_objects, |&id| scene.objects[id as usize].shape);
         let max_depth = tree_depth(&nodes);
-        let finite_boxes = map_in_order(&nodes, |n| n.min.is_finite() && n.max.is_finite())
-            .into_iter()
-            .all(|f| f);
+        let finite_boxes = nodes.iter().all(|n| n.min.is_finite() && n.max.is_finite());
         let outline = compute_outline(&nodes, OUTLINE_DEPTH);
         Bvh {
             nodes,
