@@ -348,37 +348,93 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize, side: Side) {
 }
 
 /// How a full render scales from one thread to two: each scene at its own size (shadows,
-/// reflections and refractions included), medians of `reps`, the ratio of the two times.
+/// reflections and refractions included), the ratio of the two times. Renders of a few
+/// milliseconds move by tens of per cent from one to the next on a shared machine, so each
+/// sample renders the scene as many times as fill [`SAMPLE`] (the per-render time is printed),
+/// and one-thread and two-thread samples alternate, so a slow spell on the machine falls on both.
+///
+/// A third sample runs two independent one-thread renders at once, one per core: nothing is
+/// shared between them but the machine (caches, memory, a core's sibling if the cores are
+/// hyper-threads), so `2 × one thread ÷ that` is the most two threads can give on this machine,
+/// and the last column is how much of it the parallel render reaches.
 pub fn threads(scenes: &[Scene], reps: usize) {
-    println!("| scene | primitives | size | rays | 1 thread (ms) | 2 threads (ms) | 2T / 1T |");
-    println!("|---|---|---|---|---|---|---|");
+    /// The least time one sample takes.
+    const SAMPLE: Duration = Duration::from_millis(60);
+    println!(
+        "| scene | primitives | size | rays | renders per sample | 1 thread (ms) | 2 threads (ms) | 2T / 1T | two 1-thread renders at once (ms each) | machine's limit | 2T / limit |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for scene in scenes {
         let (accel, _) = SceneAccel::build(scene);
         let tracer = Tracer::new(scene, &accel);
         let rays = count_rays(&tracer).rays();
-        let time = |threads: usize| {
-            median_time(reps, || {
-                std::hint::black_box(render(
-                    &tracer,
-                    &RenderOptions {
-                        threads: Some(threads),
-                        ..Default::default()
-                    },
-                ))
-                .ok();
-            })
+        let once = |threads: usize| {
+            std::hint::black_box(render(
+                &tracer,
+                &RenderOptions {
+                    threads: Some(threads),
+                    ..Default::default()
+                },
+            ))
+            .ok();
         };
-        let (one, two) = (time(1), time(2));
+        // How many renders fill a sample, from one timed one-thread render (after a warm-up).
+        once(1);
+        let t = Instant::now();
+        once(1);
+        let per_sample = (SAMPLE.as_secs_f64() / t.elapsed().as_secs_f64().max(1e-6))
+            .ceil()
+            .clamp(1.0, 10_000.0) as usize;
+        let sample = |threads: usize| {
+            let t = Instant::now();
+            for _ in 0..per_sample {
+                once(threads);
+            }
+            t.elapsed() / per_sample as u32
+        };
+        // Two one-thread renders at once; the time each took.
+        let side_by_side = || {
+            let t = Instant::now();
+            std::thread::scope(|s| {
+                let other = s.spawn(|| {
+                    for _ in 0..per_sample {
+                        once(1);
+                    }
+                });
+                for _ in 0..per_sample {
+                    once(1);
+                }
+                other.join().ok();
+            });
+            t.elapsed() / per_sample as u32
+        };
+        let (mut one, mut two, mut both) = (vec![], vec![], vec![]);
+        for _ in 0..reps.max(1) {
+            one.push(sample(1));
+            two.push(sample(2));
+            both.push(side_by_side());
+        }
+        let median = |mut v: Vec<Duration>| {
+            v.sort();
+            v[v.len() / 2]
+        };
+        let (one, two, both) = (median(one), median(two), median(both));
+        let limit = 2.0 * one.as_secs_f64() / both.as_secs_f64().max(1e-9);
+        let speedup = one.as_secs_f64() / two.as_secs_f64().max(1e-9);
         println!(
-            "| {} | {} | {}×{} | {} | {:.1} | {:.1} | {:.2}× |",
+            "| {} | {} | {}×{} | {} | {} | {:.2} | {:.2} | {:.2}× | {:.2} | {:.2}× | {:.0} % |",
             scene.name,
             scene.features.primitives,
             scene.camera.width,
             scene.camera.height,
             rays,
+            per_sample,
             one.as_secs_f64() * 1e3,
             two.as_secs_f64() * 1e3,
-            one.as_secs_f64() / two.as_secs_f64().max(1e-9)
+            speedup,
+            both.as_secs_f64() * 1e3,
+            limit,
+            100.0 * speedup / limit.max(1e-9)
         );
     }
 }
