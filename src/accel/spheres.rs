@@ -90,7 +90,7 @@ impl SphereTree {
     /// Builds the sphere tree over `bvh`'s topology for `scene`.
     pub fn from_bvh(scene: &Scene, bvh: &Bvh) -> SphereTree {
         let mut nodes: Vec<SphereNode> = bvh
-            .nodes()
+            .nodes
             .iter()
             .map(|n| SphereNode {
                 center: Vec3::ZERO,

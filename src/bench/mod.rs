@@ -149,7 +149,7 @@ pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
     println!(
         "- BVH build: {:.1} ms ({} nodes, depth {})",
         build.as_secs_f64() * 1e3,
-        bvh.nodes().len(),
+        bvh.nodes.len(),
         bvh.max_depth
     );
     let tracer = Tracer::new(&s, &bvh);

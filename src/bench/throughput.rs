@@ -188,14 +188,14 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
 /// quality, comparable between builders only on the same scene.
 pub fn sah_cost(bvh: &Bvh) -> f64 {
     let area = |n: &crate::accel::bvh::Node| {
-        let d = (n.max - n.min).max(glam::Vec3::ZERO);
+        let d = (n.max - n.min).max(glam::Vec3A::ZERO);
         2.0 * f64::from(d.x * d.y + d.y * d.z + d.z * d.x)
     };
-    let Some(root) = bvh.nodes().first() else {
+    let Some(root) = bvh.nodes.first() else {
         return 0.0;
     };
     let root_area = area(root).max(f64::MIN_POSITIVE);
-    bvh.nodes()
+    bvh.nodes
         .iter()
         .map(|n| area(n) / root_area * if n.is_leaf() { f64::from(n.count) } else { 1.0 })
         .sum()

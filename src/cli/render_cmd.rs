@@ -86,7 +86,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let rays = c.rays().max(1) as f64;
     let accel_desc = match &accel {
         SceneAccel::Brute(_) => "brute force (every primitive for every ray)".to_string(),
-        SceneAccel::Bvh(b) => format!("BVH ({} nodes, depth {})", b.nodes().len(), b.max_depth),
+        SceneAccel::Bvh(b) => format!("BVH ({} nodes, depth {})", b.nodes.len(), b.max_depth),
         SceneAccel::Spheres(s) => format!("bounding spheres ({} nodes)", s.nodes.len()),
         SceneAccel::Grid(g) => format!(
             "uniform grid ({}×{}×{} cells, {} references)",

@@ -106,8 +106,12 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
     let (mut n_nodes, mut n_planes) = (0, 0);
     if let Some(bvh) = bvh {
         {
-            for n in bvh.nodes() {
-                nodes.vec3(n.min).u32(n.first).vec3(n.max).u32(n.count);
+            for n in &bvh.nodes {
+                nodes
+                    .vec3(Vec3::from(n.min))
+                    .u32(n.first)
+                    .vec3(Vec3::from(n.max))
+                    .u32(n.count);
             }
             for &id in &bvh.leaf_objects {
                 leaf_objects.u32(id);
@@ -115,7 +119,7 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
             for &id in &bvh.planes {
                 planes.u32(id);
             }
-            n_nodes = bvh.nodes().len() as u32;
+            n_nodes = bvh.nodes.len() as u32;
             n_planes = bvh.planes.len() as u32;
         }
     }

@@ -104,20 +104,16 @@ impl Todo {
 mod ray_box;
 use ray_box::FastRay;
 
-/// One node of the tree in raystep's own layout (box, and either two children or a leaf range):
-/// 32 bytes, so two siblings share one 64-byte cache line (the GPU view's buffer has the same
-/// layout). The SIMD slab test loads 16 bytes at `min` (and at `max`): the corner and the `u32`
-/// after it, whose lane is then overwritten with z (see [`Node::simd`]).
+/// One node of the tree in raystep's own layout (box, and either two children or a leaf range).
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[repr(C, align(32))]
 pub struct Node {
-    /// Box minimum.
-    pub min: Vec3,
+    /// Box minimum (16-byte aligned for the SIMD slab test).
+    pub min: Vec3A,
+    /// Box maximum.
+    pub max: Vec3A,
     /// Leaf: index of its first object in [`Bvh::leaf_objects`]; inner: index of its first child
     /// (the second is `first + 1`).
     pub first: u32,
-    /// Box maximum.
-    pub max: Vec3,
     /// Number of objects in a leaf; 0 for an inner node.
     pub count: u32,
 }
@@ -128,34 +124,12 @@ impl Node {
     pub fn is_leaf(&self) -> bool {
         self.count > 0
     }
-
-    /// The box's corners as SIMD vectors (x, y, z, z): one aligned 16-byte load and one shuffle
-    /// each, since the node's alignment lets the compiler read the `u32` beside the corner. The
-    /// fourth lane repeats z rather than holding that integer, whose bits are often a subnormal
-    /// float (slow in arithmetic on many CPUs).
-    #[inline(always)]
-    pub(super) fn simd(&self) -> (Vec3A, Vec3A) {
-        (Vec3A::from(self.min), Vec3A::from(self.max))
-    }
-}
-
-/// Where the nodes start in their buffer: 0 or 1, so that every sibling pair (`first`,
-/// `first + 1`) lies in one 64-byte cache line. obvhs stores pairs side by side after the root
-/// (`first` odd), and the buffer of 32-byte nodes starts either on a cache line or half-way into
-/// one; one unused node in front shifts the pairs when needed. Only speed depends on this.
-fn node_offset(buffer: &[Node], first_child: Option<u32>) -> usize {
-    let Some(first) = first_child else { return 0 };
-    let half_line = buffer.as_ptr() as usize % 64 / 32;
-    // Node `start + first` at byte `base + 32·(start + first)` must be a multiple of 64.
-    (half_line + first as usize) % 2
 }
 
 /// A BVH over a scene's finite primitives, plus the list of its planes.
 pub struct Bvh {
-    /// The nodes from `node_start` on (see [`Bvh::nodes`]).
-    node_buffer: Vec<Node>,
-    /// 0, or 1 when an unused node in front puts sibling pairs on cache lines ([`node_offset`]).
-    node_start: usize,
+    /// The nodes; `nodes[0]` is the root.
+    pub nodes: Vec<Node>,
     /// Object ids in leaf order.
     pub leaf_objects: Vec<u32>,
     /// Their shapes, in the same order: a leaf's primitives lie side by side in memory, as the
@@ -208,28 +182,22 @@ impl Bvh {
         } else {
             build_bvh2(&boxes, BvhBuildParams::medium_build(), &mut core)
         };
-        let mut node_buffer = Vec::with_capacity(bvh2.nodes.len() + 1);
-        let first_child = bvh2.nodes.first().filter(|r| r.prim_count == 0);
-        let node_start = node_offset(&node_buffer, first_child.map(|r| r.first_index));
-        node_buffer.extend(std::iter::repeat_n(UNUSED_NODE, node_start));
-        extend_in_order(&mut node_buffer, &bvh2.nodes, |n| {
+        let nodes = map_in_order(&bvh2.nodes, |n| {
             let b = n.aabb();
             Node {
-                min: b.min.into(),
+                min: b.min,
+                max: b.max,
                 first: n.first_index,
-                max: b.max.into(),
                 count: n.prim_count,
             }
         });
-        let nodes = node_buffer.get(node_start..).unwrap_or_default();
         let leaf_objects = map_in_order(&bvh2.primitive_indices, |&i| finite[i as usize]);
         let leaf_shapes = map_in_order(&leaf_objects, |&id| scene.objects[id as usize].shape);
-        let max_depth = tree_depth(nodes);
+        let max_depth = tree_depth(&nodes);
         let finite_boxes = nodes.iter().all(|n| n.min.is_finite() && n.max.is_finite());
-        let outline = compute_outline(nodes, OUTLINE_DEPTH);
+        let outline = compute_outline(&nodes, OUTLINE_DEPTH);
         Bvh {
-            node_buffer,
-            node_start,
+            nodes,
             leaf_objects,
             leaf_shapes,
             planes,
@@ -246,15 +214,9 @@ impl Bvh {
         }
     }
 
-    /// The nodes; `nodes()[0]` is the root.
-    #[inline(always)]
-    pub fn nodes(&self) -> &[Node] {
-        self.node_buffer.get(self.node_start..).unwrap_or_default()
-    }
-
     /// Bytes the tree takes: its nodes, object ids and leaf-ordered shapes, and the plane list.
     pub fn memory(&self) -> usize {
-        self.node_buffer.len() * std::mem::size_of::<Node>()
+        self.nodes.len() * std::mem::size_of::<Node>()
             + self.leaf_shapes.len() * std::mem::size_of::<Shape>()
             + (self.leaf_objects.len() + self.planes.len()) * 4
     }
@@ -299,8 +261,7 @@ impl Bvh {
         leaf: &mut impl LeafTest<O>,
     ) {
         let fast = FastRay::new(ray, inv);
-        let nodes = self.nodes();
-        let Some(root) = nodes.first() else {
+        let Some(root) = self.nodes.first() else {
             return;
         };
         let (t_near, t_far) = fast.interval::<ORDERED>(root, Vec3A::splat(ray.t_max));
@@ -312,7 +273,7 @@ impl Bvh {
         obs.node_visit(|| NodeVisit {
             node: 0,
             depth: 0,
-            test: slab_robust(ray, inv, root.min, root.max),
+            test: slab_robust(ray, inv, Vec3::from(root.min), Vec3::from(root.max)),
             leaf: root.is_leaf(),
             children: (!root.is_leaf()).then_some([root.first, root.first + 1]),
             action: root_action,
@@ -338,7 +299,7 @@ impl Bvh {
             // even after a leaf shrinks it (origin, direction and t_min never change).
             let t_max_tested = ray.t_max;
             // Siblings are adjacent: one bounds check for the pair.
-            let (a, b) = match nodes.get(first as usize..first as usize + 2) {
+            let (a, b) = match self.nodes.get(first as usize..first as usize + 2) {
                 Some([a, b]) => (a, b),
                 _ => return,
             };
@@ -383,7 +344,12 @@ impl Bvh {
                         NodeVisit {
                             node: $id,
                             depth,
-                            test: slab_robust(&tested, inv, node.min, node.max),
+                            test: slab_robust(
+                                &tested,
+                                inv,
+                                Vec3::from(node.min),
+                                Vec3::from(node.max),
+                            ),
                             leaf: node.is_leaf(),
                             children: (!node.is_leaf()).then_some([node.first, node.first + 1]),
                             action: match (hit, node.is_leaf()) {
@@ -578,31 +544,12 @@ const PARALLEL_FROM: usize = 16_384;
 
 /// `items.iter().map(f).collect()`, in parallel for big slices (the order is kept either way).
 fn map_in_order<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send) -> Vec<U> {
-    let mut out = Vec::with_capacity(items.len());
-    extend_in_order(&mut out, items, f);
-    out
-}
-
-/// `out.extend(items.iter().map(f))`, in parallel for big slices (the order is kept either way).
-fn extend_in_order<T: Sync, U: Send>(
-    out: &mut Vec<U>,
-    items: &[T],
-    f: impl Fn(&T) -> U + Sync + Send,
-) {
     if items.len() >= PARALLEL_FROM {
-        out.par_extend(items.par_iter().map(f));
+        items.par_iter().map(f).collect()
     } else {
-        out.extend(items.iter().map(f));
+        items.iter().map(f).collect()
     }
 }
-
-/// The unused node that [`node_offset`] may put in front of the root (an empty leaf).
-const UNUSED_NODE: Node = Node {
-    min: Vec3::ZERO,
-    first: 0,
-    max: Vec3::ZERO,
-    count: 0,
-};
 
 /// The number of levels below the root (0 for a single leaf or an empty tree).
 fn tree_depth(nodes: &[Node]) -> usize {

@@ -40,9 +40,8 @@ impl FastRay {
     /// finite non-zero reciprocal is never NaN).
     #[inline(always)]
     pub(super) fn interval<const ORDERED: bool>(&self, node: &Node, t_max: Vec3A) -> (f32, f32) {
-        let (min, max) = node.simd();
-        let t0 = (min - self.origin) * self.inv;
-        let t1 = (max - self.origin) * self.inv;
+        let t0 = (node.min - self.origin) * self.inv;
+        let t1 = (node.max - self.origin) * self.inv;
         let (entry, exit) = if ORDERED {
             (t0.min(t1), t0.max(t1))
         } else {
@@ -103,14 +102,14 @@ pub(super) mod wide {
     /// See [`FastRay::interval_pair`].
     ///
     /// Not a `#[target_feature]` function: those cannot be `#[inline(always)]`, and left to the
-    /// inliner this one was sometimes compiled as a call per sibling pair (20 % more
-    /// instructions for shadow rays). Always inlined instead, it is compiled as part of
-    /// `closest_avx2`/`any_avx2`, whose AVX2 + FMA features its intrinsics then use.
+    /// compiler's inliner one of its callers got it as a call per sibling pair (a change of the
+    /// node layout once made that the shadow-ray query: 20 % more instructions). Always
+    /// inlined, it is compiled as part of `closest_avx2`/`any_avx2`, whose AVX2 + FMA features
+    /// its intrinsics then use.
     ///
     /// # Safety
     ///
-    /// The CPU must have AVX, and the caller must be compiled with it (only the AVX2 build of
-    /// the query calls this).
+    /// The CPU must have AVX (only the AVX2 build of the query calls this).
     #[inline(always)]
     pub(in crate::accel::bvh) unsafe fn interval_pair(
         ray: &FastRay,
@@ -123,18 +122,8 @@ pub(super) mod wide {
             let pair = |x: Vec3A, y: Vec3A| _mm256_set_m128(y.into(), x.into());
             let origin = pair(ray.origin, ray.origin);
             let inv = pair(ray.inv, ray.inv);
-            // Each node in one 256-bit load, [min, first | max, count]; the two low halves
-            // give the minima, the two high ones the maxima, and z is then copied into the
-            // fourth lane of each (as `Node::simd` does), so no integer bits enter the arithmetic.
-            // The pointers are valid and 32-byte aligned (`Node` is `repr(C, align(32))`, 32
-            // bytes of f32 and u32 fields, any bits of which are a valid f32).
-            let a = _mm256_load_ps((a as *const Node).cast::<f32>());
-            let b = _mm256_load_ps((b as *const Node).cast::<f32>());
-            let xyzz = |v: __m256| _mm256_permute_ps::<0b10_10_01_00>(v);
-            let min = xyzz(_mm256_permute2f128_ps::<0x20>(a, b));
-            let max = xyzz(_mm256_permute2f128_ps::<0x31>(a, b));
-            let t0 = _mm256_mul_ps(_mm256_sub_ps(min, origin), inv);
-            let t1 = _mm256_mul_ps(_mm256_sub_ps(max, origin), inv);
+            let t0 = _mm256_mul_ps(_mm256_sub_ps(pair(a.min, b.min), origin), inv);
+            let t1 = _mm256_mul_ps(_mm256_sub_ps(pair(a.max, b.max), origin), inv);
             let entry = _mm256_min_ps(t0, t1);
             let exit = _mm256_mul_ps(_mm256_max_ps(t0, t1), pair(ray.enlarge, ray.enlarge));
             let entry = _mm256_max_ps(entry, pair(ray.t_min, ray.t_min));

@@ -43,8 +43,8 @@ fn ray_to(origin: Vec3, dir: Vec3, t_max: f32) -> Ray<f32> {
 /// A leaf whose box has corners `p` and `q`.
 fn leaf_box(p: Vec3, q: Vec3) -> Node {
     Node {
-        min: p.min(q),
-        max: p.max(q),
+        min: Vec3A::from(p.min(q)),
+        max: Vec3A::from(p.max(q)),
         first: 0,
         count: 1,
     }
@@ -150,8 +150,8 @@ fn a_ray_in_a_face_plane_is_inside_that_slab() {
     };
     let inv = Vec3::ONE / ray.dir;
     let node = Node {
-        min: Vec3::new(1.0, 0.0, 0.0),
-        max: Vec3::new(2.0, 1.0, 1.0),
+        min: Vec3A::new(1.0, 0.0, 0.0),
+        max: Vec3A::new(2.0, 1.0, 1.0),
         first: 0,
         count: 1,
     };
