@@ -147,7 +147,7 @@ pub struct RenderOutput {
 }
 
 /// A tile and its rows of the image and, when counted, of the visit counts (see [`tile_rows`]).
-type TileWork<'a> = (&'a Tile, Vec<&'a mut [Vec3]>, Option<Vec<&'a mut [u32]>>);
+type TileWork<'a> = (Tile, Vec<&'a mut [Vec3]>, Option<Vec<&'a mut [u32]>>);
 
 /// A tile's top-left pixel (its size is `TILE`, less at the right and bottom edges).
 struct Tile {
@@ -161,12 +161,20 @@ pub fn render<A: Accelerator>(
     opts: &RenderOptions,
 ) -> Result<RenderOutput, String> {
     let (width, height) = (tracer.camera.width, tracer.camera.height);
-    let mut tiles = vec![];
-    for y0 in (0..height).step_by(TILE as usize) {
-        for x0 in (0..width).step_by(TILE as usize) {
-            tiles.push(Tile { x0, y0 });
-        }
-    }
+    // Each tile writes straight into its own rows of the image (and of the visit counts): no
+    // copy afterwards. That copy ran on one thread and took a seventh of a two-thread render
+    // of a 512×512 scene.
+    let mut pixels = vec![Vec3::ZERO; (width as usize) * (height as usize)];
+    let mut node_visits = opts
+        .count
+        .then(|| vec![0u32; (width as usize) * (height as usize)]);
+    let mut visit_rows = node_visits
+        .as_deref_mut()
+        .map(|v| tile_rows(v, width).into_iter().map(|(_, rows)| rows));
+    let work: Vec<TileWork> = tile_rows(&mut pixels, width)
+        .into_iter()
+        .map(|(t, rows)| (t, rows, visit_rows.as_mut().and_then(|v| v.next())))
+        .collect();
     // One thread: the calling thread, no pool to start. Otherwise a pool of the renders' own, so
     // that a render in the background never holds up work the app gives rayon's global pool
     // (the BVH build, for one).
@@ -175,8 +183,8 @@ pub fn render<A: Accelerator>(
         n => Some(render_pool(n.unwrap_or(0))?),
     };
     let threads = pool.as_ref().map_or(1, |p| p.current_num_threads());
-    let bar = if opts.progress && std::io::stderr().is_terminal() && tiles.len() > 64 {
-        let b = indicatif::ProgressBar::new(tiles.len() as u64);
+    let bar = if opts.progress && std::io::stderr().is_terminal() && work.len() > 64 {
+        let b = indicatif::ProgressBar::new(work.len() as u64);
         b.set_style(
             indicatif::ProgressStyle::with_template(
                 "{spinner} tracing [{bar:40}] {percent}% {elapsed} (eta {eta})",
@@ -189,29 +197,12 @@ pub fn render<A: Accelerator>(
         None
     };
     if let Some(live) = &opts.live {
-        live.tiles_total.store(tiles.len(), Ordering::Relaxed);
+        live.tiles_total.store(work.len(), Ordering::Relaxed);
     }
     let start = Instant::now();
     let count = opts.count;
     let live = opts.live.as_deref();
     let cancelled = || live.is_some_and(|l| l.cancel.load(Ordering::Relaxed));
-    // Each tile writes straight into its own rows of the image (and of the visit counts): no
-    // copy afterwards. That copy ran on one thread and took a seventh of a two-thread render
-    // of a 512×512 scene.
-    let mut pixels = vec![Vec3::ZERO; (width as usize) * (height as usize)];
-    let mut node_visits = count.then(|| vec![0u32; (width as usize) * (height as usize)]);
-    let mut pixel_rows = tile_rows(&mut pixels, width).into_iter();
-    let mut visit_rows = node_visits
-        .as_deref_mut()
-        .map(|v| tile_rows(v, width).into_iter());
-    let work: Vec<TileWork> = tiles
-        .iter()
-        .map(|t| {
-            let rows = pixel_rows.next().unwrap_or_default();
-            let visits = visit_rows.as_mut().and_then(|v| v.next());
-            (t, rows, visits)
-        })
-        .collect();
     let per_tile = |(t, mut rows, mut visit_rows): TileWork| {
         let mut counter = StatsObserver::default();
         let mut nan_pixels = 0u64;
@@ -243,7 +234,7 @@ pub fn render<A: Accelerator>(
             b.inc(1);
         }
         if let Some(l) = live {
-            publish_tile(l, t, width, &rows);
+            publish_tile(l, &t, width, &rows);
         }
         (counter, nan_pixels)
     };
@@ -328,17 +319,17 @@ fn publish_tile(live: &LiveRender, t: &Tile, width: u32, rows: &[&mut [Vec3]]) {
     live.tiles_done.fetch_add(1, Ordering::Relaxed);
 }
 
-/// The image `buffer` (row-major, `width` wide) cut into the tiles' rows: for each tile, in the
-/// order [`render`] lists them (bands of `TILE` rows top to bottom, tiles left to right), its
-/// rows' pieces. Disjoint mutable slices, so the tiles can be traced in parallel straight into
+/// The image `buffer` (row-major, `width` wide) cut into tiles: for each tile (bands of `TILE`
+/// rows top to bottom, tiles left to right), its top-left pixel and its rows' pieces. Disjoint mutable slices, so the tiles can be traced in parallel straight into
 /// the image.
-fn tile_rows<T>(buffer: &mut [T], width: u32) -> Vec<Vec<&mut [T]>> {
+fn tile_rows<T>(buffer: &mut [T], width: u32) -> Vec<(Tile, Vec<&mut [T]>)> {
     let (width, tile) = ((width as usize).max(1), TILE as usize);
     let mut out = vec![];
-    for band in buffer.chunks_mut(width * tile) {
+    for (band, y0) in buffer.chunks_mut(width * tile).zip((0..).step_by(tile)) {
         let mut rows: Vec<_> = band.chunks_mut(width).map(|r| r.chunks_mut(tile)).collect();
-        for _ in 0..width.div_ceil(tile) {
-            out.push(rows.iter_mut().filter_map(|r| r.next()).collect());
+        for x0 in (0..width).step_by(tile) {
+            let t = Tile { x0: x0 as u32, y0 };
+            out.push((t, rows.iter_mut().filter_map(|r| r.next()).collect()));
         }
     }
     out
@@ -358,8 +349,8 @@ mod tests {
 
     proptest! {
         /// Every tile gets exactly its own pixels, row by row: the pieces hold the indices a
-        /// tile at (x0, y0) covers, min(TILE, edge) wide and high, in the order `render` lists
-        /// the tiles, and together they cover the image once.
+        /// tile at (x0, y0) covers, min(TILE, edge) wide and high, the tiles in row-major order,
+        /// and together they cover the image once.
         #[test]
         fn tiles_get_exactly_their_own_pixels(width in 1u32..70, height in 1u32..70) {
             let mut image: Vec<usize> = (0..(width * height) as usize).collect();
@@ -370,12 +361,12 @@ mod tests {
                     let rows: Vec<Vec<usize>> = (y0..(y0 + TILE).min(height))
                         .map(|y| ((x0..(x0 + TILE).min(width)).map(|x| (y * width + x) as usize)).collect())
                         .collect();
-                    expected.push(rows);
+                    expected.push(((x0, y0), rows));
                 }
             }
-            let got: Vec<Vec<Vec<usize>>> = tiles
+            let got: Vec<_> = tiles
                 .iter()
-                .map(|t| t.iter().map(|r| r.to_vec()).collect())
+                .map(|(t, rows)| ((t.x0, t.y0), rows.iter().map(|r| r.to_vec()).collect()))
                 .collect();
             prop_assert_eq!(got, expected);
         }
