@@ -9,7 +9,7 @@ use raystep::accel::{Accelerator, BruteForce, Grid, SceneAccel, SphereTree};
 use raystep::math::Ray;
 use raystep::record::{NodeAction, Observer, Recorder, Silent, Step};
 use raystep::render::{RenderOptions, render};
-use raystep::scene::{AccelChoice, Scene, Shape, load_file, load_str};
+use raystep::scene::{AccelChoice, BvhQuality, Scene, Shape, load_file, load_str};
 use raystep::trace::Tracer;
 use std::path::Path;
 
@@ -364,8 +364,13 @@ fn spd(kind: raystep::scene::spd::SpdScene, size: u32) -> Scene {
 }
 
 fn render_with(scene: &Scene, accel: AccelChoice) -> Vec<[f32; 3]> {
+    render_with_quality(scene, accel, BvhQuality::Medium)
+}
+
+fn render_with_quality(scene: &Scene, accel: AccelChoice, quality: BvhQuality) -> Vec<[f32; 3]> {
     let mut s = scene.clone();
     s.settings.accel = accel;
+    s.settings.bvh_quality = quality;
     let (a, _) = SceneAccel::build(&s);
     render(&Tracer::new(&s, &a), &RenderOptions::default())
         .unwrap()
@@ -403,6 +408,27 @@ fn every_accelerator_renders_what_brute_force_renders() {
                 "{:?} on \"{}\": {diff} pixels differ",
                 a, scene.name
             );
+        }
+    }
+}
+
+/// The BVH's build qualities build different trees (fewer, larger boxes or more, tighter ones)
+/// but every one of them renders what brute force renders, through the BVH and through the
+/// sphere tree built over it.
+#[test]
+fn every_bvh_quality_renders_what_brute_force_renders() {
+    for scene in small_scenes() {
+        let brute = render_with(&scene, AccelChoice::None);
+        for a in [AccelChoice::Bvh, AccelChoice::Spheres] {
+            for q in [BvhQuality::Low, BvhQuality::High] {
+                let img = render_with_quality(&scene, a, q);
+                let diff = brute.iter().zip(&img).filter(|(x, y)| x != y).count();
+                assert_eq!(
+                    diff, 0,
+                    "{a:?} {q:?} on \"{}\": {diff} pixels differ",
+                    scene.name
+                );
+            }
         }
     }
 }

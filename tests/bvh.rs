@@ -356,3 +356,57 @@ fn tree_is_the_same_whatever_the_thread_count() {
         assert_eq!(one.leaf_objects, other.leaf_objects, "{threads} threads");
     }
 }
+
+/// A tree of one sphere is one leaf holding one primitive: SAH cost 1 (its area over itself,
+/// times one test), whatever the quality.
+#[test]
+fn sah_cost_of_a_single_leaf_is_one() {
+    for q in ["low", "medium", "high"] {
+        let s = load_str(
+            &format!(
+                "[render]\nbvh_quality = \"{q}\"\n[[sphere]]\ncenter = [1, 2, 3]\nradius = 0.5\n"
+            ),
+            "one.toml",
+            None,
+        )
+        .unwrap();
+        let bvh = Bvh::build(&s);
+        assert_eq!(bvh.nodes.len(), 1, "{q}");
+        assert_eq!(bvh.sah_cost(), 1.0, "{q}");
+    }
+}
+
+/// The scene file's `bvh_quality` picks obvhs's preset: on the 820-sphere flake the low preset
+/// gives the worst tree and the high one the best (SAH costs measured with `raystep bench
+/// --section build`: about 25, 21 and 20), and the app's settings change rebuilds the tree.
+#[test]
+fn bvh_quality_orders_the_trees_and_a_change_rebuilds() {
+    use raystep::PreparedScene;
+    use raystep::scene::BvhQuality;
+    let out = raystep::scene::spd::generate(raystep::scene::spd::SpdScene::Balls, 3).unwrap();
+    let mut scene = load_str(&out.toml, "balls.toml", None).unwrap();
+    scene.settings.accel = raystep::scene::AccelChoice::Bvh;
+    let base = std::sync::Arc::new(scene);
+    let medium = PreparedScene::shared(std::sync::Arc::clone(&base));
+    let mut settings = base.settings.clone();
+    let mut cost = |q: BvhQuality| {
+        settings.bvh_quality = q;
+        let p = PreparedScene::with_settings(&base, &settings, Some(&medium));
+        let bvh = p.bvh().expect("a BVH");
+        (bvh.sah_cost(), bvh.nodes.len())
+    };
+    let (low, high) = (cost(BvhQuality::Low), cost(BvhQuality::High));
+    let med = (
+        medium.bvh().unwrap().sah_cost(),
+        medium.bvh().unwrap().nodes.len(),
+    );
+    assert!(
+        low.0 > med.0 && med.0 > high.0,
+        "low {low:?}, medium {med:?}, high {high:?}"
+    );
+    // Reused, not rebuilt, when only the samples change.
+    settings.bvh_quality = BvhQuality::Medium;
+    settings.spp = 4;
+    let same = PreparedScene::with_settings(&base, &settings, Some(&medium));
+    assert!(std::ptr::eq(same.accel(), medium.accel()));
+}

@@ -612,6 +612,23 @@ fn unknown_accel() {
 }
 
 #[test]
+fn unknown_bvh_quality() {
+    let (w, e) = fail(&[
+        "[render]",               // 1
+        "accel = \"bvh\"",        // 2
+        "bvh_quality = \"best\"", // 3
+    ]);
+    check(
+        &w,
+        &e,
+        (3, 1),
+        "render",
+        "bvh_quality",
+        &["\"best\"", "\"low\"", "\"medium\"", "\"high\""],
+    );
+}
+
+#[test]
 fn spp_zero() {
     let (w, e) = fail(&[
         "[render]", // 1

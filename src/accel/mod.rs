@@ -75,7 +75,7 @@ pub struct PerRay {
 impl PerRay {
     /// The ray's shear (every ray of one query has the same direction).
     #[inline(always)]
-    fn shear(&mut self, ray: &Ray<f32>) -> triangle::Shear<f32> {
+    pub(crate) fn shear(&mut self, ray: &Ray<f32>) -> triangle::Shear<f32> {
         *self.shear.get_or_insert_with(|| triangle::Shear::of(ray))
     }
 }
@@ -148,12 +148,7 @@ pub fn test_shape<O: Observer>(
                 TriangleMethod::Watertight => triangle::watertight_sheared(ray, &per.shear(ray), p),
                 TriangleMethod::MollerTrumbore => triangle::moller_trumbore(ray, p),
             };
-            obs.prim_test(|| Step::Triangle {
-                object: id,
-                name: scene.object_name(id),
-                vertices: p.map(|v| v.to_array()),
-                test,
-            });
+            obs.prim_test(|| triangle_step(scene, id, p, test));
             test.t.map(|t| Hit {
                 object: id,
                 t,
@@ -161,6 +156,22 @@ pub fn test_shape<O: Observer>(
                 v: test.v.unwrap_or(0.0),
             })
         }
+    }
+}
+
+/// The record of a triangle test of object `id` (vertices `p`).
+#[inline(always)]
+pub(crate) fn triangle_step(
+    scene: &Scene,
+    id: u32,
+    p: [glam::Vec3; 3],
+    test: triangle::TriangleTest<f32>,
+) -> Step {
+    Step::Triangle {
+        object: id,
+        name: scene.object_name(id),
+        vertices: p.map(|v| v.to_array()),
+        test,
     }
 }
 

@@ -18,7 +18,7 @@ mod view3d;
 
 pub use accelerators::{accel_compare, grid_lambda, growth, stages};
 pub(crate) use accelerators::{measure_stages, profile_size};
-pub use throughput::throughput;
+pub use throughput::{build_qualities, throughput};
 pub use view3d::view3d;
 
 /// Median wall time of `reps` runs of `f`.

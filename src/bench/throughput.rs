@@ -159,7 +159,7 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
         "- build {:.0} ms (obvhs's PLOC {:.0} ms, then raystep's layout), SAH cost {:.1}",
         build.as_secs_f64() * 1e3,
         bvh.core_time.as_secs_f64() * 1e3,
-        sah_cost(&bvh)
+        bvh.sah_cost()
     );
     println!(
         "- primary: {} hits, mean t {:.6}; {pv:.1} visits and {pt:.1} tests per ray; 1 thread {:.2} Mrays/s, 2 threads {:.2} Mrays/s ({:.2}×)",
@@ -181,24 +181,6 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
         println!("- wrote {}", path.display());
     }
     Ok(())
-}
-
-/// The tree's SAH cost: Σ over inner nodes of area/root area × 1 (a box test pair) plus Σ over
-/// leaves of area/root area × primitives (each test costing one) — the usual measure of tree
-/// quality, comparable between builders only on the same scene.
-pub fn sah_cost(bvh: &Bvh) -> f64 {
-    let area = |n: &crate::accel::bvh::Node| {
-        let d = (n.max - n.min).max(glam::Vec3A::ZERO);
-        2.0 * f64::from(d.x * d.y + d.y * d.z + d.z * d.x)
-    };
-    let Some(root) = bvh.nodes.first() else {
-        return 0.0;
-    };
-    let root_area = area(root).max(f64::MIN_POSITIVE);
-    bvh.nodes
-        .iter()
-        .map(|n| area(n) / root_area * if n.is_leaf() { f64::from(n.count) } else { 1.0 })
-        .sum()
 }
 
 /// Writes the set in the little-endian layout `tools/embree-compare/embree_compare.c` reads:
@@ -267,4 +249,84 @@ fn write_set(
     tmp.persist(path)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(())
+}
+
+/// The BVH's three build qualities side by side on the set of [`throughput`]: build time
+/// (builds alternated between qualities, medians of `reps`), obvhs's share, the tree's size,
+/// depth and SAH cost, node visits per ray and single-thread rates. The trade-off a course
+/// teaches: a better tree costs build time and saves traversal time.
+pub fn build_qualities(scene: &Scene, reps: usize) {
+    use crate::scene::BvhQuality;
+    let qualities = [BvhQuality::Low, BvhQuality::Medium, BvhQuality::High];
+    let mut s = finite_only(scene);
+    let mut builds: Vec<Vec<(Duration, Duration)>> = vec![vec![]; qualities.len()];
+    let mut trees = vec![];
+    for rep in 0..reps.max(1) {
+        for (i, &q) in qualities.iter().enumerate() {
+            s.settings.bvh_quality = q;
+            let start = Instant::now();
+            let bvh = Bvh::build(&s);
+            let took = start.elapsed();
+            if let Some(b) = builds.get_mut(i) {
+                b.push((took, bvh.core_time));
+            }
+            if rep == 0 {
+                trees.push(bvh);
+            }
+        }
+    }
+    let Some(first) = trees.first() else {
+        return;
+    };
+    let primary = primary_rays(&s, first);
+    let hits = closest_all(&s, first, &primary, 1);
+    let shadow = shadow_rays(&s, &primary, &hits);
+    println!(
+        "## {} — {} finite primitives, {} primary rays ({}×{}), {} shadow rays, 1 thread",
+        scene.name,
+        s.objects.len(),
+        primary.len(),
+        SIZE.0,
+        SIZE.1,
+        shadow.len()
+    );
+    println!();
+    println!(
+        "| quality | build ms | obvhs's part ms | nodes | depth | SAH cost | primary visits/ray | primary Mrays/s | shadow visits/ray | shadow Mrays/s |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for ((q, bvh), b) in qualities.iter().zip(&trees).zip(&mut builds) {
+        b.sort();
+        let (build, core) = b.get(b.len() / 2).copied().unwrap_or_default();
+        let visits = |rays: &[Ray<f32>], shadows: bool| {
+            let mut c = crate::record::Counter::default();
+            for r in rays {
+                if shadows {
+                    bvh.any(&s, r, &mut c);
+                } else {
+                    bvh.closest(&s, r, &mut c);
+                }
+            }
+            c.node_visits as f64 / rays.len().max(1) as f64
+        };
+        let p = median_time(reps, || {
+            std::hint::black_box(closest_all(&s, bvh, &primary, 1));
+        });
+        let sh = median_time(reps, || {
+            std::hint::black_box(any_all(&s, bvh, &shadow, 1));
+        });
+        println!(
+            "| {} | {:.0} | {:.0} | {} | {} | {:.1} | {:.1} | {:.2} | {:.1} | {:.2} |",
+            format!("{q:?}").to_lowercase(),
+            build.as_secs_f64() * 1e3,
+            core.as_secs_f64() * 1e3,
+            bvh.nodes.len(),
+            bvh.max_depth,
+            bvh.sah_cost(),
+            visits(&primary, false),
+            rate(primary.len(), p),
+            visits(&shadow, true),
+            rate(shadow.len(), sh),
+        );
+    }
 }

@@ -68,6 +68,9 @@ pub enum Section {
     /// per hit, 1 and 2 threads, finite primitives only, with the BVH's build time and SAH cost
     /// (`--export FILE` writes the set for Embree to trace: `tools/embree-compare`).
     Rays,
+    /// The BVH's build qualities (low, medium, high) side by side on the rays' set: build
+    /// time, SAH cost, node visits per ray and single-thread rates.
+    Build,
     /// Two threads against one: full renders of the scenes and SPD balls, tetra and mount at
     /// two sizes each, shadows and reflections included.
     Threads,
@@ -164,6 +167,12 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         }
         for s in &scenes {
             crate::bench::throughput(s, reps, args.export.as_deref())?;
+            println!();
+        }
+    }
+    if args.section == Section::Build {
+        for s in &scenes {
+            crate::bench::build_qualities(s, reps);
             println!();
         }
     }

@@ -16,7 +16,7 @@ mod stability_cmd;
 mod trace_cmd;
 mod view_cmd;
 
-use crate::scene::{AccelChoice, OffsetPolicy, Scene};
+use crate::scene::{AccelChoice, BvhQuality, OffsetPolicy, Scene};
 use crate::shapes::{SphereMethod, TriangleMethod};
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -114,6 +114,9 @@ pub struct SettingsArgs {
     /// Acceleration structure.
     #[arg(long, value_enum)]
     pub accel: Option<AccelChoice>,
+    /// Build quality of the BVH (more build time for fewer node visits per ray).
+    #[arg(long, value_enum)]
+    pub bvh_quality: Option<BvhQuality>,
     /// Seed for the antialiasing jitter.
     #[arg(long)]
     pub seed: Option<u32>,
@@ -130,6 +133,7 @@ impl SettingsArgs {
             triangle_method: self.triangle_method,
             offset: self.offset,
             accel: self.accel,
+            bvh_quality: self.bvh_quality,
             seed: self.seed,
             ..Default::default()
         };

@@ -134,11 +134,12 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     );
     let _ = writeln!(
         o,
-        "  settings   sphere {}, triangle {}, offset {}, accel {}, max depth {}, {} sample{} per pixel",
+        "  settings   sphere {}, triangle {}, offset {}, accel {}, BVH quality {}, max depth {}, {} sample{} per pixel",
         value_name(&s.sphere_method),
         value_name(&s.triangle_method),
         value_name(&s.offset),
         value_name(&s.accel),
+        value_name(&s.bvh_quality),
         s.max_depth,
         s.spp,
         if s.spp == 1 { "" } else { "s" }

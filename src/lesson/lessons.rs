@@ -15,7 +15,7 @@
 //! # 2. Ray–sphere …
 //! ```
 
-use crate::scene::{AccelChoice, OffsetPolicy, Scene};
+use crate::scene::{AccelChoice, BvhQuality, OffsetPolicy, Scene};
 use crate::shapes::{SphereMethod, TriangleMethod};
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
@@ -63,6 +63,8 @@ pub struct LessonSettings {
     pub epsilon: Option<f32>,
     /// Acceleration structure.
     pub accel: Option<AccelChoice>,
+    /// The BVH's build quality.
+    pub bvh_quality: Option<BvhQuality>,
     /// Jitter seed.
     pub seed: Option<u32>,
 }
@@ -122,6 +124,9 @@ impl LessonSettings {
         }
         if let Some(v) = self.accel {
             s.accel = v;
+        }
+        if let Some(v) = self.bvh_quality {
+            s.bvh_quality = v;
         }
         if let Some(v) = self.seed {
             s.seed = v;

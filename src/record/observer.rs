@@ -19,6 +19,15 @@ pub trait Observer {
     /// A primitive intersection test ran.
     #[inline(always)]
     fn prim_test(&mut self, _step: impl FnOnce() -> Step) {}
+    /// `n` primitive tests ran, one after the other, the `i`-th recorded by `step(i)` (a
+    /// leaf's triangles tested four at a time, all missed): [`Observer::prim_test`] for each,
+    /// unless the observer only counts them.
+    #[inline(always)]
+    fn prim_tests(&mut self, n: usize, mut step: impl FnMut(usize) -> Step) {
+        for i in 0..n {
+            self.prim_test(|| step(i));
+        }
+    }
     /// A BVH node was visited.
     #[inline(always)]
     fn node_visit(&mut self, _visit: impl FnOnce() -> NodeVisit) {}
@@ -89,6 +98,10 @@ impl Observer for Counter {
     #[inline(always)]
     fn prim_test(&mut self, _: impl FnOnce() -> Step) {
         self.prim_tests += 1;
+    }
+    #[inline(always)]
+    fn prim_tests(&mut self, n: usize, _: impl FnMut(usize) -> Step) {
+        self.prim_tests += n as u64;
     }
     #[inline(always)]
     fn node_visit(&mut self, _: impl FnOnce() -> NodeVisit) {

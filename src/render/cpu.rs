@@ -106,6 +106,10 @@ impl Observer for StatsObserver {
         self.counts.prim_test(step);
     }
     #[inline(always)]
+    fn prim_tests(&mut self, n: usize, step: impl FnMut(usize) -> Step) {
+        self.counts.prim_tests(n, step);
+    }
+    #[inline(always)]
     fn node_visit(&mut self, visit: impl FnOnce() -> NodeVisit) {
         self.counts.node_visit(visit);
     }

@@ -782,6 +782,7 @@ impl<'a> Ctx<'a> {
             offset: loc.choice("offset", &d.offset)?,
             epsilon,
             accel: loc.choice("accel", &d.accel)?,
+            bvh_quality: loc.choice("bvh_quality", &d.bvh_quality)?,
             seed: d.seed as u32,
         })
     }

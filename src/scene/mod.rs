@@ -87,6 +87,21 @@ pub enum AccelChoice {
     Grid,
 }
 
+/// How much time the BVH build spends on the tree's quality: obvhs's presets, named after
+/// Embree's build qualities. A better tree costs fewer node visits per ray and takes longer to
+/// build (`raystep bench SCENE --section build` prints both, with the tree's SAH cost).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum BvhQuality {
+    /// obvhs's `very_fast_build`: PLOC with the smallest search radius and little reinsertion.
+    Low,
+    /// obvhs's `medium_build`: the default.
+    #[default]
+    Medium,
+    /// obvhs's `slow_build`: a wider PLOC search, more reinsertion, 128-bit Morton codes.
+    High,
+}
+
 /// Render and tracing settings (the scene's `[render]` table, possibly overridden on the command line).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Settings {
@@ -106,6 +121,9 @@ pub struct Settings {
     pub epsilon: f32,
     /// Acceleration structure.
     pub accel: AccelChoice,
+    /// Build quality of the BVH (and of the sphere tree, which is built over the BVH's tree).
+    #[serde(default)]
+    pub bvh_quality: BvhQuality,
     /// Seed mixed into every sample's jitter (renders with different seeds are independent).
     pub seed: u32,
 }
@@ -121,6 +139,7 @@ impl Default for Settings {
             offset: OffsetPolicy::default(),
             epsilon: 1e-4,
             accel: AccelChoice::default(),
+            bvh_quality: BvhQuality::default(),
             seed: 0,
         }
     }

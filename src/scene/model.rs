@@ -79,6 +79,7 @@ pub struct RenderDef {
     pub offset: String,
     pub epsilon: f64,
     pub accel: String,
+    pub bvh_quality: String,
     pub seed: i64,
 }
 
@@ -93,6 +94,7 @@ impl Default for RenderDef {
             offset: "robust".into(),
             epsilon: 1e-4,
             accel: "auto".into(),
+            bvh_quality: "medium".into(),
             seed: 0,
         }
     }

@@ -66,7 +66,11 @@ impl PreparedScene {
         };
         let choice = SceneAccel::resolve(&scene);
         match previous {
-            Some(p) if p.accel_choice == choice && same_geometry(&p.scene, &scene) => {
+            Some(p)
+                if p.accel_choice == choice
+                    && p.scene.settings.bvh_quality == scene.settings.bvh_quality
+                    && same_geometry(&p.scene, &scene) =>
+            {
                 PreparedScene {
                     scene,
                     accel: Arc::clone(&p.accel),

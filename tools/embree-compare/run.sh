@@ -6,7 +6,8 @@
 # Needs Debian's libembree-dev and a C compiler; run from the repository root after
 # `cargo build --release`. Makes the three SPD scenes of the comparison (sphereflake size 4,
 # tetra size 9, mount size 8) in WORKDIR (default /tmp/raystep-embree), exports their rays once,
-# then alternates the two tracers ROUNDS times (default 2), each printing medians of 5.
+# prints both tracers' build qualities, then alternates the two tracers ROUNDS times
+# (default 2), each printing medians of 5.
 set -eu
 work=${1:-/tmp/raystep-embree}
 rounds=${2:-2}
@@ -21,6 +22,8 @@ for spec in "balls 4" "tetra 9" "mount 8"; do
   echo "### SPD $1 $2"
   "$raystep" bench "$work/$name.toml" --section rays --reps 1 --export "$work/$name.bin" | grep -E '^- (build|wrote)'
   "$work/embree_compare" "$work/$name.bin" --reps 1 --quality high | head -1
+  "$work/embree_compare" "$work/$name.bin" --reps 1 --quality low | head -1
+  "$raystep" bench "$work/$name.toml" --section build --reps 3 | grep -E '^\| (low|medium|high) '
   round=1
   while [ "$round" -le "$rounds" ]; do
     echo "round $round"

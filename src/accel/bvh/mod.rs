@@ -7,12 +7,16 @@
 //! S21), the ray's own t_min honoured (S23), and `<=` so flat boxes are hit (S22). Infinite planes
 //! stay outside the tree: they are tested first and their hit tightens t_max.
 
-use super::{Accelerator, Hit, PerRay, any_of, closest_of, test_any_shape, test_closest_shape};
+use super::{
+    Accelerator, Hit, PerRay, accept, any_of, closest_of, test_any_shape, test_closest_shape,
+    tie_ray, triangle_step,
+};
 use crate::math::Ray;
 use crate::record::OutlineNode;
 use crate::record::{NodeAction, NodeVisit, Observer};
-use crate::scene::{Scene, Shape};
+use crate::scene::{BvhQuality, Scene, Shape};
 use crate::shapes::aabb::slab_robust;
+use crate::shapes::triangle::{self, Shear, TriangleMethod};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::{Bvh2, builder::build_bvh2};
@@ -47,6 +51,22 @@ pub fn shape_bounds(shape: &Shape) -> Option<(Vec3, Vec3)> {
         Shape::Sphere { .. } => Some((down(lo), up(hi))),
         // Triangle boxes are exact: the vertices are the extremes.
         _ => Some((lo, hi)),
+    }
+}
+
+/// What a leaf slot holds should an id be out of range (it never is: obvhs's indices are into
+/// the boxes it was given): a sphere no ray can hit.
+const EMPTY_SHAPE: Shape = Shape::Sphere {
+    center: Vec3::ZERO,
+    radius: 0.0,
+};
+
+/// obvhs's preset for a build quality.
+fn build_params(quality: BvhQuality) -> BvhBuildParams {
+    match quality {
+        BvhQuality::Low => BvhBuildParams::very_fast_build(),
+        BvhQuality::Medium => BvhBuildParams::medium_build(),
+        BvhQuality::High => BvhBuildParams::slow_build(),
     }
 }
 
@@ -102,7 +122,9 @@ impl Todo {
 }
 
 mod ray_box;
+mod tri4;
 use ray_box::FastRay;
+use tri4::{NO_PACK, Tri4};
 
 /// One node of the tree in raystep's own layout (box, and either two children or a leaf range).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -116,6 +138,10 @@ pub struct Node {
     pub first: u32,
     /// Number of objects in a leaf; 0 for an inner node.
     pub count: u32,
+    /// A leaf of triangles only: index of its first [`Tri4`] pack in [`Bvh::packs`] (the AVX2
+    /// build tests four triangles at once); otherwise [`NO_PACK`]. (The node's padding: it
+    /// stays 48 bytes.)
+    pack: u32,
 }
 
 impl Node {
@@ -135,6 +161,9 @@ pub struct Bvh {
     /// Their shapes, in the same order: a leaf's primitives lie side by side in memory, as the
     /// traversal reads them (the scene's own list is in file order).
     leaf_shapes: Vec<Shape>,
+    /// The triangles of the leaves that hold only triangles, four to a pack (see [`Node`]'s
+    /// `pack`), for the four-lane watertight test of the AVX2 build.
+    packs: Vec<Tri4>,
     /// Infinite primitives (planes), tested before the tree.
     pub planes: Vec<u32>,
     /// The tree's depth.
@@ -154,52 +183,107 @@ pub struct Bvh {
     /// a field of the tree rather than process-wide flags (shared cache lines that other threads
     /// may be writing next to).
     wide: bool,
+    /// [`Bvh::sah_cost`], computed when first asked (the app shows it every frame).
+    sah: std::sync::OnceLock<f64>,
 }
 
 impl Bvh {
-    /// Builds the tree over the scene's finite objects with obvhs's medium-quality preset.
+    /// Builds the tree over the scene's finite objects with the obvhs preset of the scene's
+    /// [`BvhQuality`].
     pub fn build(scene: &Scene) -> Bvh {
         let start = Instant::now();
         // Boxes, the tree's layout and the leaf-ordered shapes are computed in parallel on big
         // scenes (on a million triangles these steps took 100 ms of a 520 ms build serially);
-        // the result does not depend on the thread count.
-        let bounds = map_in_order(&scene.objects, |o| shape_bounds(&o.shape));
-        let mut finite = Vec::with_capacity(bounds.len());
-        let mut boxes = Vec::with_capacity(bounds.len());
-        let mut planes = vec![];
-        for (id, b) in bounds.iter().enumerate() {
-            match b {
-                Some((lo, hi)) => {
-                    finite.push(id as u32);
-                    boxes.push(PrimBox(Aabb::new(Vec3A::from(*lo), Vec3A::from(*hi))));
-                }
-                None => planes.push(id as u32),
-            }
-        }
+        // the result does not depend on the thread count. A plane gets an empty box here, and
+        // only a scene with planes pays for a second pass that leaves them out.
+        let all = map_in_order(&scene.objects, |o| match shape_bounds(&o.shape) {
+            Some((lo, hi)) => PrimBox(Aabb::new(Vec3A::from(lo), Vec3A::from(hi))),
+            None => PrimBox(Aabb::INVALID),
+        });
+        let planes: Vec<u32> = scene
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(_, o)| shape_bounds(&o.shape).is_none())
+            .map(|(id, _)| id as u32)
+            .collect();
+        // (the finite objects' ids, in the order obvhs sees them, when that is not 0, 1, 2, …)
+        let (boxes, finite) = if planes.is_empty() {
+            (all, None)
+        } else {
+            let (finite, boxes): (Vec<u32>, Vec<PrimBox>) = all
+                .into_iter()
+                .zip(&scene.objects)
+                .enumerate()
+                .filter(|(_, (_, o))| shape_bounds(&o.shape).is_some())
+                .map(|(id, (b, _))| (id as u32, b))
+                .unzip();
+            (boxes, Some(finite))
+        };
         let mut core = Duration::ZERO;
         let bvh2 = if boxes.is_empty() {
             Bvh2::default()
         } else {
-            build_bvh2(&boxes, BvhBuildParams::medium_build(), &mut core)
+            build_bvh2(&boxes, build_params(scene.settings.bvh_quality), &mut core)
         };
-        let nodes = map_in_order(&bvh2.nodes, |n| {
+        drop(boxes);
+        let mut nodes = map_in_order(&bvh2.nodes, |n| {
             let b = n.aabb();
             Node {
                 min: b.min,
                 max: b.max,
                 first: n.first_index,
                 count: n.prim_count,
+                pack: NO_PACK,
             }
         });
-        let leaf_objects = map_in_order(&bvh2.primitive_indices, |&i| finite[i as usize]);
-        let leaf_shapes = map_in_order(&leaf_objects, |&id| scene.objects[id as usize].shape);
-        let max_depth = tree_depth(&nodes);
-        let finite_boxes = nodes.iter().all(|n| n.min.is_finite() && n.max.is_finite());
-        let outline = compute_outline(&nodes, OUTLINE_DEPTH);
+        let leaf_objects = match &finite {
+            None => bvh2.primitive_indices.clone(),
+            Some(f) => map_in_order(&bvh2.primitive_indices, |&i| {
+                f.get(i as usize).copied().unwrap_or(0)
+            }),
+        };
+        // The leaf-ordered shapes and the walks over the tree are independent.
+        let (leaf_shapes, ((max_depth, outline), finite_boxes)) = rayon::join(
+            || {
+                map_in_order(&leaf_objects, |&id| {
+                    scene
+                        .objects
+                        .get(id as usize)
+                        .map_or(EMPTY_SHAPE, |o| o.shape)
+                })
+            },
+            || {
+                rayon::join(
+                    || {
+                        rayon::join(
+                            || tree_depth(&nodes),
+                            || compute_outline(&nodes, OUTLINE_DEPTH),
+                        )
+                    },
+                    || {
+                        nodes
+                            .par_iter()
+                            .all(|n| n.min.is_finite() && n.max.is_finite())
+                    },
+                )
+            },
+        );
+        #[cfg(target_arch = "x86_64")]
+        let wide = super::avx2_fma();
+        #[cfg(not(target_arch = "x86_64"))]
+        let wide = false;
+        // Only the AVX2 build reads the packs.
+        let packs = if wide {
+            tri4::pack_leaves(&mut nodes, &leaf_shapes)
+        } else {
+            vec![]
+        };
         Bvh {
             nodes,
             leaf_objects,
             leaf_shapes,
+            packs,
             planes,
             max_depth,
             build_time: start.elapsed(),
@@ -207,17 +291,38 @@ impl Bvh {
             outline,
             obvhs: bvh2,
             finite_boxes,
-            #[cfg(target_arch = "x86_64")]
-            wide: super::avx2_fma(),
-            #[cfg(not(target_arch = "x86_64"))]
-            wide: false,
+            wide,
+            sah: std::sync::OnceLock::new(),
         }
+    }
+
+    /// The tree's SAH cost: Σ over inner nodes of area/root area × 1 (a box test pair) plus Σ
+    /// over leaves of area/root area × primitives (each test costing one) — the usual measure of
+    /// tree quality, comparable between builds only on the same scene.
+    pub fn sah_cost(&self) -> f64 {
+        *self.sah.get_or_init(|| self.compute_sah_cost())
+    }
+
+    fn compute_sah_cost(&self) -> f64 {
+        let area = |n: &Node| {
+            let d = (n.max - n.min).max(Vec3A::ZERO);
+            2.0 * f64::from(d.x * d.y + d.y * d.z + d.z * d.x)
+        };
+        let Some(root) = self.nodes.first() else {
+            return 0.0;
+        };
+        let root_area = area(root).max(f64::MIN_POSITIVE);
+        self.nodes
+            .iter()
+            .map(|n| area(n) / root_area * if n.is_leaf() { f64::from(n.count) } else { 1.0 })
+            .sum()
     }
 
     /// Bytes the tree takes: its nodes, object ids and leaf-ordered shapes, and the plane list.
     pub fn memory(&self) -> usize {
         self.nodes.len() * std::mem::size_of::<Node>()
             + self.leaf_shapes.len() * std::mem::size_of::<Shape>()
+            + self.packs.len() * std::mem::size_of::<Tri4>()
             + (self.leaf_objects.len() + self.planes.len()) * 4
     }
 
@@ -228,6 +333,87 @@ impl Bvh {
         let ids = self.leaf_objects.get(range.clone()).unwrap_or_default();
         let shapes = self.leaf_shapes.get(range).unwrap_or_default();
         ids.iter().copied().zip(shapes)
+    }
+
+    /// Tests the primitives of a leaf the ray reaches, in leaf order; false stops the traversal.
+    /// On the AVX2 build a leaf of triangles under the watertight test takes them four at a
+    /// time ([`tri4`]); each lane's result is then taken in leaf order exactly as the scalar
+    /// test's would be, and a recording observer gets the scalar test's record.
+    #[inline(always)]
+    fn test_leaf<O: Observer, const WIDE: bool>(
+        &self,
+        node: &Node,
+        ray: &mut Ray<f32>,
+        obs: &mut O,
+        leaf: &mut impl LeafTest<O>,
+    ) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if WIDE && node.pack != NO_PACK && leaf.watertight() {
+            return self.test_leaf4(node, ray, obs, leaf);
+        }
+        for (id, shape) in self.leaf(node) {
+            if !leaf.test(id, shape, ray, obs) {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// [`Bvh::test_leaf`] for a leaf of triangles, four lanes at a time.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    #[allow(unsafe_code)] // the four-lane test, reached only from the AVX2 build
+    fn test_leaf4<O: Observer>(
+        &self,
+        node: &Node,
+        ray: &mut Ray<f32>,
+        obs: &mut O,
+        leaf: &mut impl LeafTest<O>,
+    ) -> bool {
+        let (first, count) = (node.first as usize, node.count as usize);
+        let pack = node.pack as usize;
+        let packs = self
+            .packs
+            .get(pack..pack + count.div_ceil(4))
+            .unwrap_or_default();
+        let shear = leaf.shear(ray);
+        // SAFETY: `WIDE` is true only inside `closest_avx2`/`any_avx2`, which run only after
+        // `avx2_fma()` found AVX2 and FMA on this CPU.
+        let r4 = unsafe { tri4::Ray4::new(ray, &shear) };
+        for (k, pack) in packs.iter().enumerate() {
+            // SAFETY: as above.
+            let lanes = unsafe { tri4::test4(&r4, pack) };
+            let range = first + 4 * k..first + count.min(4 * k + 4);
+            let ids = self.leaf_objects.get(range.clone()).unwrap_or_default();
+            let shapes = self.leaf_shapes.get(range).unwrap_or_default();
+            if lanes.pass | lanes.exact == 0 {
+                // All four missed, whatever t_max: recorded (or counted) as four misses.
+                debug_assert!(shapes.iter().all(|s| match s {
+                    Shape::Triangle { p } =>
+                        triangle::watertight_sheared(ray, &shear, *p).t.is_none(),
+                    _ => false,
+                }));
+                leaf.misses(ids, shapes, ray, obs);
+                continue;
+            }
+            for (j, (&id, shape)) in ids.iter().zip(shapes).enumerate() {
+                let go_on = if lanes.exact & (1 << j) != 0 {
+                    leaf.test(id, shape, ray, obs)
+                } else {
+                    let found = LaneHit {
+                        t: lanes.t.get(j).copied().unwrap_or(f32::NAN),
+                        u: lanes.u.get(j).copied().unwrap_or(0.0),
+                        v: lanes.v.get(j).copied().unwrap_or(0.0),
+                        pass: lanes.pass & (1 << j) != 0,
+                    };
+                    leaf.lane(id, shape, found, ray, obs)
+                };
+                if !go_on {
+                    return false;
+                }
+            }
+        }
+        true
     }
 
     /// Walks the tree for `ray`, calling `leaf.test(object, ray)` for each primitive in the leaves the
@@ -281,11 +467,7 @@ impl Bvh {
         match root_action {
             NodeAction::Culled => return,
             NodeAction::TestPrimitives => {
-                for (id, shape) in self.leaf(root) {
-                    if !leaf.test(id, shape, ray, obs) {
-                        return;
-                    }
-                }
+                self.test_leaf::<O, WIDE>(root, ray, obs, leaf);
                 return;
             }
             _ => {}
@@ -362,10 +544,8 @@ impl Bvh {
                     });
                     if hit {
                         if node.is_leaf() {
-                            for (id, shape) in self.leaf(node) {
-                                if !leaf.test(id, shape, ray, obs) {
-                                    return;
-                                }
+                            if !self.test_leaf::<O, WIDE>(node, ray, obs, leaf) {
+                                return;
                             }
                         } else if descend {
                             next = Some((node.first, child_depth));
@@ -392,6 +572,98 @@ trait LeafTest<O: Observer> {
     /// Tests object `id` (whose shape is `shape`) against `ray` (shrinking its t_max on a closer hit); false stops the
     /// traversal.
     fn test(&mut self, id: u32, shape: &Shape, ray: &mut Ray<f32>, obs: &mut O) -> bool;
+    /// Takes a triangle that the four-lane test has tested (see [`LaneHit`]) as [`Self::test`]
+    /// would have taken its scalar test; false stops the traversal.
+    fn lane(
+        &mut self,
+        id: u32,
+        shape: &Shape,
+        found: LaneHit,
+        ray: &mut Ray<f32>,
+        obs: &mut O,
+    ) -> bool;
+    /// Reports triangles that the four-lane test found all missed, whatever t_max (recorded
+    /// with the scalar test's records, as [`Self::test`] would have).
+    fn misses(&mut self, ids: &[u32], shapes: &[Shape], ray: &Ray<f32>, obs: &mut O);
+    /// Whether triangles take the watertight test (the one the four-lane test computes).
+    fn watertight(&self) -> bool;
+    /// The ray's shear for the watertight test (computed once per query).
+    fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32>;
+}
+
+/// One lane of the four-lane watertight test: the scalar test's t, u and v, and whether the
+/// triangle passed every check but t < t_max (which the taker checks against its t_max).
+#[derive(Debug, Clone, Copy)]
+struct LaneHit {
+    t: f32,
+    u: f32,
+    v: f32,
+    pass: bool,
+}
+
+impl LaneHit {
+    /// The hit on object `id` if the lane passed and t is below `ray`'s t_max — what the scalar
+    /// test gives for that ray. The recorded step is the scalar test's own record, and debug
+    /// builds check that the two agree bit for bit.
+    #[inline(always)]
+    fn take<O: Observer>(
+        self,
+        scene: &Scene,
+        id: u32,
+        shape: &Shape,
+        ray: &Ray<f32>,
+        shear: &Shear<f32>,
+        obs: &mut O,
+    ) -> Option<Hit> {
+        if !self.pass {
+            // The common case, kept short: a miss whatever t_max.
+            if let Shape::Triangle { p } = *shape {
+                let scalar = || triangle::watertight_sheared(ray, shear, p);
+                debug_assert_eq!(scalar().t, None, "four-lane test missed object {id}");
+                obs.prim_test(|| triangle_step(scene, id, p, scalar()));
+            }
+            return None;
+        }
+        let hit = (self.t < ray.t_max).then_some(Hit {
+            object: id,
+            t: self.t,
+            u: self.u,
+            v: self.v,
+        });
+        if let Shape::Triangle { p } = *shape {
+            let scalar = || triangle::watertight_sheared(ray, shear, p);
+            debug_assert_eq!(
+                scalar().t.map(f32::to_bits),
+                hit.map(|h| h.t.to_bits()),
+                "four-lane and scalar watertight tests disagree on object {id}"
+            );
+            debug_assert!(
+                hit.is_none_or(|h| scalar().u.map(f32::to_bits) == Some(h.u.to_bits())
+                    && scalar().v.map(f32::to_bits) == Some(h.v.to_bits()))
+            );
+            obs.prim_test(|| triangle_step(scene, id, p, scalar()));
+        }
+        hit
+    }
+}
+
+/// The record of a triangle the four-lane test found missed: the scalar test's own record
+/// (debug builds check that it is a miss too).
+#[inline(always)]
+fn missed_step(
+    scene: &Scene,
+    id: u32,
+    shape: Option<&Shape>,
+    ray: &Ray<f32>,
+    shear: &Shear<f32>,
+) -> crate::record::Step {
+    let p = match shape {
+        Some(Shape::Triangle { p }) => *p,
+        _ => [Vec3::ZERO; 3],
+    };
+    let test = triangle::watertight_sheared(ray, shear, p);
+    debug_assert_eq!(test.t, None, "four-lane test missed object {id}");
+    triangle_step(scene, id, p, test)
 }
 
 /// The closest hit so far.
@@ -415,6 +687,53 @@ impl<O: Observer> LeafTest<O> for ClosestHit<'_> {
         );
         true
     }
+
+    /// As [`test_closest_shape`]: tested against the tie-adjusted ray, a hit recorded as
+    /// accepted and made the closest so far.
+    #[inline(always)]
+    fn lane(
+        &mut self,
+        id: u32,
+        shape: &Shape,
+        found: LaneHit,
+        ray: &mut Ray<f32>,
+        obs: &mut O,
+    ) -> bool {
+        let shear = self.per.shear(ray);
+        let tested = tie_ray(ray, id, &self.best);
+        if let Some(h) = found.take(self.scene, id, shape, &tested, &shear, obs) {
+            accept(self.scene, &h, ray.t_max, obs);
+            ray.t_max = h.t;
+            self.best = Some(h);
+        }
+        true
+    }
+
+    #[inline(always)]
+    fn misses(&mut self, ids: &[u32], shapes: &[Shape], ray: &Ray<f32>, obs: &mut O) {
+        let shear = self.per.shear(ray);
+        let best = self.best;
+        obs.prim_tests(ids.len(), |j| {
+            let id = ids.get(j).copied().unwrap_or(0);
+            missed_step(
+                self.scene,
+                id,
+                shapes.get(j),
+                &tie_ray(ray, id, &best),
+                &shear,
+            )
+        });
+    }
+
+    #[inline(always)]
+    fn watertight(&self) -> bool {
+        self.scene.settings.triangle_method == TriangleMethod::Watertight
+    }
+
+    #[inline(always)]
+    fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32> {
+        self.per.shear(ray)
+    }
 }
 
 /// The first hit found (shadow rays).
@@ -436,6 +755,46 @@ impl<O: Observer> LeafTest<O> for AnyHit<'_> {
             &mut self.per,
             obs,
         )
+    }
+
+    /// As [`test_any_shape`]: a hit is recorded as accepted and ends the search.
+    #[inline(always)]
+    fn lane(
+        &mut self,
+        id: u32,
+        shape: &Shape,
+        found: LaneHit,
+        ray: &mut Ray<f32>,
+        obs: &mut O,
+    ) -> bool {
+        let shear = self.per.shear(ray);
+        match found.take(self.scene, id, shape, ray, &shear, obs) {
+            Some(h) => {
+                accept(self.scene, &h, ray.t_max, obs);
+                self.found = Some(h);
+                false
+            }
+            None => true,
+        }
+    }
+
+    #[inline(always)]
+    fn misses(&mut self, ids: &[u32], shapes: &[Shape], ray: &Ray<f32>, obs: &mut O) {
+        let shear = self.per.shear(ray);
+        obs.prim_tests(ids.len(), |j| {
+            let id = ids.get(j).copied().unwrap_or(0);
+            missed_step(self.scene, id, shapes.get(j), ray, &shear)
+        });
+    }
+
+    #[inline(always)]
+    fn watertight(&self) -> bool {
+        self.scene.settings.triangle_method == TriangleMethod::Watertight
+    }
+
+    #[inline(always)]
+    fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32> {
+        self.per.shear(ray)
     }
 }
 

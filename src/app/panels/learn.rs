@@ -155,6 +155,9 @@ fn settings_line(l: &Lesson) -> String {
     if let Some(v) = s.accel {
         parts.push(format!("accel {}", spelled(v)));
     }
+    if let Some(v) = s.bvh_quality {
+        parts.push(format!("BVH quality {}", spelled(v)));
+    }
     if let Some(v) = s.spp {
         parts.push(format!("{v} samples per pixel"));
     }

@@ -4,7 +4,7 @@
 use crate::app::state::{AppState, Command};
 use crate::app::view::Views;
 use crate::record::number::num;
-use crate::scene::{AccelChoice, OffsetPolicy, Settings};
+use crate::scene::{AccelChoice, BvhQuality, OffsetPolicy, Settings};
 use crate::shapes::{SphereMethod, TriangleMethod};
 use egui::RichText;
 
@@ -70,12 +70,38 @@ pub(super) fn settings_panel(
             .on_hover_text("a uniform grid: walk the cells the ray crosses, nearest first");
     });
     if let Some(p) = &state.prepared {
-        ui.label(match p.accel_choice() {
+        let choice = p.accel_choice();
+        ui.label(match choice {
             AccelChoice::Bvh => "using a BVH",
             AccelChoice::Spheres => "using bounding spheres",
             AccelChoice::Grid => "using a uniform grid",
             _ => "testing every primitive for every ray",
         });
+        if matches!(choice, AccelChoice::Bvh | AccelChoice::Spheres) {
+            ui.horizontal_wrapped(|ui| {
+                ui.label("Tree quality");
+                ui.radio_value(&mut s.bvh_quality, BvhQuality::Low, "low")
+                    .on_hover_text("builds fastest; rays may visit more boxes");
+                ui.radio_value(&mut s.bvh_quality, BvhQuality::Medium, "medium")
+                    .on_hover_text("the default");
+                ui.radio_value(&mut s.bvh_quality, BvhQuality::High, "high")
+                    .on_hover_text("builds slowest; rays may visit fewer boxes");
+            });
+            if let Some(b) = p.bvh() {
+                // The build time (which varies from run to run) only on hover.
+                ui.label(format!(
+                    "{} nodes, depth {}, SAH cost {:.1}",
+                    b.nodes.len(),
+                    b.max_depth,
+                    b.sah_cost(),
+                ))
+                .on_hover_text(format!(
+                    "SAH cost: the expected cost of a random ray, in box-pair tests and \
+                     primitive tests (lower is better).\nBuilt in {:.1} ms.",
+                    b.build_time.as_secs_f64() * 1e3
+                ));
+            }
+        }
     }
     if f.spheres > 0 {
         ui.label(RichText::new("Ray–sphere").strong());
