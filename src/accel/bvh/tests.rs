@@ -293,3 +293,47 @@ fn four_lanes_find_the_hand_computed_hit() {
         assert_eq!((lanes.t[j], lanes.u[j], lanes.v[j]), (2.0, 0.25, 0.25));
     }
 }
+
+/// raystep's nodes are obvhs's tree in the order obvhs's own `reorder_in_stack_traversal_order`
+/// gives (an independent implementation of the same depth-first walk): node for node the same
+/// boxes, counts and children — and so every subtree's pairs follow its second node.
+#[test]
+fn nodes_are_in_obvhs_depth_first_order() {
+    for (kind, size) in [
+        (crate::scene::spd::SpdScene::Balls, 2),
+        (crate::scene::spd::SpdScene::Tetra, 4),
+        (crate::scene::spd::SpdScene::Mount, 4),
+    ] {
+        let out = crate::scene::spd::generate(kind, size).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        if let Some((name, obj)) = &out.obj {
+            std::fs::write(dir.path().join(name), obj).unwrap();
+        }
+        let scene = crate::scene::load_str(&out.toml, "spd.toml", Some(dir.path())).unwrap();
+        let bvh = Bvh::build(&scene);
+        let mut reference = bvh.obvhs.clone();
+        reference.reorder_in_stack_traversal_order();
+        assert_eq!(bvh.nodes.len(), reference.nodes.len(), "{kind:?}");
+        assert_ne!(
+            reference
+                .nodes
+                .iter()
+                .map(|n| n.first_index)
+                .collect::<Vec<_>>(),
+            bvh.obvhs
+                .nodes
+                .iter()
+                .map(|n| n.first_index)
+                .collect::<Vec<_>>(),
+            "{kind:?}: obvhs's builder order is not already depth-first"
+        );
+        for (i, (ours, theirs)) in bvh.nodes.iter().zip(&reference.nodes).enumerate() {
+            let b = theirs.aabb();
+            assert_eq!(
+                (ours.min, ours.max, ours.first, ours.count),
+                (b.min, b.max, theirs.first_index, theirs.prim_count),
+                "{kind:?}, node {i}"
+            );
+        }
+    }
+}

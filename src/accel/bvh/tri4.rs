@@ -25,9 +25,9 @@ pub(super) struct Tri4 {
 
 impl Tri4 {
     /// Packs up to four triangles (vertices given as `[P0, P1, P2]`).
-    pub(super) fn pack(tris: &[[Vec3; 3]]) -> Tri4 {
+    pub(super) fn pack<'a>(tris: impl IntoIterator<Item = &'a [Vec3; 3]>) -> Tri4 {
         let mut v = [[0.0f32; 4]; 9];
-        for (lane, p) in tris.iter().take(4).enumerate() {
+        for (lane, p) in tris.into_iter().take(4).enumerate() {
             for (i, vertex) in p.iter().enumerate() {
                 for (c, x) in vertex.to_array().into_iter().enumerate() {
                     if let Some(slot) = v.get_mut(3 * i + c).and_then(|l| l.get_mut(lane)) {
@@ -42,31 +42,39 @@ impl Tri4 {
 
 /// Packs the triangles of every leaf whose primitives are all triangles, setting the leaf's
 /// `pack` to the index of its first pack (its triangles fill ⌈count / 4⌉ packs in leaf order);
-/// other leaves keep [`NO_PACK`].
+/// other leaves keep [`NO_PACK`]. The packs are filled in parallel on big trees: most of the
+/// time goes into first touching their memory (36 MB for a million triangles).
 pub(super) fn pack_leaves(nodes: &mut [Node], shapes: &[Shape]) -> Vec<Tri4> {
-    let mut packs = vec![];
+    let triangle = |s: &Shape| match s {
+        Shape::Triangle { p } => Some(*p),
+        _ => None,
+    };
+    // Each pack's triangles: where they start in `shapes`, and how many (1 to 4).
+    let mut spans: Vec<(usize, usize)> = Vec::with_capacity(shapes.len().div_ceil(4));
     for node in nodes.iter_mut().filter(|n| n.is_leaf()) {
-        let range = node.first as usize..node.first as usize + node.count as usize;
-        let Some(leaf) = shapes.get(range) else {
+        let (start, count) = (node.first as usize, node.count as usize);
+        let Some(leaf) = shapes.get(start..start + count) else {
             continue;
         };
-        let tris: Vec<[Vec3; 3]> = leaf
-            .iter()
-            .map_while(|shape| match shape {
-                Shape::Triangle { p } => Some(*p),
-                _ => None,
-            })
-            .collect();
-        if tris.len() != leaf.len() {
+        if leaf.is_empty() || !leaf.iter().all(|s| triangle(s).is_some()) {
             continue;
         }
-        let Ok(first) = u32::try_from(packs.len()) else {
+        let Ok(first) = u32::try_from(spans.len()) else {
             break;
         };
         node.pack = first;
-        packs.extend(tris.chunks(4).map(Tri4::pack));
+        spans.extend(
+            (0..count)
+                .step_by(4)
+                .map(|k| (start + k, (count - k).min(4))),
+        );
     }
-    packs
+    super::map_in_order(&spans, |&(start, len)| {
+        let tris = shapes.get(start..start + len).unwrap_or_default();
+        let p: [[Vec3; 3]; 4] =
+            std::array::from_fn(|j| tris.get(j).and_then(triangle).unwrap_or_default());
+        Tri4::pack(p.iter().take(len))
+    })
 }
 
 /// A leaf without packs (it holds a sphere, or no triangle at all).
