@@ -98,6 +98,31 @@ fn shadow_rays(scene: &Scene, rays: &[Ray<f32>], hits: &[Option<Hit>]) -> Vec<Ra
         .collect()
 }
 
+/// Node visits and primitive tests per ray (closest hits, or any hit for `shadows`), counted
+/// on a pass of their own.
+fn per_ray(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>], shadows: bool) -> (f64, f64) {
+    let mut c = crate::record::Counter::default();
+    for r in rays {
+        if shadows {
+            bvh.any(scene, r, &mut c);
+        } else {
+            bvh.closest(scene, r, &mut c);
+        }
+    }
+    let n = rays.len().max(1) as f64;
+    (c.node_visits as f64 / n, c.prim_tests as f64 / n)
+}
+
+/// The heading of a scene's figures: its name and the set's size.
+fn heading(name: &str, finite: &Scene, primary: usize, shadow: usize, note: &str) {
+    println!(
+        "## {name} — {} finite primitives, {primary} primary rays ({}×{}), {shadow} shadow rays{note}",
+        finite.objects.len(),
+        SIZE.0,
+        SIZE.1,
+    );
+}
+
 fn found(hits: &[Option<Hit>]) -> Found {
     Found {
         hits: hits.iter().flatten().count(),
@@ -131,30 +156,9 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
         })
     };
     let (p1, p2, s1, s2) = (time(1, false), time(2, false), time(1, true), time(2, true));
-    // Node visits and primitive tests per ray, counted on a separate pass.
-    let per_ray = |rays: &[Ray<f32>], shadows: bool| {
-        let mut c = crate::record::Counter::default();
-        for r in rays {
-            if shadows {
-                bvh.any(&s, r, &mut c);
-            } else {
-                bvh.closest(&s, r, &mut c);
-            }
-        }
-        let n = rays.len().max(1) as f64;
-        (c.node_visits as f64 / n, c.prim_tests as f64 / n)
-    };
-    let (pv, pt) = per_ray(&primary, false);
-    let (sv, st) = per_ray(&shadow, true);
-    println!(
-        "## {} — {} finite primitives, {} primary rays ({}×{}), {} shadow rays",
-        scene.name,
-        s.objects.len(),
-        primary.len(),
-        SIZE.0,
-        SIZE.1,
-        shadow.len()
-    );
+    let (pv, pt) = per_ray(&s, &bvh, &primary, false);
+    let (sv, st) = per_ray(&s, &bvh, &shadow, true);
+    heading(&scene.name, &s, primary.len(), shadow.len(), "");
     println!(
         "- build {:.0} ms (obvhs's PLOC {:.0} ms, then raystep's layout), SAH cost {:.1}",
         build.as_secs_f64() * 1e3,
@@ -281,15 +285,7 @@ pub fn build_qualities(scene: &Scene, reps: usize) {
     let primary = primary_rays(&s, first);
     let hits = closest_all(&s, first, &primary, 1);
     let shadow = shadow_rays(&s, &primary, &hits);
-    println!(
-        "## {} — {} finite primitives, {} primary rays ({}×{}), {} shadow rays, 1 thread",
-        scene.name,
-        s.objects.len(),
-        primary.len(),
-        SIZE.0,
-        SIZE.1,
-        shadow.len()
-    );
+    heading(&scene.name, &s, primary.len(), shadow.len(), ", 1 thread");
     println!();
     println!(
         "| quality | build ms | obvhs's part ms | nodes | depth | SAH cost | primary visits/ray | primary Mrays/s | shadow visits/ray | shadow Mrays/s |"
@@ -298,17 +294,7 @@ pub fn build_qualities(scene: &Scene, reps: usize) {
     for ((q, bvh), b) in qualities.iter().zip(&trees).zip(&mut builds) {
         b.sort();
         let (build, core) = b.get(b.len() / 2).copied().unwrap_or_default();
-        let visits = |rays: &[Ray<f32>], shadows: bool| {
-            let mut c = crate::record::Counter::default();
-            for r in rays {
-                if shadows {
-                    bvh.any(&s, r, &mut c);
-                } else {
-                    bvh.closest(&s, r, &mut c);
-                }
-            }
-            c.node_visits as f64 / rays.len().max(1) as f64
-        };
+        let visits = |rays: &[Ray<f32>], shadows: bool| per_ray(&s, bvh, rays, shadows).0;
         let p = median_time(reps, || {
             std::hint::black_box(closest_all(&s, bvh, &primary, 1));
         });

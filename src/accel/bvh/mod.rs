@@ -595,10 +595,20 @@ trait LeafTest<O: Observer> {
     /// Reports triangles that the four-lane test found all missed, whatever t_max (recorded
     /// with the scalar test's records, as [`Self::test`] would have).
     fn misses(&mut self, ids: &[u32], shapes: &[Shape], ray: &Ray<f32>, obs: &mut O);
+    /// The scene being traced.
+    fn scene(&self) -> &Scene;
+    /// What the query computes once per ray.
+    fn per(&mut self) -> &mut PerRay;
     /// Whether triangles take the watertight test (the one the four-lane test computes).
-    fn watertight(&self) -> bool;
+    #[inline(always)]
+    fn watertight(&self) -> bool {
+        self.scene().settings.triangle_method == TriangleMethod::Watertight
+    }
     /// The ray's shear for the watertight test (computed once per query).
-    fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32>;
+    #[inline(always)]
+    fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32> {
+        self.per().shear(ray)
+    }
 }
 
 /// One lane of the four-lane watertight test: the scalar test's t, u and v, and whether the
@@ -736,13 +746,13 @@ impl<O: Observer> LeafTest<O> for ClosestHit<'_> {
     }
 
     #[inline(always)]
-    fn watertight(&self) -> bool {
-        self.scene.settings.triangle_method == TriangleMethod::Watertight
+    fn scene(&self) -> &Scene {
+        self.scene
     }
 
     #[inline(always)]
-    fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32> {
-        self.per.shear(ray)
+    fn per(&mut self) -> &mut PerRay {
+        &mut self.per
     }
 }
 
@@ -798,13 +808,13 @@ impl<O: Observer> LeafTest<O> for AnyHit<'_> {
     }
 
     #[inline(always)]
-    fn watertight(&self) -> bool {
-        self.scene.settings.triangle_method == TriangleMethod::Watertight
+    fn scene(&self) -> &Scene {
+        self.scene
     }
 
     #[inline(always)]
-    fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32> {
-        self.per.shear(ray)
+    fn per(&mut self) -> &mut PerRay {
+        &mut self.per
     }
 }
 
@@ -938,8 +948,13 @@ fn depth_first(nodes: &[obvhs::bvh2::node::Bvh2Node]) -> (Vec<u32>, Vec<u32>) {
     if !root.is_leaf() {
         stack.push(root.first_index);
     }
+    // Each node is placed once, so the walk ends after `nodes.len()` of them even were the
+    // children to form a cycle (obvhs's trees do not).
     while let Some(first) = stack.pop() {
-        for old in [first, first + 1] {
+        if order.len() >= nodes.len() {
+            break;
+        }
+        for old in [first, first.saturating_add(1)] {
             let Some(n) = nodes.get(old as usize) else {
                 continue;
             };
