@@ -47,7 +47,8 @@
 //!   the fuzzers and the property tests feed hostile input; [`io`]: bounded reading and atomic
 //!   writing of files.
 // A few places opt in, with their reasons: gpu::tracer's request for wgpu's experimental ray
-// queries, and the BVH's calls of its AVX2 + FMA build and AVX box test after checking the CPU.
+// queries, the BVH's calls of its AVX2 + FMA build and its AVX box and triangle tests after
+// checking the CPU, and the command line's restoring of SIGPIPE's default action.
 #![deny(unsafe_code)]
 #![warn(missing_docs)]
 

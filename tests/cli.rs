@@ -1547,3 +1547,35 @@ fn render_profile_prints_where_the_time_goes() {
         assert!(out.contains(words), "{accel}: {out}");
     }
 }
+
+/// A reader that closes the pipe early (`raystep render … | head -1`) ends the command quietly,
+/// as it ends `cat`: no panic message (Rust's `println!` panics on a closed pipe unless the
+/// default SIGPIPE action is restored). The pipe is closed before the command writes a line,
+/// so its first line already meets it.
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_a_command_without_a_panic() {
+    use std::os::unix::process::ExitStatusExt;
+    use std::process::Stdio;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("first.png");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_raystep"))
+        .arg("render")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/first-sphere.toml"))
+        .arg("-o")
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let done = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    // Ended by SIGPIPE (13), as `cat` is, or finished before writing anything that failed.
+    assert!(
+        done.status.success() || done.status.signal() == Some(13),
+        "{:?}: {stderr}",
+        done.status
+    );
+}

@@ -243,9 +243,27 @@ pub fn emit(text: &str) -> Result<(), String> {
     }
 }
 
+/// Lets a closed pipe end a command-line command quietly, as it ends `cat` or `grep`: Rust
+/// starts programs with SIGPIPE ignored, so a write to a closed pipe (`raystep bench | head`)
+/// returns an error, and `println!` — which the benchmarks and reports use — panics on it. With
+/// the default action restored the process simply ends. Not for the app, which writes nothing to
+/// a pipe.
+#[allow(unsafe_code)] // one libc call, before any thread exists
+fn quiet_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: `signal` with SIG_DFL installs no handler code; it runs at the start of `main`,
+    // before this process starts any thread.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    if !matches!(cli.command, None | Some(Command::Open { .. })) {
+        quiet_on_closed_pipe();
+    }
     let result = match cli.command {
         None => crate::app::run(None, None),
         Some(Command::Open {
