@@ -228,25 +228,8 @@ impl Bvh {
             build_bvh2(&boxes, build_params(scene.settings.bvh_quality), &mut core)
         };
         drop(boxes);
-        // raystep's nodes in depth-first order (see `depth_first`), each inner node's first
-        // child renumbered.
-        let (order, new_index) = depth_first(&bvh2.nodes);
-        let mut nodes = map_in_order(&order, |&old| {
-            let n = bvh2.nodes.get(old as usize).copied().unwrap_or_default();
-            let b = n.aabb();
-            Node {
-                min: b.min,
-                max: b.max,
-                first: if n.is_leaf() {
-                    n.first_index
-                } else {
-                    new_index.get(n.first_index as usize).copied().unwrap_or(0)
-                },
-                count: n.prim_count,
-                pack: NO_PACK,
-            }
-        });
-        drop(new_index);
+        // raystep's nodes, in depth-first order (see `depth_first`).
+        let mut nodes = depth_first(&bvh2.nodes);
         let leaf_objects = match &finite {
             None => bvh2.primitive_indices.clone(),
             Some(f) => map_in_order(&bvh2.primitive_indices, |&i| {
@@ -930,44 +913,57 @@ fn map_in_order<T: Sync, U: Send>(items: &[T], f: impl Fn(&T) -> U + Sync + Send
     }
 }
 
-/// The nodes in depth-first order, sibling pairs kept together: the root, then each pair
-/// followed by the pairs below its second node, then those below its first (a walk with a
-/// stack, obvhs's `reorder_in_stack_traversal_order`). obvhs's builder leaves a tree's levels
-/// far apart in memory, so each step down a big tree waited for memory; in this order a
-/// subtree's nodes lie together (on the million-triangle tetrahedron: primary rays 7 % and
-/// shadow rays 20 % faster, `raystep bench SCENE --section rays`). Returns the old index of
-/// each new node and the new index of each old node (the leaves' object ranges do not move).
-fn depth_first(nodes: &[obvhs::bvh2::node::Bvh2Node]) -> (Vec<u32>, Vec<u32>) {
-    let mut order = Vec::with_capacity(nodes.len());
-    let mut new_index = vec![0u32; nodes.len()];
-    let Some(root) = nodes.first() else {
-        return (order, new_index);
+/// obvhs's nodes as raystep's, in depth-first order with sibling pairs kept together: the
+/// root, then each pair followed by the pairs below its second node, then those below its first
+/// (a walk with a stack, the order of obvhs's `reorder_in_stack_traversal_order`). obvhs's
+/// builder leaves a tree's levels far apart in memory, so each step down a big tree waited for
+/// memory; in this order a subtree's nodes lie together (on the million-triangle tetrahedron:
+/// primary rays 7 % and shadow rays 17–20 % faster, `raystep bench SCENE --section rays`).
+/// Inner nodes get their children's new index; the leaves' object ranges do not move. One
+/// serial pass that writes the nodes in order (a parallel gather by a permutation took three
+/// times as long).
+fn depth_first(nodes: &[obvhs::bvh2::node::Bvh2Node]) -> Vec<Node> {
+    let convert = |n: &obvhs::bvh2::node::Bvh2Node| {
+        let b = n.aabb();
+        Node {
+            min: b.min,
+            max: b.max,
+            first: n.first_index,
+            count: n.prim_count,
+            pack: NO_PACK,
+        }
     };
-    order.push(0);
+    let mut out = Vec::with_capacity(nodes.len());
+    let Some(root) = nodes.first() else {
+        return out;
+    };
+    out.push(convert(root));
+    // (obvhs's index of a pair's first node, raystep's index of their parent)
     let mut stack = vec![];
     if !root.is_leaf() {
-        stack.push(root.first_index);
+        stack.push((root.first_index, 0usize));
     }
     // Each node is placed once, so the walk ends after `nodes.len()` of them even were the
     // children to form a cycle (obvhs's trees do not).
-    while let Some(first) = stack.pop() {
-        if order.len() >= nodes.len() {
+    while let Some((first, parent)) = stack.pop() {
+        if out.len() >= nodes.len() {
             break;
+        }
+        let here = out.len() as u32;
+        if let Some(p) = out.get_mut(parent) {
+            p.first = here;
         }
         for old in [first, first.saturating_add(1)] {
             let Some(n) = nodes.get(old as usize) else {
                 continue;
             };
-            if let Some(slot) = new_index.get_mut(old as usize) {
-                *slot = order.len() as u32;
-            }
-            order.push(old);
             if !n.is_leaf() {
-                stack.push(n.first_index);
+                stack.push((n.first_index, out.len()));
             }
+            out.push(convert(n));
         }
     }
-    (order, new_index)
+    out
 }
 
 /// The number of levels below the root (0 for a single leaf or an empty tree).
