@@ -30,34 +30,61 @@ struct Found {
     t_sum: f64,
 }
 
-/// Traces `rays` for the closest hit on `threads` threads (1: the calling thread).
-fn closest_all(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>], threads: usize) -> Vec<Option<Hit>> {
-    let one = |r: &Ray<f32>| bvh.closest(scene, r, &mut Silent);
-    if threads <= 1 {
-        return rays.iter().map(one).collect();
+/// Traces `rays` for the closest hit into `out` (one slot per ray), on `pool`'s threads or, with
+/// none, on the calling thread. The results go to a buffer allocated before the clock starts,
+/// as `embree_compare.c`'s do: a fresh 70 MB vector per pass would time the first touch of its
+/// memory (page faults, which two threads take in turn) along with the rays.
+fn closest_into(
+    scene: &Scene,
+    bvh: &Bvh,
+    rays: &[Ray<f32>],
+    out: &mut [Option<Hit>],
+    pool: Option<&rayon::ThreadPool>,
+) {
+    let one = |(o, r): (&mut Option<Hit>, &Ray<f32>)| *o = bvh.closest(scene, r, &mut Silent);
+    match pool {
+        None => out.iter_mut().zip(rays).for_each(one),
+        Some(p) => p.install(|| {
+            out.par_iter_mut()
+                .zip(rays)
+                .with_min_len(1024)
+                .for_each(one)
+        }),
     }
-    in_pool(threads, || {
-        rays.par_iter().with_min_len(1024).map(one).collect()
-    })
 }
 
-/// Traces `rays` for any hit (occlusion) on `threads` threads.
-fn any_all(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>], threads: usize) -> Vec<bool> {
-    let one = |r: &Ray<f32>| bvh.any(scene, r, &mut Silent).is_some();
-    if threads <= 1 {
-        return rays.iter().map(one).collect();
+/// Traces `rays` for any hit (occlusion) into `out`, as [`closest_into`].
+fn any_into(
+    scene: &Scene,
+    bvh: &Bvh,
+    rays: &[Ray<f32>],
+    out: &mut [bool],
+    pool: Option<&rayon::ThreadPool>,
+) {
+    let one = |(o, r): (&mut bool, &Ray<f32>)| *o = bvh.any(scene, r, &mut Silent).is_some();
+    match pool {
+        None => out.iter_mut().zip(rays).for_each(one),
+        Some(p) => p.install(|| {
+            out.par_iter_mut()
+                .zip(rays)
+                .with_min_len(1024)
+                .for_each(one)
+        }),
     }
-    in_pool(threads, || {
-        rays.par_iter().with_min_len(1024).map(one).collect()
-    })
 }
 
-/// Runs `f` in a rayon pool of `threads` threads (the global pool if one cannot be made).
-fn in_pool<R: Send>(threads: usize, f: impl FnOnce() -> R + Send) -> R {
-    match rayon::ThreadPoolBuilder::new().num_threads(threads).build() {
-        Ok(pool) => pool.install(f),
-        Err(_) => f(),
-    }
+/// The closest hits of `rays`, on the calling thread.
+fn closest_all(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>]) -> Vec<Option<Hit>> {
+    let mut out = vec![None; rays.len()];
+    closest_into(scene, bvh, rays, &mut out, None);
+    out
+}
+
+/// Whether each of `rays` is blocked, on the calling thread.
+fn any_all(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>]) -> Vec<bool> {
+    let mut out = vec![false; rays.len()];
+    any_into(scene, bvh, rays, &mut out, None);
+    out
 }
 
 /// The scene without its infinite planes (the set traces finite primitives only).
@@ -142,20 +169,26 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
     let bvh = Bvh::build(&s);
     let build = start.elapsed();
     let primary = primary_rays(&s, &bvh);
-    let hits = closest_all(&s, &bvh, &primary, 1);
+    let hits = closest_all(&s, &bvh, &primary);
     let shadow = shadow_rays(&s, &primary, &hits);
-    let blocked = any_all(&s, &bvh, &shadow, 1);
+    let blocked = any_all(&s, &bvh, &shadow);
     let f = found(&hits);
-    let time = |threads: usize, shadows: bool| {
+    // Two threads: one pool, started before the clock (as the C program's threads are started
+    // per pass, but cost microseconds there).
+    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().ok();
+    let (mut hit_buf, mut blocked_buf) = (hits.clone(), blocked.clone());
+    let mut time = |pool: Option<&rayon::ThreadPool>, shadows: bool| {
         median_time(reps, || {
             if shadows {
-                std::hint::black_box(any_all(&s, &bvh, &shadow, threads));
+                any_into(&s, &bvh, &shadow, &mut blocked_buf, pool);
             } else {
-                std::hint::black_box(closest_all(&s, &bvh, &primary, threads));
+                closest_into(&s, &bvh, &primary, &mut hit_buf, pool);
             }
         })
     };
-    let (p1, p2, s1, s2) = (time(1, false), time(2, false), time(1, true), time(2, true));
+    let (p1, p2) = (time(None, false), time(two.as_ref(), false));
+    let (s1, s2) = (time(None, true), time(two.as_ref(), true));
+    std::hint::black_box((&hit_buf, &blocked_buf));
     let (pv, pt) = per_ray(&s, &bvh, &primary, false);
     let (sv, st) = per_ray(&s, &bvh, &shadow, true);
     heading(&scene.name, &s, primary.len(), shadow.len(), "");
@@ -283,8 +316,9 @@ pub fn build_qualities(scene: &Scene, reps: usize) {
         return;
     };
     let primary = primary_rays(&s, first);
-    let hits = closest_all(&s, first, &primary, 1);
+    let hits = closest_all(&s, first, &primary);
     let shadow = shadow_rays(&s, &primary, &hits);
+    let (mut hit_buf, mut blocked_buf) = (hits.clone(), vec![false; shadow.len()]);
     heading(&scene.name, &s, primary.len(), shadow.len(), ", 1 thread");
     println!();
     println!(
@@ -296,11 +330,12 @@ pub fn build_qualities(scene: &Scene, reps: usize) {
         let (build, core) = b.get(b.len() / 2).copied().unwrap_or_default();
         let visits = |rays: &[Ray<f32>], shadows: bool| per_ray(&s, bvh, rays, shadows).0;
         let p = median_time(reps, || {
-            std::hint::black_box(closest_all(&s, bvh, &primary, 1));
+            closest_into(&s, bvh, &primary, &mut hit_buf, None);
         });
         let sh = median_time(reps, || {
-            std::hint::black_box(any_all(&s, bvh, &shadow, 1));
+            any_into(&s, bvh, &shadow, &mut blocked_buf, None);
         });
+        std::hint::black_box((&hit_buf, &blocked_buf));
         println!(
             "| {} | {:.0} | {:.0} | {} | {} | {:.1} | {:.1} | {:.2} | {:.1} | {:.2} |",
             format!("{q:?}").to_lowercase(),
