@@ -184,6 +184,9 @@ pub struct Bvh {
     /// a field of the tree rather than process-wide flags (shared cache lines that other threads
     /// may be writing next to).
     wide: bool,
+    /// Whether the AVX2 build asks the CPU to prefetch what lies below each pair it tests: only
+    /// for trees too big for the caches (see [`PREFETCH_FROM`]).
+    prefetch: bool,
     /// [`Bvh::sah_cost`], computed when first asked (the app shows it every frame).
     sah: std::sync::OnceLock<f64>,
 }
@@ -272,6 +275,7 @@ impl Bvh {
         } else {
             vec![]
         };
+        let prefetch = nodes.len() * std::mem::size_of::<Node>() >= PREFETCH_FROM;
         Bvh {
             nodes,
             leaf_objects,
@@ -283,6 +287,7 @@ impl Bvh {
             core_time: core,
             outline,
             obvhs: bvh2,
+            prefetch,
             finite_boxes,
             wide,
             sah: std::sync::OnceLock::new(),
@@ -409,6 +414,35 @@ impl Bvh {
         true
     }
 
+    /// Asks the CPU to start loading what the traversal reads if it enters `n`: its children's
+    /// pair, or its triangle packs — while the pair holding `n` is still being tested.
+    #[inline(always)]
+    #[allow(unsafe_code)] // a prefetch hint
+    fn prefetch_below(&self, n: &Node) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+            let p = if n.is_leaf() {
+                self.packs
+                    .as_ptr()
+                    .wrapping_add(n.pack as usize)
+                    .cast::<i8>()
+            } else {
+                self.nodes
+                    .as_ptr()
+                    .wrapping_add(n.first as usize)
+                    .cast::<i8>()
+            };
+            // SAFETY: a prefetch is a hint: it never faults, whatever the address.
+            unsafe {
+                _mm_prefetch::<_MM_HINT_T0>(p);
+                _mm_prefetch::<_MM_HINT_T0>(p.wrapping_add(64));
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        let _ = n;
+    }
+
     /// Walks the tree for `ray`, calling `leaf.test(object, ray)` for each primitive in the leaves the
     /// ray reaches, nearer subtrees first. `leaf` returns false to stop (any-hit). t_max shrinks
     /// as `leaf` finds closer hits (it updates `ray.t_max`).
@@ -478,6 +512,10 @@ impl Bvh {
                 Some([a, b]) => (a, b),
                 _ => return,
             };
+            if WIDE && self.prefetch {
+                self.prefetch_below(a);
+                self.prefetch_below(b);
+            }
             let t_max = Vec3A::splat(t_max_tested);
             let (ia, ib) = if WIDE && ORDERED {
                 fast.interval_pair(a, b, t_max)
@@ -899,6 +937,12 @@ impl Accelerator for Bvh {
         )
     }
 }
+
+/// From this many bytes of nodes a tree is prefetched as it is walked. Measured with `raystep
+/// bench SCENE --section rays` (alternated runs): on the million-triangle tetrahedron (25 MB of
+/// nodes) shadow rays 6–8 % faster, primary rays unchanged; on the mountain of 131,072 triangles
+/// (2.9 MB) and the sphereflake (0.2 MB), whose trees sit in the caches, 4–8 % slower.
+const PREFETCH_FROM: usize = 16 << 20;
 
 /// From this many items the build's per-item steps run on rayon's threads; below it, starting
 /// them costs more than they save (a dozen-primitive tree took 30× longer to build in parallel).
