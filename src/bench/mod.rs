@@ -354,7 +354,7 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize, side: Side) {
 /// How a full render scales from one thread to two: each scene at its own size (shadows,
 /// reflections and refractions included), the ratio of the two times. Renders of a few
 /// milliseconds move by tens of per cent from one to the next on a shared machine, so each
-/// sample renders the scene as many times as fill [`SAMPLE`] (the per-render time is printed),
+/// sample renders the scene as many times as fill `SAMPLE` (60 ms) (the per-render time is printed),
 /// and one-thread and two-thread samples alternate, so a slow spell on the machine falls on both.
 ///
 /// A third sample runs two independent one-thread renders at once, one per core: nothing is

@@ -22,7 +22,7 @@ pub struct ExerciseArgs {
     /// Also print the answers raystep's tracer gives (the teacher's key for this student).
     #[arg(long)]
     pub solutions: bool,
-    /// Write each inline scene of this student's variant to DIR/<question id>.toml.
+    /// Write each inline scene of this student's variant to `DIR/<question id>.toml`.
     #[arg(long, value_name = "DIR")]
     pub scenes: Option<PathBuf>,
 }

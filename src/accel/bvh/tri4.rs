@@ -69,7 +69,7 @@ pub(super) fn pack_leaves(nodes: &mut [Node], shapes: &[Shape]) -> Vec<Tri4> {
                 .map(|k| (start + k, (count - k).min(4))),
         );
     }
-    super::map_in_order(&spans, |&(start, len)| {
+    super::build::map_in_order(&spans, |&(start, len)| {
         let tris = shapes.get(start..start + len).unwrap_or_default();
         let p: [[Vec3; 3]; 4] =
             std::array::from_fn(|j| tris.get(j).and_then(triangle).unwrap_or_default());
