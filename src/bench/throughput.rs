@@ -30,18 +30,17 @@ struct Found {
     t_sum: f64,
 }
 
-/// Traces `rays` for the closest hit into `out` (one slot per ray), on `pool`'s threads or, with
-/// none, on the calling thread. The results go to a buffer allocated before the clock starts,
-/// as `embree_compare.c`'s do: a fresh 70 MB vector per pass would time the first touch of its
+/// Traces each of `rays` with `trace` into its slot of `out`, on `pool`'s threads or, with none,
+/// on the calling thread. The results go to a buffer allocated before the clock starts, as
+/// `embree_compare.c`'s do: a fresh 70 MB vector per pass would time the first touch of its
 /// memory (page faults, which two threads take in turn) along with the rays.
-fn closest_into(
-    scene: &Scene,
-    bvh: &Bvh,
+fn trace_into<T: Send>(
     rays: &[Ray<f32>],
-    out: &mut [Option<Hit>],
+    out: &mut [T],
     pool: Option<&rayon::ThreadPool>,
+    trace: impl Fn(&Ray<f32>) -> T + Sync,
 ) {
-    let one = |(o, r): (&mut Option<Hit>, &Ray<f32>)| *o = bvh.closest(scene, r, &mut Silent);
+    let one = |(o, r): (&mut T, &Ray<f32>)| *o = trace(r);
     match pool {
         None => out.iter_mut().zip(rays).for_each(one),
         Some(p) => p.install(|| {
@@ -53,7 +52,18 @@ fn closest_into(
     }
 }
 
-/// Traces `rays` for any hit (occlusion) into `out`, as [`closest_into`].
+/// Traces `rays` for the closest hit into `out` (see [`trace_into`]).
+fn closest_into(
+    scene: &Scene,
+    bvh: &Bvh,
+    rays: &[Ray<f32>],
+    out: &mut [Option<Hit>],
+    pool: Option<&rayon::ThreadPool>,
+) {
+    trace_into(rays, out, pool, |r| bvh.closest(scene, r, &mut Silent));
+}
+
+/// Traces `rays` for any hit (occlusion) into `out` (see [`trace_into`]).
 fn any_into(
     scene: &Scene,
     bvh: &Bvh,
@@ -61,16 +71,9 @@ fn any_into(
     out: &mut [bool],
     pool: Option<&rayon::ThreadPool>,
 ) {
-    let one = |(o, r): (&mut bool, &Ray<f32>)| *o = bvh.any(scene, r, &mut Silent).is_some();
-    match pool {
-        None => out.iter_mut().zip(rays).for_each(one),
-        Some(p) => p.install(|| {
-            out.par_iter_mut()
-                .zip(rays)
-                .with_min_len(1024)
-                .for_each(one)
-        }),
-    }
+    trace_into(rays, out, pool, |r| {
+        bvh.any(scene, r, &mut Silent).is_some()
+    });
 }
 
 /// The closest hits of `rays`, on the calling thread.
