@@ -99,40 +99,44 @@ impl Bvh {
             build_bvh2(&boxes, build_params(scene.settings.bvh_quality), &mut core)
         };
         drop(boxes);
-        // raystep's nodes, in depth-first order (see `depth_first`).
-        let mut nodes = depth_first(&bvh2.nodes);
-        let leaf_objects = match &finite {
-            None => bvh2.primitive_indices.clone(),
-            Some(f) => map_in_order(&bvh2.primitive_indices, |&i| {
-                f.get(i as usize).copied().unwrap_or(0)
-            }),
-        };
-        // The leaf-ordered shapes and the walks over the tree are independent.
-        let (leaf_shapes, ((max_depth, outline), finite_boxes)) = rayon::join(
-            || {
-                map_in_order(&leaf_objects, |&id| {
-                    scene
-                        .objects
-                        .get(id as usize)
-                        .map_or(EMPTY_SHAPE, |o| o.shape)
-                })
-            },
-            || {
-                rayon::join(
-                    || {
-                        rayon::join(
-                            || tree_depth(&nodes),
-                            || compute_outline(&nodes, OUTLINE_DEPTH),
-                        )
-                    },
-                    || {
-                        nodes
-                            .par_iter()
-                            .all(|n| n.min.is_finite() && n.max.is_finite())
-                    },
-                )
-            },
-        );
+        // Two independent halves, about as long as each other on a million triangles:
+        // raystep's nodes in depth-first order (see `depth_first`) and the walks over them; the
+        // leaf-ordered objects and shapes.
+        let ((mut nodes, ((max_depth, outline), finite_boxes)), (leaf_objects, leaf_shapes)) =
+            rayon::join(
+                || {
+                    let nodes = depth_first(&bvh2.nodes);
+                    let walks = rayon::join(
+                        || {
+                            rayon::join(
+                                || tree_depth(&nodes),
+                                || compute_outline(&nodes, OUTLINE_DEPTH),
+                            )
+                        },
+                        || {
+                            nodes
+                                .par_iter()
+                                .all(|n| n.min.is_finite() && n.max.is_finite())
+                        },
+                    );
+                    (nodes, walks)
+                },
+                || {
+                    let leaf_objects = match &finite {
+                        None => bvh2.primitive_indices.clone(),
+                        Some(f) => map_in_order(&bvh2.primitive_indices, |&i| {
+                            f.get(i as usize).copied().unwrap_or(0)
+                        }),
+                    };
+                    let leaf_shapes = map_in_order(&leaf_objects, |&id| {
+                        scene
+                            .objects
+                            .get(id as usize)
+                            .map_or(EMPTY_SHAPE, |o| o.shape)
+                    });
+                    (leaf_objects, leaf_shapes)
+                },
+            );
         #[cfg(target_arch = "x86_64")]
         let wide = crate::accel::avx2_fma();
         #[cfg(not(target_arch = "x86_64"))]
