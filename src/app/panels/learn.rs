@@ -15,7 +15,10 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut 
     // (a lesson's text or a question would then be cut off at the panel's edge).
     ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
     let learn = &state.learn;
-    ui.horizontal(|ui| {
+    // The tabs' names are single words: broken in the middle ("Exercise / s") they read badly,
+    // so in a narrow panel the second tab moves to a row of its own instead.
+    ui.horizontal_wrapped(|ui| {
+        ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
         for (tab, label) in [
             (LearnTab::Lesson, "Lesson"),
             (LearnTab::Exercises, "Exercises"),
