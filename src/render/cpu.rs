@@ -244,7 +244,13 @@ pub fn render<A: Accelerator>(
     };
     let results: Vec<(StatsObserver, u64)> = match &pool {
         None => work.into_iter().map(per_tile).collect(),
-        Some(p) => p.install(|| work.into_par_iter().map(per_tile).collect()),
+        // One tile per job. Left to itself rayon stops splitting after a few halvings (about
+        // four pieces for two threads) unless a piece is stolen, so the last piece was a run of
+        // a hundred or more tiles that the other thread, done with its cheaper half (a sky, say),
+        // could not share: on SPD mount 3 one thread sat idle for the last 20 ms of a 64 ms
+        // render. A tile is 20 µs or more of work (the 64×64 far sphere's); a job costs about a
+        // microsecond.
+        Some(p) => p.install(|| work.into_par_iter().with_max_len(1).map(per_tile).collect()),
     };
     let trace = start.elapsed();
     if let Some(b) = bar {
