@@ -45,10 +45,12 @@ impl Tri4 {
 /// other leaves keep [`NO_PACK`]. The packs are filled in parallel on big trees: most of the
 /// time goes into first touching their memory (36 MB for a million triangles).
 pub(super) fn pack_leaves(nodes: &mut [Node], shapes: &[Shape]) -> Vec<Tri4> {
-    let triangle = |s: &Shape| match s {
-        Shape::Triangle { p } => Some(*p),
-        _ => None,
-    };
+    fn vertices(s: &Shape) -> Option<&[Vec3; 3]> {
+        match s {
+            Shape::Triangle { p } => Some(p),
+            _ => None,
+        }
+    }
     // Each pack's triangles: where they start in `shapes`, and how many (1 to 4).
     let mut spans: Vec<(usize, usize)> = Vec::with_capacity(shapes.len().div_ceil(4));
     for node in nodes.iter_mut().filter(|n| n.is_leaf()) {
@@ -56,7 +58,7 @@ pub(super) fn pack_leaves(nodes: &mut [Node], shapes: &[Shape]) -> Vec<Tri4> {
         let Some(leaf) = shapes.get(start..start + count) else {
             continue;
         };
-        if leaf.is_empty() || !leaf.iter().all(|s| triangle(s).is_some()) {
+        if leaf.is_empty() || !leaf.iter().all(|s| vertices(s).is_some()) {
             continue;
         }
         let Ok(first) = u32::try_from(spans.len()) else {
@@ -70,10 +72,8 @@ pub(super) fn pack_leaves(nodes: &mut [Node], shapes: &[Shape]) -> Vec<Tri4> {
         );
     }
     super::build::map_in_order(&spans, |&(start, len)| {
-        let tris = shapes.get(start..start + len).unwrap_or_default();
-        let p: [[Vec3; 3]; 4] =
-            std::array::from_fn(|j| tris.get(j).and_then(triangle).unwrap_or_default());
-        Tri4::pack(p.iter().take(len))
+        let leaf = shapes.get(start..start + len).unwrap_or_default();
+        Tri4::pack(leaf.iter().filter_map(vertices))
     })
 }
 
