@@ -1,4 +1,4 @@
-//! The full parallel render: rayon over 16×16 tiles, each pixel traced by the same
+//! The full parallel render: 16×16 tiles shared among threads, each pixel traced by the same
 //! [`Tracer::trace_pixel`] the stepped pixel uses. Every pixel depends only on (scene, pixel,
 //! sample), so the image is identical whatever the thread count.
 
@@ -7,8 +7,8 @@ use crate::math::Ray;
 use crate::record::{Counter, Observer, Silent};
 use crate::record::{HitRecord, NodeVisit, RayKind, Step};
 use crate::trace::Tracer;
+use crossbeam_deque::{Steal, Stealer, Worker};
 use glam::Vec3;
-use rayon::prelude::*;
 use std::io::IsTerminal;
 use std::sync::Arc;
 use std::sync::Mutex;
@@ -179,14 +179,17 @@ pub fn render<A: Accelerator>(
         .into_iter()
         .map(|(t, rows)| (t, rows, visit_rows.as_mut().and_then(|v| v.next())))
         .collect();
-    // One thread: the calling thread, no pool to start. Otherwise a pool of the renders' own, so
-    // that a render in the background never holds up work the app gives rayon's global pool
-    // (the BVH build, for one).
-    let pool = match opts.threads {
-        Some(1) => None,
-        n => Some(render_pool(n.unwrap_or(0))?),
+    // The calling thread traces tiles too; the other `threads - 1` are helpers from a pool of
+    // the renders' own, so that a render in the background never holds up work the app gives
+    // rayon's global pool (the BVH build, for one). One thread: no pool at all.
+    let threads = match opts.threads {
+        Some(n) if n > 0 => n,
+        _ => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    let threads = pool.as_ref().map_or(1, |p| p.current_num_threads());
+    let pool = match threads {
+        0 | 1 => None,
+        n => Some(render_pool(n - 1)?),
+    };
     let bar = if opts.progress && std::io::stderr().is_terminal() && work.len() > 64 {
         let b = indicatif::ProgressBar::new(work.len() as u64);
         b.set_style(
@@ -242,15 +245,51 @@ pub fn render<A: Accelerator>(
         }
         (counter, nan_pixels)
     };
-    let results: Vec<(StatsObserver, u64)> = match &pool {
-        None => work.into_iter().map(per_tile).collect(),
-        // One tile per job. Left to itself rayon stops splitting after a few halvings (about
-        // four pieces for two threads) unless a piece is stolen, so the last piece was a run of
-        // a hundred or more tiles that the other thread, done with its cheaper half (a sky, say),
-        // could not share: on SPD mount 3 one thread sat idle for the last 20 ms of a 64 ms
-        // render. A tile is 20 µs or more of work (the 64×64 far sphere's); a job costs about a
-        // microsecond.
-        Some(p) => p.install(|| work.into_par_iter().with_max_len(1).map(per_tile).collect()),
+    // Each thread starts on its own band of the image (the calling thread on the first) and,
+    // when its band is done, takes tiles from the far end of the band with the most left, one
+    // at a time, so no thread idles while a tile is left. Two things this replaced cost time:
+    // - rayon's parallel iterator over all the tiles, which splits only a few times unless a
+    //   piece is stolen (one thread idle for the last 20 ms of a 64 ms render of SPD mount 3),
+    //   and whose `install` puts the calling thread to sleep until a worker wakes: on the 64×64
+    //   far sphere, a 0.33 ms render, the first tile started 2 to 60 µs after the render did;
+    // - one shared counter handing out the tiles in image order: the threads then trace
+    //   neighbouring tiles at the same time, and mount 3 took 56–59 ms on two threads instead
+    //   of 51–55 (most likely their rows meeting in the same cache lines of the image).
+    // crossbeam's work-stealing deques (rayon's own) hold the bands.
+    let results: Vec<(StatsObserver, u64)> = {
+        let bands = bands(work, threads);
+        let thieves: Vec<Stealer<TileWork>> = bands.iter().map(Worker::stealer).collect();
+        let mut bands = bands.into_iter();
+        let mine = bands.next();
+        let (per_tile, thieves) = (&per_tile, &thieves[..]);
+        match &pool {
+            None => mine
+                .map(|own| drain(own, thieves, per_tile))
+                .unwrap_or_default(),
+            Some(p) => {
+                let helped = Mutex::new(vec![]);
+                let helped_ref = &helped;
+                p.in_place_scope(|s| {
+                    for own in bands {
+                        s.spawn(move |_| {
+                            let done = drain(own, thieves, per_tile);
+                            helped_ref
+                                .lock()
+                                .unwrap_or_else(|e| e.into_inner())
+                                .extend(done);
+                        });
+                    }
+                    let done = mine
+                        .map(|own| drain(own, thieves, per_tile))
+                        .unwrap_or_default();
+                    helped_ref
+                        .lock()
+                        .unwrap_or_else(|e| e.into_inner())
+                        .extend(done);
+                });
+                helped.into_inner().unwrap_or_else(|e| e.into_inner())
+            }
+        }
     };
     let trace = start.elapsed();
     if let Some(b) = bar {
@@ -281,12 +320,12 @@ pub fn render<A: Accelerator>(
     })
 }
 
-/// The renders' thread pool for `threads` workers (0: one per core), started by the first render
-/// that asks for that many and kept for the next. A new pool per render (new threads, cold
-/// stacks and caches) cost small scenes up to a third of their two-thread speed: the 240×180
-/// acne scene went from 1.2–1.5× to 1.8–2.0× one thread's speed with this. Renders that overlap
-/// (the app cancelling one and starting the next) share it; a cancelled render's remaining tiles
-/// return at once.
+/// The renders' pool of `threads` helpers (the calling thread is each render's other thread),
+/// started by the first render that asks for that many and kept for the next. A new pool per
+/// render (new threads, cold stacks and caches) cost small scenes up to a third of their
+/// two-thread speed: the 240×180 acne scene went from 1.2–1.5× to 1.8–2.0× one thread's speed
+/// with this. Renders that overlap (the app cancelling one and starting the next) share it; a
+/// cancelled render's remaining tiles return at once.
 fn render_pool(threads: usize) -> Result<Arc<rayon::ThreadPool>, String> {
     static POOL: Mutex<Option<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
     // A poisoned lock only means a render panicked while holding it; the pool is still usable.
@@ -305,6 +344,47 @@ fn render_pool(threads: usize) -> Result<Arc<rayon::ThreadPool>, String> {
     );
     *cached = Some((threads, pool.clone()));
     Ok(pool)
+}
+
+/// `work` cut into `threads` bands of consecutive items (at least one band; the last ones
+/// shorter or empty), one deque each. A deque is last in, first out and filled back to front:
+/// its owner pops the band in order and thieves take from the band's far end.
+fn bands<T>(work: Vec<T>, threads: usize) -> Vec<Worker<T>> {
+    let threads = threads.max(1);
+    let band = work.len().div_ceil(threads).max(1);
+    let mut items = work.into_iter();
+    (0..threads)
+        .map(|_| {
+            let own = Worker::new_lifo();
+            let mine: Vec<T> = items.by_ref().take(band).collect();
+            mine.into_iter().rev().for_each(|t| own.push(t));
+            own
+        })
+        .collect()
+}
+
+/// Works through a thread's own band of tiles (`own`), then takes tiles from the other bands
+/// (`thieves`) until none is left: `work` on each tile, the results in the order done.
+fn drain<T, R>(own: Worker<T>, thieves: &[Stealer<T>], work: impl Fn(T) -> R) -> Vec<R> {
+    let mut done = vec![];
+    while let Some(tile) = own.pop().or_else(|| steal(thieves)) {
+        done.push(work(tile));
+    }
+    done
+}
+
+/// A tile from the far end of the band with the most left; `None` once every band is empty
+/// (tiles are never added, so empty stays empty).
+fn steal<T>(thieves: &[Stealer<T>]) -> Option<T> {
+    loop {
+        let most = thieves.iter().max_by_key(|s| s.len())?;
+        match most.steal() {
+            Steal::Success(t) => return Some(t),
+            Steal::Empty if thieves.iter().all(Stealer::is_empty) => return None,
+            // Another thread took it first, or the band with the most changed: look again.
+            Steal::Empty | Steal::Retry => continue,
+        }
+    }
 }
 
 /// Copies a finished tile into the live image (sRGB, opaque).
@@ -354,8 +434,21 @@ pub fn count_pixel<A: Accelerator>(tracer: &Tracer<'_, A>, x: u32, y: u32) -> (V
 
 #[cfg(test)]
 mod tests {
-    use super::{TILE, tile_rows};
+    use super::{TILE, bands, drain, steal, tile_rows};
+    use crossbeam_deque::Stealer;
     use proptest::prelude::*;
+
+    /// Once its own band is done, a thread takes from the far end of the band with the most
+    /// left (the later band on a tie), one item at a time: two bands of 0–4 and 5–9 give
+    /// 9, 4, 8, 3, … (worked out by hand), then nothing.
+    #[test]
+    fn thieves_take_from_the_far_end_of_the_longest_band() {
+        let bands = bands((0..10).collect(), 2);
+        let thieves: Vec<Stealer<i32>> = bands.iter().map(|b| b.stealer()).collect();
+        let taken: Vec<i32> = std::iter::from_fn(|| steal(&thieves)).collect();
+        assert_eq!(taken, [9, 4, 8, 3, 7, 2, 6, 1, 5, 0]);
+        assert_eq!(steal(&thieves), None);
+    }
 
     proptest! {
         /// Every tile gets exactly its own pixels, row by row: the pieces hold the indices a
@@ -379,6 +472,47 @@ mod tests {
                 .map(|(t, rows)| ((t.x0, t.y0), rows.iter().map(|r| r.to_vec()).collect()))
                 .collect();
             prop_assert_eq!(got, expected);
+        }
+
+        /// The bands are the items in order, cut into `threads` runs of at most
+        /// ⌈n ÷ threads⌉, each popped front first by its owner.
+        #[test]
+        fn bands_are_consecutive_runs_in_order(n in 0usize..300, threads in 0usize..6) {
+            let bands = bands((0..n).collect(), threads);
+            prop_assert_eq!(bands.len(), threads.max(1));
+            let popped: Vec<Vec<usize>> =
+                bands.iter().map(|b| std::iter::from_fn(|| b.pop()).collect()).collect();
+            let most = n.div_ceil(threads.max(1));
+            for run in &popped {
+                prop_assert!(run.len() <= most);
+                prop_assert!(run.windows(2).all(|w| w[1] == w[0] + 1));
+            }
+            prop_assert_eq!(popped.concat(), (0..n).collect::<Vec<_>>());
+        }
+
+        /// Threads draining their bands and stealing from each other's do every item exactly
+        /// once, however the work is shared out.
+        #[test]
+        fn every_item_is_done_exactly_once(n in 0usize..400, threads in 1usize..5) {
+            let bands = bands((0..n).collect::<Vec<usize>>(), threads);
+            let thieves: Vec<Stealer<usize>> = bands.iter().map(|b| b.stealer()).collect();
+            let thieves = &thieves[..];
+            // Uneven work (item i spins i % 7 × 50 times), so that the threads get out of step.
+            let work = |i: usize| {
+                (0..(i % 7) * 50).for_each(|k| {
+                    std::hint::black_box(k);
+                });
+                i
+            };
+            let mut done: Vec<usize> = std::thread::scope(|s| {
+                let handles: Vec<_> = bands
+                    .into_iter()
+                    .map(|own| s.spawn(move || drain(own, thieves, work)))
+                    .collect();
+                handles.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect()
+            });
+            done.sort_unstable();
+            prop_assert_eq!(done, (0..n).collect::<Vec<_>>());
         }
     }
 }
