@@ -253,8 +253,9 @@ pub fn render<A: Accelerator>(
     //   and whose `install` puts the calling thread to sleep until a worker wakes: on the 64×64
     //   far sphere, a 0.33 ms render, the first tile started 2 to 60 µs after the render did;
     // - one shared counter handing out the tiles in image order: the threads then trace
-    //   neighbouring tiles at the same time, and mount 3 took 56–59 ms on two threads instead
-    //   of 51–55 (most likely their rows meeting in the same cache lines of the image).
+    //   neighbouring tiles at the same time, and mount 3 took 56–59 ms on two threads (nine
+    //   runs of ten) instead of about 51–56 (most likely their rows meeting in the same cache
+    //   lines of the image).
     // crossbeam's work-stealing deques (rayon's own) hold the bands.
     let results: Vec<(StatsObserver, u64)> = {
         let bands = bands(work, threads);
