@@ -186,10 +186,9 @@ pub fn render<A: Accelerator>(
         Some(n) if n > 0 => n,
         _ => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    let pool = match threads {
-        0 | 1 => None,
-        n => Some(render_pool(n - 1)?),
-    };
+    let pool = (threads > 1)
+        .then(|| render_pool(threads - 1))
+        .transpose()?;
     let bar = if opts.progress && std::io::stderr().is_terminal() && work.len() > 64 {
         let b = indicatif::ProgressBar::new(work.len() as u64);
         b.set_style(
@@ -258,37 +257,38 @@ pub fn render<A: Accelerator>(
     //   lines of the image).
     // crossbeam's work-stealing deques (rayon's own) hold the bands.
     let results: Vec<(StatsObserver, u64)> = {
-        let bands = bands(work, threads);
+        // No more bands than tiles: a thread with no band of its own would only steal.
+        let tiles = work.len();
+        let bands = bands(work, threads.min(tiles));
         let thieves: Vec<Stealer<TileWork>> = bands.iter().map(Worker::stealer).collect();
-        let mut bands = bands.into_iter();
-        let mine = bands.next();
         let (per_tile, thieves) = (&per_tile, &thieves[..]);
-        match &pool {
-            None => mine
+        let mut bands = bands.into_iter();
+        let first = bands.next();
+        let drain_first = || {
+            first
                 .map(|own| drain(own, thieves, per_tile))
-                .unwrap_or_default(),
+                .unwrap_or_default()
+        };
+        match &pool {
+            None => drain_first(),
             Some(p) => {
                 let helped = Mutex::new(vec![]);
-                let helped_ref = &helped;
+                let mut done = vec![];
                 p.in_place_scope(|s| {
                     for own in bands {
+                        let helped = &helped;
                         s.spawn(move |_| {
-                            let done = drain(own, thieves, per_tile);
-                            helped_ref
+                            let theirs = drain(own, thieves, per_tile);
+                            helped
                                 .lock()
                                 .unwrap_or_else(|e| e.into_inner())
-                                .extend(done);
+                                .extend(theirs);
                         });
                     }
-                    let done = mine
-                        .map(|own| drain(own, thieves, per_tile))
-                        .unwrap_or_default();
-                    helped_ref
-                        .lock()
-                        .unwrap_or_else(|e| e.into_inner())
-                        .extend(done);
+                    done = drain_first();
                 });
-                helped.into_inner().unwrap_or_else(|e| e.into_inner())
+                done.extend(helped.into_inner().unwrap_or_else(|e| e.into_inner()));
+                done
             }
         }
     };
