@@ -273,19 +273,22 @@ pub fn render<A: Accelerator>(
             None => drain_first(),
             Some(p) => {
                 let helped = Mutex::new(vec![]);
+                let running = AtomicUsize::new(bands.len());
                 let mut done = vec![];
                 p.in_place_scope(|s| {
                     for own in bands {
-                        let helped = &helped;
+                        let (helped, running) = (&helped, &running);
                         s.spawn(move |_| {
                             let theirs = drain(own, thieves, per_tile);
                             helped
                                 .lock()
                                 .unwrap_or_else(|e| e.into_inner())
                                 .extend(theirs);
+                            running.fetch_sub(1, Ordering::Release);
                         });
                     }
                     done = drain_first();
+                    await_helpers(&running);
                 });
                 done.extend(helped.into_inner().unwrap_or_else(|e| e.into_inner()));
                 done
@@ -319,6 +322,28 @@ pub fn render<A: Accelerator>(
             nan_pixels,
         },
     })
+}
+
+/// How long the calling thread stays awake for the helpers' last tiles (see [`await_helpers`]).
+const AWAKE: Duration = Duration::from_micros(250);
+
+/// Waits, awake, for the helpers still tracing their last tiles (`running` counts them down),
+/// for at most `AWAKE`; after that the scope's own wait takes over.
+///
+/// Rayon's scope, entered from a thread outside its pool, waits on a condition variable: the
+/// calling thread sleeps, and the helper that finishes last must wake it. On this 2-core
+/// virtual machine that wake-up takes 15–24 µs (an empty `install` round trip, measured), paid
+/// by every render whose last tile ends on a helper, about half of them: a tenth of the 64×64
+/// far sphere's two-thread render. What is left after the calling thread's own band is one
+/// tile per helper at most (the rest were stolen), so the wait is short; past `AWAKE` the
+/// wake-up is under a tenth of the wait and sleeping costs nothing worth keeping a core busy
+/// for. crossbeam's `Backoff` spins, then yields the core to any thread that wants it.
+fn await_helpers(running: &AtomicUsize) {
+    let until = Instant::now() + AWAKE;
+    let backoff = crossbeam_utils::Backoff::new();
+    while running.load(Ordering::Acquire) > 0 && Instant::now() < until {
+        backoff.snooze();
+    }
 }
 
 /// The renders' pool of `threads` helpers (the calling thread is each render's other thread),
@@ -435,13 +460,23 @@ pub fn count_pixel<A: Accelerator>(tracer: &Tracer<'_, A>, x: u32, y: u32) -> (V
 
 #[cfg(test)]
 mod tests {
-    use super::{TILE, bands, drain, steal, tile_rows};
+    use super::{AWAKE, TILE, await_helpers, bands, drain, steal, tile_rows};
     use crossbeam_deque::Stealer;
     use proptest::prelude::*;
+    use std::sync::atomic::AtomicUsize;
+    use std::time::Instant;
 
     /// Once its own band is done, a thread takes from the far end of the band with the most
     /// left (the later band on a tie), one item at a time: two bands of 0–4 and 5–9 give
     /// 9, 4, 8, 3, … (worked out by hand), then nothing.
+    #[test]
+    fn the_calling_thread_gives_up_waiting_awake_after_awake() {
+        // A helper that never reports: the wait gives up, no sooner than `AWAKE`.
+        let t = Instant::now();
+        await_helpers(&AtomicUsize::new(1));
+        assert!(t.elapsed() >= AWAKE);
+    }
+
     #[test]
     fn thieves_take_from_the_far_end_of_the_longest_band() {
         let bands = bands((0..10).collect(), 2);
