@@ -152,6 +152,9 @@ fn the_render_keeps_its_share_at_every_size_and_mode() {
             h.run_steps(4);
             let what = format!("{}×{} {mode}", size[0], size[1]);
             let m = check_layout(&h, &what);
+            // Nor does any control or text run past the window's right edge (in presentation
+            // mode at 1024×768 the step bar's description did, and the timeline with it).
+            nothing_runs_past(&h, m.window, &what);
             table.push(format!(
                 "| {}×{} | {mode} | {:.0} % | {:.0} % |",
                 size[0],
@@ -167,7 +170,8 @@ fn the_render_keeps_its_share_at_every_size_and_mode() {
     );
 }
 
-/// Every button, label, text field and chooser that starts inside `panel` ends inside it.
+/// Every button, label, text field and chooser that starts inside `panel` (a panel, or the
+/// whole window) ends inside it.
 fn nothing_runs_past(h: &Harness<'static, RaystepApp>, panel: egui::Rect, what: &str) {
     let mut seen = 0;
     for role in [Role::Button, Role::Label, Role::ComboBox, Role::TextInput] {
@@ -177,7 +181,7 @@ fn nothing_runs_past(h: &Harness<'static, RaystepApp>, panel: egui::Rect, what: 
                 seen += 1;
                 assert!(
                     r.max.x <= panel.max.x + 1.0,
-                    "{what}: {role:?} {:?} at {r:?} runs past the lessons panel {panel:?}",
+                    "{what}: {role:?} {:?} at {r:?} runs past {panel:?}",
                     node.accesskit_node().label()
                 );
             }

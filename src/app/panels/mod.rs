@@ -484,7 +484,10 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         ui.label("This trace has no steps.");
         return;
     }
-    ui.horizontal(|ui| {
+    // Wrapped: in presentation mode at 1024×768 the step's description does not fit beside the
+    // buttons and the speed; on one row it ran past the window's edge and widened the panel,
+    // and the timeline below (as wide as the panel) with it.
+    ui.horizontal_wrapped(|ui| {
         if ui.button("⇤ First").clicked() {
             cmds.push(Command::Step(StepMove::First));
         }
