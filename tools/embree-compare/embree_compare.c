@@ -172,8 +172,12 @@ static double median(RTCScene scene, const Set *s, int shadow, int threads, int 
 }
 
 int main(int argc, char **argv) {
-  if (argc < 2) die("usage: embree_compare FILE [--reps N] [--quality low|medium|high]");
+  if (argc < 2)
+    die("usage: embree_compare FILE [--reps N] [--quality low|medium|high] [--config STRING]");
   int reps = 5;
+  /* Embree's device configuration, e.g. "isa=avx2" to keep it to the ISA raystep uses, or
+     "verbose=1" to print the ISA it chose (Embree's rtcNewDevice documentation). */
+  const char *config = NULL;
   enum RTCBuildQuality quality = RTC_BUILD_QUALITY_MEDIUM;
   const char *qname = "medium";
   for (int i = 2; i + 1 < argc; i += 2) {
@@ -186,13 +190,15 @@ int main(int argc, char **argv) {
       else if (!strcmp(qname, "medium")) quality = RTC_BUILD_QUALITY_MEDIUM;
       else if (!strcmp(qname, "high")) quality = RTC_BUILD_QUALITY_HIGH;
       else die("--quality must be low, medium or high");
+    } else if (!strcmp(argv[i], "--config")) {
+      config = argv[i + 1];
     } else {
       die("unknown option");
     }
   }
   Set s = load(argv[1]);
-  RTCDevice dev = rtcNewDevice(NULL);
-  if (!dev) die("rtcNewDevice failed");
+  RTCDevice dev = rtcNewDevice(config);
+  if (!dev) die("rtcNewDevice failed (a --config Embree does not accept?)");
   double build_s;
   RTCScene scene = build(dev, &s, quality, &build_s);
   uint8_t *hit = calloc(s.primary + 1, 1), *blocked = calloc(s.shadow + 1, 1);
