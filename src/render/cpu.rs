@@ -331,13 +331,14 @@ const AWAKE: Duration = Duration::from_micros(250);
 /// for at most `AWAKE`; after that the scope's own wait takes over.
 ///
 /// Rayon's scope, entered from a thread outside its pool, waits on a condition variable: the
-/// calling thread sleeps, and the helper that finishes last must wake it. On this 2-core
-/// virtual machine that wake-up takes 15–24 µs (an empty `install` round trip, measured), paid
-/// by every render whose last tile ends on a helper, about half of them: a tenth of the 64×64
-/// far sphere's two-thread render. What is left after the calling thread's own band is one
-/// tile per helper at most (the rest were stolen), so the wait is short; past `AWAKE` the
-/// wake-up is under a tenth of the wait and sleeping costs nothing worth keeping a core busy
-/// for. crossbeam's `Backoff` spins, then yields the core to any thread that wants it.
+/// calling thread sleeps, and the helper that finishes last must wake it. On the 2-core virtual
+/// machine raystep is measured on, that wake-up takes 15–24 µs (an empty `install` round trip),
+/// paid by every render whose last tile ends on a helper — four in ten of the 64×64 far
+/// sphere's two-thread renders, each a fifth of a millisecond. When the calling thread's own
+/// drain ends every band is empty, so each helper has at most the tile it is tracing left and
+/// the wait is short; past `AWAKE` the wake-up is under a tenth of the wait, not worth keeping
+/// a core busy for. crossbeam's `Backoff` spins, then yields the core to any thread that wants
+/// it.
 fn await_helpers(running: &AtomicUsize) {
     let until = Instant::now() + AWAKE;
     let backoff = crossbeam_utils::Backoff::new();
@@ -466,17 +467,18 @@ mod tests {
     use std::sync::atomic::AtomicUsize;
     use std::time::Instant;
 
-    /// Once its own band is done, a thread takes from the far end of the band with the most
-    /// left (the later band on a tie), one item at a time: two bands of 0–4 and 5–9 give
-    /// 9, 4, 8, 3, … (worked out by hand), then nothing.
+    /// A helper that never reports: the calling thread's awake wait gives up, no sooner than
+    /// `AWAKE`, and leaves the waiting to rayon.
     #[test]
     fn the_calling_thread_gives_up_waiting_awake_after_awake() {
-        // A helper that never reports: the wait gives up, no sooner than `AWAKE`.
         let t = Instant::now();
         await_helpers(&AtomicUsize::new(1));
         assert!(t.elapsed() >= AWAKE);
     }
 
+    /// Once its own band is done, a thread takes from the far end of the band with the most
+    /// left (the later band on a tie), one item at a time: two bands of 0–4 and 5–9 give
+    /// 9, 4, 8, 3, … (worked out by hand), then nothing.
     #[test]
     fn thieves_take_from_the_far_end_of_the_longest_band() {
         let bands = bands((0..10).collect(), 2);
