@@ -337,6 +337,98 @@ fn render_is_identical_whatever_the_thread_count() {
     assert_eq!(bits(&one), bits(&two));
 }
 
+/// Every pixel of a render, whatever the image's size (tiles cut at the right and bottom
+/// edges, images narrower or shorter than a tile) and the thread count, is what tracing that
+/// pixel alone gives, bit for bit: the render writes each pixel of the image exactly once.
+#[test]
+fn every_pixel_of_any_size_is_the_pixel_traced_alone() {
+    let base = random_scene(7, 30, 30, 1.0);
+    for (width, height) in [(1, 1), (1, 37), (37, 1), (16, 16), (17, 33), (40, 23)] {
+        let mut scene = base.clone();
+        scene.camera.width = width;
+        scene.camera.height = height;
+        scene.camera.from = Vec3::new(0.0, 2.0, -40.0);
+        let (a, _) = SceneAccel::build(&scene);
+        let tracer = Tracer::new(&scene, &a);
+        for threads in [1, 2, 3] {
+            let out = render(
+                &tracer,
+                &RenderOptions {
+                    threads: Some(threads),
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(out.pixels.len(), (width * height) as usize);
+            for y in 0..height {
+                for x in 0..width {
+                    let alone = tracer.trace_pixel(x, y, &mut Silent);
+                    assert_eq!(
+                        alone.to_array().map(f32::to_bits),
+                        out.pixels[(y * width + x) as usize]
+                            .to_array()
+                            .map(f32::to_bits),
+                        "{width}×{height}, {threads} threads, pixel ({x}, {y})"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// A watched render (the app's) shows, when done, exactly the image it returns, converted as a
+/// PNG is; a render cancelled before it starts says so and shows nothing.
+#[test]
+fn a_watched_render_shows_the_image_it_returns() {
+    use raystep::render::{CANCELLED, LiveRender};
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering;
+    let mut scene = random_scene(11, 30, 30, 1.0);
+    scene.camera.width = 45;
+    scene.camera.height = 29;
+    scene.camera.from = Vec3::new(0.0, 2.0, -40.0);
+    let (a, _) = SceneAccel::build(&scene);
+    let tracer = Tracer::new(&scene, &a);
+    let live = Arc::new(LiveRender::new(45, 29));
+    let out = render(
+        &tracer,
+        &RenderOptions {
+            threads: Some(2),
+            live: Some(Arc::clone(&live)),
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let png = raystep::render::image::to_rgb8(45, 29, &out.pixels, false);
+    let shown = live.pixels.lock().unwrap();
+    for (i, (shown, p)) in shown.iter().zip(png.pixels()).enumerate() {
+        assert_eq!(
+            *shown,
+            [p.0[0], p.0[1], p.0[2], 255],
+            "pixel ({}, {})",
+            i % 45,
+            i / 45
+        );
+    }
+    // 3 × 2 tiles of 16 × 16 or less.
+    assert_eq!(live.tiles_total.load(Ordering::Relaxed), 6);
+    assert_eq!(live.tiles_done.load(Ordering::Relaxed), 6);
+
+    let cancelled = Arc::new(LiveRender::new(45, 29));
+    cancelled.cancel.store(true, Ordering::Relaxed);
+    let result = render(
+        &tracer,
+        &RenderOptions {
+            threads: Some(2),
+            live: Some(Arc::clone(&cancelled)),
+            ..Default::default()
+        },
+    );
+    assert_eq!(result.err().as_deref(), Some(CANCELLED));
+    assert_eq!(cancelled.tiles_done.load(Ordering::Relaxed), 0);
+    assert!(cancelled.pixels.lock().unwrap().iter().all(|p| p[3] == 0));
+}
+
 /// obvhs builds in parallel; the tree must not depend on the thread count (a recorded pixel
 /// shows node ids, and a class comparing traces across machines must see the same ones).
 #[test]
