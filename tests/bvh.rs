@@ -247,6 +247,70 @@ fn recorded_traversal_shows_nodes_and_leaf_tests() {
     assert!(tests < 60, "{tests} tests");
 }
 
+/// Siblings are visited nearer first by a closest-hit ray and farther first by a shadow ray
+/// (any blocker will do; the nearer box mostly holds the surface a shadow ray leaves). Read from
+/// the recorded scalar slab tests: after the root, each step of the walk records a sibling pair,
+/// the one it visits first first.
+#[test]
+fn shadow_rays_visit_the_farther_sibling_first_closest_hits_the_nearer() {
+    use raystep::record::{Observer, RayKind};
+    let scene = random_scene(23, 80, 80, 1.0);
+    let bvh = Bvh::build(&scene);
+    let (mut compared, mut strictly) = ([0usize; 2], [0usize; 2]);
+    for ray in random_rays(29, 300, 1.0) {
+        for (k, kind) in [RayKind::Primary, RayKind::Shadow].into_iter().enumerate() {
+            let mut rec = Recorder::new();
+            rec.begin_ray(kind, 0, &ray, 1.0);
+            let hit = if kind == RayKind::Shadow {
+                bvh.any(&scene, &ray, &mut rec)
+            } else {
+                bvh.closest(&scene, &ray, &mut rec)
+            };
+            rec.end_ray(|| None, Vec3::ZERO);
+            let _ = hit;
+            let trace = rec.finish().unwrap();
+            let nodes: Vec<_> = trace
+                .steps
+                .iter()
+                .filter_map(|s| match &s.step {
+                    Step::Node(n) => Some(n.clone()),
+                    _ => None,
+                })
+                .collect();
+            for pair in nodes.get(1..).unwrap_or_default().chunks(2) {
+                let [first, second] = pair else { continue };
+                assert_eq!(first.node.min(second.node) + 1, first.node.max(second.node));
+                if !(first.test.hit && second.test.hit) {
+                    continue;
+                }
+                let (a, b) = (first.test.t_near, second.test.t_near);
+                if kind == RayKind::Shadow {
+                    assert!(
+                        a >= b,
+                        "shadow ray: {} (t_near {a}) before {} ({b})",
+                        first.node,
+                        second.node
+                    );
+                } else {
+                    assert!(
+                        a <= b,
+                        "closest hit: {} (t_near {a}) before {} ({b})",
+                        first.node,
+                        second.node
+                    );
+                }
+                compared[k] += 1;
+                strictly[k] += usize::from(a != b);
+            }
+        }
+    }
+    // Not vacuous: many pairs where both boxes were hit at different distances.
+    assert!(
+        strictly.iter().all(|&n| n > 50),
+        "{compared:?} {strictly:?}"
+    );
+}
+
 fn rec_closest(scene: &Scene, bvh: &Bvh, ray: &Ray<f32>, rec: &mut Recorder) {
     use raystep::record::{Observer, RayKind};
     rec.begin_ray(RayKind::Primary, 0, ray, 1.0);

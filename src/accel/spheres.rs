@@ -10,8 +10,9 @@
 //!
 //! Each node visit is lesson 2's ray–sphere test (the scene's sphere method): the ray is inside
 //! the sphere between the two roots, so the node is culled when there are no real roots or
-//! [t₀, t₁] does not meet (t_min, t_max). Children are visited nearer first (by t₀); infinite
-//! planes stay outside the tree and are tested first.
+//! [t₀, t₁] does not meet (t_min, t_max). Children are visited nearer first (by t₀), except that
+//! a shadow ray, which any blocker stops, takes the farther first, as in the BVH (see the BVH's
+//! `AnyHit`); infinite planes stay outside the tree and are tested first.
 
 use super::bvh::shape_bounds;
 use super::{Accelerator, Bvh, Hit, any_of, closest_of, test_any, test_closest};
@@ -177,13 +178,15 @@ impl SphereTree {
     }
 
     /// Walks the tree, calling `leaf(object, ray)` for the primitives of every leaf the ray
-    /// reaches, nearer subtrees first; `leaf` returns false to stop.
+    /// reaches, nearer subtrees first (`farther_first`: farther first); `leaf` returns false to
+    /// stop.
     #[inline(always)]
     fn traverse<O: Observer>(
         &self,
         scene: &Scene,
         ray: &mut Ray<f32>,
         obs: &mut O,
+        farther_first: bool,
         mut leaf: impl FnMut(u32, &mut Ray<f32>, &mut O) -> bool,
     ) {
         let Some(root) = self.nodes.first() else {
@@ -219,9 +222,9 @@ impl SphereTree {
             };
             let (ta, ea) = self.test(scene, ray, a);
             let (tb, eb) = self.test(scene, ray, b);
-            // Nearer first: the child the ray enters first.
+            // Nearer first: the child the ray enters first (or the other, `farther_first`).
             let a_first = match (ea, eb) {
-                (Some(x), Some(y)) => x <= y,
+                (Some(x), Some(y)) => (x <= y) != farther_first,
                 (Some(_), None) => true,
                 (None, _) => false,
             };
@@ -230,7 +233,7 @@ impl SphereTree {
             } else {
                 [(first + 1, b, tb, eb), (first, a, ta, ea)]
             };
-            // The farther inner child is pushed first, so the nearer one is popped next.
+            // The second inner child is pushed first, so the first one is popped next.
             let mut descend: SmallVec<[u32; 2]> = SmallVec::new();
             for (k, (id, node, test, enter)) in order.into_iter().enumerate() {
                 // The far sphere is re-checked against t_max, which the near leaf may have shrunk.
@@ -254,7 +257,7 @@ impl SphereTree {
                     NodeAction::Culled => {}
                 }
             }
-            // Push the farther first so the nearer is walked first.
+            // Push the second first so the first is walked first.
             for &f in descend.iter().rev() {
                 stack.push((f, depth + 1));
             }
@@ -290,7 +293,7 @@ impl Accelerator for SphereTree {
         let mut r = *ray;
         let mut best = None;
         closest_of(scene, &self.planes, &mut r, &mut best, obs);
-        self.traverse(scene, &mut r, obs, |id, r, obs| {
+        self.traverse(scene, &mut r, obs, false, |id, r, obs| {
             test_closest(scene, id, r, &mut best, obs);
             true
         });
@@ -304,7 +307,7 @@ impl Accelerator for SphereTree {
         }
         let mut found = None;
         let mut r = *ray;
-        self.traverse(scene, &mut r, obs, |id, r, obs| {
+        self.traverse(scene, &mut r, obs, true, |id, r, obs| {
             test_any(scene, id, r, &mut found, obs)
         });
         found

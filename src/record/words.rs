@@ -61,7 +61,9 @@ pub fn node_action(action: NodeAction) -> &'static str {
     match action {
         NodeAction::Culled => "culled: nothing inside is tested",
         NodeAction::Descend => "hit: descend into its children",
-        NodeAction::Pushed => "hit, but farther than its sibling: pushed for later",
+        NodeAction::Pushed => {
+            "hit, but its sibling goes first (the nearer one; for a shadow ray the farther): pushed for later"
+        }
         NodeAction::TestPrimitives => "hit: test its primitives",
     }
 }

@@ -40,6 +40,12 @@ pub(super) trait LeafTest<O: Observer> {
     fn watertight(&self) -> bool {
         self.scene().settings.triangle_method == TriangleMethod::Watertight
     }
+    /// Whether the traversal visits the farther of two sibling boxes first (shadow rays) rather
+    /// than the nearer (closest hits). See [`AnyHit`].
+    #[inline(always)]
+    fn farther_first(&self) -> bool {
+        false
+    }
     /// The ray's shear for the watertight test (computed once per query).
     #[inline(always)]
     fn shear(&mut self, ray: &Ray<f32>) -> Shear<f32> {
@@ -193,6 +199,17 @@ impl<O: Observer> LeafTest<O> for ClosestHit<'_> {
 }
 
 /// The first hit found (shadow rays).
+///
+/// Any blocker will do, so the order of the siblings only decides how soon one is found, and a
+/// shadow ray takes the farther box first. It starts on a surface: the nearer box mostly holds
+/// that surface and its neighbours, which it is leaving, while what can block it lies towards
+/// the light. Measured (`raystep bench SCENE --section rays --reps 5`, two alternated rounds
+/// against nearer first, 2026-11-26): the fractal mountain's shadow rays (SPD mount 8) 10.0 →
+/// 8.8 primitive tests a ray and 3.71–3.75 → 3.87–3.96 million a second; the million-triangle
+/// tetrahedron 45.4 → 41.9 visits, 4.8 → 3.8 tests, 2.51 → 2.72–2.74; the sphereflake, whose
+/// blockers sit right beside the surface (the small balls on each ball), 33.5 → 34.2 visits and
+/// 6.15–6.26 → 6.06–6.07, 2–3 % slower. Rays that nothing blocks visit the same boxes either
+/// way.
 pub(super) struct AnyHit<'a> {
     pub(super) scene: &'a Scene,
     pub(super) found: Option<Hit>,
@@ -200,6 +217,10 @@ pub(super) struct AnyHit<'a> {
 }
 
 impl<O: Observer> LeafTest<O> for AnyHit<'_> {
+    #[inline(always)]
+    fn farther_first(&self) -> bool {
+        true
+    }
     #[inline(always)]
     fn test(&mut self, id: u32, shape: &Shape, ray: &mut Ray<f32>, obs: &mut O) -> bool {
         test_any_shape(

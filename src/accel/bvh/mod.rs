@@ -353,8 +353,9 @@ impl Bvh {
                     fast.interval::<ORDERED>(b, t_max),
                 )
             };
-            // Nearer first.
-            let a_first = ia.0 <= ib.0;
+            // Nearer first; farther first for a shadow ray (see `AnyHit`). Ties: `a` first,
+            // farther first `b`.
+            let a_first = (ia.0 <= ib.0) != leaf.farther_first();
             let (near, near_id, near_t) = if a_first {
                 (a, first, ia)
             } else {

@@ -402,8 +402,8 @@ impl Ctx<'_> {
     }
 
     /// The t_max a node's box was tested against. Siblings are tested as a pair before either is
-    /// recorded, so the second (farther) sibling shows the t_max of the first one's record, even
-    /// if the first one's leaf has since shrunk it.
+    /// recorded, so the second sibling (the farther; for a shadow ray the nearer) shows the t_max
+    /// of the first one's record, even if the first one's leaf has since shrunk it.
     fn node_t_max(&self, node: u32) -> f32 {
         let Some(i) = self.idx else {
             return self.t_max();

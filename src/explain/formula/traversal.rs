@@ -148,6 +148,12 @@ impl Ctx<'_> {
                 Some([a, b]) => format!("Hit: descend into children {a} and {b}."),
                 None => "Hit: descend into its children.".into(),
             },
+            NodeAction::Pushed if self.ray.kind == RayKind::Shadow => {
+                "Hit, but nearer than its sibling: a shadow ray stops at any blocker and looks in \
+                 the farther box first (the nearer mostly holds the surface it leaves); pushed \
+                 on the stack for later."
+                    .into()
+            }
             NodeAction::Pushed => {
                 "Hit, but farther than its sibling: pushed on the stack for later.".into()
             }
