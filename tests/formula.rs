@@ -1148,3 +1148,36 @@ fn an_older_trace_without_the_shading_intermediates_shows_dashes() {
         }
     }
 }
+
+/// A node left for later says why: a closest-hit ray goes to the nearer sibling first, a shadow
+/// ray to the farther (the teapot's pixel (160, 150) under the BVH has both kinds).
+#[test]
+fn a_pushed_node_says_which_sibling_went_first_and_why() {
+    use raystep::record::RayKind;
+    let mut scene = shipped("teapot-stadium.toml");
+    scene.settings.accel = AccelChoice::Bvh;
+    let trace = record(&scene, 160, 150);
+    let mut seen = [false; 2];
+    for (ray, step, e) in explained(&trace) {
+        let Step::Node(n) = step else { continue };
+        if n.action != NodeAction::Pushed {
+            continue;
+        }
+        if ray.kind == RayKind::Shadow {
+            assert!(
+                e.conclusion.starts_with("Hit, but nearer than its sibling")
+                    && e.conclusion.contains("farther box first"),
+                "{}",
+                e.conclusion
+            );
+            seen[1] = true;
+        } else {
+            assert_eq!(
+                e.conclusion,
+                "Hit, but farther than its sibling: pushed on the stack for later."
+            );
+            seen[0] = true;
+        }
+    }
+    assert_eq!(seen, [true, true], "pushed nodes of both kinds of ray");
+}
