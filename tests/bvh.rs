@@ -311,6 +311,18 @@ fn shadow_rays_visit_the_farther_sibling_first_closest_hits_the_nearer() {
     );
 }
 
+/// A full render of `tracer`'s scene on `threads` threads.
+fn render_on(tracer: &Tracer<'_, SceneAccel>, threads: usize) -> raystep::render::RenderOutput {
+    render(
+        tracer,
+        &RenderOptions {
+            threads: Some(threads),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
 fn rec_closest(scene: &Scene, bvh: &Bvh, ray: &Ray<f32>, rec: &mut Recorder) {
     use raystep::record::{Observer, RayKind};
     rec.begin_ray(RayKind::Primary, 0, ray, 1.0);
@@ -340,14 +352,7 @@ fn traced_pixel_equals_rendered_pixel_with_and_without_bvh() {
             let (a, _) = SceneAccel::build(&scene);
             let tracer = Tracer::new(&scene, &a);
             for threads in [1, 2] {
-                let out = render(
-                    &tracer,
-                    &RenderOptions {
-                        threads: Some(threads),
-                        ..Default::default()
-                    },
-                )
-                .unwrap();
+                let out = render_on(&tracer, threads);
                 for y in (0..36).step_by(5) {
                     for x in (0..48).step_by(5) {
                         let mut sum = Vec3::ZERO;
@@ -376,22 +381,8 @@ fn render_is_identical_whatever_the_thread_count() {
     scene.camera.from = Vec3::new(0.0, 2.0, -40.0);
     let (a, _) = SceneAccel::build(&scene);
     let tracer = Tracer::new(&scene, &a);
-    let one = render(
-        &tracer,
-        &RenderOptions {
-            threads: Some(1),
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    let two = render(
-        &tracer,
-        &RenderOptions {
-            threads: Some(2),
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let one = render_on(&tracer, 1);
+    let two = render_on(&tracer, 2);
     let bits = |o: &raystep::render::RenderOutput| {
         o.pixels
             .iter()
@@ -415,14 +406,7 @@ fn every_pixel_of_any_size_is_the_pixel_traced_alone() {
         let (a, _) = SceneAccel::build(&scene);
         let tracer = Tracer::new(&scene, &a);
         for threads in [1, 2, 3] {
-            let out = render(
-                &tracer,
-                &RenderOptions {
-                    threads: Some(threads),
-                    ..Default::default()
-                },
-            )
-            .unwrap();
+            let out = render_on(&tracer, threads);
             assert_eq!(out.pixels.len(), (width * height) as usize);
             for y in 0..height {
                 for x in 0..width {
