@@ -505,7 +505,7 @@ fn traces_with_sphere_nodes_and_cells_save_load_and_explain() {
         let back = raystep::record::Trace::from_json(&trace.to_json(), "t.json").unwrap();
         assert_eq!(back, trace);
         for (ray, s) in trace.timeline() {
-            assert!(!raystep::explain::describe::describe(&s.step).is_empty());
+            assert!(!raystep::explain::describe::describe(&s.step, ray.kind).is_empty());
             let e = raystep::explain::formula::explain(&trace, ray, &s.step);
             assert!(
                 !e.title.is_empty() && !e.conclusion.is_empty(),

@@ -1181,3 +1181,56 @@ fn a_pushed_node_says_which_sibling_went_first_and_why() {
     }
     assert_eq!(seen, [true, true], "pushed nodes of both kinds of ray");
 }
+
+/// The one-line words (the command line's trace tree, the app's step list and captions) say
+/// the same as the math panel, and say what the recorded numbers show: a pushed node's t_near
+/// is at least its sibling's on a closest-hit ray, at most on a shadow ray.
+#[test]
+fn the_trace_line_of_a_pushed_node_says_which_sibling_and_the_numbers_agree() {
+    use raystep::explain::describe::describe;
+    use raystep::record::RayKind;
+    let mut scene = shipped("teapot-stadium.toml");
+    scene.settings.accel = AccelChoice::Bvh;
+    let trace = record(&scene, 160, 150);
+    let mut seen = [false; 2];
+    for (ray, s) in trace.timeline() {
+        let Step::Node(n) = &s.step else { continue };
+        if n.action != NodeAction::Pushed {
+            continue;
+        }
+        // Siblings are numbered (1, 2), (3, 4), …: the other of the pair, visited by the same ray
+        // just before or after.
+        let sibling = if n.node % 2 == 1 {
+            n.node + 1
+        } else {
+            n.node - 1
+        };
+        let other = ray
+            .steps
+            .iter()
+            .find_map(|x| match &x.step {
+                Step::Node(m) if m.node == sibling => Some(m.test.t_near),
+                _ => None,
+            })
+            .expect("the sibling's visit is recorded");
+        let line = describe(&s.step, ray.kind);
+        if ray.kind == RayKind::Shadow {
+            assert!(n.test.t_near <= other, "{} > {other}", n.test.t_near);
+            assert!(
+                line.ends_with(
+                    "hit, but nearer than its sibling, and a shadow ray looks in the farther first: pushed for later"
+                ),
+                "{line}"
+            );
+            seen[1] = true;
+        } else {
+            assert!(n.test.t_near >= other, "{} < {other}", n.test.t_near);
+            assert!(
+                line.ends_with("hit, but farther than its sibling: pushed for later"),
+                "{line}"
+            );
+            seen[0] = true;
+        }
+    }
+    assert_eq!(seen, [true, true], "pushed nodes of both kinds of ray");
+}

@@ -18,8 +18,9 @@ pub fn stage_name(s: Stage) -> &'static str {
     }
 }
 
-/// Describes one step in a line of words and numbers.
-pub fn describe(step: &Step) -> String {
+/// Describes one step of a ray of kind `kind` in a line of words and numbers (the kind decides
+/// the words for a node pushed for later: see [`words::node_action`]).
+pub fn describe(step: &Step, kind: RayKind) -> String {
     match step {
         Step::Camera {
             pixel,
@@ -44,7 +45,7 @@ pub fn describe(step: &Step) -> String {
             if n.leaf { ", leaf" } else { "" },
             num(n.test.t_near),
             num(n.test.t_far),
-            words::node_action(n.action)
+            words::node_action(n.action, kind)
         ),
         Step::SphereNode {
             node,
@@ -65,7 +66,7 @@ pub fn describe(step: &Step) -> String {
                     format!("the ray is inside it for t in [{}, {}]", num(t0), num(t1)),
                 None => "Δ < 0, the ray's line passes it by".into(),
             },
-            words::node_action(*action)
+            words::node_action(*action, kind)
         ),
         Step::Cell {
             cell,
@@ -319,7 +320,7 @@ pub fn tree(trace: &Trace) -> String {
                 out,
                 "{pad}  [{}] {}",
                 stage_name(s.stage),
-                describe(&s.step)
+                describe(&s.step, r.kind)
             );
         }
         match (&r.hit, r.kind) {

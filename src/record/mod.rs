@@ -27,7 +27,7 @@
 //!     .find(|(_, s)| matches!(s.step, Step::Sphere { .. }))
 //!     .expect("the primary ray tests a sphere");
 //! assert_eq!(ray.kind.name(), "primary");
-//! assert!(describe(&first_test.step).contains("Δ = b² − 4ac"));
+//! assert!(describe(&first_test.step, ray.kind).contains("Δ = b² − 4ac"));
 //!
 //! let again = Trace::from_json(&trace.to_json(), "pixel.json").unwrap();
 //! assert_eq!(again.color, trace.color);

@@ -56,14 +56,17 @@ pub fn root_choice(choice: RootChoice) -> &'static str {
     }
 }
 
-/// What an accelerator's traversal did with a node (a BVH box or a bounding sphere).
-pub fn node_action(action: NodeAction) -> &'static str {
+/// What an accelerator's traversal did with a node (a BVH box or a bounding sphere) on a ray of
+/// kind `kind`: a node pushed for later was the farther of two siblings the ray hits, or — on a
+/// shadow ray, which looks in the farther first — the nearer.
+pub fn node_action(action: NodeAction, kind: RayKind) -> &'static str {
     match action {
         NodeAction::Culled => "culled: nothing inside is tested",
         NodeAction::Descend => "hit: descend into its children",
-        NodeAction::Pushed => {
-            "hit, but its sibling goes first (the nearer one; for a shadow ray the farther): pushed for later"
+        NodeAction::Pushed if kind == RayKind::Shadow => {
+            "hit, but nearer than its sibling, and a shadow ray looks in the farther first: pushed for later"
         }
+        NodeAction::Pushed => "hit, but farther than its sibling: pushed for later",
         NodeAction::TestPrimitives => "hit: test its primitives",
     }
 }

@@ -360,7 +360,7 @@ fn tree_rows(state: &AppState) -> Vec<Row> {
         rows.push(Row::Step {
             k,
             depth: s.ray_depth[ri],
-            text: format!("{k}. {}", describe::describe(&ray.steps[si].step)),
+            text: format!("{k}. {}", describe::describe(&ray.steps[si].step, ray.kind)),
         });
     }
     rows
@@ -595,7 +595,7 @@ fn step_controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
                 "step {k}: {} · {} ray\n{}",
                 describe::stage_name(step.stage),
                 ray.kind.name(),
-                describe::describe(&step.step)
+                describe::describe(&step.step, ray.kind)
             ));
         }
     }
@@ -672,7 +672,7 @@ fn math_panel(ui: &mut egui::Ui, state: &AppState) {
     ui.label(RichText::new(&e.conclusion).strong());
     if let Step::Triangle { .. } | Step::Sphere { .. } = step.step {
         ui.add_space(4.0);
-        ui.label(RichText::new(describe::describe(&step.step)).weak());
+        ui.label(RichText::new(describe::describe(&step.step, ray.kind)).weak());
     }
 }
 

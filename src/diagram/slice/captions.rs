@@ -14,7 +14,7 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             "{kind} ray: BVH node {} (depth {}): {}",
             n.node,
             n.depth,
-            words::node_action(n.action)
+            words::node_action(n.action, ray.kind)
         ),
         Step::SphereNode {
             node,
@@ -23,7 +23,7 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             ..
         } => format!(
             "{kind} ray: bounding sphere {node} (depth {depth}): {}",
-            words::node_action(*action)
+            words::node_action(*action, ray.kind)
         ),
         Step::Cell {
             cell, primitives, ..
@@ -125,7 +125,7 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
         }
         Step::DepthLimit { max_depth } => format!("recursion limit {max_depth}: no secondary ray"),
         Step::WeightCutoff { .. } | Step::Truncated { .. } => {
-            crate::explain::describe::describe(step)
+            crate::explain::describe::describe(step, ray.kind)
         }
         Step::Spawn { .. } => format!("{kind} ray spawns a child ray"),
         Step::Color { .. } => format!("{kind} ray: colour summed"),

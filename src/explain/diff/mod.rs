@@ -349,11 +349,11 @@ pub fn compare(expected: &Trace, actual: &Trace, tolerance: Tolerance) -> Compar
 
 fn step_line(t: &Trace, k: usize) -> Option<String> {
     let tl = t.timeline();
-    let (_, s) = tl.get(k)?;
+    let (r, s) = tl.get(k)?;
     Some(format!(
         "step {k}: [{}] {}",
         describe::stage_name(s.stage),
-        describe::describe(&s.step)
+        describe::describe(&s.step, r.kind)
     ))
 }
 

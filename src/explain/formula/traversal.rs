@@ -203,7 +203,10 @@ impl Ctx<'_> {
                     (NodeAction::Descend, Some([a, b])) => {
                         format!("Hit: descend into children {a} and {b}.")
                     }
-                    _ => crate::record::words::sentence(crate::record::words::node_action(*action)),
+                    _ => crate::record::words::sentence(crate::record::words::node_action(
+                        *action,
+                        self.ray.kind,
+                    )),
                 };
                 Explanation {
                     title: format!(
