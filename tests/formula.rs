@@ -1149,14 +1149,20 @@ fn an_older_trace_without_the_shading_intermediates_shows_dashes() {
     }
 }
 
+/// The teapot's pixel (160, 150) under the BVH: its primary and shadow rays both leave nodes for
+/// later.
+fn teapot_under_the_bvh() -> Trace {
+    let mut scene = shipped("teapot-stadium.toml");
+    scene.settings.accel = AccelChoice::Bvh;
+    record(&scene, 160, 150)
+}
+
 /// A node left for later says why: a closest-hit ray goes to the nearer sibling first, a shadow
 /// ray to the farther (the teapot's pixel (160, 150) under the BVH has both kinds).
 #[test]
 fn a_pushed_node_says_which_sibling_went_first_and_why() {
     use raystep::record::RayKind;
-    let mut scene = shipped("teapot-stadium.toml");
-    scene.settings.accel = AccelChoice::Bvh;
-    let trace = record(&scene, 160, 150);
+    let trace = teapot_under_the_bvh();
     let mut seen = [false; 2];
     for (ray, step, e) in explained(&trace) {
         let Step::Node(n) = step else { continue };
@@ -1189,9 +1195,7 @@ fn a_pushed_node_says_which_sibling_went_first_and_why() {
 fn the_trace_line_of_a_pushed_node_says_which_sibling_and_the_numbers_agree() {
     use raystep::explain::describe::describe;
     use raystep::record::RayKind;
-    let mut scene = shipped("teapot-stadium.toml");
-    scene.settings.accel = AccelChoice::Bvh;
-    let trace = record(&scene, 160, 150);
+    let trace = teapot_under_the_bvh();
     let mut seen = [false; 2];
     for (ray, s) in trace.timeline() {
         let Step::Node(n) = &s.step else { continue };
