@@ -125,11 +125,8 @@ impl Views {
             key = (state.renders_started, usize::MAX, true);
             if key != self.render_key && r.output.pixels.len() == self.shown.len() {
                 for (dst, p) in self.shown.iter_mut().zip(&r.output.pixels) {
-                    *dst = Color32::from_rgb(
-                        crate::render::image::srgb8(p.x),
-                        crate::render::image::srgb8(p.y),
-                        crate::render::image::srgb8(p.z),
-                    );
+                    let [r, g, b] = crate::render::image::srgb8_rgb(*p);
+                    *dst = Color32::from_rgb(r, g, b);
                 }
             }
         } else {

@@ -1,8 +1,8 @@
 //! CPU against GPU: the error figures and the difference image, both computed on the 8-bit
-//! sRGB values each side's linear colour encodes to (with the same [`srgb8`]), i.e. what a PNG
-//! of either render would hold.
+//! sRGB values each side's linear colour encodes to (with the same [`srgb8_rgb`]), i.e. what a
+//! PNG of either render would hold.
 
-use crate::render::image::srgb8;
+use crate::render::image::srgb8_rgb;
 use glam::Vec3;
 use image::{Rgb, RgbImage};
 
@@ -54,7 +54,7 @@ pub fn difference(
             gpu.len()
         ));
     }
-    let enc = |p: Vec3| [srgb8(p.x), srgb8(p.y), srgb8(p.z)];
+    let enc = srgb8_rgb;
     let mut sum_sq = 0.0f64;
     let mut max_error = 0u8;
     let mut differing = 0;
@@ -98,7 +98,7 @@ mod tests {
         // would be far more; pick values that encode to 255 and 254: linear 1.0 and 0.9922).
         let cpu = [Vec3::ZERO, Vec3::ONE];
         let gpu = [Vec3::ZERO, Vec3::new(0.9922, 1.0, 1.0)];
-        assert_eq!(srgb8(0.9922), 254);
+        assert_eq!(crate::render::image::srgb8(0.9922), 254);
         let d = difference(2, 1, &cpu, &gpu).unwrap();
         assert_eq!((d.max_error, d.differing_pixels, d.pixels), (1, 1, 2));
         // One channel of six off by 1/255: RMSE = √(1/6)/255.

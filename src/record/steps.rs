@@ -59,7 +59,8 @@ pub struct NodeVisit {
 }
 
 /// What the traversal did with a node after testing its box. Siblings are recorded in the order
-/// they are visited: nearer first, except that a shadow ray's BVH walk takes the farther first.
+/// they are visited: nearer first, except that a shadow ray (in the BVH and the bounding-sphere
+/// tree) takes the farther first.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum NodeAction {
@@ -67,8 +68,8 @@ pub enum NodeAction {
     Culled,
     /// An inner node: its children are tested next.
     Descend,
-    /// An inner node whose sibling goes first (the nearer one; for a shadow ray in the BVH, the
-    /// farther): pushed on the stack for later.
+    /// An inner node whose sibling goes first (the nearer one; for a shadow ray, the farther):
+    /// pushed on the stack for later.
     Pushed,
     /// A leaf: its primitives are tested (the tests follow).
     TestPrimitives,

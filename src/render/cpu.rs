@@ -498,12 +498,8 @@ fn steal<T>(thieves: &[Stealer<T>]) -> Option<T> {
 
 /// A linear colour as the live image shows it (sRGB, opaque).
 fn srgba(p: Vec3) -> [u8; 4] {
-    [
-        super::image::srgb8(p.x),
-        super::image::srgb8(p.y),
-        super::image::srgb8(p.z),
-        255,
-    ]
+    let [r, g, b] = super::image::srgb8_rgb(p);
+    [r, g, b, 255]
 }
 
 /// Copies a finished tile (`shown`: its pixels, row by row, `tile_width` a row) into the live

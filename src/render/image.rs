@@ -18,6 +18,12 @@ pub fn srgb8(c: f32) -> u8 {
     (s * 255.0 + 0.5) as u8
 }
 
+/// A linear colour's three channels through [`srgb8`].
+#[inline]
+pub fn srgb8_rgb(p: Vec3) -> [u8; 3] {
+    [srgb8(p.x), srgb8(p.y), srgb8(p.z)]
+}
+
 /// A linear value clamped and quantized to 8 bits without encoding (`--linear`).
 #[inline]
 pub fn linear8(c: f32) -> u8 {
