@@ -580,7 +580,13 @@ fn sheets_give_each_student_their_own_pixels() {
     .unwrap();
     let s = raystep::student::load_sheet(&sheet).unwrap();
     let pix = |who: &str| {
-        raystep::student::sheet_jobs(&s, &sheet, who).unwrap()[0]
+        raystep::student::sheet_jobs(
+            &s,
+            &sheet,
+            who,
+            &raystep::student::VariantDir::private().unwrap(),
+        )
+        .unwrap()[0]
             .pixels
             .clone()
     };
@@ -609,7 +615,15 @@ fn sheets_give_each_student_their_own_pixels() {
     ] {
         std::fs::write(&sheet, &body).unwrap();
         let err = raystep::student::load_sheet(&sheet)
-            .and_then(|s| raystep::student::sheet_jobs(&s, &sheet, "ada").map(|_| ()))
+            .and_then(|s| {
+                raystep::student::sheet_jobs(
+                    &s,
+                    &sheet,
+                    "ada",
+                    &raystep::student::VariantDir::private().unwrap(),
+                )
+                .map(|_| ())
+            })
             .unwrap_err();
         assert!(err.contains(&words), "{body}: {err}");
     }

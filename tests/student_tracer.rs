@@ -84,7 +84,7 @@ fn the_starter_kit_passes_the_camera_stage_everywhere() {
     let f = failures(&v);
     assert_eq!(f.len(), 1, "{f:?}");
     assert!(
-        f[0].contains("you printed no test of \\\"ball\\\", the object this ray hits"),
+        f[0].contains("you printed no sphere test for the primary ray of this pixel"),
         "{f:?}"
     );
 }
@@ -279,7 +279,8 @@ fn sheets_vary_the_scene_per_student() {
     )
     .unwrap();
     let s = raystep::student::load_sheet(&sheet).unwrap();
-    let jobs = |who: &str| raystep::student::sheet_jobs(&s, &sheet, who).unwrap();
+    let variants = raystep::student::VariantDir::private().unwrap();
+    let jobs = |who: &str| raystep::student::sheet_jobs(&s, &sheet, who, &variants).unwrap();
     let (a, a2, b) = (jobs("ada"), jobs("ada"), jobs("bob"));
     let radius = |j: &raystep::student::Job| {
         let sc = j.prepared.scene();
@@ -343,7 +344,13 @@ fn sheets_vary_the_scene_per_student() {
     )
     .unwrap();
     let s = raystep::student::load_sheet(&sheet).unwrap();
-    let err = raystep::student::sheet_jobs(&s, &sheet, "ada").unwrap_err();
+    let err = raystep::student::sheet_jobs(
+        &s,
+        &sheet,
+        "ada",
+        &raystep::student::VariantDir::private().unwrap(),
+    )
+    .unwrap_err();
     assert!(
         err.contains("vary.toml") && err.contains("named \"nobody\""),
         "{err}"

@@ -57,6 +57,11 @@ pub struct GradeTracerArgs {
     /// --class and --out, default `<out>/{student}-{stem}-diff.png`).
     #[arg(long, requires = "image")]
     pub diff: Option<String>,
+    /// Keep each student's variant of a sheet's varied scenes in this folder (`<student>-…/<scene>`),
+    /// so the feedback can name the file to open. Default: with --class and --out, `<out>/variants`;
+    /// otherwise a private temporary folder, removed when grading ends.
+    #[arg(long)]
+    pub variants: Option<PathBuf>,
     /// Megabytes of output per run; more stops the program.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub max_output_mb: u32,
@@ -127,9 +132,19 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         timeout: student::seconds(timeout),
         max_output: args.max_output_mb as usize * (1 << 20),
     };
+    // Where the students' variants of varied scenes go (removed at the end when private).
+    let variants = match args.variants.clone().or_else(|| {
+        args.class
+            .is_some()
+            .then(|| args.out.as_ref().map(|o| o.join("variants")))
+            .flatten()
+    }) {
+        Some(dir) => student::VariantDir::Kept(dir),
+        None => student::VariantDir::private()?,
+    };
     let jobs_for = |who: &str| -> Result<Vec<Job>, String> {
         match (&sheet, &args.sheet, &quick) {
-            (Some(s), Some(p), _) => student::sheet_jobs(s, p, who),
+            (Some(s), Some(p), _) => student::sheet_jobs(s, p, who, &variants),
             (_, _, Some(job)) => Ok(vec![job.clone()]),
             _ => Err("no scenes to grade".into()),
         }

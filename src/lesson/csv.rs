@@ -1,5 +1,8 @@
-//! A small CSV reader and writer (RFC 4180: commas, double-quoted fields with `""` escapes,
-//! LF or CRLF line ends) — enough for class lists, without another dependency.
+//! A small CSV reader and writer (RFC 4180: double-quoted fields with `""` escapes, LF or CRLF
+//! line ends), with the separator detected — commas, or the semicolons and tabs of spreadsheets
+//! set to a language whose decimal mark is a comma and of learning platforms' exports. Kept by
+//! hand rather than the `csv` crate because its errors must name the row *and column* of a
+//! stray quote, which that crate's positions (byte, line, record) do not give.
 
 /// A CSV file that could not be read.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -15,9 +18,34 @@ pub struct CsvError {
     pub message: String,
 }
 
-/// Parses CSV text into rows of fields. Blank lines are skipped.
+/// The separator of a CSV file: whichever of `,`, `;` and tab occurs most often outside quotes
+/// on its first line (`,` when none does).
+pub fn detect_separator(text: &str) -> char {
+    let mut counts = [0usize; 3];
+    let mut quoted = false;
+    for c in text.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            '\n' if !quoted => break,
+            ',' if !quoted => counts[0] += 1,
+            ';' if !quoted => counts[1] += 1,
+            '\t' if !quoted => counts[2] += 1,
+            _ => {}
+        }
+    }
+    let best = (0..3).max_by_key(|&i| (counts[i], 2 - i)).unwrap_or(0);
+    if counts[best] == 0 {
+        ','
+    } else {
+        [',', ';', '\t'][best]
+    }
+}
+
+/// Parses CSV text into rows of fields, the separator detected ([`detect_separator`]). Blank
+/// lines are skipped.
 pub fn parse_csv(text: &str, file: &str) -> Result<Vec<Vec<String>>, CsvError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let sep = detect_separator(text);
     let mut rows = vec![];
     let mut row: Vec<String> = vec![];
     let mut field = String::new();
@@ -56,7 +84,7 @@ pub fn parse_csv(text: &str, file: &str) -> Result<Vec<Vec<String>>, CsvError> {
                     message: "a quote inside an unquoted field (quote the whole field and double the quote)".into(),
                 });
             }
-            ',' => {
+            c if c == sep => {
                 row.push(std::mem::take(&mut field));
                 quoted_field = false;
             }
@@ -101,6 +129,18 @@ fn quote(f: &str) -> String {
     }
 }
 
+/// A text cell (a name, a note) as a spreadsheet may safely read it: one that starts like a
+/// formula (`=`, `+`, `-`, `@`, a tab or a carriage return) gets a leading `'`, so a student
+/// folder named `=HYPERLINK(…)` is shown as text, never run (CSV injection, as OWASP describes it).
+/// Numbers are not text cells: write them as they are.
+pub fn text_cell(s: &str) -> String {
+    if s.starts_with(['=', '+', '-', '@', '\t', '\r']) {
+        format!("'{s}")
+    } else {
+        s.to_string()
+    }
+}
+
 /// Writes rows as CSV (LF line ends; fields quoted where needed).
 pub fn write_csv(rows: &[Vec<String>]) -> String {
     let mut out = String::new();
@@ -130,5 +170,28 @@ mod tests {
         assert_eq!((e.row, e.column), (2, 2));
         let e = parse_csv("a,b\n1,2\"x\n", "f.csv").unwrap_err();
         assert_eq!((e.row, e.column), (2, 2));
+    }
+
+    #[test]
+    fn the_separator_is_detected() {
+        assert_eq!(detect_separator("student;q1;q2\nann;1,5;2\n"), ';');
+        assert_eq!(detect_separator("student\tq1\n"), '\t');
+        assert_eq!(detect_separator("student,q1\n"), ',');
+        assert_eq!(detect_separator("\"a;b\",c\n"), ',');
+        assert_eq!(detect_separator("student\n"), ',');
+        assert_eq!(
+            parse_csv("Student;Q1\r\nann;\"1,5\"\r\n", "f").unwrap(),
+            vec![vec!["Student", "Q1"], vec!["ann", "1,5"]]
+        );
+    }
+
+    #[test]
+    fn formula_like_text_is_quoted_as_text() {
+        for f in ["=HYPERLINK(\"x\")", "+1", "-2+3", "@SUM(A1)", "\tx", "\rx"] {
+            assert_eq!(text_cell(f), format!("'{f}"));
+        }
+        for t in ["ada", "1.5", "", " =x", "a=b"] {
+            assert_eq!(text_cell(t), t);
+        }
     }
 }

@@ -201,7 +201,7 @@ pub fn match_rays(e: &Pixel, s: &Pixel) -> Vec<Option<usize>> {
 
 /// Which rays a stage looks at: the primary always, shadow rays from `Shadows`, reflection and
 /// refraction rays from `Secondary`.
-fn in_scope(kind: &str, upto: Stage) -> bool {
+pub(super) fn in_scope(kind: &str, upto: Stage) -> bool {
     match kind {
         "primary" => true,
         "shadow" => upto >= Stage::Shadows,
@@ -230,14 +230,15 @@ pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &Tolerance) -> Vec
         .copied()
         .filter(|st| *st <= upto)
         .map(|stage| {
-            let found = match stage {
+            // A stage the program printed nothing for scores 0 (see `coverage`).
+            let found = super::coverage::missing(e, s, &m, stage, upto).or_else(|| match stage {
                 Stage::Camera => camera(e, s, &m, tol),
                 Stage::Sphere | Stage::PlaneTriangle => tests(e, s, &m, stage, upto, tol),
                 Stage::ClosestHit => hits(e, s, &m, upto, tol),
                 Stage::Shadows => shadows(e, s, &m, tol),
                 Stage::Secondary => secondary(e, s, &m, tol),
                 Stage::Color => color(e, s, &m, tol),
-            };
+            });
             match found {
                 None => Check {
                     stage,
@@ -284,14 +285,20 @@ fn camera(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Dive
         && !tol.close3(unit(d), unit(ed), tol.abs * 10.0)
     {
         let (ud, ue) = (unit(d), unit(ed));
+        // Mistakes are recognised in the camera's own frame (see `camera_mistakes`).
+        let named = e
+            .camera
+            .as_ref()
+            .zip(e.pixel.at)
+            .and_then(|((cam, offset), at)| {
+                super::camera_mistakes::camera_hint(cam, at, *offset, ud)
+            });
         let hint = if dot(ud, ue) < -0.99 {
             " — it points backwards: the direction is the pixel's point on the image plane minus the eye"
-        } else if (ud[1] + ue[1]).abs() < 1e-3 && (ud[0] - ue[0]).abs() < 1e-3 {
-            " — y is flipped: pixel rows count down from the top, the camera's up counts up"
-        } else if (ud[0] + ue[0]).abs() < 1e-3 && (ud[1] - ue[1]).abs() < 1e-3 {
-            " — x is flipped: check the sign of the camera's right vector"
         } else {
-            " — check the pixel's centre (x + 0.5, y + 0.5), the field of view and the aspect ratio (lesson 1)"
+            named.unwrap_or(
+                " — check the pixel's centre (x + 0.5, y + 0.5), the field of view and the aspect ratio (lesson 1)",
+            )
         };
         return Some((
             format!(

@@ -26,6 +26,20 @@ pub struct Expected {
     pub light_step: Vec<Vec<usize>>,
     /// Per ray: the reflection's or refraction's recorded numbers, for spotting mistakes.
     pub bends: Vec<Bend>,
+    /// The camera and the primary ray's point inside the pixel (for naming camera mistakes).
+    pub camera: Option<(crate::scene::Camera, [f32; 2])>,
+    /// The name of every object of the scene (for telling a student that a name they printed
+    /// is not one; empty: not checked). [`expected`] leaves it empty (a trace names only the
+    /// objects it met); [`with_names`] fills it.
+    pub names: Vec<String>,
+}
+
+/// `e` with the names of every object of `scene`.
+pub fn with_names(mut e: Expected, scene: &crate::scene::Scene) -> Expected {
+    e.names = (0..scene.objects.len() as u32)
+        .map(|i| scene.object_name(i))
+        .collect();
+    e
 }
 
 /// What raystep recorded about a ray's reflection and refraction.
@@ -160,6 +174,11 @@ pub fn expected(trace: &Trace) -> Expected {
         }
     }
     walk(&trace.root, None, None, &mut out, &index_of);
+    let offset = trace.root.steps.iter().find_map(|s| match &s.step {
+        Step::Camera { offset, .. } => Some(*offset),
+        _ => None,
+    });
+    out.camera = Some((trace.camera.clone(), offset.unwrap_or([0.5, 0.5])));
     out
 }
 

@@ -282,7 +282,15 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
         let err = |message: String| FormatError { line, message };
         let shown: String = l.chars().take(80).collect();
         let value: serde_json::Value = serde_json::from_str(l)
-            .map_err(|e| err(format!("not a JSON object ({e}): {shown}")))?;
+            .map_err(|e| {
+                // Text that is not JSON at all is usually a debugging print.
+                let hint = if l.starts_with(['{', '[']) {
+                    ""
+                } else {
+                    " — print debugging output to standard error (Python: print(..., file=sys.stderr)); standard output is for the trace's records"
+                };
+                err(format!("not a JSON object ({e}): {shown}{hint}"))
+            })?;
         let Some(ty) = value
             .get("type")
             .and_then(|t| t.as_str())

@@ -19,7 +19,9 @@
 //! assert!(checks.iter().all(|c| c.pass));
 //! ```
 
+mod camera_mistakes;
 pub mod compare;
+mod coverage;
 pub mod expected;
 pub mod format;
 pub mod image;
@@ -45,6 +47,9 @@ pub struct Job {
     pub reference: std::sync::Arc<std::sync::OnceLock<Result<::image::RgbImage, String>>>,
     /// The values drawn for this student's variant of the scene, if it varies.
     pub variant: Option<String>,
+    /// The scene file feedback's commands name (None: the student's variant lives in a private
+    /// folder removed after grading, so there is no file to name).
+    pub open_path: Option<PathBuf>,
 }
 
 impl Job {
@@ -55,6 +60,7 @@ impl Job {
         pixels: Vec<[u32; 2]>,
     ) -> Job {
         Job {
+            open_path: Some(path.clone()),
             path,
             prepared,
             pixels,
@@ -105,11 +111,12 @@ pub struct Report {
 impl Report {
     /// The points scored.
     pub fn score(&self) -> f64 {
-        self.tests.iter().map(|t| t.score).sum()
+        // Folded from +0 (an empty f64 sum is −0, which prints as "-0").
+        self.tests.iter().fold(0.0, |a, t| a + t.score)
     }
     /// The points possible.
     pub fn max_score(&self) -> f64 {
-        self.tests.iter().map(|t| t.max_score).sum()
+        self.tests.iter().fold(0.0, |a, t| a + t.max_score)
     }
     /// The report as text: the score, then every failed test's feedback.
     pub fn text(&self) -> String {
@@ -129,7 +136,9 @@ impl Report {
                 }
             }
         }
-        if self.tests.iter().all(|t| t.score >= t.max_score) {
+        if self.tests.is_empty() {
+            s += "no tests were run\n";
+        } else if self.tests.iter().all(|t| t.score >= t.max_score) {
             s += "every test passed\n";
         }
         s
@@ -172,13 +181,15 @@ pub fn grade_submission(
             .map_or("scene".into(), |f| f.to_string_lossy().to_string());
         for &[x, y] in &job.pixels {
             let trace = job.prepared.record(x, y, 0);
-            let exp = expected::expected(&trace);
+            let exp = expected::with_names(expected::expected(&trace), job.prepared.scene());
             let name = |st: Stage| format!("{file} ({x}, {y}): {}", st.name());
             let stages: Vec<Stage> = Stage::ALL.iter().copied().filter(|s| *s <= upto).collect();
+            let mut note = None;
             let out = run::run(template, dir, &job.path, x, y, limits)
                 .map_err(|e| e.to_string())
-                .and_then(|text| {
-                    format::parse(&text).map_err(|e| format!("your program's output, {e}"))
+                .and_then(|o| {
+                    note = o.note;
+                    format::parse(&o.stdout).map_err(|e| format!("your program's output, {e}"))
                 });
             match out {
                 Err(why) => {
@@ -200,13 +211,11 @@ pub fn grade_submission(
                         {
                             output += &format!("\n(Your variant of the scene: {v}.)");
                         }
-                        if !c.pass
-                            && let Some(k) = c.step
-                        {
-                            output += &format!(
-                                "\nSee raystep's numbers: raystep open {} --pixel {x},{y} --step {k}",
-                                job.path.display()
-                            );
+                        if !c.pass {
+                            output += &see_numbers(job, x, y, c.step);
+                        }
+                        if let Some(n) = &note {
+                            output += &format!("\n(Note: {n}.)");
                         }
                         tests.push(TestResult {
                             name: name(c.stage),
@@ -224,6 +233,25 @@ pub fn grade_submission(
         student: student.to_string(),
         tests,
         seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// The feedback's pointer to raystep's own numbers for a failed check: the command that opens
+/// the app at the pixel and step, and the one that prints the same trace in a terminal, with
+/// the step's number, `[K]`, as both show it.
+fn see_numbers(job: &Job, x: u32, y: u32, step: Option<usize>) -> String {
+    let Some(path) = &job.open_path else {
+        return "\n(Your variant lives only while grading runs: grade again with --variants DIR to keep it and see raystep's numbers for it.)".into();
+    };
+    let scene = shlex::try_quote(&path.display().to_string())
+        .map_or_else(|_| path.display().to_string(), |q| q.into_owned());
+    match step {
+        Some(k) => format!(
+            "\nSee raystep's numbers at step [{k}]: raystep open {scene} --pixel {x},{y} --step {k}\nor in a terminal: raystep trace {scene} --pixel {x},{y} (step [{k}])"
+        ),
+        None => format!(
+            "\nSee raystep's numbers: raystep open {scene} --pixel {x},{y}\nor in a terminal: raystep trace {scene} --pixel {x},{y}"
+        ),
     }
 }
 
@@ -395,6 +423,11 @@ fn variant_text(
         let u = crate::lesson::uniform(crate::lesson::draw(id, file, student, &what));
         let scale = 10f64.powi(v.decimals.min(9) as i32);
         let x = ((lo + u * (hi - lo)) * scale).round() / scale;
+        if v.key == "name" {
+            return Err(format!(
+                "vary {what}: `name` names the object and cannot vary: give a number's key (radius, center, color, …)"
+            ));
+        }
         let mut found = false;
         for kind in ["sphere", "plane", "triangle", "mesh", "light", "material"] {
             let Some(tables) = doc.get_mut(kind).and_then(|t| t.as_array_of_tables_mut()) else {
@@ -405,18 +438,34 @@ fn variant_text(
                     continue;
                 }
                 found = true;
+                let current = t.get(v.key.as_str());
+                let numeric =
+                    |i: &toml_edit::Item| i.as_integer().is_some() || i.as_float().is_some();
                 match v.index {
                     None => {
+                        // A key the scene leaves out takes its default: setting a number is fine;
+                        // a key that holds text or a vector is not a number to vary.
+                        if current.is_some_and(|c| !numeric(c)) {
+                            return Err(format!(
+                                "vary {what}: \"{}\" has {} = {}, not a number (a vector's element needs `index`)",
+                                v.object,
+                                v.key,
+                                current.map_or(String::new(), |c| c.to_string().trim().to_string())
+                            ));
+                        }
                         t[v.key.as_str()] = toml_edit::value(x);
                     }
                     Some(i) => {
                         let arr = t
                             .get_mut(v.key.as_str())
                             .and_then(|k| k.as_array_mut())
-                            .filter(|a| i < a.len())
+                            .filter(|a| {
+                                a.get(i)
+                                    .is_some_and(|e| e.as_integer().is_some() || e.as_float().is_some())
+                            })
                             .ok_or_else(|| {
                                 format!(
-                                    "vary {what}: \"{}\" has no vector {} with an element {i}",
+                                    "vary {what}: \"{}\" has no vector {} with a number at element {i}",
                                     v.object, v.key
                                 )
                             })?;
@@ -447,17 +496,38 @@ fn variant_text(
 
 /// Reads a sheet; errors name the file, line and column.
 pub fn load_sheet(path: &Path) -> Result<Sheet, String> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::io::read_text(path, crate::io::limits::SHEET, "grading sheet")
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    let sheet: Sheet = toml::from_str(&text).map_err(|e| {
+    // A byte-order mark (some editors write one) is not part of the TOML.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    let sheet: Sheet = toml::from_str(text).map_err(|e| {
         let (line, col) = e
             .span()
-            .map(|s| crate::lesson::line_col(&text, s.start))
+            .map(|s| crate::lesson::line_col(text, s.start))
             .unwrap_or((0, 0));
         format!("{}:{line}:{col}: {}", path.display(), e.message())
     })?;
     if sheet.scene.is_empty() {
         return Err(format!("{}: the sheet lists no [[scene]]", path.display()));
+    }
+    for (k, sc) in sheet.scene.iter().enumerate() {
+        let at = format!(
+            "{}: scene {} ({})",
+            path.display(),
+            k + 1,
+            sc.file.display()
+        );
+        if sc.random_pixels > MAX_RANDOM_PIXELS {
+            return Err(format!(
+                "{at}: random_pixels = {}: at most {MAX_RANDOM_PIXELS} pixels are drawn per student",
+                sc.random_pixels
+            ));
+        }
+        if sc.pixels.is_empty() && sc.random_pixels == 0 {
+            return Err(format!(
+                "{at}: no pixels to grade: give `pixels = [[x, y], …]` or `random_pixels = N`"
+            ));
+        }
     }
     if sheet
         .timeout_s
@@ -481,9 +551,125 @@ pub fn load_sheet(path: &Path) -> Result<Sheet, String> {
     Ok(sheet)
 }
 
+/// The most pixels a sheet's scene draws per student (`random_pixels`).
+pub const MAX_RANDOM_PIXELS: u32 = 1000;
+
+/// Where each student's variant of a varied scene is written while grading.
+#[derive(Debug)]
+pub enum VariantDir {
+    /// A private folder made fresh for this run (mode 0700 on Unix, under the system's temporary
+    /// folder) and removed with this value: no other user can see or plant anything in it.
+    Private(tempfile::TempDir),
+    /// A folder the teacher chose (`--variants`), kept afterwards so feedback can name the files.
+    Kept(PathBuf),
+}
+
+impl VariantDir {
+    /// A fresh private folder.
+    pub fn private() -> Result<VariantDir, String> {
+        let mut b = tempfile::Builder::new();
+        b.prefix("raystep-grade-");
+        #[cfg(unix)]
+        {
+            // Made with this mode (not changed afterwards): never open to anyone else.
+            use std::os::unix::fs::PermissionsExt;
+            b.permissions(std::fs::Permissions::from_mode(0o700));
+        }
+        b.tempdir()
+            .map(VariantDir::Private)
+            .map_err(|e| format!("cannot make a private temporary folder: {e}"))
+    }
+
+    /// The folder.
+    pub fn path(&self) -> &Path {
+        match self {
+            VariantDir::Private(t) => t.path(),
+            VariantDir::Kept(p) => p,
+        }
+    }
+
+    /// Writes `student`'s variant of the scene `name` and returns its path: in a private folder
+    /// as a new file (never through a link: the open fails if anything is there already), in a
+    /// kept folder as any other output (atomically).
+    fn write(&self, student: &str, name: &std::ffi::OsStr, text: &str) -> Result<PathBuf, String> {
+        let dir = self.path().join(folder_name(student));
+        let file = dir.join(name);
+        let err = |e: std::io::Error| format!("{}: {e}", file.display());
+        match self {
+            VariantDir::Private(_) => {
+                std::fs::create_dir_all(&dir).map_err(err)?;
+                // Written again when a student is graded twice: the old file goes first (removing
+                // a link removes the link, not what it points to).
+                if std::fs::symlink_metadata(&file).is_ok() {
+                    std::fs::remove_file(&file).map_err(err)?;
+                }
+                let mut f = std::fs::OpenOptions::new()
+                    .write(true)
+                    .create_new(true)
+                    .open(&file)
+                    .map_err(err)?;
+                std::io::Write::write_all(&mut f, text.as_bytes()).map_err(err)?;
+            }
+            VariantDir::Kept(_) => {
+                std::fs::create_dir_all(&dir).map_err(err)?;
+                crate::io::write_atomic(&file, text.as_bytes())?;
+            }
+        }
+        Ok(file)
+    }
+}
+
+/// A folder name for a student: letters, digits, `-` and `_` kept, anything else `_`, and a short
+/// hash of the whole name so two names that differ only in such characters stay apart.
+fn folder_name(student: &str) -> String {
+    use sha2::Digest;
+    let safe: String = student
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .take(64)
+        .collect();
+    let hash = sha2::Sha256::digest(student.as_bytes());
+    format!(
+        "{safe}-{:02x}{:02x}{:02x}{:02x}",
+        hash[0], hash[1], hash[2], hash[3]
+    )
+}
+
+/// A student's name from a class folder's name: the name itself when it is UTF-8, else its UTF-8
+/// parts with every other byte written `\xNN`, so two folders that differ only in such bytes
+/// keep different, readable names.
+pub fn student_name(folder: &std::ffi::OsStr) -> String {
+    let bytes = folder.as_encoded_bytes();
+    if let Ok(s) = std::str::from_utf8(bytes) {
+        return s.to_string();
+    }
+    let mut out = String::new();
+    for chunk in bytes.utf8_chunks() {
+        out += chunk.valid();
+        for b in chunk.invalid() {
+            out += &format!("\\x{b:02X}");
+        }
+    }
+    out
+}
+
 /// The jobs of a sheet for one student: its pixels plus the student's drawn ones, each inside
 /// the scene's image (a listed pixel outside it is an error naming it).
-pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec<Job>, String> {
+///
+/// A scene with `vary` is written, with the student's values, into `variants`; its errors (a
+/// drawn value the scene refuses) name the sheet, the scene and the student.
+pub fn sheet_jobs(
+    sheet: &Sheet,
+    sheet_path: &Path,
+    student: &str,
+    variants: &VariantDir,
+) -> Result<Vec<Job>, String> {
     let base = sheet_path.parent().unwrap_or(Path::new("."));
     let id = sheet.id.clone().unwrap_or_else(|| {
         sheet_path
@@ -494,13 +680,21 @@ pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec
     for sc in &sheet.scene {
         let mut path = base.join(&sc.file);
         let mut variant = None;
-        if !sc.vary.is_empty() {
-            // The student's own variant of the scene, written where it outlives the grading
-            // (the feedback's `raystep open` links point at it).
-            let text = std::fs::read_to_string(&path)
+        let mut open_path = None;
+        let scene = if sc.vary.is_empty() {
+            crate::scene::load_file(&path).map_err(|e| e.to_string())?
+        } else {
+            // The student's own variant of the scene: its text, loaded from memory (so errors
+            // name the sheet), then written where the student's program can read it.
+            let text = crate::io::read_text(&path, crate::io::limits::SCENE, "scene file")
                 .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
             let dir = std::path::absolute(path.parent().unwrap_or(Path::new(".")))
                 .map_err(|e| e.to_string())?;
+            let at = format!(
+                "{}: scene {} (the variant of student \"{student}\")",
+                sheet_path.display(),
+                sc.file.display()
+            );
             let (varied, drawn) = variant_text(
                 &text,
                 &dir,
@@ -509,34 +703,20 @@ pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec
                 &sc.file.display().to_string(),
                 student,
             )
-            .map_err(|e| format!("{}: {}: {e}", sheet_path.display(), sc.file.display()))?;
-            let safe: String = student
-                .chars()
-                .map(|c| {
-                    if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                        c
-                    } else {
-                        '_'
-                    }
-                })
-                .collect();
-            let out = std::env::temp_dir()
-                .join("raystep-grade")
-                .join(&id)
-                .join(safe)
-                .join(
-                    sc.file
-                        .file_name()
-                        .unwrap_or(std::ffi::OsStr::new("scene.toml")),
-                );
-            if let Some(d) = out.parent() {
-                std::fs::create_dir_all(d).map_err(|e| format!("{}: {e}", d.display()))?;
+            .map_err(|e| format!("{at}: {e}"))?;
+            let scene = crate::scene::load_str(&varied, &at, Some(&dir))
+                .map_err(|e| format!("{e}\n(The values drawn: {drawn}.)"))?;
+            let name = sc
+                .file
+                .file_name()
+                .unwrap_or(std::ffi::OsStr::new("scene.toml"));
+            path = variants.write(student, name, &varied)?;
+            if let VariantDir::Kept(_) = variants {
+                open_path = Some(std::path::absolute(&path).unwrap_or(path.clone()));
             }
-            crate::io::write_atomic(&out, varied.as_bytes())?;
-            path = out;
             variant = Some(drawn);
-        }
-        let scene = crate::scene::load_file(&path).map_err(|e| e.to_string())?;
+            scene
+        };
         let (w, h) = (scene.camera.width, scene.camera.height);
         let mut pixels = vec![];
         for &[x, y] in &sc.pixels {
@@ -550,7 +730,7 @@ pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec
             pixels.push([x, y]);
         }
         let file = sc.file.display().to_string();
-        for k in 0..sc.random_pixels.min(1000) {
+        for k in 0..sc.random_pixels.min(MAX_RANDOM_PIXELS) {
             let px = crate::lesson::draw(&id, &file, student, &format!("pixel {k} x"));
             let py = crate::lesson::draw(&id, &file, student, &format!("pixel {k} y"));
             pixels.push([
@@ -563,7 +743,10 @@ pub fn sheet_jobs(sheet: &Sheet, sheet_path: &Path, student: &str) -> Result<Vec
             std::sync::Arc::new(PreparedScene::new(scene)),
             pixels,
         );
-        job.variant = variant;
+        if variant.is_some() {
+            job.variant = variant;
+            job.open_path = open_path;
+        }
         jobs.push(job);
     }
     Ok(jobs)
@@ -587,10 +770,17 @@ pub fn grade_class(
         .collect();
     dirs.sort();
     let mut out = vec![];
+    let mut taken = std::collections::HashSet::new();
     for d in dirs {
-        let student = d
-            .file_name()
-            .map_or("?".into(), |f| f.to_string_lossy().to_string());
+        let mut student = d.file_name().map_or("?".into(), student_name);
+        // Folder names are unique, their readable forms almost always: a literal "\xFF" and
+        // the byte 0xFF read alike, so a second such name gets a number.
+        let base = student.clone();
+        let mut k = 1;
+        while !taken.insert(student.clone()) {
+            k += 1;
+            student = format!("{base} ({k})");
+        }
         let jobs = jobs_for(&student)?;
         let mut r = grade_submission(&student, template, &d, &jobs, upto, tol, limits);
         if let Some(spec) = image {
@@ -611,7 +801,7 @@ pub fn grades_csv(reports: &[Report]) -> String {
     rows.push(head);
     for r in reports {
         let mut row = vec![
-            r.student.clone(),
+            crate::lesson::csv::text_cell(&r.student),
             fmt64(r.score(), Style::Exact),
             fmt64(r.max_score(), Style::Exact),
         ];
@@ -633,14 +823,13 @@ pub fn grades_csv(reports: &[Report]) -> String {
             });
         }
         // The first failure's first line, as a note.
-        row.push(
+        row.push(crate::lesson::csv::text_cell(
             r.tests
                 .iter()
                 .find(|t| t.score < t.max_score)
                 .and_then(|t| t.output.lines().next())
-                .unwrap_or("")
-                .to_string(),
-        );
+                .unwrap_or(""),
+        ));
         rows.push(row);
     }
     crate::lesson::csv::write_csv(&rows)
