@@ -440,11 +440,17 @@ fn grading_a_class_with_malformed_rows() {
     want += &format!("ann,{},{n},{out_of},\n", vec!["1"; n].join(","));
     // Row 3: too few columns: the first two answers only.
     csv += &format!("ben,{}\n", answers("ben")[..2].join(","));
+    // The notes: the short row, then why each wrong answer is wrong (here: none given).
     want += &format!(
-        "ben,1,1,{},2,{out_of},\"row 3: 3 columns, expected {}: columns 4–{} missing\"\n",
+        "ben,1,1,{},2,{out_of},\"row 3: 3 columns, expected {}: columns 4–{} missing; {}\"\n",
         vec!["0"; n - 2].join(","),
         n + 1,
-        n + 1
+        n + 1,
+        ids[2..]
+            .iter()
+            .map(|id| format!("{id}: no answer"))
+            .collect::<Vec<_>>()
+            .join("; ")
     );
     // Row 4: a non-numeric first answer.
     let mut cal = answers("cal");
@@ -562,7 +568,7 @@ fn bad_input_exits_non_zero_with_a_located_message() {
         "[[question]]\nid = \"a\"\ntext = \"t\"\nscene_toml = \"\"\npixel = [0, 0]\nquantity = \"discriminant\"\n",
     );
     fails(&ex(&p), &["object.toml:6:12", "needs `object"]);
-    // A malformed class CSV names the row and column; so does an unknown question column.
+    // A malformed class CSV names the row and column.
     let sheet = root().join("lessons/exercises/02-sphere.toml");
     let out = d.join("g.csv");
     let csv = write("bad.csv", "student,disc\nann,1\nben,\"2\n");
@@ -576,7 +582,9 @@ fn bad_input_exits_non_zero_with_a_located_message() {
         ],
         &["bad.csv: row 3, column 2", "never closed"],
     );
-    let csv = write("cols.csv", "student,disc,bogus\n");
+    // (A column that is no question is ignored and listed: tests/class_path.rs.) A header with
+    // no student column is an error naming the header.
+    let csv = write("cols.csv", "name,disc\n");
     fails(
         &[
             "grade".as_ref(),
@@ -585,7 +593,10 @@ fn bad_input_exits_non_zero_with_a_located_message() {
             "-o".as_ref(),
             out.as_os_str(),
         ],
-        &["cols.csv: row 1, column 3", "unknown question \"bogus\""],
+        &[
+            "cols.csv: row 1: no column holds the student's id",
+            "\"name\", \"disc\"",
+        ],
     );
     assert!(!out.exists(), "no grades file on bad input");
     // An answers file with a line that isn't `id = value`.

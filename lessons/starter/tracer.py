@@ -95,14 +95,16 @@ def intersect_plane(plane, origin, direction):
 
 def intersect_triangle(triangle, origin, direction):
     """Lesson 4. TODO: Moller-Trumbore, D0 = det(-Q, E1, E2), u, v, t; print a "triangle"
-    record (a mesh's triangles come from its OBJ file: read README.md's scene format)."""
+    record (a mesh's triangles come from its OBJ file: see "The scene file" in README.md next to
+    this file)."""
     return None
 
 
-def closest_hit(scene, origin, direction):
-    """Lesson 5. TODO: test every object, keep the nearest t; print
+def closest_hit(tested, origin, direction):
+    """Lesson 5. TODO: `tested` is every test trace() ran, as (t or None, kind, object) with kind
+    "sphere", "plane" or "triangle": keep the nearest t; print
     {"type":"hit","object":name or None,"t":..,"point":..,"normal":..} (the unit normal facing
-    the ray)."""
+    the ray) and return what shade() needs (or None for a miss)."""
     return None
 
 
@@ -115,15 +117,17 @@ def shade(scene, hit, origin, direction, depth):
 
 
 def trace(scene, origin, direction, kind, depth):
-    """One ray: print it, find its closest hit, shade it."""
+    """One ray: print it, test every object (each test printed once), find the closest hit
+    among those tests, shade it."""
     emit({"type": "ray", "kind": kind, "depth": depth, "origin": origin, "direction": direction})
+    tested = []
     for sphere in scene.get("sphere", []):
-        intersect_sphere(sphere, origin, direction)
+        tested.append((intersect_sphere(sphere, origin, direction), "sphere", sphere))
     for plane in scene.get("plane", []):
-        intersect_plane(plane, origin, direction)
+        tested.append((intersect_plane(plane, origin, direction), "plane", plane))
     for triangle in scene.get("triangle", []):
-        intersect_triangle(triangle, origin, direction)
-    hit = closest_hit(scene, origin, direction)
+        tested.append((intersect_triangle(triangle, origin, direction), "triangle", triangle))
+    hit = closest_hit(tested, origin, direction)
     return shade(scene, hit, origin, direction, depth)
 
 

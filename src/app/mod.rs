@@ -31,12 +31,14 @@ use state::{AppState, Command, Prefs, StepMove, ThemeChoice};
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-/// A screenshot of the window to take once the render has finished (`raystep open
-/// --screenshot`): how the README's picture is made.
+/// Where `raystep open` starts: a pixel to select and a step to show once the render has
+/// finished (`--pixel`, `--step`: where the grader's feedback points a student), and maybe a
+/// screenshot of the window to take then, after which the app closes (`--screenshot`: how the
+/// README's picture is made).
 #[derive(Debug, Clone, Default)]
 pub struct ScreenshotPlan {
-    /// Where to write the PNG.
-    pub path: PathBuf,
+    /// Where to write the PNG (None: no screenshot; the app stays open).
+    pub path: Option<PathBuf>,
     /// The pixel to select first.
     pub pixel: Option<[u32; 2]>,
     /// The step to show.
@@ -46,8 +48,8 @@ pub struct ScreenshotPlan {
 }
 
 impl ScreenshotPlan {
-    /// A plan to write `path` after selecting `pixel` and going to `step`.
-    pub fn new(path: PathBuf, pixel: Option<[u32; 2]>, step: Option<usize>) -> Self {
+    /// A plan to select `pixel`, go to `step`, then write `path` if given.
+    pub fn new(path: Option<PathBuf>, pixel: Option<[u32; 2]>, step: Option<usize>) -> Self {
         ScreenshotPlan {
             path,
             pixel,
@@ -219,12 +221,16 @@ impl RaystepApp {
         }
         plan.settled += 1;
         ctx.request_repaint();
+        let Some(path) = plan.path.clone() else {
+            // Only a place to start: done.
+            self.screenshot = None;
+            return;
+        };
         // A few frames for panel sizes and textures to settle.
         if plan.settled < 10 {
             return;
         }
         plan.requested = true;
-        let path = plan.path.clone();
         let close = ctx.clone();
         ctx.request_screenshot(move |img| {
             let [w, h] = img.size;

@@ -30,11 +30,23 @@ pub fn accel_compare(scenes: &[Scene], reps: usize) {
         "| scene | primitives | accelerator | build (ms) | memory (KiB) | tests / ray | visits / ray | Mrays/s | speed-up |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
+    // Brute force on the larger scenes takes a while: say where the comparison is (on a
+    // terminal's stderr only, so the table on stdout stays clean).
+    let bar = indicatif::ProgressBar::new((scenes.len() * ACCELERATORS.len()) as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{spinner} {pos}/{len} {msg} ({elapsed})")
+            .expect("valid template"),
+    );
+    if !std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
     for scene in scenes {
         let mut s = comparison_size(scene);
         let mut brute_time = None;
         for choice in ACCELERATORS {
             s.settings.accel = choice;
+            bar.set_message(format!("{}: {:?}", s.name, choice));
+            bar.enable_steady_tick(Duration::from_millis(200));
             let builds: Vec<(SceneAccel, Duration)> = (0..reps.clamp(1, 3))
                 .map(|_| SceneAccel::build(&s))
                 .collect();
@@ -48,20 +60,25 @@ pub fn accel_compare(scenes: &[Scene], reps: usize) {
             let t = median_time(reps, || all_pixels(&tracer));
             let brute = *brute_time.get_or_insert(t);
             let n = |x: f64| crate::record::number::fmt64(x, crate::record::number::Style::Label);
-            println!(
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {}× |",
-                s.name,
-                s.features.primitives,
-                accel.name(),
-                n(build.as_secs_f64() * 1e3),
-                n(accel.memory() as f64 / 1024.0),
-                n(c.prim_tests as f64 / rays),
-                n(c.node_visits as f64 / rays),
-                n(rays / t.as_secs_f64() / 1e6),
-                n(brute.as_secs_f64() / t.as_secs_f64()),
-            );
+            // Printed with the progress line out of the way.
+            bar.suspend(|| {
+                println!(
+                    "| {} | {} | {} | {} | {} | {} | {} | {} | {}× |",
+                    s.name,
+                    s.features.primitives,
+                    accel.name(),
+                    n(build.as_secs_f64() * 1e3),
+                    n(accel.memory() as f64 / 1024.0),
+                    n(c.prim_tests as f64 / rays),
+                    n(c.node_visits as f64 / rays),
+                    n(rays / t.as_secs_f64() / 1e6),
+                    n(brute.as_secs_f64() / t.as_secs_f64()),
+                )
+            });
+            bar.inc(1);
         }
     }
+    bar.finish_and_clear();
 }
 
 /// The uniform grid's resolution swept: for each scene and λ (cells per primitive), the grid's

@@ -42,7 +42,7 @@ pub struct DiagramArgs {
     /// Every step in order as an animated GIF (-o OUT.gif).
     #[arg(long)]
     pub animate: bool,
-    /// Every step as numbered PNGs in this directory.
+    /// Every step as numbered PNGs in this directory (made if missing).
     #[arg(long)]
     pub frames: Option<PathBuf>,
     /// With --animate: how long the GIF shows each step, in milliseconds (20 … 60000; the last
@@ -164,13 +164,16 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         return diagram::draw(&trace, kind, &base).map(|_| ());
     }
     if args.animate || args.frames.is_some() {
-        if let Some(dir) = &args.frames
-            && !dir.is_dir()
-        {
-            return Err(format!(
-                "--frames {}: not an existing directory",
-                dir.display()
-            ));
+        if let Some(dir) = &args.frames {
+            // Made if missing (with its parents), like `-o`'s file.
+            if dir.exists() && !dir.is_dir() {
+                return Err(format!(
+                    "--frames {}: exists and is not a directory",
+                    dir.display()
+                ));
+            }
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("--frames {}: cannot create: {e}", dir.display()))?;
         }
         let out = if args.animate {
             let out = args.output.as_ref().ok_or("--animate needs -o OUT.gif")?;

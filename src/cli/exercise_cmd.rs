@@ -103,7 +103,11 @@ pub fn run_exercise(args: &ExerciseArgs) -> Result<(), String> {
             v.text.trim().replace('\n', "\n   ")
         );
         match &scene_path {
-            Some(p) => text += &format!("   trace it: raystep trace {p} --pixel {x},{y}\n"),
+            Some(p) if sheet.trace_command => {
+                text += &format!("   trace it: raystep trace {p} --pixel {x},{y}\n")
+            }
+            // A graded quiz: where, but not the command that prints the answer.
+            Some(p) => text += &format!("   scene {p}, pixel {x},{y}\n"),
             None => {
                 text += &format!(
                     "   pixel {x},{y} of the question's own scene (write it with --scenes DIR)\n"

@@ -84,11 +84,11 @@ pub enum Command {
         /// Write a screenshot of the window to this PNG once the render is done, then close.
         #[arg(long)]
         screenshot: Option<PathBuf>,
-        /// Select this pixel X,Y first (with --screenshot).
-        #[arg(long, value_parser = parse_pixel, requires = "screenshot")]
+        /// Select this pixel X,Y once the render is done.
+        #[arg(long, value_parser = parse_pixel)]
         pixel: Option<[u32; 2]>,
-        /// Show this step (with --screenshot).
-        #[arg(long, requires = "screenshot")]
+        /// Then show this step of the pixel's trace (the `[K]` that `raystep trace` prints).
+        #[arg(long, requires = "pixel")]
         step: Option<usize>,
     },
 }
@@ -274,7 +274,8 @@ pub fn main() -> ExitCode {
         }) => crate::assets::resolve_scene(&file).and_then(|file| {
             crate::app::run(
                 Some(file),
-                screenshot.map(|p| crate::app::ScreenshotPlan::new(p, pixel, step)),
+                (screenshot.is_some() || pixel.is_some())
+                    .then(|| crate::app::ScreenshotPlan::new(screenshot, pixel, step)),
             )
         }),
         Some(Command::Examples(args)) => examples_cmd::run(&args),

@@ -157,7 +157,9 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             TriangleMethod::Watertight => format!(
                 "triangle \"{name}\" (watertight): edges {}, det = {}, t = {}, u = {}, v = {} → {}",
                 test.edges.map_or("—".into(), v3),
-                num(test.det),
+                // "det = 0" would read as a parallel ray: a test that stopped at the edges'
+                // signs never computed it.
+                opt(test.det_computed()),
                 opt(test.t_star),
                 opt(test.u),
                 opt(test.v),

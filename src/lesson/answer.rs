@@ -232,8 +232,31 @@ fn is_none(s: &str) -> bool {
     )
 }
 
+/// A number, with a decimal point or, as a class in much of Europe writes it, one decimal comma
+/// (`1,5`: a single comma between digits; a vector's commas separate its components instead).
 fn number(s: &str) -> Option<f64> {
-    s.trim().parse::<f64>().ok().filter(|x| x.is_finite())
+    let s = s.trim();
+    let comma = match s.split_once(',') {
+        Some((a, b))
+            if !b.contains(',')
+                && !s.contains('.')
+                && a.trim_start_matches(['-', '+'])
+                    .chars()
+                    .all(|c| c.is_ascii_digit())
+                && !a.trim_start_matches(['-', '+']).is_empty()
+                && !b.is_empty()
+                && b.chars().all(|c| c.is_ascii_digit()) =>
+        {
+            Some(format!("{a}.{b}"))
+        }
+        _ => None,
+    };
+    comma
+        .as_deref()
+        .unwrap_or(s)
+        .parse::<f64>()
+        .ok()
+        .filter(|x| x.is_finite())
 }
 
 fn vector(s: &str) -> Option<[f64; 3]> {
@@ -308,10 +331,9 @@ pub fn mark(expected: &Answer, kind: AnswerKind, given: Option<&str>, tol: Toler
         return unreadable();
     }
     match expected {
-        Answer::None => Mark::wrong(
-            "the tracer computes no such value for your pixel: check whether its ray gets that \
-             far (a miss, a test that stops early, no such ray) — then the answer is none",
-        ),
+        // Worded like any other wrong answer: saying that the tracer computes nothing here
+        // would give the answer ("none") away.
+        Answer::None => Mark::wrong("not what the tracer found for your pixel"),
         Answer::Number(e) => match number(given) {
             Some(g) => by_distance((g - e).abs(), e.abs(), vec![g - e], tol),
             None => unreadable(),

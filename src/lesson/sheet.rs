@@ -118,6 +118,10 @@ pub struct Sheet {
     pub questions: Vec<Question>,
     /// What a wrong answer is told (the `feedback` key).
     pub feedback: Feedback,
+    /// Whether `raystep exercise` prints, beside each question, the `raystep trace` command that
+    /// shows its numbers (the `trace_command` key, default true; false for a graded quiz, where
+    /// that command would print the answer).
+    pub trace_command: bool,
 }
 
 #[derive(Deserialize)]
@@ -126,6 +130,7 @@ struct SheetFile {
     title: Option<String>,
     id: Option<String>,
     feedback: Option<Spanned<toml::Value>>,
+    trace_command: Option<bool>,
     #[serde(default)]
     question: Vec<Spanned<QuestionDef>>,
 }
@@ -389,6 +394,7 @@ pub fn parse_sheet(
         title,
         questions,
         feedback,
+        trace_command: parsed.trace_command.unwrap_or(true),
     };
     for (q, (header, object_span, light_span)) in sheet.questions.iter().zip(spans) {
         let what = format!("question \"{}\"", q.id);

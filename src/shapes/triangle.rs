@@ -141,6 +141,13 @@ impl<T: Real> TriangleTest<T> {
     pub fn hit(&self) -> Option<T> {
         self.t
     }
+    /// The determinant, if the test got as far as computing it (the watertight test checks the
+    /// edge functions' signs first, and one that stops there never sums them).
+    pub fn det_computed(&self) -> Option<T> {
+        let skipped = self.method == TriangleMethod::Watertight
+            && (self.stopped_at == 8 || self.edges.is_none());
+        (!skipped).then_some(self.det)
+    }
     /// The words for where the test stopped.
     pub fn stop_reason(&self) -> &'static str {
         match self.stopped_at {
