@@ -313,10 +313,20 @@ fn wait_for_check(h: &mut Harness<'static, RaystepApp>) {
 }
 
 /// Masks the timing figures (they change every run) in the next snapshot; returns how many.
+/// The status bar's mask runs to the window's right edge: the label's own width changes with
+/// its digits (a busy machine's "trace 156 ms" is wider than "trace 56 ms"), and a mask of that
+/// width would too.
 fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
+    let right = h.ctx.content_rect().right();
     let masks: Vec<egui::Rect> = ["rendered in", "recorded in"]
         .iter()
-        .filter_map(|l| h.query_by_label_contains(l).map(|n| n.rect()))
+        .filter_map(|l| h.query_by_label_contains(l).map(|n| (*l, n.rect())))
+        .map(|(l, r)| match l {
+            "rendered in" => {
+                egui::Rect::from_min_max(r.min, egui::pos2(right.max(r.max.x), r.max.y))
+            }
+            _ => r,
+        })
         .collect();
     let n = masks.len();
     for r in masks {
