@@ -239,11 +239,15 @@ fn planted_mistakes_are_found_and_named() {
     assert_eq!(st, Stage::ClosestHit);
     assert!(msg.contains("no `hit` record"), "{msg}");
 
-    // Skipped tests (no plane records), reversed test order and extra records: still right.
+    // Skipped tests (no plane records past the primary ray's), reversed test order and extra
+    // records: still right. (Skipping every plane test of the pixel is printing nothing for
+    // the plane-triangle stage: tests/grader_hardening.rs.)
     let mut lenient = vec![];
     let mut tests = vec![];
+    let mut rays = 0;
     for l in ours.lines() {
-        if l.contains("\"type\":\"plane\"") {
+        rays += l.contains("\"type\":\"ray\"") as usize;
+        if l.contains("\"type\":\"plane\"") && rays > 1 {
             continue;
         }
         if l.contains("\"type\":\"sphere\"") {

@@ -9,7 +9,7 @@
 //! |---|---|
 //! | every stage | the pixel's primary ray |
 //! | camera | the primary ray's `origin` and `direction` |
-//! | sphere, plane-triangle | on each such ray the student printed, at least one test of that kind; on each test printed, the numbers raystep compares (`a`, `b`, `c`, `discriminant`, `t`; `denominator`, `t`; `det`, `u`, `v`, `t`) |
+//! | sphere, plane-triangle | at least one test of that kind for the pixel; on each test printed, the numbers raystep compares (`a`, `b`, `c`, `discriminant`, `t`; `denominator`, `t`; `det`, `u`, `v`, `t`) |
 //! | closest-hit | a `hit` record, and for a hit its `object`, `t`, `point` and `normal` |
 //! | shadows | what closest-hit needs (shadow rays start at the hit), a `shadow` record with `blocked` for each light; a shadow ray printed has its `origin` and `direction` |
 //! | secondary | what closest-hit needs (bounces start at the hit), each reflection and refraction ray, with its `origin` and `direction` |
@@ -167,31 +167,37 @@ pub(super) fn missing(
     match stage {
         Stage::Camera => ends(0),
         Stage::Sphere | Stage::PlaneTriangle => {
+            // At least one test of the stage's kind printed for the pixel, where raystep's rays
+            // (those the student printed) make some: skipping some is culling, skipping all
+            // is printing nothing.
+            let wanted = e.pixel.rays.iter().enumerate().find_map(|(i, er)| {
+                let first = er.tests.iter().position(|t| of_stage(t, stage))?;
+                (in_scope(&er.kind, upto) && student(i).is_some()).then_some((i, first))
+            });
+            let printed = (0..e.pixel.rays.len())
+                .filter(|&i| in_scope(&e.pixel.rays[i].kind, upto))
+                .filter_map(student)
+                .any(|sr| sr.tests.iter().any(|t| of_stage(t, stage)));
+            if let (Some((i, j)), false) = (wanted, printed) {
+                let kinds = if stage == Stage::Sphere {
+                    "sphere test"
+                } else {
+                    "plane or triangle test"
+                };
+                return Some((
+                    format!(
+                        "you printed no {kinds} for this pixel: print a `{}` record for each test a ray makes (raystep's {} makes one)",
+                        test_keys(&e.pixel.rays[i].tests[j]).0,
+                        ray_name(&e.pixel, i)
+                    ),
+                    e.test_step.get(i).and_then(|t| t.get(j)).copied(),
+                ));
+            }
             for (i, er) in e.pixel.rays.iter().enumerate() {
                 if !in_scope(&er.kind, upto) {
                     continue;
                 }
                 let Some(sr) = student(i) else { continue };
-                let wanted: Vec<&Test> = er.tests.iter().filter(|t| of_stage(t, stage)).collect();
-                let Some(first) = wanted.first() else {
-                    continue;
-                };
-                let printed: Vec<&Test> = sr.tests.iter().filter(|t| of_stage(t, stage)).collect();
-                if printed.is_empty() {
-                    let kinds = if stage == Stage::Sphere {
-                        "sphere test"
-                    } else {
-                        "plane or triangle test"
-                    };
-                    return Some((
-                        format!(
-                            "you printed no {kinds} for {}: print a `{}` record for each test the ray makes",
-                            whose(e, i),
-                            test_keys(first).0
-                        ),
-                        e.test_step.get(i).and_then(|t| t.first()).copied(),
-                    ));
-                }
                 // Each printed test that pairs with one of raystep's carries its numbers.
                 for (j, et) in er.tests.iter().enumerate() {
                     if !of_stage(et, stage) {
