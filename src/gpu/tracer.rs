@@ -703,6 +703,13 @@ impl GpuTracer {
         path == GpuPath::Compute && self.spirv && self.arithmetic.probe.exact()
     }
 
+    /// Whether the hardware walks its own BLAS/TLAS (ray queries). Its arithmetic may still be
+    /// exact, but where two candidates lie at the same t it may report the other one than the
+    /// CPU's traversal order picks (the leaky-edge scene's shared edges show it).
+    pub fn hardware_ray_queries(&self) -> bool {
+        self.acceleration.is_some()
+    }
+
     /// What the adapter line says about the arithmetic of `path`.
     pub fn arithmetic_line(&self, path: GpuPath) -> String {
         let probe = self.arithmetic.probe.summary();
