@@ -77,6 +77,64 @@ fn sphereflake() -> Scene {
     load_str(&out.toml, "balls-2.toml", None).unwrap()
 }
 
+/// Pixels whose largest channel differs by more than 2 sRGB steps.
+fn off_by_more_than_2(a: &[glam::Vec3], b: &[glam::Vec3]) -> usize {
+    a.iter()
+        .zip(b)
+        .filter(|(a, b)| {
+            let e = |x: f32, y: f32| {
+                raystep::render::image::srgb8(x).abs_diff(raystep::render::image::srgb8(y))
+            };
+            e(a.x, b.x).max(e(a.y, b.y)).max(e(a.z, b.z)) > 2
+        })
+        .count()
+}
+
+/// Whether a scene spawns reflection or refraction rays (their colours are summed in another
+/// order on the GPU).
+fn scene_spawns(scene: &Scene) -> bool {
+    scene.features.reflective || scene.features.transparent
+}
+
+/// Whether two linear images have the same bits.
+fn same_bits(a: &[glam::Vec3], b: &[glam::Vec3]) -> bool {
+    a.len() == b.len()
+        && a.iter().zip(b).all(|(a, b)| {
+            a.to_array()
+                .iter()
+                .zip(b.to_array())
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        })
+}
+
+/// What a failure-demonstration scene demonstrates, measured on an image of it: the acne scene's
+/// acne fraction (pixels more than 2 steps off the same scene with the robust offset), the leaky
+/// edge's leaking pixels (background where the watertight test finds a triangle). None for
+/// other scenes.
+fn demonstration(scene: &Scene, image: &[glam::Vec3]) -> Option<(&'static str, f64)> {
+    use raystep::scene::OffsetPolicy;
+    if scene.settings.offset == OffsetPolicy::None {
+        let mut robust = scene.clone();
+        robust.settings.offset = OffsetPolicy::Robust;
+        let reference = cpu_pixels(&robust);
+        let acne = off_by_more_than_2(image, &reference);
+        return Some(("acne fraction", acne as f64 / image.len() as f64));
+    }
+    if scene.settings.triangle_method == TriangleMethod::MollerTrumbore {
+        let mut tight = scene.clone();
+        tight.settings.triangle_method = TriangleMethod::Watertight;
+        let reference = cpu_pixels(&tight);
+        let bg = scene.settings.background;
+        let leaks = image
+            .iter()
+            .zip(&reference)
+            .filter(|(p, r)| **p == bg && **r != bg)
+            .count();
+        return Some(("leaking pixels", leaks as f64));
+    }
+    None
+}
+
 #[test]
 fn gpu_matches_cpu_on_every_shipped_scene() {
     let Some(ctx) = context("gpu_matches_cpu_on_every_shipped_scene") else {
@@ -85,14 +143,24 @@ fn gpu_matches_cpu_on_every_shipped_scene() {
     let mut failures = vec![];
     let mut scenes: Vec<Scene> = scene_paths()
         .iter()
-        .map(|p| small(load_file(p).unwrap()))
+        .map(|p| {
+            let scene = load_file(p).unwrap();
+            // The leaky edge shows its cracks only at its own size (201×201: the edges lie
+            // under pixel centres there).
+            if scene.settings.triangle_method == TriangleMethod::MollerTrumbore {
+                scene
+            } else {
+                small(scene)
+            }
+        })
         .collect();
     scenes.push(small(sphereflake()));
     // A scene that shows acne on purpose (offset = "none") speckles wherever a shadow ray's
     // origin rounds below the surface: a chaotic function of the ray direction's last bit. The
-    // compute path computes the direction as the CPU does and must match it; the fragment path's
-    // rasterizer-interpolated directions legitimately speckle elsewhere, so it is held to the
+    // fragment path's rasterizer-interpolated directions speckle elsewhere, so it is held to the
     // bounds on the same scene with the robust offset (no acne) instead.
+    // Likewise the leaky edge: its cracks are rays aimed exactly at an edge, which the fragment
+    // path's interpolated directions are not; it is held to the bounds with the watertight test.
     let mut extra = vec![];
     for scene in &scenes {
         if scene.settings.offset == raystep::scene::OffsetPolicy::None {
@@ -101,45 +169,142 @@ fn gpu_matches_cpu_on_every_shipped_scene() {
             robust.name = format!("{} with the robust offset", scene.name);
             extra.push(robust);
         }
+        if scene.settings.triangle_method == TriangleMethod::MollerTrumbore {
+            let mut tight = small(scene.clone());
+            tight.settings.triangle_method = TriangleMethod::Watertight;
+            tight.name = format!("{} with the watertight test", scene.name);
+            extra.push(tight);
+        }
     }
     scenes.extend(extra);
     for scene in &scenes {
         let cpu = cpu_pixels(scene);
         let mut gpu = GpuTracer::new(ctx.clone(), &prep(scene), ShaderVariant::Generated).unwrap();
-        let acne = scene.settings.offset == raystep::scene::OffsetPolicy::None;
+        let shown = demonstration(scene, &cpu);
         for path in [GpuPath::Fragment, GpuPath::Compute] {
-            if acne && path == GpuPath::Fragment {
+            if shown.is_some() && path == GpuPath::Fragment {
                 continue;
             }
             let frame = gpu.render(path).unwrap();
             let d = gpu::difference(frame.width, frame.height, &cpu, &frame.pixels).unwrap();
-            // Pixels off by more than 2 steps.
-            let big = cpu
-                .iter()
-                .zip(&frame.pixels)
-                .filter(|(a, b)| {
-                    let e = |x: f32, y: f32| {
-                        raystep::render::image::srgb8(x).abs_diff(raystep::render::image::srgb8(y))
-                    };
-                    e(a.x, b.x).max(e(a.y, b.y)).max(e(a.z, b.z)) > 2
-                })
-                .count();
+            let big = off_by_more_than_2(&cpu, &frame.pixels);
+            let exact = gpu.exact(path);
             eprintln!(
-                "{} ({}): {}; {} pixels off by more than 2",
+                "{} ({}, {}): {}; {} pixels off by more than 2",
                 scene.name,
                 path.name(),
+                if exact { "exact arithmetic" } else { "inexact" },
                 d.summary(),
                 big
             );
-            if d.rmse >= 1.0 / 255.0
+            let name = format!("{} ({})", scene.name, path.name());
+            if exact {
+                // The CPU's f32 operations, bit for bit: the same 8-bit image. (The linear
+                // values of a pixel with reflected or refracted rays may still differ in the last
+                // bit: the GPU adds the rays' colours in its ray stack's order, the CPU in its
+                // recursion's.)
+                let bits = same_bits(&cpu, &frame.pixels);
+                eprintln!("  linear values bit for bit the CPU's: {bits}");
+                // Under ray queries the hardware may report the other of two hits at the same t
+                // (a shared edge): judged by the bounds and demonstrations below instead.
+                let ties = gpu.hardware_ray_queries() && shown.is_some();
+                if !ties && (d.max_error != 0 || (!scene_spawns(scene) && !bits)) {
+                    failures.push(format!("{name}: exact arithmetic, yet {}", d.summary()));
+                }
+            }
+            if let Some((what, on_cpu)) = shown {
+                // Judged by what the scene demonstrates, not pixel by pixel: a correct driver
+                // that rounds differently speckles or leaks elsewhere, about as much.
+                let (_, on_gpu) = demonstration(scene, &frame.pixels).unwrap();
+                eprintln!("  {what}: CPU {on_cpu}, GPU {on_gpu}");
+                assert!(on_cpu > 0.0, "{name}: the CPU image demonstrates no {what}");
+                if !(on_gpu > 0.0 && on_gpu >= on_cpu / 3.0 && on_gpu <= 3.0 * on_cpu + 5.0) {
+                    failures.push(format!("{name}: {what} CPU {on_cpu}, GPU {on_gpu}"));
+                }
+            } else if d.rmse >= 1.0 / 255.0
                 || d.max_error > MAX_ERROR
                 || big as f64 > MAX_FLIPPED * d.pixels as f64
             {
-                failures.push(format!("{} ({}): {}", scene.name, path.name(), d.summary()));
+                failures.push(format!("{name}: {}", d.summary()));
             }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// `NoContraction` on the adapter: a hand-written sum of products `p.x*n.x + p.y*n.y + p.z*n.z`
+/// loaded as SPIR-V with every float result decorated comes out as the CPU's unfused sum for
+/// every input. Without the decorations (the same SPIR-V, or WGSL) a driver that contracts (the
+/// H200's; lavapipe's on an FMA-capable host, per issue 33) gets some wrong; how many is printed.
+#[test]
+fn no_contraction_keeps_a_sum_of_products_as_the_cpu_computes_it() {
+    use raystep::gpu::KernelForm;
+    let test = "no_contraction_keeps_a_sum_of_products_as_the_cpu_computes_it";
+    let Some(ctx) = context(test) else {
+        return;
+    };
+    if !ctx.passthrough {
+        eprintln!(
+            "SKIPPED {test}: {} takes no SPIR-V passthrough",
+            ctx.adapter_name()
+        );
+        return;
+    }
+    let wgsl = "@group(0) @binding(0) var<storage, read> inputs: array<vec4f>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<u32>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3u) {
+    let i = gid.x;
+    if i >= arrayLength(&inputs) / 2u {
+        return;
+    }
+    let p = inputs[2u * i];
+    let n = inputs[2u * i + 1u];
+    outputs[i] = bitcast<u32>(p.x * n.x + p.y * n.y + p.z * n.z);
+}
+";
+    // 2^14 pairs of random vectors (xorshift, components in ±[1/16, 16)).
+    let mut state = 0x2545_f491u32;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 17;
+        state ^= state << 5;
+        let e = 123 + state % 8;
+        f32::from_bits((state & 0x8000_0000) | (e << 23) | (state.rotate_left(9) & 0x007f_ffff))
+    };
+    let n = 1 << 14;
+    let vectors: Vec<[f32; 4]> = (0..2 * n).map(|_| [next(), next(), next(), 0.0]).collect();
+    let bytes: Vec<u8> = vectors
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let want: Vec<u32> = vectors
+        .chunks(2)
+        .map(|c| (c[0][0] * c[1][0] + c[0][1] * c[1][1] + c[0][2] * c[1][2]).to_bits())
+        .collect();
+    let share = |form: KernelForm| {
+        let got = ctx.run_kernel(wgsl, &bytes, n, form).unwrap();
+        got.iter().zip(&want).filter(|(g, w)| g == w).count()
+    };
+    let decorated = share(KernelForm::SpirvNoContraction);
+    let plain = share(KernelForm::SpirvPlain);
+    let wgsl_share = share(KernelForm::Wgsl);
+    eprintln!(
+        "{}: as the CPU computes it: SPIR-V with NoContraction {decorated}/{n}, without \
+         {plain}/{n}, WGSL {wgsl_share}/{n}",
+        ctx.adapter_name()
+    );
+    assert_eq!(decorated, n, "NoContraction keeps every sum as the CPU's");
+    if plain < n || wgsl_share < n {
+        eprintln!("the driver contracts the undecorated sum; NoContraction stops it");
+    } else {
+        // Mesa 22's lavapipe on this project's machines computes even an explicit fma unfused,
+        // so its contraction does not change a result here; it did on the host the issue
+        // measured (77.3 % of such sums as the CPU's).
+        eprintln!("the driver's contraction changed no result here: nothing to stop");
+    }
 }
 
 #[test]
@@ -308,10 +473,21 @@ fn debug_pixel_matches_the_recorded_cpu_trace() {
                 .iter()
                 .filter(|s| matches!(s.step, Step::Node(_)))
                 .count() as u32;
-            assert_eq!(
-                got.nodes_visited, nodes,
-                "{name} ({x}, {y}): BVH nodes visited"
-            );
+            if got.hardware_traversal {
+                // Ray queries: the hardware walks its own BLAS/TLAS and does not say which
+                // nodes; the debug pixel says so instead of counting.
+                assert_eq!(got.nodes_visited, 0);
+                assert!(
+                    got.nodes_text().contains("hardware"),
+                    "{}",
+                    got.nodes_text()
+                );
+            } else {
+                assert_eq!(
+                    got.nodes_visited, nodes,
+                    "{name} ({x}, {y}): BVH nodes visited"
+                );
+            }
             let Some(hit) = &root.hit else { continue };
             let rel = |a: f32, b: f32| (a - b).abs() <= 1e-5 * a.abs().max(b.abs()).max(1.0);
             assert!(
@@ -671,4 +847,131 @@ fn cli_converge_gpu_measures_the_gpu_against_the_cpu_reference() {
 /// The scene prepared as the app and the command line prepare it (its BVH built once).
 fn prep(s: &Scene) -> PreparedScene {
     PreparedScene::new(s.clone())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Exact arithmetic (src/gpu/exact.rs): the corrections proved on the CPU, where a driver's
+// inexact division and square root are emulated (lavapipe's are exact, so they cannot show it)
+// ---------------------------------------------------------------------------------------------
+
+mod exact_arithmetic {
+    use proptest::prelude::*;
+    use raystep::gpu::exact::{corrected_div, corrected_sqrt, fma_emulated, two_prod};
+
+    /// `x` moved `k` ulps (k may be negative) along the floats: an emulated inexact operation.
+    fn ulps(x: f32, k: i32) -> f32 {
+        let mut y = x;
+        for _ in 0..k.unsigned_abs() {
+            y = if k > 0 { y.next_up() } else { y.next_down() };
+        }
+        y
+    }
+
+    /// A float with any significand and sign, exponent 2^lo … 2^hi.
+    fn float(lo: i32, hi: i32) -> impl Strategy<Value = f32> {
+        (0u32..1 << 23, lo..=hi, any::<bool>()).prop_map(|(m, e, neg)| {
+            let bits = ((e + 127) as u32) << 23 | m;
+            let x = f32::from_bits(bits);
+            if neg { -x } else { x }
+        })
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+
+        /// A divider and a reciprocal each off by up to 2 ulp: one fma residual step gives the
+        /// correctly rounded quotient.
+        #[test]
+        fn one_residual_step_rounds_a_division_off_by_two_ulp_correctly(
+            a in float(-40, 40), b in float(-40, 40), k in -2i32..=2, j in -2i32..=2,
+        ) {
+            let want = a / b;
+            let q = ulps(want, k);
+            let inv_b = ulps(1.0 / b, j);
+            let got = corrected_div(q, a, b, inv_b, f32::mul_add);
+            prop_assert_eq!(got.to_bits(), want.to_bits(), "q = {} ({} ulp)", q, k);
+        }
+
+        /// A square root off by up to 2 ulp (and 0.5/s off by 2 more): one step rounds it
+        /// correctly.
+        #[test]
+        fn one_residual_step_rounds_a_square_root_off_by_two_ulp_correctly(
+            x in float(-60, 60), k in -2i32..=2, j in -2i32..=2,
+        ) {
+            let x = x.abs();
+            let want = x.sqrt();
+            let s = ulps(want, k);
+            let half_inv = ulps(0.5 / s, j);
+            let got = corrected_sqrt(s, x, half_inv, f32::mul_add);
+            prop_assert_eq!(got.to_bits(), want.to_bits(), "s = {} ({} ulp)", s, k);
+        }
+
+        /// Dekker's two-product is exact: p + e = a·b (checked in f64, where the product of two
+        /// f32 is exact).
+        #[test]
+        fn dekkers_two_product_is_exact(a in float(-50, 50), b in float(-50, 50)) {
+            let (p, e) = two_prod(a, b);
+            prop_assert_eq!(p, a * b);
+            prop_assert_eq!(p as f64 + e as f64, a as f64 * b as f64);
+        }
+
+        /// The emulated fma is Rust's mul_add, bit for bit — also where c cancels the product
+        /// (the watertight triangle test's difference of products).
+        #[test]
+        fn the_emulated_fma_is_mul_add(
+            a in float(-40, 40), b in float(-40, 40), c in float(-80, 80), cancel in any::<bool>(),
+            k in -3i32..=3,
+        ) {
+            let c = if cancel { ulps(-(a * b), k) } else { c };
+            prop_assert_eq!(fma_emulated(a, b, c).to_bits(), a.mul_add(b, c).to_bits());
+        }
+
+        /// The portable pow is within its documented bound of the true power (f64's powf).
+        #[test]
+        fn portable_pow_is_close_to_the_true_power(x in 0.0f32..1.0, y in 0.5f32..400.0) {
+            let got = raystep::trace::shading::portable_pow(x, y) as f64;
+            let want = (x as f64).powf(y as f64);
+            let tol = (2.0 * y as f64 + 30.0) * f64::from(f32::EPSILON) * want
+                + f64::from(f32::MIN_POSITIVE);
+            prop_assert!((got - want).abs() <= tol, "{}^{}: {} vs {}", x, y, got, want);
+        }
+    }
+
+    /// Where the driver's division is already exact, the step is not applied: the probe only
+    /// picks it where it got strictly more inputs right, and only with a fused fma.
+    #[test]
+    fn a_correction_is_never_chosen_where_it_makes_things_worse() {
+        use raystep::gpu::exact::Probe;
+        let n = 4096;
+        let base = Probe {
+            inputs: n,
+            fma: n,
+            fma_emulated: n,
+            div: n,
+            div_corrected: 3600,
+            sqrt: n,
+            sqrt_corrected: n,
+            sum_of_products: n,
+        };
+        assert!(!base.config().div_fix && base.exact());
+        let inexact = Probe {
+            div: 2900,
+            div_corrected: n,
+            sqrt: 3400,
+            sqrt_corrected: n,
+            ..base
+        };
+        let c = inexact.config();
+        assert!(c.div_fix && c.sqrt_fix && c.fma_fused && inexact.exact());
+        // Unfused fma (lavapipe): no residual step, whatever the counts say.
+        let unfused = Probe { fma: 0, ..inexact };
+        assert!(!unfused.config().div_fix && !unfused.exact());
+        // A step that does not help is not taken.
+        let useless = Probe {
+            div: 2900,
+            div_corrected: 2800,
+            ..base
+        };
+        assert!(!useless.config().div_fix && !useless.exact());
+    }
 }

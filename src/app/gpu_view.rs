@@ -477,7 +477,7 @@ fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuView)
         (
             "BVH nodes visited",
             nodes.map_or("—".into(), |n| n.to_string()),
-            p.nodes_visited.to_string(),
+            p.nodes_text(),
         ),
     ];
     // Leave out what neither side computed (u and v off triangles, nodes without a BVH).
@@ -489,7 +489,7 @@ fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuView)
         .into_iter()
         .filter(|(name, c, g)| {
             if *name == "BVH nodes visited" {
-                with_bvh || p.nodes_visited > 0
+                with_bvh || p.nodes_visited > 0 || p.hardware_traversal
             } else {
                 !(c == "—" && g == "—")
             }

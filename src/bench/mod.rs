@@ -564,46 +564,79 @@ pub fn app(path: &std::path::Path) {
     );
 }
 
-/// The GPU view's figures: for each scene at 1280×720, the WGSL's size generated for the scene and
-/// with every feature, the median frame time of the fragment and compute paths with each shader
-/// (trace pass only, submit to completion, after one warm-up frame), and the CPU render on all
-/// cores for scale. Returns an error when there is no GPU adapter.
+/// The GPU view's figures: for each scene at 1280×720 (and the first scene again at 3840×2160),
+/// the WGSL's size generated for the scene and with every feature, the median frame time of the
+/// fragment and compute paths with each shader (trace pass only, submit to completion, after one
+/// warm-up frame) with the rays per second it makes (primary rays, and all rays: shadow,
+/// reflection and refraction rays too, counted by a CPU render of the same frame), and the CPU
+/// render on all cores for scale. Returns an error when there is no GPU adapter.
 pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
     use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
     let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
-    println!("## GPU view at 1280×720 (frame times in ms, medians of {reps})");
-    println!("adapter: {}\n", ctx.adapter_name());
+    println!("## GPU view (frame times in ms, medians of {reps}; Mrays/s: primary / all rays)");
+    println!("adapter: {}", ctx.adapter_name());
+    if let Ok(a) = ctx.arithmetic() {
+        println!(
+            "arithmetic of the compute path: {}; probe: {}",
+            if a.exact() {
+                "exact (SPIR-V, NoContraction)"
+            } else {
+                "as the driver compiles: last bits may differ"
+            },
+            a.probe.summary()
+        );
+    }
     println!(
-        "| scene | WGSL bytes, generated | WGSL bytes, full | fragment, generated | compute, generated | fragment, full | compute, full | CPU, {} threads |",
+        "\n| scene | size | WGSL bytes, generated | WGSL bytes, full | fragment, generated | compute, generated | fragment, full | compute, full | CPU, {} threads |",
         rayon::current_num_threads()
     );
-    println!("|---|---|---|---|---|---|---|---|");
-    for scene in scenes {
+    println!("|---|---|---|---|---|---|---|---|---|");
+    let sizes = scenes
+        .iter()
+        .map(|s| (s, 1280, 720))
+        .chain(scenes.first().map(|s| (s, 3840, 2160)));
+    for (scene, width, height) in sizes {
         let mut s = scene.clone();
-        s.camera.width = 1280;
-        s.camera.height = 720;
+        s.camera.width = width;
+        s.camera.height = height;
         let prepared = PreparedScene::new(s);
+        let tracer = prepared.tracer();
+        let counts = render(
+            &tracer,
+            &RenderOptions {
+                count: true,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| e.to_string())?
+        .stats
+        .counts;
+        let mrays = |t: std::time::Duration| {
+            let secs = t.as_secs_f64().max(1e-9);
+            format!(
+                "{:.0} / {:.0}",
+                counts.primary as f64 / secs / 1e6,
+                counts.rays() as f64 / secs / 1e6
+            )
+        };
         let mut row = format!(
-            "| {} | {} | {} |",
+            "| {} | {width}×{height} | {} | {} |",
             prepared.scene().name,
             crate::gpu::generated_wgsl(&prepared).len(),
             crate::gpu::full_wgsl(&prepared).len()
         );
         for variant in [ShaderVariant::Generated, ShaderVariant::Full] {
-            let mut tracer =
+            let mut gpu =
                 GpuTracer::new(ctx.clone(), &prepared, variant).map_err(|e| e.to_string())?;
             for path in [GpuPath::Fragment, GpuPath::Compute] {
-                let t = tracer
-                    .time_frames(path, 1, reps)
-                    .map_err(|e| e.to_string())?;
-                row += &format!(" {:.1} |", t.as_secs_f64() * 1e3);
+                let t = gpu.time_frames(path, 1, reps).map_err(|e| e.to_string())?;
+                row += &format!(" {:.1} ({}) |", t.as_secs_f64() * 1e3, mrays(t));
             }
         }
-        let tracer = prepared.tracer();
         let cpu = median_time(reps.min(3), || {
             std::hint::black_box(render(&tracer, &RenderOptions::default()).expect("render"));
         });
-        row += &format!(" {:.1} |", cpu.as_secs_f64() * 1e3);
+        row += &format!(" {:.1} ({}) |", cpu.as_secs_f64() * 1e3, mrays(cpu));
         println!("{row}");
     }
     Ok(())

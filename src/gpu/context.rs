@@ -1,7 +1,21 @@
 //! The wgpu device raystep traces on: a headless one of its own, or the app's.
 
+use super::exact::{self, Arithmetic, Probe};
 use super::tracer::GpuError;
 use eframe::wgpu;
+use std::borrow::Cow;
+use std::sync::{Arc, OnceLock};
+
+/// How [`GpuContext::run_kernel`] loads a kernel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KernelForm {
+    /// WGSL, compiled by wgpu and the driver as they see fit.
+    Wgsl,
+    /// SPIR-V with every float result decorated `NoContraction` (passthrough).
+    SpirvNoContraction,
+    /// The same SPIR-V without the decorations (passthrough): what contraction does.
+    SpirvPlain,
+}
 
 /// A device to trace on: raystep's own (headless) or the app's (eframe's).
 #[derive(Debug, Clone)]
@@ -16,6 +30,11 @@ pub struct GpuContext {
     /// when the device was also created with the feature ([`GpuContext::headless`] asks for it
     /// where the adapter has it); otherwise the WGSL traversal runs.
     pub ray_query: bool,
+    /// Whether the device accepts SPIR-V passthrough modules (`PASSTHROUGH_SHADERS`): then the
+    /// compute path is loaded as SPIR-V with every float result decorated `NoContraction`.
+    pub passthrough: bool,
+    /// The probe's answers, computed on first use ([`GpuContext::arithmetic`]).
+    arithmetic: Arc<OnceLock<Result<Arithmetic, GpuError>>>,
 }
 
 impl GpuContext {
@@ -33,13 +52,11 @@ impl GpuContext {
         let ray_query = adapter
             .features()
             .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
+        // Both only where the adapter offers them.
+        let wanted = wgpu::Features::EXPERIMENTAL_RAY_QUERY | wgpu::Features::PASSTHROUGH_SHADERS;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("raystep gpu"),
-            required_features: if ray_query {
-                wgpu::Features::EXPERIMENTAL_RAY_QUERY
-            } else {
-                wgpu::Features::empty()
-            },
+            required_features: adapter.features() & wanted,
             required_limits: adapter.limits(),
             experimental_features: if ray_query {
                 experimental_features()
@@ -66,12 +83,186 @@ impl GpuContext {
         info: wgpu::AdapterInfo,
         adapter_features: wgpu::Features,
     ) -> GpuContext {
+        let passthrough = device
+            .features()
+            .contains(wgpu::Features::PASSTHROUGH_SHADERS)
+            && info.backend == wgpu::Backend::Vulkan;
         GpuContext {
             device,
             queue,
             info,
             ray_query: adapter_features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY),
+            passthrough,
+            arithmetic: Arc::default(),
         }
+    }
+
+    /// The arithmetic the compute path runs with on this device: whether it is loaded as SPIR-V
+    /// with `NoContraction`, and the probe's answers (run once, on first use: a tiny compute
+    /// kernel on [`exact::probe_inputs`], loaded the same way as the tracer).
+    pub fn arithmetic(&self) -> Result<Arithmetic, GpuError> {
+        self.arithmetic.get_or_init(|| self.run_probe()).clone()
+    }
+
+    fn run_probe(&self) -> Result<Arithmetic, GpuError> {
+        let inputs = exact::probe_inputs();
+        let bytes: Vec<u8> = inputs
+            .iter()
+            .flatten()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        let form = if self.passthrough {
+            KernelForm::SpirvNoContraction
+        } else {
+            KernelForm::Wgsl
+        };
+        let out = self.run_kernel(&exact::probe_wgsl(), &bytes, inputs.len() * 7, form)?;
+        Ok(Arithmetic {
+            spirv: self.passthrough,
+            probe: Probe::from_outputs(&inputs, &out),
+        })
+    }
+
+    /// Runs a small compute kernel once and returns its output words: the WGSL's entry point
+    /// `main` (`@workgroup_size(64)`, one invocation per 16 input bytes) reads `inputs` at
+    /// `@group(0) @binding(0)` (a read-only storage array) and writes `outputs` 32-bit words at
+    /// `@binding(1)` (a read-write storage array). `form`: how the kernel is loaded — the probe
+    /// and the `NoContraction` test use it.
+    pub fn run_kernel(
+        &self,
+        wgsl: &str,
+        inputs: &[u8],
+        outputs: usize,
+        form: KernelForm,
+    ) -> Result<Vec<u32>, GpuError> {
+        use wgpu::util::DeviceExt;
+        let device = &self.device;
+        let out_size = (outputs.max(1) * 4) as u64;
+        let storage = |binding: u32, read_only: bool| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let module = match form {
+            KernelForm::Wgsl => None,
+            KernelForm::SpirvNoContraction | KernelForm::SpirvPlain if !self.passthrough => {
+                return Err(GpuError::Device(
+                    "this device does not take SPIR-V passthrough shaders".into(),
+                ));
+            }
+            KernelForm::SpirvNoContraction => Some(
+                exact::spirv_no_contraction(wgsl)
+                    .map_err(GpuError::Shader)?
+                    .0,
+            ),
+            KernelForm::SpirvPlain => Some(exact::spirv(wgsl).map_err(GpuError::Shader)?),
+        };
+        let readback = self.checked("running a compute kernel", || {
+            let input = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("raystep kernel inputs"),
+                contents: inputs,
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+            let output = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("raystep kernel outputs"),
+                size: out_size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("raystep kernel readback"),
+                size: out_size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let bgl = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("raystep kernel"),
+                entries: &[storage(0, true), storage(1, false)],
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("raystep kernel"),
+                layout: &bgl,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: input.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: output.as_entire_binding(),
+                    },
+                ],
+            });
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("raystep kernel"),
+                bind_group_layouts: &[Some(&bgl)],
+                immediate_size: 0,
+            });
+            let module = match module {
+                Some(words) => {
+                    passthrough_module(device, "raystep kernel", words, &[("main", (64, 1, 1))])
+                }
+                None => device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("raystep kernel"),
+                    source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                }),
+            };
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("raystep kernel"),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                pass.set_pipeline(&pipeline);
+                pass.set_bind_group(0, &group, &[]);
+                pass.dispatch_workgroups((inputs.len() as u32).div_ceil(16 * 64).max(1), 1, 1);
+            }
+            encoder.copy_buffer_to_buffer(&output, 0, &readback, 0, out_size);
+            self.queue.submit([encoder.finish()]);
+            readback
+        })?;
+        Ok(self
+            .read_mapped(&readback)?
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .take(outputs)
+            .collect())
+    }
+
+    /// A compute shader module from WGSL: compiled to SPIR-V with `NoContraction` on every
+    /// float result and loaded through passthrough where the device accepts it (then `true`),
+    /// otherwise handed to wgpu as WGSL. `entry_points`: the compute entry points and their
+    /// workgroup sizes.
+    pub(crate) fn compute_module(
+        &self,
+        label: &str,
+        wgsl: &str,
+        entry_points: &[(&str, (u32, u32, u32))],
+    ) -> Result<(wgpu::ShaderModule, bool), GpuError> {
+        if self.passthrough {
+            let (words, _) = exact::spirv_no_contraction(wgsl).map_err(GpuError::Shader)?;
+            return Ok((
+                passthrough_module(&self.device, label, words, entry_points),
+                true,
+            ));
+        }
+        let module = self
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            });
+        Ok((module, false))
     }
 
     /// "llvmpipe (LLVM 15.0.6, 256 bits), Vulkan, CPU": the adapter, its backend and type.
@@ -182,6 +373,39 @@ impl GpuContext {
             })
             .map(|_| ())
             .map_err(|e| GpuError::Device(e.to_string()))
+    }
+}
+
+/// Loads SPIR-V words as a shader module without wgpu's translation.
+#[allow(unsafe_code)]
+fn passthrough_module(
+    device: &wgpu::Device,
+    label: &str,
+    words: Vec<u32>,
+    entry_points: &[(&str, (u32, u32, u32))],
+) -> wgpu::ShaderModule {
+    let entry_points: Vec<wgpu::PassthroughShaderEntryPoint> = entry_points
+        .iter()
+        .map(
+            |&(name, workgroup_size)| wgpu::PassthroughShaderEntryPoint {
+                name: name.into(),
+                workgroup_size,
+            },
+        )
+        .collect();
+    // SAFETY: wgpu's passthrough skips its own shader validation, so the words must be a valid
+    // SPIR-V module for the pipelines built from it. They are: naga's SPIR-V writer emitted them
+    // from WGSL that naga validated (`exact::spirv_no_contraction`), and the only change made
+    // afterwards is `OpDecorate <result id> NoContraction` for arithmetic results, a decoration
+    // that changes how results round, never what the module accesses. The pipelines that use it
+    // get explicit layouts matching the WGSL's bindings.
+    unsafe {
+        device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+            label: Some(label),
+            entry_points: Cow::Owned(entry_points),
+            spirv: Some(Cow::Owned(words)),
+            ..Default::default()
+        })
     }
 }
 

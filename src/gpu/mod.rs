@@ -16,10 +16,10 @@
 //! offers it), the finite objects go into a BLAS as procedural boxes under a one-instance TLAS,
 //! and `traversal_closest`/`traversal_any` become ray queries whose candidates are decided by the
 //! same WGSL intersection functions (so the numbers stay the CPU's); planes are tested first as
-//! on the CPU. [`GpuTracer::adapter_line`] says which traversal runs. That path is compiled and
-//! its shaders pass naga's validator, but it has not run yet: no adapter available to this
-//! project's machines offers ray queries (lavapipe does not), and its test skips, saying so.
-//! The debug pixel's BVH node count is 0 there (the hardware's traversal is not observable).
+//! on the CPU. [`GpuTracer::adapter_line`] says which traversal runs, and which arithmetic.
+//! Mesa 25's lavapipe offers ray queries (CI runs the tests on it); the debug pixel's BVH node
+//! count is 0 there and [`PixelDebug::hardware_traversal`] says why (the hardware's traversal is
+//! not observable).
 //!
 //! # How the app should use this
 //!
@@ -50,16 +50,19 @@
 //!
 //! The WGSL repeats the CPU's f32 arithmetic operation for operation (the stable sphere formula,
 //! the watertight triangle test, the robust slab test, pbrt-v4's ray offsets, the same γₙ
-//! constants), so the two images differ only where the GPU rounds differently:
-//! - `pow` in the Phong specular term: WGSL's `pow` is `exp2(y·log2(x))` at reduced precision
-//!   (a few ulps, more for large exponents), Rust's `powf` is correctly rounded in practice. This
-//!   is the main systematic difference: specular highlights can be an 8-bit step apart.
-//! - The GPU compiler may fuse a·b + c into an FMA and evaluate `dot`, `length` and `cross` in
-//!   its own order: last-bit differences everywhere, visible only where they flip a decision
-//!   (a silhouette pixel, a shadow-ray hit at grazing angles).
+//! constants, one portable `pow`). Where the adapter takes SPIR-V passthrough, the compute path
+//! is loaded as SPIR-V with every float result decorated `NoContraction`, and a start-up probe
+//! picks correctly rounded division and square root and an exact `mul_add` ([`exact`]): the
+//! compute path then computes the CPU's image ([`GpuTracer::exact`]; the linear sums of reflected
+//! and refracted colours are added in the ray stack's order, so those may differ in the last bit
+//! of the linear value, not in the 8-bit image). Elsewhere the images differ where the GPU rounds
+//! differently:
+//! - The GPU compiler may fuse a·b + c into an FMA and evaluate `dot` in its own order, and its
+//!   `/` and `sqrt` may be a few ulp off: last-bit differences, visible only where they flip a
+//!   decision (a silhouette pixel, a shadow-ray hit at grazing angles, acne, a leaky edge).
 //! - The fragment path's ray direction is interpolated by the rasterizer across the full-screen
-//!   triangle, not computed per pixel: its rounding differs from the CPU's in the last bits.
-//! - The watertight triangle test's fallback for an edge function of exactly 0 uses FMA-based
+//!   triangle, not computed per pixel: it is inexact by design, whatever the arithmetic.
+//! - The watertight triangle test's fallback for an edge function of exactly 0 uses Dekker's
 //!   exact products instead of f64 (WGSL has no f64): same sign, value within about an ulp.
 //! - With spp > 1, both sides place samples identically (the same PCG hash in WGSL); the fragment
 //!   path offsets them from the interpolated centre direction.
@@ -67,9 +70,11 @@
 mod buffers;
 pub mod compare;
 mod context;
+pub mod exact;
 pub mod shader;
 mod tracer;
 
 pub use compare::{Difference, difference};
+pub use context::KernelForm;
 pub use shader::{ShaderConfig, ShaderVariant, full_wgsl, generated_wgsl};
 pub use tracer::{DISPLAY_FORMAT, GpuContext, GpuError, GpuFrame, GpuPath, GpuTracer, PixelDebug};

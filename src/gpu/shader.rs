@@ -9,6 +9,7 @@
 //! refraction spawns). The "full" variant switches everything on, the way a single shader for
 //! every scene would be written, and is what the generated one is measured against.
 
+use super::exact::{ArithConfig, arith_wgsl};
 use crate::accel::Bvh;
 use crate::math::gamma;
 use crate::scene::{OffsetPolicy, Scene};
@@ -54,6 +55,9 @@ pub struct ShaderConfig {
     /// Entries of the BVH traversal stack: the tree's depth + 2. Sized per scene because a
     /// software rasterizer (lavapipe) pays for every entry of a dynamically indexed array.
     pub bvh_stack: u32,
+    /// The arithmetic variant (division, square root, fma), decided per device by the probe
+    /// ([`super::exact`]); the default (plain operations, emulated fma) until a tracer sets it.
+    pub arith: ArithConfig,
 }
 
 /// Which shader a [`super::GpuTracer`] runs.
@@ -93,6 +97,7 @@ impl ShaderConfig {
             offset: s.offset,
             max_depth: s.max_depth,
             bvh_stack: tree.map_or(2, |t| t.max_depth as u32 + 2),
+            arith: ArithConfig::default(),
         }
     }
 
@@ -249,6 +254,7 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         config.max_depth + 2,
         config.bvh_stack.clamp(2, MAX_BVH_STACK)
     );
+    out += &arith_wgsl(config.arith);
     let mut add = |piece: &str| {
         out += &preprocess(piece, config);
         out.push('\n');

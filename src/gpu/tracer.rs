@@ -2,6 +2,7 @@
 //! the images and the debug pixel back in `tracer/readback.rs`).
 
 use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
+use super::exact::Arithmetic;
 use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
 use crate::scene::camera::CameraRays;
 use crate::scene::{Camera, Scene, Shape};
@@ -91,10 +92,25 @@ pub struct PixelDebug {
     /// The hit test's key quantity whatever the shape: the sphere's discriminant, the triangle's
     /// determinant, the plane's denominator Q·n.
     pub aux: f32,
-    /// BVH nodes whose boxes the primary ray tested (0 for brute force).
+    /// BVH nodes whose boxes the primary ray tested (0 for brute force, and under hardware ray
+    /// queries, where [`Self::hardware_traversal`] says so).
     pub nodes_visited: u32,
+    /// The hardware walked its own BLAS/TLAS (ray queries): its node visits are not observable,
+    /// so [`Self::nodes_visited`] is 0 and means nothing.
+    pub hardware_traversal: bool,
     /// The pixel's linear colour (all samples).
     pub color: Vec3,
+}
+
+impl PixelDebug {
+    /// The BVH node count in words: the number, or that the hardware walked its own BLAS/TLAS.
+    pub fn nodes_text(&self) -> String {
+        if self.hardware_traversal {
+            "walked by the hardware (BLAS/TLAS): not observable".into()
+        } else {
+            self.nodes_visited.to_string()
+        }
+    }
 }
 
 /// Everything [`GpuTracer::build`] creates.
@@ -111,6 +127,8 @@ struct Built {
     debug_readback: wgpu::Buffer,
     target: Target,
     acceleration: Option<(wgpu::Blas, wgpu::Tlas)>,
+    /// The compute pipelines run SPIR-V with `NoContraction` (passthrough).
+    spirv: bool,
 }
 
 /// Builds the acceleration structures for hardware ray queries: one BLAS whose `count`
@@ -202,6 +220,10 @@ pub struct GpuTracer {
     target: Target,
     /// The BLAS and TLAS when tracing with hardware ray queries (kept alive while bound).
     acceleration: Option<(wgpu::Blas, wgpu::Tlas)>,
+    /// The device's arithmetic (the probe's answers) the shader was generated for.
+    arithmetic: Arithmetic,
+    /// The compute path runs SPIR-V with `NoContraction` (passthrough).
+    spirv: bool,
 }
 
 const LINEAR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -243,12 +265,22 @@ impl GpuTracer {
         if ray_query {
             config = config.with_ray_query();
         }
+        let arithmetic = ctx.arithmetic()?;
+        config.arith = arithmetic.config();
         let wgsl = shader::wgsl(&config);
         shader::validate(&wgsl).map_err(GpuError::Shader)?;
         let device = ctx.device.clone();
         let queue = ctx.queue.clone();
+        let compute_module = ctx.checked("compiling the GPU tracer", || {
+            ctx.compute_module(
+                "raystep tracer (compute)",
+                &wgsl,
+                &[("cs_main", (8, 8, 1)), ("debug_main", (1, 1, 1))],
+            )
+        })??;
         let b = ctx.checked("creating the GPU tracer", || {
             Self::build(
+                compute_module,
                 &device,
                 &queue,
                 &data,
@@ -279,6 +311,8 @@ impl GpuTracer {
             display_pipeline: b.display_pipeline,
             target: b.target,
             acceleration: b.acceleration,
+            arithmetic,
+            spirv: b.spirv,
         };
         tracer.write_params();
         Ok(tracer)
@@ -286,7 +320,9 @@ impl GpuTracer {
 
     /// Creates every GPU object. `aabbs`: the finite objects' boxes when tracing with hardware
     /// ray queries (then the BLAS and TLAS are built and bound at binding 7).
+    #[allow(clippy::too_many_arguments)]
     fn build(
+        (compute_module, spirv): (wgpu::ShaderModule, bool),
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         data: &SceneData,
@@ -465,11 +501,12 @@ impl GpuTracer {
                 cache: None,
             })
         };
+        // The compute path: SPIR-V with NoContraction where the device takes passthrough.
         let compute_pipeline = |entry: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
                 layout: Some(&compute_layout),
-                module: &module,
+                module: &compute_module,
                 entry_point: Some(entry),
                 compilation_options: Default::default(),
                 cache: None,
@@ -518,6 +555,7 @@ impl GpuTracer {
             debug_readback,
             target,
             acceleration,
+            spirv,
         }
     }
 
@@ -653,10 +691,55 @@ impl GpuTracer {
         Ok(())
     }
 
-    /// The line the GPU view shows: the adapter, its backend, and which path runs.
+    /// The device's arithmetic: the probe's answers the shader was generated for.
+    pub fn arithmetic(&self) -> &Arithmetic {
+        &self.arithmetic
+    }
+
+    /// Whether `path` computes the CPU's f32 bits here: the compute path loaded as SPIR-V with
+    /// `NoContraction`, on a device whose probe found every operation exact (or made exact).
+    /// Never the fragment path: the rasterizer interpolates its ray directions.
+    pub fn exact(&self, path: GpuPath) -> bool {
+        path == GpuPath::Compute && self.spirv && self.arithmetic.probe.exact()
+    }
+
+    /// Whether the hardware walks its own BLAS/TLAS (ray queries). Its arithmetic may still be
+    /// exact, but where two candidates lie at the same t it may report the other one than the
+    /// CPU's traversal order picks (the leaky-edge scene's shared edges show it).
+    pub fn hardware_ray_queries(&self) -> bool {
+        self.acceleration.is_some()
+    }
+
+    /// What the adapter line says about the arithmetic of `path`.
+    pub fn arithmetic_line(&self, path: GpuPath) -> String {
+        let probe = self.arithmetic.probe.summary();
+        match path {
+            GpuPath::Fragment => format!(
+                "arithmetic: inexact by design on the fragment path (the rasterizer interpolates \
+                 the ray directions){} — probe: {probe}",
+                if self.spirv {
+                    "; the compute path is exact SPIR-V"
+                } else {
+                    ""
+                }
+            ),
+            GpuPath::Compute if self.exact(path) => {
+                format!("arithmetic: exact (SPIR-V, NoContraction) — probe: {probe}")
+            }
+            GpuPath::Compute if self.spirv => format!(
+                "arithmetic: SPIR-V with NoContraction, but last bits may differ — probe: {probe}"
+            ),
+            GpuPath::Compute => format!(
+                "arithmetic: as the driver compiles WGSL: last bits may differ — probe: {probe}"
+            ),
+        }
+    }
+
+    /// The line the GPU view shows: the adapter, its backend, which path runs, and its
+    /// arithmetic ([`Self::arithmetic_line`]).
     pub fn adapter_line(&self, path: GpuPath) -> String {
         format!(
-            "{} — {} ({} path, {} shader); hardware ray queries: {}",
+            "{} — {} ({} path, {} shader); hardware ray queries: {}; {}",
             self.ctx.adapter_name(),
             if self.acceleration.is_some() {
                 "hardware ray queries (BLAS/TLAS), WGSL intersection and shading"
@@ -672,7 +755,8 @@ impl GpuTracer {
                 (true, _) => "in use",
                 (false, true) => "offered by the adapter, not enabled on this device",
                 (false, false) => "not offered by this adapter",
-            }
+            },
+            self.arithmetic_line(path)
         )
     }
 

@@ -31,6 +31,48 @@ impl PhongTerms {
     }
 }
 
+/// `x^y` for `x ≥ 0` and finite `y ≥ 0`, by the same steps on the CPU and on the GPU (the
+/// tracer's WGSL `fpow` repeats them), so the specular highlight has the same bits on both:
+/// `x^⌊y⌋` by squaring, then for each binary digit of the fraction (at most 24) a repeated square
+/// root `x^(2^-k)` multiplied in. Only multiplications and correctly rounded square roots, where
+/// `powf` and WGSL's `pow` (`exp2(y·log2 x)` at reduced precision) differ from platform to
+/// platform. Within about 2·y ulp of the true power. Other inputs (negative or NaN `x`, negative,
+/// infinite or NaN `y`) give 0: Phong calls it with r·e > 0 and a validated positive shininess.
+pub fn portable_pow(x: f32, y: f32) -> f32 {
+    if x.is_nan() || x < 0.0 || !y.is_finite() || y < 0.0 {
+        return 0.0;
+    }
+    let whole = y.floor();
+    let mut frac = y - whole;
+    let mut n = if whole < 4_294_967_040.0 {
+        whole as u32
+    } else {
+        u32::MAX
+    };
+    let (mut result, mut base) = (1.0f32, x);
+    while n > 0 {
+        if n & 1 == 1 {
+            result *= base;
+        }
+        n >>= 1;
+        if n > 0 {
+            base *= base;
+        }
+    }
+    let mut root = x;
+    let mut k = 0;
+    while k < 24 && frac != 0.0 {
+        root = root.sqrt();
+        frac *= 2.0;
+        if frac >= 1.0 {
+            result *= root;
+            frac -= 1.0;
+        }
+        k += 1;
+    }
+    result
+}
+
 /// Phong lighting at `point` (RTC's `lighting`): `eye` and `normal` are unit vectors, `normal`
 /// faces the eye. In shadow only the ambient term remains.
 #[inline(always)]
@@ -54,7 +96,7 @@ pub fn phong(
     if !in_shadow && l_dot_n >= 0.0 {
         diffuse = effective * (m.diffuse * l_dot_n);
         if r_dot_e > 0.0 {
-            specular = light_color * (m.specular * r_dot_e.powf(m.shininess));
+            specular = light_color * (m.specular * portable_pow(r_dot_e, m.shininess));
         }
     }
     PhongTerms {

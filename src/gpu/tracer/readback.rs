@@ -76,6 +76,7 @@ impl GpuTracer {
             discriminant: is_sphere.then_some(f(20)),
             aux: f(20),
             nodes_visited: u(4),
+            hardware_traversal: self.acceleration.is_some(),
             color: Vec3::new(f(32), f(36), f(40)),
         })
     }

@@ -7,7 +7,7 @@
 fn phong(m: Material, light: Light, point: vec3f, eye: vec3f, normal: vec3f, in_shadow: bool) -> vec3f {
     let effective = m.color * light.color;
     let to_light = light.position - point;
-    let lightv = to_light / length(to_light);
+    let lightv = fdiv3(to_light, flen(to_light));
     let ambient = effective * m.ambient;
     let l_dot_n = dot(lightv, normal);
     let reflectv = mirror_dir(-lightv, normal);
@@ -17,9 +17,8 @@ fn phong(m: Material, light: Light, point: vec3f, eye: vec3f, normal: vec3f, in_
     if !in_shadow && l_dot_n >= 0.0 {
         diffuse = effective * (m.diffuse * l_dot_n);
         if r_dot_e > 0.0 {
-            // WGSL's pow is exp2(y·log2(x)) in f32: the one place GPU and CPU round differently
-            // by design (see the module documentation).
-            specular = light.color * (m.specular * pow(r_dot_e, m.shininess));
+            // Not WGSL's pow (exp2(y·log2(x)) at reduced precision): the CPU's portable_pow.
+            specular = light.color * (m.specular * fpow(r_dot_e, m.shininess));
         }
     }
     return ambient + diffuse + specular;
@@ -29,13 +28,13 @@ fn phong(m: Material, light: Light, point: vec3f, eye: vec3f, normal: vec3f, in_
 //#if REFRACTION
 // Snell's law: the refracted direction, or a zero vector under total internal reflection.
 fn refract_dir(eye: vec3f, n: vec3f, n1: f32, n2: f32) -> vec3f {
-    let ratio = n1 / n2;
+    let ratio = fdiv(n1, n2);
     let cos_i = dot(eye, n);
     let sin2_t = ratio * ratio * (1.0 - cos_i * cos_i);
     if sin2_t > 1.0 {
         return vec3f(0.0);
     }
-    let cos_t = sqrt(1.0 - sin2_t);
+    let cos_t = fsqrt(1.0 - sin2_t);
     return n * (ratio * cos_i - cos_t) - eye * ratio;
 }
 
@@ -44,14 +43,14 @@ fn refract_dir(eye: vec3f, n: vec3f, n1: f32, n2: f32) -> vec3f {
 fn schlick(cos_i: f32, n1: f32, n2: f32) -> f32 {
     var cos = cos_i;
     if n1 > n2 {
-        let ratio = n1 / n2;
+        let ratio = fdiv(n1, n2);
         let sin2_t = ratio * ratio * (1.0 - cos * cos);
         if sin2_t > 1.0 {
             return 1.0;
         }
-        cos = sqrt(1.0 - sin2_t);
+        cos = fsqrt(1.0 - sin2_t);
     }
-    let r = (n1 - n2) / (n1 + n2);
+    let r = fdiv(n1 - n2, n1 + n2);
     let r0 = r * r;
     let x = 1.0 - cos;
     let x2 = x * x;

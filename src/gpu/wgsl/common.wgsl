@@ -123,7 +123,7 @@ fn is_nan(x: f32) -> bool {
 
 // The CPU's normalize: v / |v| (not WGSL's normalize, which may use an approximate inverse sqrt).
 fn unit(v: vec3f) -> vec3f {
-    return v / length(v);
+    return fdiv3(v, flen(v));
 }
 
 // v − 2(v·n)n, as src/trace/shading.rs `reflect` (named apart from WGSL's built-in).

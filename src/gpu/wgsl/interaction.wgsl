@@ -23,12 +23,12 @@ fn interact(hit: Hit, r: Ray) -> Interaction {
             let center = o.a.xyz;
             let radius = o.a.w;
             var rel = raw - center;
-            let len = length(rel);
+            let len = flen(rel);
             if len > 0.0 {
-                rel = rel * (radius / len);
+                rel = rel * fdiv(radius, len);
             }
             point = center + rel;
-            outward = rel / radius;
+            outward = fdiv3(rel, radius);
             error = GAMMA5 * abs(rel) + GAMMA2 * abs(point);
         }
 //#endif
@@ -58,13 +58,13 @@ fn interact(hit: Hit, r: Ray) -> Interaction {
             let b0 = 1.0 - hit.u - hit.v;
             point = p0 * b0 + p1 * hit.u + p2 * hit.v;
             error = GAMMA7 * (abs(p0 * b0) + abs(p1 * hit.u) + abs(p2 * hit.v));
-            let n = cross(p1 - p0, p2 - p0);
-            outward = n / length(n);
+            let n = fcross(p1 - p0, p2 - p0);
+            outward = fdiv3(n, flen(n));
         }
 //#endif
         default: {}
     }
-    let eye = -r.dir / length(r.dir);
+    let eye = fdiv3(-r.dir, flen(r.dir));
     let inside = dot(outward, eye) < 0.0;
     return Interaction(point, select(outward, -outward, inside), eye, inside, error);
 }

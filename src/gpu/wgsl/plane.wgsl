@@ -5,7 +5,7 @@ fn plane_root(r: Ray, numerator: f32, denominator: f32) -> Cand {
     if denominator == 0.0 {
         return no_cand(denominator);
     }
-    let t = numerator / denominator;
+    let t = fdiv(numerator, denominator);
     if accepts(r, t) {
         return Cand(true, t, 0.0, 0.0, denominator);
     }

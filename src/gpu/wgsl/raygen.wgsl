@@ -62,13 +62,13 @@ fn sample_offset(p: vec2u, k: u32) -> vec2f {
     if spp <= 1u {
         return vec2f(0.5, 0.5);
     }
-    let cols = u32(ceil(sqrt(f32(spp))));
+    let cols = u32(ceil(fsqrt(f32(spp))));
     let rows = (spp + cols - 1u) / cols;
     let cx = k % cols;
     let cy = k / cols;
     let h1 = pcg_hash(p.x ^ pcg_hash(p.y ^ pcg_hash(k ^ pcg_hash(params.seed))));
     let h2 = pcg_hash(h1);
-    return vec2f((f32(cx) + unit_float(h1)) / f32(cols), (f32(cy) + unit_float(h2)) / f32(rows));
+    return vec2f(fdiv(f32(cx) + unit_float(h1), f32(cols)), fdiv(f32(cy) + unit_float(h2), f32(rows)));
 }
 
 // The camera (src/trace/camera.rs): sx·half_width·u + sy·half_height·v − w, not yet normalized.
@@ -83,13 +83,13 @@ fn ray_generation(p: vec2u, k: u32, centre: vec3f, exact: bool) -> Ray {
     let o = sample_offset(p, k);
     var d: vec3f;
     if exact {
-        let sx = 2.0 * (f32(p.x) + o.x) / f32(params.width) - 1.0;
-        let sy = 1.0 - 2.0 * (f32(p.y) + o.y) / f32(params.height);
+        let sx = fdiv(2.0 * (f32(p.x) + o.x), f32(params.width)) - 1.0;
+        let sy = 1.0 - fdiv(2.0 * (f32(p.y) + o.y), f32(params.height));
         d = camera_dir(sx, sy);
     } else {
         // Off-centre samples move along the image plane from the interpolated centre direction.
-        let dx = 2.0 * (o.x - 0.5) / f32(params.width);
-        let dy = -2.0 * (o.y - 0.5) / f32(params.height);
+        let dx = fdiv(2.0 * (o.x - 0.5), f32(params.width));
+        let dy = fdiv(-2.0 * (o.y - 0.5), f32(params.height));
         d = centre + params.u * (dx * params.half_width) + params.v * (dy * params.half_height);
     }
     return Ray(params.origin, unit(d), 0.0, params.inf);
@@ -136,7 +136,7 @@ fn render_pixel(p: vec2u, centre: vec3f, exact: bool, capture: bool) -> vec3f {
     for (var k = 0u; k < max(params.spp, 1u); k++) {
         sum += trace(ray_generation(p, k, centre, exact), capture && k == 0u);
     }
-    return sum / f32(max(params.spp, 1u));
+    return fdiv3(sum, f32(max(params.spp, 1u)));
 }
 
 // ---- fragment path: a full-screen triangle; the rasterizer interpolates the ray direction ----

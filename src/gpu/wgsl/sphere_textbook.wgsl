@@ -9,8 +9,8 @@ fn intersect_sphere(r: Ray, center: vec3f, radius: f32) -> Cand {
     if !(disc >= 0.0) {
         return no_cand(disc);
     }
-    let sq = sqrt(disc);
-    let t0 = (-b - sq) / (2.0 * a);
-    let t1 = (-b + sq) / (2.0 * a);
+    let sq = fsqrt(disc);
+    let t0 = fdiv(-b - sq, 2.0 * a);
+    let t1 = fdiv(-b + sq, 2.0 * a);
     return sphere_root(r, t0, t1, disc);
 }

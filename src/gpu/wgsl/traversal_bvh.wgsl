@@ -14,7 +14,7 @@ struct SlabRay {
 
 fn slab_ray(r: Ray) -> SlabRay {
     let signed_inf = bitcast<vec3f>((bitcast<vec3u>(r.dir) & vec3u(0x80000000u)) | vec3u(0x7f800000u));
-    let inv = select(1.0 / r.dir, signed_inf, r.dir == vec3f(0.0));
+    let inv = select(vec3f(fdiv(1.0, r.dir.x), fdiv(1.0, r.dir.y), fdiv(1.0, r.dir.z)), signed_inf, r.dir == vec3f(0.0));
     return SlabRay(r.origin, inv, inv < vec3f(0.0));
 }
 

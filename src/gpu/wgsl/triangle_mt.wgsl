@@ -1,7 +1,7 @@
 // ---- intersection: ray–triangle, Möller–Trumbore as Cramer's rule (src/shapes/triangle.rs) ----
 
 fn det3(a: vec3f, b: vec3f, c: vec3f) -> f32 {
-    return dot(a, cross(b, c));
+    return dot(a, fcross(b, c));
 }
 
 fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
@@ -13,15 +13,15 @@ fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
         return no_cand(d0);
     }
     let tv = r.origin - p0;                // steps 3–5
-    let t = det3(tv, e1, e2) / d0;
+    let t = fdiv(det3(tv, e1, e2), d0);
     if !accepts(r, t) {
         return no_cand(d0);
     }
-    let u = det3(nq, tv, e2) / d0;         // steps 6–8
+    let u = fdiv(det3(nq, tv, e2), d0);         // steps 6–8
     if u < 0.0 || u > 1.0 {
         return no_cand(d0);
     }
-    let v = det3(nq, e1, tv) / d0;         // steps 9–11
+    let v = fdiv(det3(nq, e1, tv), d0);         // steps 9–11
     if v < 0.0 || u + v > 1.0 {
         return no_cand(d0);
     }

@@ -1,22 +1,21 @@
 // ---- intersection: ray–triangle, watertight (Woop–Benthin–Wald 2013, pbrt-v4; src/shapes/triangle.rs) ----
 
-// a·b − c·d with the rounding of c·d recovered by an FMA (Kahan).
+// a·b − c·d with the rounding of c·d recovered by an FMA (Kahan). `fmaf` is Rust's mul_add: the
+// driver's fma where the probe found it fused, an exact emulation where not.
 fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
     let cd = c * d;
-    let dop = fma(a, b, -cd);
-    let err = fma(-c, d, cd);
+    let dop = fmaf(a, b, -cd);
+    let err = fmaf(-c, d, cd);
     return dop + err;
 }
 
 // a·b − c·d for an edge function that came out exactly 0. The CPU recomputes it in f64; WGSL has
-// no f64, so the two products are split into exact (value, error) pairs with FMAs instead, which
-// gets the sign right and the value to within about an ulp of the f64 result.
+// no f64, so the two products are split into exact (value, error) pairs (Dekker's two-product)
+// instead, which gets the sign right and the value to within about an ulp of the f64 result.
 fn exact_difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
-    let p = a * b;
-    let ep = fma(a, b, -p);
-    let q = c * d;
-    let eq = fma(c, d, -q);
-    return (p - q) + (ep - eq);
+    let pp = two_prod(a, b);
+    let qq = two_prod(c, d);
+    return (pp.x - qq.x) + (pp.y - qq.y);
 }
 
 fn permute(v: vec3f, k: vec3u) -> vec3f {
@@ -42,9 +41,9 @@ fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
     var q2 = permute(p2 - r.origin, k);
     let dp = permute(r.dir, k);
     // Shear so the ray runs along +z.
-    let sx = -dp.x / dp.z;
-    let sy = -dp.y / dp.z;
-    let sz = 1.0 / dp.z;
+    let sx = fdiv(-dp.x, dp.z);
+    let sy = fdiv(-dp.y, dp.z);
+    let sz = fdiv(1.0, dp.z);
     q0.x = q0.x + sx * q0.z;
     q0.y = q0.y + sy * q0.z;
     q1.x = q1.x + sx * q1.z;
@@ -72,7 +71,7 @@ fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
     q1.z = q1.z * sz;
     q2.z = q2.z * sz;
     let t_scaled = e0 * q0.z + e1 * q1.z + e2 * q2.z;
-    let inv_det = 1.0 / det;
+    let inv_det = fdiv(1.0, det);
     let t = t_scaled * inv_det;
     let b1 = e1 * inv_det;
     let b2 = e2 * inv_det;
