@@ -368,7 +368,7 @@ fn two() -> u32 {
 /// The scene file's text with `vary`'s values for `student` set in it (by `toml_edit`, so the
 /// file keeps its comments and layout) and mesh files made absolute, so the variant can live in
 /// another folder; and a line saying what was drawn.
-fn variant_text(
+pub(crate) fn variant_text(
     text: &str,
     scene_dir: &Path,
     vary: &[Vary],
@@ -449,10 +449,16 @@ fn variant_text(
 pub fn load_sheet(path: &Path) -> Result<Sheet, String> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-    let sheet: Sheet = toml::from_str(&text).map_err(|e| {
+    parse_sheet(&text, path)
+}
+
+/// Reads a sheet's `text` and checks its values (as [`load_sheet`] does); errors name `path`,
+/// the line and the column.
+pub fn parse_sheet(text: &str, path: &Path) -> Result<Sheet, String> {
+    let sheet: Sheet = toml::from_str(text).map_err(|e| {
         let (line, col) = e
             .span()
-            .map(|s| crate::lesson::line_col(&text, s.start))
+            .map(|s| crate::lesson::line_col(text, s.start))
             .unwrap_or((0, 0));
         format!("{}:{line}:{col}: {}", path.display(), e.message())
     })?;
