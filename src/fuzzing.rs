@@ -5,14 +5,23 @@
 //!
 //! Inputs that carry several files separate them with marker lines: a scene's OBJ follows a line
 //! [`OBJ_MARKER`]; a sheet's answers follow [`ANSWERS_MARKER`], its class CSV [`CSV_MARKER`].
+//!
+//! `raystep grade-tracer`'s two inputs have theirs too: a student program's output (the student
+//! trace format), graded against raystep's trace of [`STUDENT_PIXELS`] at every stage
+//! ([`student_input`]), and a grading sheet, read and expanded into its scenes and pixels
+//! ([`grade_sheet_input`]).
 
 use crate::diagram::{self, Theme, ViewOptions};
 use crate::explain::describe;
 use crate::explain::diff::{Tolerance, compare};
 use crate::lesson;
 use crate::record::Trace;
+use crate::student::compare::{self as grading, Stage, grade};
+use crate::student::expected::{Expected, expected};
+use crate::student::{self, format};
 use crate::trace::PreparedScene;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// The line that separates a scene's TOML from its OBJ file (written as `mesh.obj`).
 pub const OBJ_MARKER: &str = "\n%%OBJ%%\n";
@@ -132,5 +141,139 @@ pub fn sheet_input(data: &[u8]) -> bool {
         }
     }
     let _ = lesson::grade_class(&sheet, csv, "class.csv");
+    true
+}
+
+/// The pixels a fuzzed student output is graded against: (shipped scene, x, y). Between them
+/// they have every stage's records: sphere and plane tests, a glass sphere hit with its
+/// reflection and refraction rays, shadow rays, triangle tests, a triangle hit and two lights.
+pub const STUDENT_PIXELS: [(&str, u32, u32); 2] =
+    [("mirror-glass", 240, 160), ("triangles", 100, 150)];
+
+/// raystep's trace of each of [`STUDENT_PIXELS`] in the student model, made once.
+pub fn student_expected() -> &'static [Expected] {
+    static E: OnceLock<Vec<Expected>> = OnceLock::new();
+    E.get_or_init(|| {
+        STUDENT_PIXELS
+            .iter()
+            .map(|(name, x, y)| {
+                let path =
+                    Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("scenes/{name}.toml"));
+                let scene = crate::scene::load_file(&path)
+                    .unwrap_or_else(|e| panic!("a shipped scene loads: {e}"));
+                expected(&PreparedScene::new(scene).record(*x, *y, 0))
+            })
+            .collect()
+    })
+}
+
+/// Reads a student program's output (UTF-8, as `grade-tracer` requires); when it parses, checks
+/// that each pixel read, written back in the format, reads again, and grades the output against
+/// raystep's trace of every one of [`STUDENT_PIXELS`], up to every stage, with the default and
+/// with zero tolerances: one check per stage, and no panic. Returns whether the output parsed.
+pub fn student_input(data: &[u8]) -> bool {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return false;
+    };
+    let Ok(pixels) = format::parse(text) else {
+        return false;
+    };
+    for px in &pixels {
+        let written = format::write(px);
+        if let Err(e) = format::parse(&written) {
+            panic!("a pixel read from the format, written back, does not read: {e}\n{written}");
+        }
+    }
+    let zero = grading::Tolerance {
+        rel: 0.0,
+        abs: 0.0,
+        color: 0.0,
+        offset: 0.0,
+    };
+    for exp in student_expected() {
+        for upto in Stage::ALL {
+            for tol in [grading::Tolerance::default(), zero] {
+                let checks = grade(exp, &pixels, upto, &tol);
+                assert_eq!(
+                    checks.iter().map(|c| c.stage).collect::<Vec<_>>(),
+                    Stage::ALL
+                        .iter()
+                        .copied()
+                        .filter(|s| *s <= upto)
+                        .collect::<Vec<_>>(),
+                    "one check per stage up to {upto:?}"
+                );
+            }
+        }
+    }
+    true
+}
+
+/// Where a fuzzed grading sheet stands: the starter kit's sheet, so `../../scenes/…` names the
+/// shipped scenes.
+pub fn grade_sheet_path() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("lessons/starter/sheet.toml")
+}
+
+/// Reads a grading sheet (`grade-tracer --sheet`) as [`grade_sheet_path`]; when it parses and
+/// every scene it names is a shipped scene (a fuzzed path could name any file, a device
+/// included), draws each scene's `vary` values for a student and loads the variant (in memory:
+/// nothing is written), then expands the sheet into its jobs — the scenes loaded and prepared,
+/// the listed pixels checked and the `random_pixels` drawn — with the `vary` lists left out,
+/// and checks that every pixel lies inside its scene's image. Returns whether the sheet parsed.
+pub fn grade_sheet_input(data: &[u8]) -> bool {
+    let text = String::from_utf8_lossy(data);
+    let path = grade_sheet_path();
+    let Ok(sheet) = student::parse_sheet(&text, &path) else {
+        return false;
+    };
+    let base = path.parent().unwrap_or(Path::new("."));
+    let Ok(scenes) = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenes")
+        .canonicalize()
+    else {
+        return true;
+    };
+    let shipped = |file: &Path| {
+        base.join(file)
+            .canonicalize()
+            .is_ok_and(|p| p.starts_with(&scenes) && p.extension().is_some_and(|e| e == "toml"))
+    };
+    if !sheet.scene.iter().all(|sc| shipped(&sc.file)) {
+        return true;
+    }
+    let who = "s1001";
+    let id = sheet.id.clone().unwrap_or_else(|| "sheet".into());
+    for sc in sheet.scene.iter().filter(|sc| !sc.vary.is_empty()) {
+        let Ok(scene_text) = std::fs::read_to_string(base.join(&sc.file)) else {
+            continue;
+        };
+        let file = sc.file.display().to_string();
+        if let Ok((varied, _drawn)) =
+            student::variant_text(&scene_text, &scenes, &sc.vary, &id, &file, who)
+        {
+            let _ = crate::scene::load_str(&varied, "variant.toml", Some(&scenes));
+        }
+    }
+    let mut plain = sheet.clone();
+    for sc in &mut plain.scene {
+        sc.vary.clear();
+    }
+    // Without `vary` nothing is written, so the folder for variants is never used.
+    let variants = student::VariantDir::Kept(std::env::temp_dir());
+    if let Ok(jobs) = student::sheet_jobs(&plain, &path, who, &variants) {
+        for job in &jobs {
+            let cam = &job.prepared.scene().camera;
+            for &[x, y] in &job.pixels {
+                assert!(
+                    x < cam.width && y < cam.height,
+                    "pixel ({x}, {y}) outside the {}×{} image of {}",
+                    cam.width,
+                    cam.height,
+                    job.path.display()
+                );
+            }
+        }
+    }
     true
 }

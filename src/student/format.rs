@@ -273,6 +273,11 @@ fn finite(v: &[f64]) -> bool {
 /// number that overflows to infinity is refused with its line.
 pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
     let mut pixels: Vec<Pixel> = vec![];
+    // The last pixel's latest ray that is not a shadow ray, overall and per depth: where a
+    // record without a depth, and a ray or record naming one, belongs (looked up, not searched
+    // for, so a flood of rays is read in linear time).
+    let mut latest_lit: Option<usize> = None;
+    let mut lit_at_depth: std::collections::HashMap<u32, usize> = Default::default();
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
         let l = raw.trim();
@@ -322,10 +327,14 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                     )));
                 }
             }
-            Record::Pixel { x, y } => pixels.push(Pixel {
-                at: x.zip(y).map(|(x, y)| [x, y]),
-                rays: vec![],
-            }),
+            Record::Pixel { x, y } => {
+                pixels.push(Pixel {
+                    at: x.zip(y).map(|(x, y)| [x, y]),
+                    rays: vec![],
+                });
+                latest_lit = None;
+                lit_at_depth.clear();
+            }
             Record::Ray {
                 kind,
                 depth,
@@ -345,18 +354,18 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                 }
                 let depth = depth.unwrap_or(0);
                 // The parent: the latest non-shadow ray one level up.
-                let parent = (depth > 0)
-                    .then(|| {
-                        px.rays
-                            .iter()
-                            .rposition(|r| r.depth + 1 == depth && r.kind != "shadow")
-                    })
-                    .flatten();
+                let parent = depth
+                    .checked_sub(1)
+                    .and_then(|d| lit_at_depth.get(&d).copied());
                 if kind != "primary" && parent.is_none() {
                     return Err(err(format!(
                         "a {kind} ray of depth {depth} with no ray of depth {} before it",
                         depth.saturating_sub(1)
                     )));
+                }
+                if kind != "shadow" {
+                    latest_lit = Some(px.rays.len());
+                    lit_at_depth.insert(depth, px.rays.len());
                 }
                 px.rays.push(Ray {
                     kind,
@@ -380,13 +389,8 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                     _ => None,
                 };
                 let owner = match depth_of {
-                    Some(d) => px
-                        .rays
-                        .iter()
-                        .rposition(|r| r.depth == d && r.kind != "shadow"),
-                    None if matches!(rec, Record::Shadow { .. }) => {
-                        px.rays.iter().rposition(|r| r.kind != "shadow")
-                    }
+                    Some(d) => lit_at_depth.get(&d).copied(),
+                    None if matches!(rec, Record::Shadow { .. }) => latest_lit,
                     None => px.rays.len().checked_sub(1),
                 };
                 let Some(ray) = owner.and_then(|k| px.rays.get_mut(k)) else {
@@ -576,9 +580,11 @@ pub fn write(px: &Pixel) -> String {
             }
         }
         if r.color.is_some() {
+            // A depth names the latest ray of that depth that is not a shadow ray: a shadow
+            // ray's colour (it has no children) follows its own records, without one.
             out.push(Record::Color {
                 rgb: r.color,
-                depth: Some(r.depth),
+                depth: (r.kind != "shadow").then_some(r.depth),
             });
         }
     }

@@ -396,7 +396,7 @@ fn two() -> u32 {
 /// The scene file's text with `vary`'s values for `student` set in it (by `toml_edit`, so the
 /// file keeps its comments and layout) and mesh files made absolute, so the variant can live in
 /// another folder; and a line saying what was drawn.
-fn variant_text(
+pub(crate) fn variant_text(
     text: &str,
     scene_dir: &Path,
     vary: &[Vary],
@@ -500,6 +500,12 @@ pub fn load_sheet(path: &Path) -> Result<Sheet, String> {
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     // A byte-order mark (some editors write one) is not part of the TOML.
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    parse_sheet(text, path)
+}
+
+/// Reads a sheet's `text` and checks its values (as [`load_sheet`] does); errors name `path`,
+/// the line and the column.
+pub fn parse_sheet(text: &str, path: &Path) -> Result<Sheet, String> {
     let sheet: Sheet = toml::from_str(text).map_err(|e| {
         let (line, col) = e
             .span()
