@@ -347,6 +347,10 @@ fn view_without_a_session_prints_nothing_on_stderr() {
 
 /// Runs `raystep` with `args` to the end and returns its exit status and its own peak resident
 /// set size in bytes (wait4's rusage of that one child).
+#[expect(
+    clippy::zombie_processes,
+    reason = "the child is waited for by wait4, which also gives its rusage"
+)]
 fn peak_rss(args: &[&std::ffi::OsStr]) -> (std::process::ExitStatus, u64, String) {
     let child = std::process::Command::new(bin())
         .args(args)
