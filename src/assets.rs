@@ -226,6 +226,27 @@ pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, String> {
     let dir = std::fs::canonicalize(dir)
         .map_err(|e| format!("{}: cannot open the folder: {e}", dir.display()))?;
     let targets: Vec<(PathBuf, &Asset)> = ASSETS.iter().map(|a| (dir.join(a.path), a)).collect();
+    // Every target is checked before anything is written: a FIFO would make the write wait for
+    // a reader forever, and a device or a folder cannot hold the file, --force or not.
+    let wrong: Vec<String> = targets
+        .iter()
+        .filter_map(|(p, _)| not_writable_here(&dir, p))
+        .collect();
+    if let Some(first) = wrong.first() {
+        return Err(format!(
+            "{first}{}; nothing was written — remove {}, or write to another folder",
+            if wrong.len() > 1 {
+                format!(
+                    " ({} of the {} files are not regular files)",
+                    wrong.len(),
+                    targets.len()
+                )
+            } else {
+                String::new()
+            },
+            if wrong.len() > 1 { "them" } else { "it" },
+        ));
+    }
     if !force {
         let existing: Vec<String> = targets
             .iter()
@@ -251,6 +272,40 @@ pub fn write_examples(dir: &Path, force: bool) -> Result<Vec<PathBuf>, String> {
         written.push(path);
     }
     Ok(written)
+}
+
+/// Why `path` (a target under `dir`) cannot be written as a regular file, if it cannot: it is
+/// something other than a regular file (after following symbolic links), or a folder on the
+/// way to it is not a folder.
+fn not_writable_here(dir: &Path, path: &Path) -> Option<String> {
+    let on_the_way = path
+        .ancestors()
+        .skip(1)
+        .take_while(|a| a.starts_with(dir) && *a != dir);
+    for a in on_the_way {
+        if let Ok(m) = std::fs::metadata(a)
+            && !m.is_dir()
+        {
+            return Some(format!(
+                "{}: is {}, not a folder: raystep examples cannot write {} there",
+                a.display(),
+                if m.is_file() {
+                    "a file"
+                } else {
+                    crate::io::kind_of(&m.file_type())
+                },
+                path.display()
+            ));
+        }
+    }
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() => Some(format!(
+            "{}: is {}, not a regular file: raystep examples writes only regular files",
+            path.display(),
+            crate::io::kind_of(&m.file_type())
+        )),
+        _ => None,
+    }
 }
 
 #[cfg(test)]

@@ -1,7 +1,9 @@
 //! Files in and out, safely. Inputs are read only from regular files and never past a stated size
 //! ([`read_input`], [`read_text`], [`limits`]); outputs are written whole or not at all
 //! ([`write_atomic`]), through symbolic links, and leave no temporary file behind when the write
-//! fails or the process is stopped by SIGINT, SIGTERM or SIGHUP.
+//! fails or the process is stopped by SIGINT, SIGTERM or SIGHUP. What the command line prints
+//! goes through [`out`] (`outln!`), whose failures — a full disk, `/dev/full` — are reported by
+//! [`stdout_result`] instead of panicking or passing unnoticed.
 
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
@@ -39,8 +41,8 @@ pub mod limits {
     }
 }
 
-/// What a non-regular file is, in words.
-fn kind_of(ft: &std::fs::FileType) -> &'static str {
+/// What a non-regular file is, in words ("a FIFO (named pipe)", "a directory", …).
+pub(crate) fn kind_of(ft: &std::fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;
@@ -140,6 +142,51 @@ pub fn read_text(path: &Path, limit: u64, what: &str) -> std::io::Result<String>
         )
     })
 }
+
+/// The first error writing to standard output (later output is dropped).
+static STDOUT_FAILED: Mutex<Option<std::io::Error>> = Mutex::new(None);
+
+/// Writes to standard output, as `print!` does, but never panics: the first failure is kept for
+/// [`stdout_result`] and later output is dropped. `outln!` is its `println!`.
+pub fn out(args: std::fmt::Arguments<'_>) {
+    let mut failed = STDOUT_FAILED.lock().unwrap_or_else(|e| e.into_inner());
+    if failed.is_some() {
+        return;
+    }
+    if let Err(e) = std::io::stdout().lock().write_fmt(args) {
+        *failed = Some(e);
+    }
+}
+
+/// Flushes standard output and says whether everything written to it through [`out`] arrived:
+/// `Err` with a message for a write error (`No space left on device` on a full disk or
+/// `/dev/full`). A closed pipe (`raystep … | head -1`) is not an error: the reader has what it
+/// wanted, and the output ends quietly as a Unix tool's does.
+pub fn stdout_result() -> Result<(), String> {
+    let mut failed = STDOUT_FAILED.lock().unwrap_or_else(|e| e.into_inner());
+    if failed.is_none()
+        && let Err(e) = std::io::stdout().lock().flush()
+    {
+        *failed = Some(e);
+    }
+    match failed.as_ref() {
+        Some(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(format!("cannot write to standard output: {e}"))
+        }
+        _ => Ok(()),
+    }
+}
+
+/// `println!` through [`out`]: never panics; see [`stdout_result`].
+macro_rules! outln {
+    () => {
+        $crate::io::out(format_args!("\n"))
+    };
+    ($($arg:tt)*) => {
+        $crate::io::out(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+pub(crate) use outln;
 
 /// Temporary files being written now: removed by the signal thread if the process is stopped.
 static PENDING: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());

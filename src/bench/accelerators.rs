@@ -25,11 +25,13 @@ fn comparison_size(scene: &Scene) -> Scene {
 /// primitive tests and node or cell visits per ray, rays per second and the speed-up over brute
 /// force (all ray kinds; the images are identical, which `tests/accelerators.rs` checks).
 pub fn accel_compare(scenes: &[Scene], reps: usize) {
-    println!("## Accelerators compared, one thread, at most 160×120 pixels (all ray kinds)");
-    println!(
+    crate::io::outln!(
+        "## Accelerators compared, one thread, at most 160×120 pixels (all ray kinds)"
+    );
+    crate::io::outln!(
         "| scene | primitives | accelerator | build (ms) | memory (KiB) | tests / ray | visits / ray | Mrays/s | speed-up |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|---|");
     // Brute force on the larger scenes takes a while: say where the comparison is (on a
     // terminal's stderr only, so the table on stdout stays clean).
     let bar = indicatif::ProgressBar::new((scenes.len() * ACCELERATORS.len()) as u64);
@@ -62,7 +64,7 @@ pub fn accel_compare(scenes: &[Scene], reps: usize) {
             let n = |x: f64| crate::record::number::fmt64(x, crate::record::number::Style::Label);
             // Printed with the progress line out of the way.
             bar.suspend(|| {
-                println!(
+                crate::io::outln!(
                     "| {} | {} | {} | {} | {} | {} | {} | {} | {}× |",
                     s.name,
                     s.features.primitives,
@@ -87,11 +89,11 @@ pub fn accel_compare(scenes: &[Scene], reps: usize) {
 pub fn grid_lambda(scenes: &[Scene], reps: usize) {
     use crate::accel::grid::{GRID_LAMBDA, Grid};
     const LAMBDAS: [f32; 7] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0];
-    println!("## The grid's λ swept, one thread, at most 160×120 pixels (all ray kinds)");
-    println!(
+    crate::io::outln!("## The grid's λ swept, one thread, at most 160×120 pixels (all ray kinds)");
+    crate::io::outln!(
         "| scene | λ | cells | references | tests / ray | cells / ray | Mrays/s | speed vs λ = {GRID_LAMBDA} |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|");
     let n = |x: f64| crate::record::number::fmt64(x, crate::record::number::Style::Label);
     for scene in scenes {
         let s = comparison_size(scene);
@@ -111,7 +113,7 @@ pub fn grid_lambda(scenes: &[Scene], reps: usize) {
             .map_or(1.0, |r| r.3.as_secs_f64());
         for (lambda, grid, c, t) in rows {
             let rays = c.rays().max(1) as f64;
-            println!(
+            crate::io::outln!(
                 "| {} | {lambda} | {}×{}×{} | {} | {} | {} | {} | {}× |",
                 s.name,
                 grid.dims[0],
@@ -254,11 +256,13 @@ pub(crate) fn profile_size(scene: &Scene) -> Scene {
 /// queries. (Replayed tests see the ray's whole interval, not the shrinking t_max of the real
 /// run, so they can cost a little more: the test share is an upper bound.)
 pub fn stages(scenes: &[Scene], reps: usize) {
-    println!("## Where the time goes, one thread, at most 160×120 pixels (share of the render)");
-    println!(
+    crate::io::outln!(
+        "## Where the time goes, one thread, at most 160×120 pixels (share of the render)"
+    );
+    crate::io::outln!(
         "| scene | accelerator | render (ms) | camera rays | traversal | primitive tests | shading and spawning | tests / ray |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|");
     for scene in scenes {
         let mut s = comparison_size(scene);
         for choice in ACCELERATORS {
@@ -266,7 +270,7 @@ pub fn stages(scenes: &[Scene], reps: usize) {
             let (accel, _) = SceneAccel::build(&s);
             let m = measure_stages(&s, &accel, reps);
             let [c, tr, te, sh] = m.shares();
-            println!(
+            crate::io::outln!(
                 "| {} | {} | {:.1} | {c} | {tr} | {te} | {sh} | {:.1} |",
                 s.name,
                 accel.name(),
@@ -284,11 +288,13 @@ pub fn stages(scenes: &[Scene], reps: usize) {
 /// 1,000 primitives) to show the linear cost the tree avoids.
 pub fn growth(reps: usize) -> Result<(), String> {
     use crate::scene::spd::{SpdScene, generate};
-    println!("## Cost per ray against the number of primitives (BVH, one thread, all ray kinds)");
-    println!(
+    crate::io::outln!(
+        "## Cost per ray against the number of primitives (BVH, one thread, all ray kinds)"
+    );
+    crate::io::outln!(
         "| scene | primitives | build (ms) | depth | visits / ray | tests / ray | ns / ray | ns / ray ÷ log₂ n | brute force ns / ray |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|---|");
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let n = |x: f64| crate::record::number::fmt64(x, crate::record::number::Style::Label);
     let plan: [(SpdScene, &[u32]); 3] = [
@@ -332,7 +338,7 @@ pub fn growth(reps: usize) -> Result<(), String> {
             } else {
                 "—".into()
             };
-            println!(
+            crate::io::outln!(
                 "| {} | {} | {} | {depth} | {} | {} | {} | {} | {brute} |",
                 s.name,
                 s.features.primitives,

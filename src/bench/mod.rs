@@ -56,11 +56,11 @@ fn all_pixels<A: Accelerator>(tracer: &Tracer<'_, A>) {
 /// Tracer throughput: one thread, rays per second with the silent observer (specialized and with
 /// every stage compiled in) and with the recorder (a full step trace per pixel).
 pub fn tracer(scenes: &[Scene], reps: usize) {
-    println!("## Tracer throughput, one thread (Mrays/s, all ray kinds)");
-    println!(
+    crate::io::outln!("## Tracer throughput, one thread (Mrays/s, all ray kinds)");
+    crate::io::outln!(
         "| scene | rays/frame | silent, specialized | silent, all stages | recorder (trace per pixel) | recorder cost |"
     );
-    println!("|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|");
     for scene in scenes {
         let prepared = PreparedScene::new(scene.clone());
         let tracer = prepared.tracer();
@@ -79,7 +79,7 @@ pub fn tracer(scenes: &[Scene], reps: usize) {
             }
         });
         let m = |t: Duration| rays / t.as_secs_f64() / 1e6;
-        println!(
+        crate::io::outln!(
             "| {} | {} | {:.2} | {:.2} | {:.3} | {:.0}× |",
             scene.name,
             rays as u64,
@@ -113,9 +113,9 @@ fn spheres_scene(n: usize) -> Scene {
 
 /// The brute-force / BVH crossover that sets [`crate::accel::AUTO_BVH_THRESHOLD`].
 pub fn accel_threshold(reps: usize) {
-    println!("## Brute force vs BVH by primitive count (160×120, one light, one thread)");
-    println!("| spheres | brute force (ms) | BVH (ms) | BVH speed-up |");
-    println!("|---|---|---|---|");
+    crate::io::outln!("## Brute force vs BVH by primitive count (160×120, one light, one thread)");
+    crate::io::outln!("| spheres | brute force (ms) | BVH (ms) | BVH speed-up |");
+    crate::io::outln!("|---|---|---|---|");
     for n in [1, 2, 4, 8, 12, 16, 24, 32, 64, 128, 256] {
         let mut scene = spheres_scene(n);
         scene.settings.accel = AccelChoice::None;
@@ -124,7 +124,7 @@ pub fn accel_threshold(reps: usize) {
         let (bvh, _) = SceneAccel::build(&scene);
         let tb = median_time(reps, || all_pixels(&Tracer::new(&scene, &brute)));
         let tv = median_time(reps, || all_pixels(&Tracer::new(&scene, &bvh)));
-        println!(
+        crate::io::outln!(
             "| {n} | {:.2} | {:.2} | {:.2}× |",
             tb.as_secs_f64() * 1e3,
             tv.as_secs_f64() * 1e3,
@@ -137,16 +137,19 @@ pub fn accel_threshold(reps: usize) {
 /// BVH vs brute force (brute force timed on every k-th row and scaled up), traversal vs obvhs's
 /// own, and tracing + recording one pixel.
 pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
-    println!(
+    crate::io::outln!(
         "## {} ({} primitives, {}×{})",
-        scene.name, scene.features.primitives, scene.camera.width, scene.camera.height
+        scene.name,
+        scene.features.primitives,
+        scene.camera.width,
+        scene.camera.height
     );
     let mut s = scene.clone();
     s.settings.accel = AccelChoice::Bvh;
     let t0 = Instant::now();
     let bvh = Bvh::build(&s);
     let build = t0.elapsed();
-    println!(
+    crate::io::outln!(
         "- BVH build: {:.1} ms ({} nodes, depth {})",
         build.as_secs_f64() * 1e3,
         bvh.nodes.len(),
@@ -179,14 +182,14 @@ pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
             );
         });
         per_threads.push(t);
-        println!(
+        crate::io::outln!(
             "- render, {threads} thread{}: {:.1} ms, {:.2} Mrays/s",
             if threads == 1 { "" } else { "s" },
             t.as_secs_f64() * 1e3,
             rays / t.as_secs_f64() / 1e6
         );
     }
-    println!(
+    crate::io::outln!(
         "- two threads vs one: {:.2}×",
         per_threads[0].as_secs_f64() / per_threads[1].as_secs_f64()
     );
@@ -210,7 +213,7 @@ pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
     let tv = time_rows(&|x, y| {
         std::hint::black_box(tracer.trace_pixel(x, y, &mut Silent));
     });
-    println!(
+    crate::io::outln!(
         "- BVH vs brute force (one thread, {} of {} rows): {:.1}× faster ({:.1} ms vs {:.1} ms)",
         rows.len(),
         s.camera.height,
@@ -224,7 +227,7 @@ pub fn scene_figures(scene: &Scene, reps: usize, brute_rows: u32) {
         std::hint::black_box(tracer.record(cx, cy, 0));
     });
     let steps = tracer.record(cx, cy, 0).timeline().len();
-    println!(
+    crate::io::outln!(
         "- trace and record pixel ({cx}, {cy}): {:.3} ms ({steps} steps)",
         t.as_secs_f64() * 1e3
     );
@@ -335,14 +338,14 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize, side: Side) {
     });
     if side != Side::Both {
         let t = if run_ours { ours } else { theirs };
-        println!(
+        crate::io::outln!(
             "- closest-hit traversal of {} primary rays, {side:?} only: {:.1} ms",
             rays.len(),
             t.as_secs_f64() * 1e3
         );
         return;
     }
-    println!(
+    crate::io::outln!(
         "- closest-hit traversal of {} primary rays: raystep (silent observer) {:.1} ms, obvhs ray_traverse {:.1} ms → raystep takes {:.2}× obvhs's time",
         rays.len(),
         ours.as_secs_f64() * 1e3,
@@ -364,10 +367,10 @@ pub fn traversal_vs_obvhs(scene: &Scene, bvh: &Bvh, reps: usize, side: Side) {
 pub fn threads(scenes: &[Scene], reps: usize) {
     /// The least time one sample takes.
     const SAMPLE: Duration = Duration::from_millis(60);
-    println!(
+    crate::io::outln!(
         "| scene | primitives | size | rays | renders per sample | 1 thread (ms) | 2 threads (ms) | 2T / 1T | two 1-thread renders at once (ms each) | machine's limit | 2T / limit |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|---|---|---|");
     for scene in scenes {
         let (accel, _) = SceneAccel::build(scene);
         let tracer = Tracer::new(scene, &accel);
@@ -425,7 +428,7 @@ pub fn threads(scenes: &[Scene], reps: usize) {
         let (one, two, both) = (median(one), median(two), median(both));
         let limit = 2.0 * one.as_secs_f64() / both.as_secs_f64().max(1e-9);
         let speedup = one.as_secs_f64() / two.as_secs_f64().max(1e-9);
-        println!(
+        crate::io::outln!(
             "| {} | {} | {}×{} | {} | {} | {:.2} | {:.2} | {:.2}× | {:.2} | {:.2}× | {:.0} % |",
             scene.name,
             scene.features.primitives,
@@ -446,9 +449,9 @@ pub fn threads(scenes: &[Scene], reps: usize) {
 /// Diagram cost: drawing every diagram the trace offers for one step at 800×600.
 pub fn diagrams(scenes: &[Scene], reps: usize) {
     use crate::diagram::{ViewOptions, available, draw};
-    println!("## Diagrams: all kinds for one step at 800×600 (one thread)");
-    println!("| scene | pixel | kinds | steps in trace | all kinds (ms) |");
-    println!("|---|---|---|---|---|");
+    crate::io::outln!("## Diagrams: all kinds for one step at 800×600 (one thread)");
+    crate::io::outln!("| scene | pixel | kinds | steps in trace | all kinds (ms) |");
+    crate::io::outln!("|---|---|---|---|---|");
     for scene in scenes {
         let prepared = PreparedScene::new(scene.clone());
         let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
@@ -464,7 +467,7 @@ pub fn diagrams(scenes: &[Scene], reps: usize) {
                 std::hint::black_box(draw(&trace, *k, &opts).expect("offered kinds draw"));
             }
         });
-        println!(
+        crate::io::outln!(
             "| {} | ({x}, {y}) | {} | {steps} | {:.2} |",
             scene.name,
             kinds
@@ -509,7 +512,7 @@ pub fn app(path: &std::path::Path) {
     }
     let render_s = start.elapsed().as_secs_f64();
     if let Some(e) = &app.state.load_error {
-        println!("## {}: {e}", path.display());
+        crate::io::outln!("## {}: {e}", path.display());
         return;
     }
     let name = app.state.scene().map_or(String::new(), |s| {
@@ -518,12 +521,12 @@ pub fn app(path: &std::path::Path) {
             s.name, s.features.primitives, s.camera.width, s.camera.height
         )
     });
-    println!("## app: {name}");
+    crate::io::outln!("## app: {name}");
 
     during.sort();
     let pct = |q: f64| during[((during.len() - 1) as f64 * q) as usize].as_secs_f64() * 1e3;
     if !during.is_empty() {
-        println!(
+        crate::io::outln!(
             "  UI frames while loading, building and rendering ({render_s:.1} s, {} frames): median {:.2} ms, p95 {:.2} ms, max {:.2} ms, {} over 16 ms",
             during.len(),
             pct(0.5),
@@ -549,7 +552,7 @@ pub fn app(path: &std::path::Path) {
         .iter()
         .map(|(d, n)| format!("{:.1} ms ({n} steps)", d.as_secs_f64() * 1e3))
         .collect();
-    println!(
+    crate::io::outln!(
         "  click → trace, math and diagram on screen: {}",
         ms.join(", ")
     );
@@ -558,7 +561,7 @@ pub fn app(path: &std::path::Path) {
         idle.push(frame(&mut app));
     }
     idle.sort();
-    println!(
+    crate::io::outln!(
         "  UI frames idle: median {:.2} ms",
         idle[idle.len() / 2].as_secs_f64() * 1e3
     );
@@ -573,10 +576,12 @@ pub fn app(path: &std::path::Path) {
 pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
     use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
     let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
-    println!("## GPU view (frame times in ms, medians of {reps}; Mrays/s: primary / all rays)");
-    println!("adapter: {}", ctx.adapter_name());
+    crate::io::outln!(
+        "## GPU view (frame times in ms, medians of {reps}; Mrays/s: primary / all rays)"
+    );
+    crate::io::outln!("adapter: {}", ctx.adapter_name());
     if let Ok(a) = ctx.arithmetic() {
-        println!(
+        crate::io::outln!(
             "arithmetic of the compute path: {}; probe: {}",
             if a.exact() {
                 "exact (SPIR-V, NoContraction)"
@@ -586,11 +591,11 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
             a.probe.summary()
         );
     }
-    println!(
+    crate::io::outln!(
         "\n| scene | size | WGSL bytes, generated | WGSL bytes, full | fragment, generated | compute, generated | fragment, full | compute, full | CPU, {} threads |",
         rayon::current_num_threads()
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|---|");
     let sizes = scenes
         .iter()
         .map(|s| (s, 1280, 720))
@@ -637,7 +642,7 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
             std::hint::black_box(render(&tracer, &RenderOptions::default()).expect("render"));
         });
         row += &format!(" {:.1} ({}) |", cpu.as_secs_f64() * 1e3, mrays(cpu));
-        println!("{row}");
+        crate::io::outln!("{row}");
     }
     Ok(())
 }

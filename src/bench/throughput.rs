@@ -16,7 +16,6 @@ use crate::scene::{Scene, Shape};
 use crate::trace::Tracer;
 use crate::trace::whitted::{SHADOW_EPSILON, interact, spawn_origin};
 use rayon::prelude::*;
-use std::io::Write;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -149,7 +148,7 @@ fn per_ray(scene: &Scene, bvh: &Bvh, rays: &[Ray<f32>], shadows: bool) -> (f64, 
 
 /// The heading of a scene's figures: its name and the set's size.
 fn heading(name: &str, finite: &Scene, primary: usize, shadow: usize, note: &str) {
-    println!(
+    crate::io::outln!(
         "## {name} — {} finite primitives, {primary} primary rays ({}×{}), {shadow} shadow rays{note}",
         finite.objects.len(),
         SIZE.0,
@@ -199,13 +198,13 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
     let (pv, pt) = per_ray(&s, &bvh, &primary, false);
     let (sv, st) = per_ray(&s, &bvh, &shadow, true);
     heading(&scene.name, &s, primary.len(), shadow.len(), "");
-    println!(
+    crate::io::outln!(
         "- build {:.0} ms (obvhs's PLOC {:.0} ms, then raystep's layout), SAH cost {:.1}",
         build.as_secs_f64() * 1e3,
         bvh.core_time.as_secs_f64() * 1e3,
         bvh.sah_cost()
     );
-    println!(
+    crate::io::outln!(
         "- primary: {} hits, mean t {:.6}; {pv:.1} visits and {pt:.1} tests per ray; 1 thread {:.2} Mrays/s, 2 threads {:.2} Mrays/s ({:.2}×)",
         f.hits,
         f.t_sum / f.hits.max(1) as f64,
@@ -213,7 +212,7 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
         rate(primary.len(), p2),
         p1.as_secs_f64() / p2.as_secs_f64().max(1e-9)
     );
-    println!(
+    crate::io::outln!(
         "- shadow: {} blocked; {sv:.1} visits and {st:.1} tests per ray; 1 thread {:.2} Mrays/s, 2 threads {:.2} Mrays/s ({:.2}×)",
         blocked.iter().filter(|&&b| b).count(),
         rate(shadow.len(), s1),
@@ -222,7 +221,7 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
     );
     if let Some(path) = export {
         write_set(path, &s, &primary, &hits, &shadow, &blocked)?;
-        println!("- wrote {}", path.display());
+        crate::io::outln!("- wrote {}", path.display());
     }
     Ok(())
 }
@@ -231,8 +230,8 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
 /// magic `RSEMBRT1`, counts (u32: triangles, spheres, primary rays, shadow rays), triangles
 /// (9 f32), spheres (centre, radius), primary rays (origin, direction), shadow rays (origin,
 /// direction, t_min, t_max), then raystep's answers: per primary ray a hit byte and t (f32),
-/// per shadow ray a blocked byte. Written to a temporary file and renamed, so a failed export
-/// leaves no half-written file.
+/// per shadow ray a blocked byte. Written by [`crate::io::write_atomic`], so a failed export
+/// leaves no half-written file and is an error.
 fn write_set(
     path: &Path,
     s: &Scene,
@@ -285,14 +284,9 @@ fn write_set(
         out.extend_from_slice(&h.map_or(f32::INFINITY, |h| h.t).to_le_bytes());
     }
     out.extend(blocked.iter().map(|&b| u8::from(b)));
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty());
-    let mut tmp = tempfile::NamedTempFile::new_in(dir.unwrap_or(Path::new(".")))
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    tmp.write_all(&out)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    tmp.persist(path)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok(())
+    // Whole or not at all, synced, written into a device or FIFO rather than replacing it, and
+    // every write error reported (`/dev/full`, a full disk).
+    crate::io::write_atomic(path, &out)
 }
 
 /// The BVH's three build qualities side by side on the set of [`throughput`]: build time
@@ -327,11 +321,11 @@ pub fn build_qualities(scene: &Scene, reps: usize) {
     let shadow = shadow_rays(&s, &primary, &hits);
     let (mut hit_buf, mut blocked_buf) = (hits.clone(), vec![false; shadow.len()]);
     heading(&scene.name, &s, primary.len(), shadow.len(), ", 1 thread");
-    println!();
-    println!(
+    crate::io::outln!();
+    crate::io::outln!(
         "| quality | build ms | obvhs's part ms | nodes | depth | SAH cost | primary visits/ray | primary Mrays/s | shadow visits/ray | shadow Mrays/s |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|---|---|");
     for ((q, bvh), b) in qualities.iter().zip(&trees).zip(&mut builds) {
         b.sort();
         let (build, core) = b.get(b.len() / 2).copied().unwrap_or_default();
@@ -343,7 +337,7 @@ pub fn build_qualities(scene: &Scene, reps: usize) {
             any_into(&s, bvh, &shadow, &mut blocked_buf, None);
         });
         std::hint::black_box((&hit_buf, &blocked_buf));
-        println!(
+        crate::io::outln!(
             "| {} | {:.0} | {:.0} | {} | {} | {:.1} | {:.1} | {:.2} | {:.1} | {:.2} |",
             format!("{q:?}").to_lowercase(),
             build.as_secs_f64() * 1e3,

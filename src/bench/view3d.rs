@@ -14,12 +14,12 @@ pub fn view3d(
     use crate::scene::edit::{Edit, SceneDoc};
     use crate::view3d::{self, Viewpoint, geometry};
     let ctx = crate::gpu::GpuContext::headless().map_err(|e| e.to_string())?;
-    println!("## 3D view at 1280×720 and edit → updated trace (ms, medians of {reps})");
-    println!("adapter: {}\n", ctx.adapter_name());
-    println!(
+    crate::io::outln!("## 3D view at 1280×720 and edit → updated trace (ms, medians of {reps})");
+    crate::io::outln!("adapter: {}\n", ctx.adapter_name());
+    crate::io::outln!(
         "| scene | objects | frame | frame with 8×8 fan | edit + load | prepare | record pixel | edit → trace |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    crate::io::outln!("|---|---|---|---|---|---|---|---|");
     let mut renderer = view3d::gpu::Renderer::new(ctx).map_err(|e| e.to_string())?;
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
     for (name, text, base) in inputs {
@@ -84,7 +84,7 @@ pub fn view3d(
         }
         totals.sort();
         let n = reps.max(1) as u32;
-        println!(
+        crate::io::outln!(
             "| {name} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {:.1} |",
             scene.objects.len(),
             ms(draw),

@@ -99,18 +99,18 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
     }
     let reps = args.reps as usize;
     crate::accel::set_baseline_only(args.baseline);
-    println!(
+    crate::io::outln!(
         "raystep {} bench, {} logical CPUs\n",
         env!("CARGO_PKG_VERSION"),
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
     if matches!(args.section, Section::Tracer | Section::All) {
         crate::bench::tracer(&scenes, reps);
-        println!();
+        crate::io::outln!();
     }
     if matches!(args.section, Section::Accel | Section::All) {
         crate::bench::accel_threshold(reps);
-        println!();
+        crate::io::outln!();
     }
     if matches!(
         args.section,
@@ -146,18 +146,18 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         } else {
             crate::bench::accel_compare(&all, reps);
         }
-        println!();
+        crate::io::outln!();
     }
     if matches!(args.section, Section::Diagram | Section::All) {
         crate::bench::diagrams(&scenes, reps);
-        println!();
+        crate::io::outln!();
     }
     if args.section == Section::Traversal {
         for s in &scenes {
             let mut s = s.clone();
             s.settings.accel = crate::scene::AccelChoice::Bvh;
             let bvh = crate::accel::Bvh::build(&s);
-            println!("## {}", s.name);
+            crate::io::outln!("## {}", s.name);
             crate::bench::traversal_vs_obvhs(&s, &bvh, reps, args.side);
         }
     }
@@ -167,13 +167,13 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         }
         for s in &scenes {
             crate::bench::throughput(s, reps, args.export.as_deref())?;
-            println!();
+            crate::io::outln!();
         }
     }
     if args.section == Section::Build {
         for s in &scenes {
             crate::bench::build_qualities(s, reps);
-            println!();
+            crate::io::outln!();
         }
     }
     if args.section == Section::Growth {
@@ -208,18 +208,18 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             crate::scene::load_str(&flake.toml, "balls-3.toml", None).map_err(|e| e.to_string())?,
         );
         crate::bench::gpu(&with_flake, reps)?;
-        println!();
+        crate::io::outln!();
     }
     if args.section == Section::App {
         for p in &paths {
             crate::bench::app(p);
-            println!();
+            crate::io::outln!();
         }
     }
     if matches!(args.section, Section::Scene | Section::All) {
         for s in &scenes {
             crate::bench::scene_figures(s, reps, args.brute_rows);
-            println!();
+            crate::io::outln!();
         }
     }
     Ok(())

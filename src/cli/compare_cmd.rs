@@ -57,24 +57,26 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
     let frame = gpu.render(args.gpu_path).map_err(|e| e.to_string())?;
     let cpu = render(&prepared.tracer(), &RenderOptions::default())?;
     let d = difference(cpu.width, cpu.height, &cpu.pixels, &frame.pixels)?;
-    println!(
+    crate::io::outln!(
         "compared \"{}\" at {}×{}, CPU against GPU",
-        scene.name, cpu.width, cpu.height
+        scene.name,
+        cpu.width,
+        cpu.height
     );
-    println!("  adapter  {}", gpu.adapter_line(args.gpu_path));
-    println!(
+    crate::io::outln!("  adapter  {}", gpu.adapter_line(args.gpu_path));
+    crate::io::outln!(
         "  CPU      {:.2} ms ({}, {} thread{})",
         cpu.stats.trace.as_secs_f64() * 1e3,
         accel_name(prepared.accel()),
         cpu.stats.threads,
         if cpu.stats.threads == 1 { "" } else { "s" }
     );
-    println!(
+    crate::io::outln!(
         "  GPU      {:.2} ms ({} path, median of {GPU_FRAMES} frames)",
         gpu_time.as_secs_f64() * 1e3,
         args.gpu_path.name()
     );
-    println!(
+    crate::io::outln!(
         "  error    RMSE {:.2e} ({:.3}/255), max error {}/255, {} of {} pixels differ",
         d.rmse,
         d.rmse * 255.0,
@@ -84,7 +86,7 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
     );
     if let Some(p) = &args.output {
         image::write_png(p, &d.image)?;
-        println!("wrote {}", super::full_path(p));
+        crate::io::outln!("wrote {}", super::full_path(p));
     }
     Ok(())
 }

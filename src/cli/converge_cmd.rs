@@ -1,6 +1,6 @@
 //! `raystep converge`: image error against spp and trace time.
 
-use crate::stability::converge::{ConvergeOptions, csv, markdown, plots, run};
+use crate::stability::converge::{ConvergeOptions, Progress, csv, markdown, plots, run_observed};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -36,17 +36,21 @@ pub struct ConvergeArgs {
 
 /// Runs `raystep converge`.
 pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
-    let t0 = Instant::now();
-    let scene = crate::assets::load_scene(&args.scene)?;
-    let load = t0.elapsed().as_secs_f64();
     let opts = ConvergeOptions {
         max_spp: args.max_spp,
         seeds: args.seeds,
         reference_factor: args.reference_factor,
         threads: args.threads.map(|t| t as usize),
+        progress: true,
     };
+    // Too many samples is refused, with the limit, before anything is loaded or created.
+    crate::stability::converge::reference_spp(&opts)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
+    let t0 = Instant::now();
+    let scene = crate::assets::load_scene(&args.scene)?;
+    let load = t0.elapsed().as_secs_f64();
+    let mut observe = |p: &Progress| show_progress(p, t0.elapsed());
     let rep = if args.gpu {
         use crate::gpu::{GpuContext, GpuTracer, ShaderVariant};
         let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
@@ -69,9 +73,14 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
         let line = GpuTracer::new(ctx.clone(), &base, ShaderVariant::Generated)
             .map_err(|e| e.to_string())?
             .adapter_line(args.gpu_path);
-        crate::stability::converge::run_on(&scene, &opts, &line, &mut level)?
+        run_observed(
+            &scene,
+            &opts,
+            Some((line.as_str(), &mut level)),
+            &mut observe,
+        )?
     } else {
-        run(&scene, &opts)?
+        run_observed(&scene, &opts, None, &mut observe)?
     };
     let md = markdown(&rep, load);
     crate::io::write_atomic(&args.out.join("converge.md"), md.as_bytes())?;
@@ -83,4 +92,39 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
         "{md}\nwrote converge.md, converge.csv, converge-spp.png, converge-time.png in {}\n",
         super::full_path(&args.out)
     ))
+}
+
+/// One line on stderr per stage: what finished, how much of the work is done, and about how
+/// long the rest will take (from the trace speeds measured so far; the first estimate comes
+/// after the first render, before the reference, which is most of the work).
+fn show_progress(p: &Progress, elapsed: std::time::Duration) {
+    use std::io::Write;
+    let [done, all] = p.samples;
+    let percent = if all == 0 {
+        100.0
+    } else {
+        done as f64 * 100.0 / all as f64
+    };
+    let left = std::time::Duration::from_secs_f64(p.seconds_left.max(0.0));
+    let line = if p.renders[0] >= p.renders[1] {
+        format!(
+            "converge: {} done ({} renders, {} in all)",
+            p.finished,
+            p.renders[1],
+            indicatif::HumanDuration(elapsed)
+        )
+    } else {
+        format!(
+            "converge: {} done after {}; render {} of {}, {percent:.1}% of the {all} samples; \
+             about {} left, {} in all (estimated from the speed so far)",
+            p.finished,
+            indicatif::HumanDuration(elapsed),
+            p.renders[0],
+            p.renders[1],
+            indicatif::HumanDuration(left),
+            indicatif::HumanDuration(elapsed + left)
+        )
+    };
+    // Progress only: a closed or full stderr must not stop the run.
+    let _ = writeln!(std::io::stderr(), "{line}");
 }

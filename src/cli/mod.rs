@@ -231,16 +231,12 @@ pub fn check_png_path(p: &std::path::Path) -> Result<(), String> {
     Ok(())
 }
 
-/// Writes command output to stdout. A closed pipe (`raystep trace … | head`) ends the output
+/// Writes command output to stdout and flushes it: a write error (a full disk, `/dev/full`) is
+/// an error naming standard output; a closed pipe (`raystep trace … | head`) ends the output
 /// quietly instead of panicking as `println!` would.
 pub fn emit(text: &str) -> Result<(), String> {
-    use std::io::Write;
-    let mut out = std::io::stdout().lock();
-    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(format!("cannot write to standard output: {e}")),
-    }
+    crate::io::out(format_args!("{text}"));
+    crate::io::stdout_result()
 }
 
 /// Lets a closed pipe end a command-line command quietly, as it ends `cat` or `grep`: Rust
@@ -258,11 +254,35 @@ fn quiet_on_closed_pipe() {
     }
 }
 
+/// Keeps the headless commands' GPU adapter from probing a window system. wgpu's Vulkan
+/// instance always enables the Wayland and X11 surface extensions, and Mesa's device-selection
+/// layer (VK_LAYER_MESA_device_select, loaded into every Vulkan program where Mesa is installed)
+/// answers an instance with the Wayland extension by connecting to the Wayland compositor to
+/// find its GPU — which, with no session (XDG_RUNTIME_DIR unset), makes libwayland print
+/// "error: XDG_RUNTIME_DIR is invalid or not set in the environment." although nothing is
+/// wrong. The commands only ever draw offscreen and choose their adapter by wgpu's power
+/// preference, so the layer has nothing to do for them: it is turned off by the variable its
+/// manifest names for that (`NODEVICE_SELECT=1`). Left alone when the user chose a device
+/// (`MESA_VK_DEVICE_SELECT`, which the layer then follows without probing) or set
+/// `NODEVICE_SELECT` already; the app, which opens a window, keeps the layer.
+#[allow(unsafe_code)] // one environment variable, before any thread exists
+fn headless_vulkan() {
+    #[cfg(all(unix, not(target_os = "macos")))]
+    if std::env::var_os("NODEVICE_SELECT").is_none()
+        && std::env::var_os("MESA_VK_DEVICE_SELECT").is_none()
+    {
+        // SAFETY: called at the start of `main`, before this process starts any thread, so
+        // nothing reads the environment concurrently.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
+    }
+}
+
 /// Runs the command line; returns the process exit code.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     if !matches!(cli.command, None | Some(Command::Open { .. })) {
         quiet_on_closed_pipe();
+        headless_vulkan();
     }
     let result = match cli.command {
         None => crate::app::run(None, None),
@@ -296,10 +316,13 @@ pub fn main() -> ExitCode {
         Some(Command::Grade(args)) => exercise_cmd::run_grade(&args),
         Some(Command::GradeTracer(args)) => grade_tracer_cmd::run(&args),
     };
-    match result {
+    // What was printed must have arrived: a full disk or /dev/full is an error like any other.
+    match result.and_then(|()| crate::io::stdout_result()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
-            eprintln!("error: {msg}");
+            use std::io::Write;
+            // Nothing more can be done if stderr cannot be written either.
+            let _ = writeln!(std::io::stderr(), "error: {msg}");
             ExitCode::FAILURE
         }
     }

@@ -96,7 +96,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             g.references()
         ),
     };
-    println!(
+    crate::io::outln!(
         "rendered \"{}\" at {}×{}, {} sample{} per pixel, {}, {} thread{}",
         scene.name,
         out.width,
@@ -107,19 +107,19 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         s.threads,
         if s.threads == 1 { "" } else { "s" }
     );
-    println!(
+    crate::io::outln!(
         "  methods  sphere {}, triangle {}, offset {}",
         value_name(&scene.settings.sphere_method),
         value_name(&scene.settings.triangle_method),
         value_name(&scene.settings.offset)
     );
-    println!(
+    crate::io::outln!(
         "  time     load {:.1} ms, build {:.1} ms, trace {:.1} ms",
         load.as_secs_f64() * 1e3,
         build.as_secs_f64() * 1e3,
         s.trace.as_secs_f64() * 1e3
     );
-    println!(
+    crate::io::outln!(
         "  rays     {} primary, {} shadow, {} reflection, {} refraction ({} in all)",
         c.primary,
         c.shadow,
@@ -134,15 +134,16 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         SceneAccel::Grid(_) => " and {} cells walked",
     }
     .replace("{}", &format!("{:.1}", c.node_visits as f64 / rays));
-    println!(
+    crate::io::outln!(
         "  tests    {:.1} primitive tests{visits} per ray",
         c.prim_tests as f64 / rays,
     );
-    println!("  speed    {:.2} Mrays/s", s.mrays_per_s());
+    crate::io::outln!("  speed    {:.2} Mrays/s", s.mrays_per_s());
     if s.nan_rays > 0 || s.nan_pixels > 0 {
-        println!(
+        crate::io::outln!(
             "  warning  {} rays and {} pixels are NaN (not finite)",
-            s.nan_rays, s.nan_pixels
+            s.nan_rays,
+            s.nan_pixels
         );
     }
     if args.profile {
@@ -153,14 +154,15 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         let one = s.trace.as_secs_f64() * s.threads as f64 * fraction;
         let m = crate::bench::measure_stages(&small, accel, if one < 1.0 { 5 } else { 1 });
         let [c, tr, te, sh] = m.shares();
-        println!(
+        crate::io::outln!(
             "  profile  camera rays {c}, traversal {tr}, primitive tests {te}, shading and spawning {sh} (one thread, {}×{} replayed)",
-            small.camera.width, small.camera.height
+            small.camera.width,
+            small.camera.height
         );
     }
-    println!("wrote {}", super::full_path(&args.output));
+    crate::io::outln!("wrote {}", super::full_path(&args.output));
     if let Some(h) = &args.heatmap {
-        println!("wrote {}", super::full_path(h));
+        crate::io::outln!("wrote {}", super::full_path(h));
     }
     Ok(())
 }
@@ -185,7 +187,7 @@ fn run_gpu(
     let frame = gpu.render(args.gpu_path).map_err(|e| e.to_string())?;
     let img = image::to_rgb8(frame.width, frame.height, &frame.pixels, args.linear);
     image::write_png(&args.output, &img)?;
-    println!(
+    crate::io::outln!(
         "rendered \"{}\" at {}×{} on the GPU, {} sample{} per pixel",
         scene.name,
         frame.width,
@@ -193,18 +195,18 @@ fn run_gpu(
         scene.settings.spp,
         if scene.settings.spp == 1 { "" } else { "s" },
     );
-    println!("  adapter  {}", gpu.adapter_line(args.gpu_path));
-    println!(
+    crate::io::outln!("  adapter  {}", gpu.adapter_line(args.gpu_path));
+    crate::io::outln!(
         "  shader   {} bytes of WGSL ({} for every feature)",
         gpu.wgsl().len(),
         crate::gpu::full_wgsl(prepared).len()
     );
-    println!(
+    crate::io::outln!(
         "  time     load {:.1} ms, set-up (device, BVH, shader) {:.1} ms, frame {:.2} ms (median of {GPU_FRAMES})",
         load.as_secs_f64() * 1e3,
         setup.as_secs_f64() * 1e3,
         frame_time.as_secs_f64() * 1e3
     );
-    println!("wrote {}", super::full_path(&args.output));
+    crate::io::outln!("wrote {}", super::full_path(&args.output));
     Ok(())
 }

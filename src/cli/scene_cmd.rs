@@ -23,7 +23,8 @@ pub enum SceneCmd {
         /// Which scene.
         #[arg(value_enum)]
         name: crate::scene::spd::SpdScene,
-        /// Recursion depth / subdivision level (balls 4 = 7,381 spheres; tetra 9 ≈ 1M triangles).
+        /// Recursion depth / subdivision level (balls 4 = 7,381 spheres; tetra 9 ≈ 1M triangles),
+        /// up to the largest size whose scene raystep loads (a larger one is refused, naming it).
         #[arg(long)]
         size: u32,
         /// The scene file to write (.toml).

@@ -199,13 +199,15 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         size,
     )
     .map_err(|e| e.to_string())?;
-    let rgb = image::DynamicImage::ImageRgba8(img).to_rgb8();
-    crate::render::image::write_png(&args.output, &rgb)?;
+    let drawn = renderer.last_frame;
+    // The GPU's pictures and buffers go before the PNG is encoded.
+    drop(renderer);
+    crate::render::image::write_png(&args.output, &img)?;
     super::emit(&format!(
         "wrote {} ({}×{}, drawn in {:.1} ms on {adapter})\n",
         args.output.display(),
         size[0],
         size[1],
-        renderer.last_frame.as_secs_f64() * 1e3
+        drawn.as_secs_f64() * 1e3
     ))
 }

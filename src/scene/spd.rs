@@ -15,6 +15,8 @@
 //! linear here: raystep encodes its images as sRGB, and the pictures then look like the classic ones.
 //! Everything is deterministic: the same scene and size give the same text, byte for byte.
 
+use crate::io::limits;
+use crate::scene::MAX_OBJECTS;
 use glam::{DQuat, DVec3};
 use std::fmt::{self, Write};
 
@@ -40,14 +42,26 @@ impl SpdScene {
         }
     }
 
-    /// The largest size [`generate`] accepts (sizes start at 1). One more would write a file of
-    /// several gigabytes, or millions of primitives more than anything raystep can show usefully.
+    /// The largest size [`generate`] accepts (sizes start at 1): the largest whose scene raystep
+    /// loads. It is derived from the loader's own limits — at most [`MAX_OBJECTS`] primitives,
+    /// a scene file of at most [`limits::SCENE`] bytes and an OBJ file of at most
+    /// [`limits::OBJ`] — so that `raystep scene spd` never writes a scene raystep then refuses.
     pub fn max_size(self) -> u32 {
-        match self {
-            SpdScene::Balls => 6,
-            SpdScene::Tetra => 10,
-            SpdScene::Mount => 11,
-        }
+        // Each size has more primitives and bytes than the one before, so the sizes that fit
+        // are 1 up to the first that does not.
+        (1..)
+            .take_while(|&size| self.fits(size))
+            .last()
+            .unwrap_or(0)
+    }
+
+    /// Whether raystep loads this scene at `size`: its primitives within [`MAX_OBJECTS`], and
+    /// files no larger than the loader reads. The file sizes are lower bounds (every number
+    /// written as one digit), so a size refused here would certainly be refused by the loader;
+    /// [`generate`] checks the real sizes of what it wrote as well.
+    fn fits(self, size: u32) -> bool {
+        let (toml, obj) = min_bytes(self, size);
+        count(self, size) <= MAX_OBJECTS as u64 && toml <= limits::SCENE && obj <= limits::OBJ
     }
 }
 
@@ -66,7 +80,8 @@ pub struct SpdOutput {
 /// Generates `scene` at size `size`. A mesh is written to the OBJ text of [`SpdOutput::obj`], whose
 /// file name (`tetra-6.obj`, `mount-9.obj`, …) is the one the TOML's `[[mesh]]` refers to.
 ///
-/// Sizes run from 1 to [`SpdScene::max_size`]; any other size is an error naming the limit.
+/// Sizes run from 1 to [`SpdScene::max_size`], the largest whose scene raystep loads; any other
+/// size is an error that names the largest and says which limit the next one passes.
 pub fn generate(scene: SpdScene, size: u32) -> Result<SpdOutput, String> {
     let max = scene.max_size();
     if !(1..=max).contains(&size) {
@@ -75,28 +90,106 @@ pub fn generate(scene: SpdScene, size: u32) -> Result<SpdOutput, String> {
             scene.name(),
             if size > max {
                 format!(
-                    " (size {} would make {} primitives)",
+                    " (the largest size raystep loads is {max}: size {} would {})",
                     max + 1,
-                    count(scene, max + 1)
+                    past_limit(scene, max + 1)
                 )
             } else {
                 String::new()
             }
         ));
     }
-    Ok(match scene {
+    let out = match scene {
         SpdScene::Balls => balls(size),
         SpdScene::Tetra => tetra(size),
         SpdScene::Mount => mount(size),
+    };
+    // The bounds of `fits` are lower bounds: check what was really written against the limits
+    // the loader applies, so no scene it would refuse is ever written.
+    let too_large = |what: &str, len: usize, limit: u64| {
+        (len as u64 > limit).then(|| {
+            format!(
+                "SPD {} size {size} would write a {what} of {len} bytes, more than the {} raystep \
+                 reads",
+                scene.name(),
+                limits::describe(limit)
+            )
+        })
+    };
+    let obj_len = out.obj.as_ref().map_or(0, |(_, t)| t.len());
+    if let Some(e) = too_large("scene file", out.toml.len(), limits::SCENE)
+        .or_else(|| too_large("mesh (OBJ file)", obj_len, limits::OBJ))
+    {
+        return Err(e);
+    }
+    Ok(out)
+}
+
+/// How many primitives `scene` has at `size`, as the loader counts them (a mesh's triangles
+/// each, the spheres and the floor plane).
+fn count(scene: SpdScene, size: u32) -> u64 {
+    let pow = |b: u64, e: u32| b.checked_pow(e).unwrap_or(u64::MAX);
+    match scene {
+        SpdScene::Balls => spheres_in_flake(size).saturating_add(1),
+        SpdScene::Tetra => pow(4, size.saturating_add(1)),
+        SpdScene::Mount => pow(4, size).saturating_mul(2).saturating_add(4),
+    }
+}
+
+/// 1 + 9 + … + 9^size: the sphereflake's spheres.
+fn spheres_in_flake(size: u32) -> u64 {
+    (0..=size).fold(0u64, |n, k| {
+        n.saturating_add(9u64.checked_pow(k).unwrap_or(u64::MAX))
     })
 }
 
-/// How many primitives `scene` has at `size` (for the error message of a size too large).
-fn count(scene: SpdScene, size: u32) -> u64 {
+/// Lower bounds on the bytes of the scene file and of the OBJ file at `size`: the lines each
+/// primitive needs with every number one character long (the shortest [`F`] writes). The
+/// mountain writes its vertex and face lines in the same form as [`obj_vertex`] and [`obj_face`].
+fn min_bytes(scene: SpdScene, size: u32) -> (u64, u64) {
+    let line = |write: &dyn Fn(&mut String)| {
+        let mut s = String::new();
+        write(&mut s);
+        s.len() as u64
+    };
+    let vertex = line(&|s| obj_vertex(s, DVec3::ZERO));
+    let face = line(&|s| obj_face(s, 1, 1, 1));
     match scene {
-        SpdScene::Balls => (0..=size).map(|k| 9u64.pow(k)).sum::<u64>() + 1,
-        SpdScene::Tetra => 4u64.pow(size + 1),
-        SpdScene::Mount => 2 * 4u64.pow(size) + 4,
+        SpdScene::Balls => {
+            let sphere = line(&|s| flake_sphere(s, DVec3::ZERO, 0.0));
+            (spheres_in_flake(size).saturating_mul(sphere), 0)
+        }
+        // Four corners a tetrahedron, four faces.
+        SpdScene::Tetra => (0, count(scene, size).saturating_mul(vertex + face)),
+        SpdScene::Mount => {
+            let side = 1u64.checked_shl(size).unwrap_or(u64::MAX).saturating_add(1);
+            let triangles = count(scene, size).saturating_sub(4);
+            (
+                0,
+                side.saturating_mul(side)
+                    .saturating_mul(vertex)
+                    .saturating_add(triangles.saturating_mul(face)),
+            )
+        }
+    }
+}
+
+/// Which of the loader's limits `scene` at `size` passes, in words (for the error message).
+fn past_limit(scene: SpdScene, size: u32) -> String {
+    let n = count(scene, size);
+    let (toml, obj) = min_bytes(scene, size);
+    if n > MAX_OBJECTS as u64 {
+        format!("make {n} primitives, more than the limit of {MAX_OBJECTS} in a scene")
+    } else if toml > limits::SCENE {
+        format!(
+            "write a scene file of more than {toml} bytes, past the limit of {} for scene files",
+            limits::describe(limits::SCENE)
+        )
+    } else {
+        format!(
+            "write an OBJ file of more than {obj} bytes, past the limit of {} for OBJ files",
+            limits::describe(limits::OBJ)
+        )
     }
 }
 
@@ -258,8 +351,28 @@ fn flake(
     }
 }
 
+/// One sphere of the flake, as the scene file lists it.
+fn flake_sphere(s: &mut String, center: DVec3, radius: f64) {
+    let _ = write!(
+        s,
+        "\n[[sphere]]\ncenter = {}\nradius = {}\nmaterial = \"flake\"\n",
+        V(center),
+        F(radius)
+    );
+}
+
+/// An OBJ vertex line.
+fn obj_vertex(s: &mut String, p: DVec3) {
+    let _ = writeln!(s, "v {} {} {}", F(p.x), F(p.y), F(p.z));
+}
+
+/// An OBJ face line (vertices counted from 1).
+fn obj_face(s: &mut String, a: usize, b: usize, c: usize) {
+    let _ = writeln!(s, "f {a} {b} {c}");
+}
+
 fn balls(size: u32) -> SpdOutput {
-    let mut spheres = Vec::with_capacity(count(SpdScene::Balls, size) as usize);
+    let mut spheres = Vec::with_capacity(spheres_in_flake(size) as usize);
     // The whole flake fits in a sphere of radius 1: the first sphere has radius 1/2, and each
     // generation adds 2/3 of the previous one's reach (1/2 · (1 + 2/3 + 4/9 + …) → 1).
     flake(
@@ -323,12 +436,7 @@ fn balls(size: u32) -> SpdOutput {
     // viewpoint its edges are far outside the picture, so an infinite plane shows the same.
     s += "\n[[plane]]\nname = \"floor\"\naxis = \"z\"\noffset = -0.5\nmaterial = \"floor\"\n";
     for (c, r) in &spheres {
-        let _ = write!(
-            s,
-            "\n[[sphere]]\ncenter = {}\nradius = {}\nmaterial = \"flake\"\n",
-            V(*c),
-            F(*r)
-        );
+        flake_sphere(&mut s, *c, *r);
     }
     SpdOutput {
         toml: s,
@@ -355,11 +463,10 @@ const TETRA_FACES: [[usize; 3]; 4] = [[0, 1, 2], [3, 2, 1], [2, 3, 0], [1, 0, 3]
 fn sierpinski(v: &mut String, f: &mut String, next: &mut usize, c: DVec3, h: f64, depth: u32) {
     if depth == 0 {
         for k in TETRA_CORNERS {
-            let p = c + DVec3::from(k) * h;
-            let _ = writeln!(v, "v {} {} {}", F(p.x), F(p.y), F(p.z));
+            obj_vertex(v, c + DVec3::from(k) * h);
         }
         for [a, b, d] in TETRA_FACES {
-            let _ = writeln!(f, "f {} {} {}", *next + a, *next + b, *next + d);
+            obj_face(f, *next + a, *next + b, *next + d);
         }
         *next += 4;
     } else {

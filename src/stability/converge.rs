@@ -32,6 +32,9 @@ pub struct ConvergeOptions {
     pub reference_factor: u32,
     /// Worker threads (None: all cores).
     pub threads: Option<usize>,
+    /// Show the renderer's progress bar while the reference renders (on stderr, and only when
+    /// stderr is a terminal).
+    pub progress: bool,
 }
 
 impl Default for ConvergeOptions {
@@ -41,8 +44,32 @@ impl Default for ConvergeOptions {
             seeds: 4,
             reference_factor: 16,
             threads: None,
+            progress: false,
         }
     }
+}
+
+/// The most samples per pixel the reference may take (the top level's spp × the reference
+/// factor); more is refused before anything renders.
+pub const MAX_REFERENCE_SPP: u32 = 1 << 20;
+
+/// How far a run has got: given to the observer of [`run_observed`] after the first render
+/// (when the first estimate can be made), after the reference, and after each level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Progress {
+    /// What has just finished, in words: "the first render (1 spp, seed 1)", "the reference (256
+    /// spp)", "level 4 spp (4 seeds)".
+    pub finished: String,
+    /// Renders done, and in all (the reference and every level's seeds; on another device, the
+    /// CPU render that measures the reference's speed too).
+    pub renders: [usize; 2],
+    /// Samples traced so far, and in all (spp × pixels, summed over the renders).
+    pub samples: [u64; 2],
+    /// Trace seconds so far (the renderers' own figures: loading and building are left out).
+    pub seconds: f64,
+    /// The trace seconds still to come, estimated from the speeds measured so far: the
+    /// reference's from the CPU's renders, the levels' from the levels'.
+    pub seconds_left: f64,
 }
 
 /// One render: a level's spp with one seed.
@@ -162,7 +189,7 @@ pub fn slope(points: &[(f64, f64)]) -> f64 {
 
 /// Renders the levels and the reference on the CPU and measures every level's error.
 pub fn run(scene: &Scene, opts: &ConvergeOptions) -> Result<ConvergeReport, String> {
-    run_levels_with(scene, opts, None)
+    run_levels_with(scene, opts, None, &mut |_| {})
 }
 
 /// A renderer of the levels other than the CPU's: `(spp, seed)` → the linear image (row-major,
@@ -177,39 +204,198 @@ pub fn run_on(
     device: &str,
     levels: &mut LevelRenderer<'_>,
 ) -> Result<ConvergeReport, String> {
-    run_levels_with(scene, opts, Some((device, levels)))
+    run_levels_with(scene, opts, Some((device, levels)), &mut |_| {})
+}
+
+/// As [`run`] (with `levels` None) or [`run_on`], telling `observe` how far the run has got and
+/// how long the rest should take ([`Progress`]). The first render (1 spp, seed 1) is made
+/// before the reference so that an estimate comes at once, not after the reference's hours.
+pub fn run_observed(
+    scene: &Scene,
+    opts: &ConvergeOptions,
+    levels: Option<(&str, &mut LevelRenderer<'_>)>,
+    observe: &mut dyn FnMut(&Progress),
+) -> Result<ConvergeReport, String> {
+    run_levels_with(scene, opts, levels, observe)
+}
+
+/// The reference's spp for `opts` (the top level, a power of two, × the factor), or the
+/// refusal that states the limit.
+pub fn reference_spp(opts: &ConvergeOptions) -> Result<u32, String> {
+    let factor = opts.reference_factor.max(16);
+    let top = 1u32 << (31 - opts.max_spp.max(1).leading_zeros());
+    top.checked_mul(factor)
+        .filter(|s| *s <= MAX_REFERENCE_SPP)
+        .ok_or_else(|| {
+            format!(
+                "a reference at {factor} × {top} spp is too many samples: the reference takes \
+                 at most {MAX_REFERENCE_SPP} samples per pixel (--max-spp, rounded down to a \
+                 power of two, × --reference-factor); lower --max-spp or --reference-factor"
+            )
+        })
+}
+
+/// Trace seconds and samples measured so far on one device.
+#[derive(Debug, Clone, Copy, Default)]
+struct Rate {
+    seconds: f64,
+    samples: u64,
+}
+
+impl Rate {
+    fn add(&mut self, seconds: f64, samples: u64) {
+        self.seconds += seconds;
+        self.samples += samples;
+    }
+
+    /// Seconds per sample, if anything was measured.
+    fn per_sample(&self) -> Option<f64> {
+        (self.samples > 0).then(|| self.seconds / self.samples as f64)
+    }
+}
+
+/// Counts what is done and estimates what is left, for the observer of [`run_observed`].
+struct Tracker<'o> {
+    done: Progress,
+    /// The CPU's speed (the reference's, and the levels' when they render on the CPU).
+    cpu: Rate,
+    /// The other device's speed, when the levels render elsewhere.
+    device: Option<Rate>,
+    /// Samples still to trace: the reference's and the levels'.
+    reference_left: u64,
+    levels_left: u64,
+    observe: &'o mut dyn FnMut(&Progress),
+}
+
+impl Tracker<'_> {
+    /// Where a level's render is counted.
+    fn level_rate(&mut self) -> &mut Rate {
+        self.device.as_mut().unwrap_or(&mut self.cpu)
+    }
+
+    /// `renders` renders of `samples` samples in all took `seconds`: tells the observer.
+    fn report(&mut self, finished: String, renders: usize, seconds: f64, samples: u64) {
+        self.done.finished = finished;
+        self.done.renders[0] += renders;
+        self.done.samples[0] += samples;
+        self.done.seconds += seconds;
+        let cpu = self.cpu.per_sample();
+        let device = self.device.and_then(|d| d.per_sample());
+        let cpu_rate = cpu.or(device).unwrap_or(0.0);
+        let level_rate = device.unwrap_or(cpu_rate);
+        self.done.seconds_left =
+            self.reference_left as f64 * cpu_rate + self.levels_left as f64 * level_rate;
+        (self.observe)(&self.done);
+    }
 }
 
 fn run_levels_with(
     scene: &Scene,
     opts: &ConvergeOptions,
     mut other: Option<(&str, &mut LevelRenderer<'_>)>,
+    observe: &mut dyn FnMut(&Progress),
 ) -> Result<ConvergeReport, String> {
     if opts.max_spp == 0 || opts.seeds == 0 {
         return Err("converge needs --max-spp ≥ 1 and --seeds ≥ 1".into());
     }
-    let factor = opts.reference_factor.max(16);
     let top = 1u32 << (31 - opts.max_spp.leading_zeros());
-    let reference_spp = top
-        .checked_mul(factor)
-        .filter(|s| *s <= 1 << 20)
-        .ok_or_else(|| format!("a reference at {factor} × {top} spp is too many samples"))?;
+    let reference_spp = reference_spp(opts)?;
     // One accelerator for every level: only the samples and the seed change.
     let base = PreparedScene::new(scene.clone());
     let build = base.build_time();
-    let ropts = RenderOptions {
-        threads: opts.threads,
-        ..Default::default()
-    };
-    let render_with = |spp: u32, seed: u32| {
+    let render_with = |spp: u32, seed: u32, progress: bool| {
         let mut settings = scene.settings.clone();
         settings.spp = spp;
         settings.seed = seed;
         let level = PreparedScene::with_settings(base.scene_arc(), &settings, Some(&base));
-        render(&level.tracer(), &ropts)
+        render(
+            &level.tracer(),
+            &RenderOptions {
+                threads: opts.threads,
+                progress,
+                ..Default::default()
+            },
+        )
     };
+    let device_name = other.as_ref().map(|(d, _)| d.to_string());
+    let mut render_level = |spp: u32, seed: u32| -> Result<(Vec<Vec3>, f64), String> {
+        match &mut other {
+            Some((_, f)) => f(spp, seed),
+            None => {
+                let out = render_with(spp, seed, false)?;
+                Ok((out.pixels, out.stats.trace.as_secs_f64()))
+            }
+        }
+    };
+
+    // What the run will trace, to say how far it has got: per pixel, the reference's samples
+    // and every level's (1 + 2 + … + top = 2·top − 1 per seed); on another device, also one
+    // CPU render at 1 spp that times the CPU for the reference.
+    let pixels = u64::from(scene.camera.width) * u64::from(scene.camera.height);
+    let calibrate = u64::from(device_name.is_some());
+    let levels_total = pixels * u64::from(opts.seeds) * (2 * u64::from(top) - 1);
+    let reference_total = pixels * u64::from(reference_spp);
+    let mut tracker = Tracker {
+        done: Progress {
+            finished: String::new(),
+            renders: [
+                0,
+                1 + calibrate as usize + (top.ilog2() as usize + 1) * opts.seeds as usize,
+            ],
+            samples: [0, reference_total + levels_total + calibrate * pixels],
+            seconds: 0.0,
+            seconds_left: 0.0,
+        },
+        cpu: Rate::default(),
+        device: device_name.as_ref().map(|_| Rate::default()),
+        reference_left: reference_total,
+        levels_left: levels_total,
+        observe,
+    };
+
+    // The first level's first seed comes before the reference: its speed gives the first
+    // estimate at once (the reference alone may take hours).
+    let first = render_level(1, 1)?;
+    tracker.levels_left -= pixels;
+    tracker.level_rate().add(first.1, pixels);
+    match &device_name {
+        Some(d) => {
+            tracker.report(
+                format!("the first render (1 spp, seed 1) on {d}"),
+                1,
+                first.1,
+                pixels,
+            );
+            let probe = render_with(1, 1, false)?;
+            let seconds = probe.stats.trace.as_secs_f64();
+            tracker.cpu.add(seconds, pixels);
+            tracker.report(
+                "a CPU render at 1 spp, to time the reference".into(),
+                1,
+                seconds,
+                pixels,
+            );
+        }
+        None => tracker.report(
+            "the first render (1 spp, seed 1)".into(),
+            1,
+            first.1,
+            pixels,
+        ),
+    }
+    let mut first = Some(first);
+
     // The reference's seed differs from every level's (levels use 1..=K).
-    let reference = render_with(reference_spp, 0x5EED_u32.wrapping_mul(7919))?;
+    let reference = render_with(reference_spp, 0x5EED_u32.wrapping_mul(7919), opts.progress)?;
+    let reference_seconds = reference.stats.trace.as_secs_f64();
+    tracker.reference_left = 0;
+    tracker.cpu.add(reference_seconds, reference_total);
+    tracker.report(
+        format!("the reference ({reference_spp} spp)"),
+        1,
+        reference_seconds,
+        reference_total,
+    );
     let (rn, ri) = reference.pixels.iter().fold((0, 0), |(n, i), p| {
         (
             n + p.is_nan() as usize,
@@ -226,22 +412,27 @@ fn run_levels_with(
     let mut spp = 1;
     while spp <= top {
         let mut here = vec![];
+        let (mut renders, mut level_seconds, mut level_samples) = (0, 0.0, 0);
         for seed in 1..=opts.seeds {
-            let (pixels, seconds) = match &mut other {
-                Some((_, f)) => f(spp, seed)?,
+            // Level 1's seed 1 was rendered first (and counted then).
+            let (pixels_out, seconds) = match first.take() {
+                Some(made) => made,
                 None => {
-                    let out = render_with(spp, seed)?;
-                    (out.pixels, out.stats.trace.as_secs_f64())
+                    let made = render_level(spp, seed)?;
+                    renders += 1;
+                    level_seconds += made.1;
+                    level_samples += pixels * u64::from(spp);
+                    made
                 }
             };
-            if pixels.len() != reference.pixels.len() {
+            if pixels_out.len() != reference.pixels.len() {
                 return Err(format!(
                     "a level rendered {} pixels, the reference {}",
-                    pixels.len(),
+                    pixels_out.len(),
                     reference.pixels.len()
                 ));
             }
-            let (mse, relmse, nan, inf) = errors(&pixels, &reference.pixels);
+            let (mse, relmse, nan, inf) = errors(&pixels_out, &reference.pixels);
             here.push(Sample {
                 spp,
                 seed,
@@ -263,6 +454,18 @@ fn run_levels_with(
             inf: here.iter().map(|s| s.inf).sum(),
         });
         samples.extend(here);
+        tracker.levels_left -= level_samples;
+        tracker.level_rate().add(level_seconds, level_samples);
+        tracker.report(
+            format!(
+                "level {spp} spp ({} seed{})",
+                opts.seeds,
+                if opts.seeds == 1 { "" } else { "s" }
+            ),
+            renders,
+            level_seconds,
+            level_samples,
+        );
         spp *= 2;
     }
     let pts: Vec<(f64, f64)> = levels
@@ -272,11 +475,11 @@ fn run_levels_with(
         .collect();
     Ok(ConvergeReport {
         scene: scene.name.clone(),
-        device: other.map_or("CPU".into(), |(d, _)| d.to_string()),
+        device: device_name.unwrap_or_else(|| "CPU".into()),
         size: [reference.width, reference.height],
         build_seconds: build.as_secs_f64(),
         reference_spp,
-        reference_seconds: reference.stats.trace.as_secs_f64(),
+        reference_seconds,
         samples,
         levels,
         mse_slope: slope(&pts),

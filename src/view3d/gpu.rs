@@ -20,6 +20,11 @@ const SAMPLES: u32 = 4;
 const LINE_DEPTH_BIAS: f32 = 2e-3;
 /// The largest picture side drawn (larger requests are refused with a message).
 pub const MAX_SIDE: u32 = 8192;
+/// The largest tile side a picture is drawn in when it is read back
+/// ([`crate::view3d::render_image`]): the GPU then holds one tile's multisampled colour and
+/// depth (36 bytes a pixel, 144 MiB at 2048²) rather than the whole picture's (2.3 GiB at
+/// 8192², in main memory on a software adapter such as lavapipe).
+pub const TILE_SIDE: u32 = 2048;
 
 /// The 3D view's pipelines and target, on one device.
 pub struct Renderer {
@@ -248,14 +253,36 @@ impl Renderer {
         size: [u32; 2],
         background: [f32; 4],
     ) -> Result<bool, GpuError> {
+        self.draw_region(geometry, camera, size, [0, 0, size[0], size[1]], background)
+    }
+
+    /// Draws only `region` = [x, y, width, height] (pixels from the top-left) of the `size`
+    /// picture [`Renderer::draw`] would draw, into a picture of the region's size: the same
+    /// pixels, lines as wide. [`crate::view3d::render_image`] draws large pictures tile by tile
+    /// this way.
+    pub fn draw_region(
+        &mut self,
+        geometry: &Geometry,
+        camera: &ViewCamera,
+        size: [u32; 2],
+        region: [u32; 4],
+        background: [f32; 4],
+    ) -> Result<bool, GpuError> {
         if size[0] == 0 || size[1] == 0 || size[0] > MAX_SIDE || size[1] > MAX_SIDE {
             return Err(GpuError::Scene(format!(
                 "the 3D view's picture must be 1 to {MAX_SIDE} pixels a side, not {}×{}",
                 size[0], size[1]
             )));
         }
+        let [x0, y0, w, h] = region;
+        if w == 0 || h == 0 || x0.saturating_add(w) > size[0] || y0.saturating_add(h) > size[1] {
+            return Err(GpuError::Scene(format!(
+                "the region {w}×{h} at ({x0}, {y0}) is not inside the {}×{} picture",
+                size[0], size[1]
+            )));
+        }
         let start = Instant::now();
-        let new_target = self.ensure_target(size)?;
+        let new_target = self.ensure_target([w, h])?;
         let segments = sphere_segments(geometry.spheres.len() + geometry.clear_spheres.len());
         if self.sphere_mesh.as_ref().is_none_or(|m| m.0 != segments) {
             let (verts, idx) = unit_sphere(segments);
@@ -283,10 +310,11 @@ impl Renderer {
                 "the 3D view's picture was not made".into(),
             ));
         };
-        let vp = camera.view_proj();
+        let vp = region_matrix(size, region) * camera.view_proj();
         let mut globals = vp.to_cols_array().to_vec();
         globals.extend([camera.eye.x, camera.eye.y, camera.eye.z, 1.0]);
-        globals.extend([size[0] as f32, size[1] as f32, LINE_DEPTH_BIAS, 0.0]);
+        // The region's size: the shader sizes lines in its pixels, which are the picture's.
+        globals.extend([w as f32, h as f32, LINE_DEPTH_BIAS, 0.0]);
         self.ctx.checked("drawing the 3D view", || {
             let ub = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("3D view globals"),
@@ -404,6 +432,25 @@ impl Renderer {
         image::RgbaImage::from_raw(t.size[0], t.size[1], pixels)
             .ok_or_else(|| GpuError::Device("the 3D view's readback has the wrong size".into()))
     }
+}
+
+/// The clip-space transform that makes `region` = [x, y, width, height] of a `size` picture
+/// fill the whole viewport: the region's normalized device coordinates are scaled and moved to
+/// −1 … 1 (applied before the perspective divide, as a multiple of w). The whole picture gives
+/// exactly the identity.
+pub fn region_matrix(size: [u32; 2], region: [u32; 4]) -> glam::Mat4 {
+    let [width, height] = size.map(|v| v as f32);
+    let [x0, y0, w, h] = region.map(|v| v as f32);
+    // The region's centre in NDC (x to the right, y up; pixel rows count down from the top).
+    let cx = (2.0 * x0 + w) / width - 1.0;
+    let cy = 1.0 - (2.0 * y0 + h) / height;
+    let (sx, sy) = (width / w, height / h);
+    glam::Mat4::from_cols(
+        Vec4::new(sx, 0.0, 0.0, 0.0),
+        Vec4::new(0.0, sy, 0.0, 0.0),
+        Vec4::Z,
+        Vec4::new(-sx * cx, -sy * cy, 0.0, 1.0),
+    )
 }
 
 /// Segments around a sphere: fewer when there are many spheres (a sphereflake's 7,381 would

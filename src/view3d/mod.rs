@@ -83,7 +83,10 @@ impl Viewpoint {
     }
 }
 
-/// A whole 3D view, drawn headless into an image (for `raystep view`, slides and tests).
+/// A whole 3D view, drawn headless into an RGB image (for `raystep view`, slides and tests).
+/// A picture larger than [`gpu::TILE_SIDE`] a side is drawn and read back tile by tile, so
+/// the GPU never holds more than one tile's multisampled picture; `renderer.last_frame` is then
+/// the tiles' drawing time together.
 pub fn render_image(
     renderer: &mut gpu::Renderer,
     prepared: &PreparedScene,
@@ -92,7 +95,31 @@ pub fn render_image(
     options: &Options,
     viewpoint: Viewpoint,
     size: [u32; 2],
-) -> Result<image::RgbaImage, crate::gpu::GpuError> {
+) -> Result<image::RgbImage, crate::gpu::GpuError> {
+    render_image_in_tiles(
+        renderer,
+        prepared,
+        trace,
+        fan,
+        options,
+        viewpoint,
+        size,
+        gpu::TILE_SIDE,
+    )
+}
+
+/// [`render_image`] drawn in tiles of at most `tile` pixels a side (at least 1).
+#[allow(clippy::too_many_arguments)]
+pub fn render_image_in_tiles(
+    renderer: &mut gpu::Renderer,
+    prepared: &PreparedScene,
+    trace: Option<&Trace>,
+    fan: &[Trace],
+    options: &Options,
+    viewpoint: Viewpoint,
+    size: [u32; 2],
+    tile: u32,
+) -> Result<image::RgbImage, crate::gpu::GpuError> {
     let scene = prepared.scene();
     let cam = viewpoint.camera(
         &scene.camera,
@@ -106,6 +133,20 @@ pub fn render_image(
     };
     let g = geometry::build(scene, trace, fan, &options);
     let bg = options.theme.background.map(|v| f32::from(v) / 255.0);
-    renderer.draw(&g, &cam, size, bg)?;
-    renderer.read()
+    let tile = tile.max(1);
+    let mut out = image::RgbImage::new(size[0], size[1]);
+    let mut drawing = std::time::Duration::ZERO;
+    for y0 in (0..size[1]).step_by(tile as usize) {
+        for x0 in (0..size[0]).step_by(tile as usize) {
+            let (w, h) = (tile.min(size[0] - x0), tile.min(size[1] - y0));
+            renderer.draw_region(&g, &cam, size, [x0, y0, w, h], bg)?;
+            drawing += renderer.last_frame;
+            let part = renderer.read()?;
+            for (x, y, p) in part.enumerate_pixels() {
+                out.put_pixel(x0 + x, y0 + y, image::Rgb([p[0], p[1], p[2]]));
+            }
+        }
+    }
+    renderer.last_frame = drawing;
+    Ok(out)
 }
