@@ -93,6 +93,32 @@ pub fn builtin_scene(name: &str) -> Option<&'static Asset> {
     })
 }
 
+/// The names of the built-in exercise sheets (`01-camera`, `02-sphere`, …), sorted.
+pub fn sheet_names() -> Vec<&'static str> {
+    ASSETS
+        .iter()
+        .filter_map(|a| {
+            a.path
+                .strip_prefix("lessons/exercises/")?
+                .strip_suffix(".toml")
+        })
+        .collect()
+}
+
+/// The built-in exercise sheet called `name`: `02-sphere`, `02-sphere.toml`,
+/// `exercises/02-sphere.toml` or `lessons/exercises/02-sphere.toml`.
+pub fn builtin_sheet(name: &str) -> Option<&'static Asset> {
+    let stem = name.strip_prefix("lessons/").unwrap_or(name);
+    let stem = stem.strip_prefix("exercises/").unwrap_or(stem);
+    let stem = stem.strip_suffix(".toml").unwrap_or(stem);
+    ASSETS.iter().find(|a| {
+        a.path
+            .strip_prefix("lessons/exercises/")
+            .and_then(|p| p.strip_suffix(".toml"))
+            == Some(stem)
+    })
+}
+
 /// A short hash of every built-in file (names the cache folder, so two builds never share one).
 fn content_hash() -> String {
     let mut h = Sha256::new();
@@ -201,6 +227,19 @@ pub fn resolve_scene(arg: &Path) -> Result<PathBuf, String> {
         Some(Ok(Some(p))) => Ok(p),
         Some(Err(e)) => Err(e),
         _ => Ok(arg.to_path_buf()),
+    }
+}
+
+/// What a command-line exercise sheet argument names: the file if it exists, else the built-in
+/// sheet of that name (`02-sphere`), else the file (whose loading then reports that it does not
+/// exist) — as [`resolve_scene`] does for scenes.
+pub fn resolve_sheet(arg: &Path) -> Result<PathBuf, String> {
+    if arg.exists() {
+        return Ok(arg.to_path_buf());
+    }
+    match arg.to_str().and_then(builtin_sheet) {
+        Some(a) => Ok(unpacked()?.join(a.path)),
+        None => Ok(arg.to_path_buf()),
     }
 }
 
@@ -361,5 +400,38 @@ mod tests {
         assert!(builtin_scene("nope").is_none());
         assert!(scene_names().contains(&"three-spheres"));
         assert!(!scene_names().contains(&"icosahedron"));
+    }
+
+    #[test]
+    fn sheet_names_resolve_like_scene_names() {
+        for n in [
+            "02-sphere",
+            "02-sphere.toml",
+            "exercises/02-sphere.toml",
+            "lessons/exercises/02-sphere.toml",
+        ] {
+            assert_eq!(
+                builtin_sheet(n).map(|a| a.path),
+                Some("lessons/exercises/02-sphere.toml"),
+                "{n}"
+            );
+        }
+        // A scene is not a sheet, nor is the starter kit's grading sheet.
+        assert!(builtin_sheet("cornell").is_none());
+        assert!(builtin_sheet("sheet").is_none());
+        assert_eq!(sheet_names().len(), 12);
+        assert_eq!(sheet_names()[0], "01-camera");
+        // An existing file of that name wins over the built-in sheet.
+        let dir = std::env::temp_dir().join(format!("raystep-sheet-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let own = dir.join("02-sphere");
+        std::fs::write(&own, "").unwrap();
+        assert_eq!(resolve_sheet(&own).unwrap(), own);
+        std::fs::remove_dir_all(&dir).unwrap();
+        let p = resolve_sheet(Path::new("02-sphere")).unwrap();
+        assert_eq!(
+            std::fs::read(&p).unwrap(),
+            builtin_sheet("02-sphere").unwrap().bytes
+        );
     }
 }

@@ -1007,7 +1007,10 @@ fn trace_tree_names_rays_and_stages() {
     ] {
         assert!(out.contains(want), "tree lacks {want:?}:\n{out}");
     }
-    assert_in_order(&out, &["primary ray", "[ray-generation]", "[intersection]"]);
+    assert_in_order(
+        &out,
+        &["primary ray", "[0] [ray-generation]", "[1] [intersection]"],
+    );
 
     let out = ok(&Cli::with("trace @ --pixel 160,120", &[&three_spheres()]));
     for want in [
@@ -1022,6 +1025,91 @@ fn trace_tree_names_rays_and_stages() {
             "three-spheres tree lacks {want:?}:\n{out}"
         );
     }
+}
+
+/// `raystep trace` numbers every step `[K]` as the app's step list does: from 0, over the whole
+/// timeline in the order it happened, the spawn steps included and a child ray's steps right
+/// after its spawn step. The numbers are read against the JSON trace walked here, and against
+/// what the app's step list shows for this pixel (its snapshot, tests/snapshots/
+/// app-three-spheres-quadratic.png: "9. → child ray 0", then the shadow ray from 10 to 13);
+/// the last K is one `diagram --step` takes, K + 1 is not.
+#[test]
+fn trace_numbers_every_step_as_the_app_and_step_arguments_do() {
+    let scene = three_spheres();
+    let text = ok(&Cli::with("trace @ --pixel 150,110", &[&scene]));
+    let json = json_of(&Cli::with("trace @ --pixel 150,110 --json", &[&scene]));
+
+    // The timeline from the JSON: (stage, type) of every step, children where spawned.
+    fn walk(ray: &Value, out: &mut Vec<(String, String)>) {
+        for s in ray["steps"].as_array().unwrap() {
+            out.push((
+                s["stage"].as_str().unwrap().to_string(),
+                s["type"].as_str().unwrap().to_string(),
+            ));
+            if s["type"] == "spawn" {
+                walk(&ray["children"][s["child"].as_u64().unwrap() as usize], out);
+            }
+        }
+    }
+    let mut timeline = vec![];
+    walk(&json["root"], &mut timeline);
+
+    // The step lines: "[K] [stage] …", indented under their ray.
+    let steps: Vec<(usize, &str, &str)> = text
+        .lines()
+        .filter_map(|l| {
+            let rest = l.trim_start().strip_prefix('[')?;
+            let (k, rest) = rest.split_once("] [")?;
+            let (stage, words) = rest.split_once("] ")?;
+            Some((k.parse().ok()?, stage, words))
+        })
+        .collect();
+    assert_eq!(
+        steps.len(),
+        timeline.len(),
+        "one numbered line per step:\n{text}"
+    );
+    for (i, ((k, stage, words), (json_stage, kind))) in steps.iter().zip(&timeline).enumerate() {
+        assert_eq!(*k, i, "the steps are numbered 0, 1, 2, … in order:\n{text}");
+        assert_eq!(stage, json_stage, "step {k}");
+        assert_eq!(
+            kind == "spawn",
+            words.starts_with("→ child ray"),
+            "step {k}: {words}"
+        );
+    }
+    assert_eq!(
+        timeline.len(),
+        16,
+        "the app's list shows steps 0–15 for this pixel"
+    );
+    assert!(steps[9].2.starts_with("→ child ray 0"), "{text}");
+    assert!(steps[11].2.starts_with("sphere \"middle\""), "{text}");
+    // The child ray's header comes right after its spawn step, its first step right after it.
+    let spawn = line_index(&text, "[9] [closest-hit]").expect("the spawn step's line");
+    assert_eq!(line_index(&text, "shadow ray ("), Some(spawn + 1), "{text}");
+    assert_eq!(
+        line_index(&text, "[10] [intersection]"),
+        Some(spawn + 2),
+        "{text}"
+    );
+
+    // The printed numbers are the ones --step takes.
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("last.png");
+    let last = timeline.len() - 1;
+    ok(&Cli::with(
+        &format!("diagram @ --pixel 150,110 --step {last} -o @"),
+        &[&scene, &png],
+    ));
+    assert!(png.is_file());
+    fails(
+        &Cli::with(
+            &format!("diagram @ --pixel 150,110 --step {} -o @", last + 1),
+            &[&scene, &png],
+        ),
+        &["--step 16 does not exist", "16 steps (0 … 15)"],
+    );
 }
 
 /// --save writes the very JSON that --json prints, complete, and nothing else beside it (the

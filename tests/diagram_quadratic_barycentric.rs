@@ -484,3 +484,47 @@ fn every_step_draws_in_both_themes_and_sizes() {
         }
     }
 }
+
+/// The quadratic and barycentric titles number the step as the app and `raystep trace` do
+/// ("step K of 0–N"), then which test of the trace it is; at the command line's 800×600 (the
+/// size of `--animate`'s frames) the step's number is in the title that is drawn, and on a
+/// narrow canvas the title drops its details rather than being cut at "(…".
+#[test]
+fn titles_number_the_step_as_the_app_does() {
+    // Lesson 2's pixel: the app lists steps 0–15, and step 11 is the shadow ray's test of
+    // "middle", the 4th of its 6 sphere tests (steps 3, 5, 6, 11, 12, 13).
+    let t = trace(&scene("three-spheres.toml", None), 150, 110);
+    let l = quadratic::layout(&t, &opts(Some(11))).unwrap();
+    let titles = quadratic::titles(&t, &l);
+    assert!(
+        titles[0].ends_with(" · step 11 of 0–15 · test 4 of 6"),
+        "{titles:?}"
+    );
+    assert!(titles[1].ends_with(" · step 11 of 0–15"), "{titles:?}");
+    assert!(!titles[2].contains("step"), "{titles:?}");
+    let wide = Canvas::new(800, 600, Theme::LIGHT);
+    assert!(
+        diagram::first_fitting(&wide, &titles).contains(" · step 11 of 0–15"),
+        "{titles:?}"
+    );
+    let wider = Canvas::new(1280, 720, Theme::LIGHT);
+    assert_eq!(diagram::first_fitting(&wider, &titles), titles[0]);
+    let narrow = Canvas::new(400, 300, Theme::LIGHT);
+    assert_eq!(diagram::first_fitting(&narrow, &titles), titles[2]);
+
+    // Lesson 4's pixel with Möller–Trumbore: step 9 is "pyramid south", the 4th triangle test.
+    let t = trace(
+        &scene("triangles.toml", Some(TriangleMethod::MollerTrumbore)),
+        80,
+        130,
+    );
+    let l = barycentric::layout(&t, &opts(Some(9))).unwrap();
+    assert_eq!(l.name, "pyramid south");
+    let titles = barycentric::titles(&t, &l);
+    let n = t.timeline().len();
+    assert!(
+        titles[0].contains(&format!(" · step 9 of 0–{} · test 4 of ", n - 1)),
+        "{titles:?}"
+    );
+    assert!(diagram::first_fitting(&wide, &titles).contains("step 9 of 0–"));
+}

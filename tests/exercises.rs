@@ -1064,3 +1064,129 @@ fn a_student_on_two_rows_is_an_error() {
     assert!(e.starts_with("class.csv: row 4, column 1:"), "{e}");
     assert!(e.contains("\"ann\"") && e.contains("row 2"), "{e}");
 }
+
+/// `raystep exercise 02-sphere` takes a built-in sheet by name, from any folder, as scenes are
+/// taken by name; `check` and `grade` too. A name that is no sheet lists the names.
+#[test]
+fn a_built_in_sheet_is_taken_by_name_from_any_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = |sheet: &str, cwd: &Path| -> Value {
+        let out = raystep()
+            .current_dir(cwd)
+            .args(["exercise", sheet, "--student", "s1001", "--json"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        serde_json::from_slice(&out).unwrap()
+    };
+    let by_file = json("lessons/exercises/02-sphere.toml", &root());
+    for name in ["02-sphere", "02-sphere.toml", "exercises/02-sphere.toml"] {
+        let by_name = json(name, dir.path());
+        assert_eq!(by_name["title"], by_file["title"], "{name}");
+        let texts = |v: &Value| -> Vec<Value> {
+            v["questions"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|q| q["text"].clone())
+                .collect()
+        };
+        assert_eq!(texts(&by_name), texts(&by_file), "{name}");
+    }
+    let answers = dir.path().join("answers.txt");
+    std::fs::write(&answers, "disc = 1\n").unwrap();
+    raystep()
+        .current_dir(dir.path())
+        .args(["check", "02-sphere", "--student", "s1001", "--answers"])
+        .arg(&answers)
+        .assert()
+        .success();
+    let class = dir.path().join("class.csv");
+    std::fs::write(&class, "student,disc\ns1001,1\n").unwrap();
+    raystep()
+        .current_dir(dir.path())
+        .args(["grade", "02-sphere"])
+        .arg(&class)
+        .args(["-o", "grades.csv"])
+        .assert()
+        .success();
+    assert!(dir.path().join("grades.csv").is_file());
+    fails(
+        &[
+            "exercise".as_ref(),
+            "02-spheres".as_ref(),
+            "--student".as_ref(),
+            "s".as_ref(),
+        ],
+        &["02-spheres", "built-in sheets: 01-camera, 02-sphere"],
+    );
+}
+
+/// `--solutions` writes each number with the digits `raystep trace` prints for it (5.573929,
+/// not the f64 widening 5.5739288330078125): each numeric solution appears, as written, in the
+/// trace of its question's pixel.
+#[test]
+fn solutions_are_written_as_the_trace_writes_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let scenes = dir.path().join("scenes");
+    std::fs::create_dir(&scenes).unwrap();
+    let mut numbers = 0;
+    for sheet in ["02-sphere", "04-triangle", "09-refraction"] {
+        let path = format!("lessons/exercises/{sheet}.toml");
+        let out = raystep()
+            .args([
+                "exercise",
+                &path,
+                "--student",
+                "s1001",
+                "--solutions",
+                "--json",
+            ])
+            .arg("--scenes")
+            .arg(&scenes)
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        let v: Value = serde_json::from_slice(&out).unwrap();
+        for q in v["questions"].as_array().unwrap() {
+            let solution = q["solution"].as_str().unwrap();
+            let parts: Vec<&str> = solution.split(", ").collect();
+            if !parts.iter().all(|p| p.parse::<f64>().is_ok()) {
+                continue; // a name, yes/no or none
+            }
+            let scene = q["scene"].as_str().expect("a scene to trace");
+            let pixel = format!("{},{}", q["pixel"][0], q["pixel"][1]);
+            let trace = raystep()
+                .args(["trace", scene, "--pixel", &pixel])
+                .assert()
+                .success()
+                .get_output()
+                .stdout
+                .clone();
+            let trace = String::from_utf8(trace).unwrap();
+            for p in parts {
+                // Not a prefix of a longer number: "4.5" must not match "4.55".
+                let found = trace.match_indices(p).any(|(k, _)| {
+                    let next = trace[k + p.len()..].chars().next();
+                    let prev = trace[..k].chars().last();
+                    !next.is_some_and(|c| c.is_ascii_digit() || c == '.' || c == 'e')
+                        && !prev.is_some_and(|c| c.is_ascii_digit() || c == '.')
+                });
+                assert!(
+                    found,
+                    "{sheet} {}: the solution's {p} is not in the trace of {scene} {pixel}:\n{trace}",
+                    q["id"]
+                );
+                numbers += 1;
+            }
+        }
+    }
+    assert!(
+        numbers >= 10,
+        "only {numbers} numeric solutions were compared"
+    );
+}

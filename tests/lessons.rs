@@ -358,3 +358,526 @@ fn link_extraction_sees_links_and_skips_code() {
     let rel: Vec<&str> = found.iter().filter_map(|t| relative_path(t)).collect();
     assert_eq!(rel, ["01-a.md", "02-b.md"]);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Every quoted number comes from the command beside it (the convention is in lessons/README.md,
+// "Writing a lesson: quoted numbers").
+// ---------------------------------------------------------------------------------------------
+
+/// A number written in a lesson or printed by raystep.
+#[derive(Debug, Clone, PartialEq)]
+struct Number {
+    /// As written (`−7.8414445e−07`).
+    text: String,
+    /// Its value.
+    value: f64,
+    /// Whether it has a decimal point or an exponent (only those are checked).
+    decimal: bool,
+    /// The place value of its last digit (`0.001` for `2.731`, `1e-14` for `7.8414445e-7`).
+    ulp: f64,
+    /// Followed by `…`: cut, not rounded (`0.5863…`).
+    cut: bool,
+    /// Preceded by `≈`: a rounded or hand-made approximation, not checked.
+    approx: bool,
+    /// Followed by a unit of time (`ms`, `s`): a timing, which differs between machines.
+    timing: bool,
+}
+
+/// The numbers in `text`. A minus is `-` or `−` (U+2212) right before the digits; digits that
+/// continue a word (`E1`, `D0`, `pbrt-v4`) are not numbers; `1.2.3` is not a number.
+fn numbers_in(text: &str) -> Vec<Number> {
+    let c: Vec<char> = text.chars().collect();
+    let is_minus = |ch: char| ch == '-' || ch == '−';
+    let word = |ch: char| ch.is_alphanumeric() || ch == '_';
+    let digits_from = |mut i: usize| {
+        while i < c.len() && c[i].is_ascii_digit() {
+            i += 1;
+        }
+        i
+    };
+    let mut out = vec![];
+    let mut i = 0;
+    while i < c.len() {
+        let starts_number = c[i].is_ascii_digit()
+            || (is_minus(c[i]) && c.get(i + 1).is_some_and(|d| d.is_ascii_digit()));
+        let glued = i > 0 && (word(c[i - 1]) || c[i - 1] == '.');
+        if !starts_number || glued {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        let negative = is_minus(c[i]);
+        if negative {
+            i += 1;
+        }
+        let int_end = digits_from(i);
+        let mut end = int_end;
+        let mut decimals = 0;
+        if end + 1 < c.len() && c[end] == '.' && c[end + 1].is_ascii_digit() {
+            let frac_end = digits_from(end + 1);
+            decimals = frac_end - end - 1;
+            end = frac_end;
+        }
+        let mut exponent = 0i32;
+        let mut has_exponent = false;
+        if end < c.len() && (c[end] == 'e' || c[end] == 'E') {
+            let mut j = end + 1;
+            let exp_negative = j < c.len() && is_minus(c[j]);
+            if j < c.len() && (is_minus(c[j]) || c[j] == '+') {
+                j += 1;
+            }
+            let exp_end = digits_from(j);
+            if exp_end > j && !(exp_end < c.len() && word(c[exp_end])) {
+                let e: i32 = c[j..exp_end].iter().collect::<String>().parse().unwrap();
+                exponent = if exp_negative { -e } else { e };
+                has_exponent = true;
+                end = exp_end;
+            }
+        }
+        // `1.2.3` or `4th`: not a number.
+        let version = end + 1 < c.len() && c[end] == '.' && c[end + 1].is_ascii_digit();
+        if version || (end < c.len() && word(c[end]) && !has_exponent) {
+            i = end;
+            while i < c.len() && (word(c[i]) || c[i] == '.') {
+                i += 1;
+            }
+            continue;
+        }
+        let written: String = c[start..end].iter().collect();
+        let mantissa: String = c[if negative { start + 1 } else { start }..end]
+            .iter()
+            .take_while(|ch| **ch != 'e' && **ch != 'E')
+            .collect();
+        let m: f64 = mantissa.parse().unwrap();
+        let value = if negative { -m } else { m } * 10f64.powi(exponent);
+        let before: String = c[..start].iter().rev().take(3).collect();
+        let after: String = c[end..].iter().take(4).collect();
+        let unit = after.trim_start_matches(' ');
+        out.push(Number {
+            text: written,
+            value,
+            decimal: decimals > 0 || has_exponent,
+            ulp: 10f64.powi(exponent - decimals as i32),
+            cut: after.starts_with('…'),
+            approx: before.trim_start().starts_with('≈'),
+            timing: (unit.starts_with("ms")
+                || unit.starts_with("s ")
+                || unit == "s"
+                || unit.starts_with("s,")
+                || unit.starts_with("s.")
+                || unit.starts_with("s)"))
+                && after.starts_with(' '),
+        });
+        i = end;
+    }
+    out
+}
+
+/// Whether the printed number `p` is the quoted number `q`, at the precision `q` is written to:
+/// `p` rounds to `q` (or, for `q…`, `p`'s digits start with `q`'s).
+fn quotes(q: &Number, p: f64) -> bool {
+    // A hair of slack for the decimal ↔ binary conversions.
+    let slack = q.ulp * 1e-6 + q.value.abs() * 1e-12;
+    if q.cut {
+        if q.value >= 0.0 {
+            p >= q.value - slack && p < q.value + q.ulp + slack
+        } else {
+            p <= q.value + slack && p > q.value - q.ulp - slack
+        }
+    } else {
+        (p - q.value).abs() <= q.ulp / 2.0 + slack
+    }
+}
+
+/// One command a lesson quotes, where it is quoted.
+#[derive(Debug, Clone)]
+struct Quoted {
+    /// The command line as written (without its `# comment`).
+    line: String,
+}
+
+impl Quoted {
+    /// The raystep subcommand (`trace`, `open`, …).
+    fn subcommand(&self) -> &str {
+        self.line.split_whitespace().nth(1).unwrap_or("")
+    }
+
+    /// Whether the test can run it: not the app (`open`), not a benchmark (`bench`: minutes,
+    /// and timings), not a GPU comparison (`compare`: needs an adapter).
+    fn runnable(&self) -> bool {
+        !matches!(self.subcommand(), "open" | "bench" | "compare")
+    }
+}
+
+/// The `raystep` commands of a line of a `sh` block or of a code span: the command before a
+/// pipe or a `# comment`, if the line is one.
+fn command_of(code: &str) -> Option<Quoted> {
+    let code = code.trim();
+    if !code.starts_with("raystep ") {
+        return None;
+    }
+    let line = code.split(" # ").next().unwrap_or(code);
+    let line = line.split(" | ").next().unwrap_or(line).trim();
+    Some(Quoted {
+        line: line.to_string(),
+    })
+}
+
+/// What a lesson quotes: a number, where, and the commands it must come from.
+#[derive(Debug)]
+struct Claim {
+    number: Number,
+    /// 1-based line of the lesson file.
+    line: usize,
+    /// The commands that should print it (empty: none precedes it).
+    sources: Vec<Quoted>,
+}
+
+/// The lesson's checked numbers and their sources, by the convention of lessons/README.md:
+///
+/// - the numbers of a prose block (a paragraph, a list item, a table) come from the `raystep`
+///   commands in its own code spans, else from those of the last ```` ```sh ```` block above it;
+/// - the numbers in a `sh` line's `# comment` come from that line's command;
+/// - only numbers with a decimal point or an exponent are checked; not those after `≈`, not
+///   timings (a number followed by `ms` or `s`), not headings, not command arguments, and no
+///   block that holds `<!-- not checked: … -->`.
+fn claims(text: &str) -> Vec<Claim> {
+    let mut out = vec![];
+    let mut fence: Option<String> = None; // the open fence's language
+    let mut last_sh: Vec<Quoted> = vec![];
+    let mut fence_cmds: Vec<Quoted> = vec![];
+    let mut block: Vec<(usize, &str)> = vec![];
+    let mut front_matter = text.starts_with("+++");
+    let mut seen_open = false;
+
+    let flush = |block: &mut Vec<(usize, &str)>, last_sh: &Vec<Quoted>, out: &mut Vec<Claim>| {
+        if block.is_empty() {
+            return;
+        }
+        let joined: String = block.iter().map(|(_, l)| *l).collect::<Vec<_>>().join("\n");
+        let skip = joined.contains("<!-- not checked") || joined.trim_start().starts_with('#');
+        if !skip {
+            // The block's own commands (in code spans), and its text outside them.
+            let mut own = vec![];
+            let mut found = vec![];
+            for (n, l) in block.iter() {
+                let mut plain = String::new();
+                for (k, part) in l.split('`').enumerate() {
+                    match (k % 2 == 1).then(|| command_of(part)).flatten() {
+                        Some(q) => own.push(q),
+                        None => plain.push_str(part),
+                    }
+                    plain.push(' ');
+                }
+                // Link targets are file names, not quoted numbers.
+                let mut text = String::new();
+                let mut rest = plain.as_str();
+                while let Some(k) = rest.find("](") {
+                    text.push_str(&rest[..k + 1]);
+                    let after = &rest[k + 2..];
+                    rest = after.find(')').map_or("", |c| &after[c + 1..]);
+                }
+                text.push_str(rest);
+                found.extend(numbers_in(&text).into_iter().map(|number| (number, *n)));
+            }
+            let own: Vec<Quoted> = own.into_iter().filter(Quoted::runnable).collect();
+            let sources = if own.is_empty() { last_sh } else { &own };
+            out.extend(found.into_iter().map(|(number, line)| Claim {
+                number,
+                line,
+                sources: sources.clone(),
+            }));
+        }
+        block.clear();
+    };
+
+    for (i, line) in text.lines().enumerate() {
+        let n = i + 1;
+        if front_matter {
+            if line.trim() == "+++" {
+                if seen_open {
+                    front_matter = false;
+                }
+                seen_open = true;
+            }
+            continue;
+        }
+        let t = line.trim_start();
+        if let Some(lang) = t.strip_prefix("```") {
+            flush(&mut block, &last_sh, &mut out);
+            match fence.take() {
+                Some(open) => {
+                    if open == "sh" {
+                        last_sh = std::mem::take(&mut fence_cmds);
+                    }
+                }
+                None => fence = Some(lang.trim().to_string()),
+            }
+            continue;
+        }
+        if let Some(lang) = &fence {
+            if lang == "sh"
+                && let Some(q) = command_of(t)
+            {
+                // Numbers in the line's comment come from the line's command.
+                if let Some((_, comment)) = t.split_once(" # ") {
+                    for number in numbers_in(comment) {
+                        out.push(Claim {
+                            number,
+                            line: n,
+                            sources: if q.runnable() {
+                                vec![q.clone()]
+                            } else {
+                                vec![]
+                            },
+                        });
+                    }
+                }
+                fence_cmds.push(q);
+            }
+            continue;
+        }
+        let starts_item = t.starts_with("- ")
+            || t.starts_with("* ")
+            || t.split_once(". ")
+                .is_some_and(|(d, _)| !d.is_empty() && d.chars().all(|ch| ch.is_ascii_digit()));
+        let table_row = t.starts_with('|');
+        let in_table = block
+            .last()
+            .is_some_and(|(_, l)| l.trim_start().starts_with('|'));
+        // A comment (`<!-- not checked: … -->`) belongs to the block it follows.
+        let new_block = t.is_empty()
+            || t.starts_with('#')
+            || (starts_item && !in_table)
+            || (table_row != in_table && !block.is_empty());
+        if new_block && !t.starts_with("<!--") {
+            flush(&mut block, &last_sh, &mut out);
+        }
+        if t.is_empty() {
+            continue;
+        }
+        block.push((n, line));
+        if t.starts_with('#') {
+            flush(&mut block, &last_sh, &mut out);
+        }
+    }
+    flush(&mut block, &last_sh, &mut out);
+    out.retain(|c| c.number.decimal && !c.number.approx && !c.number.timing);
+    out
+}
+
+/// Runs the commands lessons quote, each once.
+struct Runner {
+    /// Where the commands' output files go (`-o tri.png` is written here, not into the
+    /// repository).
+    out_dir: tempfile::TempDir,
+    /// Each command's standard output and error, by command line.
+    seen: std::collections::HashMap<String, Result<String, String>>,
+    /// The files written so far, as the lesson names them, and where they went: a later
+    /// command that reads one reads it there (`raystep scene spd … -o /tmp/balls3.toml`, then
+    /// `raystep render /tmp/balls3.toml …`).
+    written: std::collections::HashMap<String, String>,
+}
+
+impl Runner {
+    fn new() -> Runner {
+        Runner {
+            out_dir: tempfile::tempdir().expect("a temporary folder"),
+            seen: Default::default(),
+            written: Default::default(),
+        }
+    }
+
+    /// The command's output (stdout, then stderr), or why it failed. It runs from the
+    /// repository root, as the lessons say, with every file it writes sent to a temporary folder.
+    fn output(&mut self, q: &Quoted) -> Result<String, String> {
+        if let Some(r) = self.seen.get(&q.line) {
+            return r.clone();
+        }
+        let r = (|| {
+            let words =
+                shlex::split(&q.line).ok_or_else(|| format!("cannot split `{}`", q.line))?;
+            let mut args: Vec<String> = vec![];
+            let mut redirect = false;
+            for w in words.into_iter().skip(1) {
+                if redirect {
+                    let name = Path::new(&w).file_name().unwrap_or_default();
+                    let to = self.out_dir.path().join(name).display().to_string();
+                    self.written.insert(w.clone(), to.clone());
+                    args.push(to);
+                } else {
+                    args.push(self.written.get(&w).cloned().unwrap_or_else(|| w.clone()));
+                }
+                redirect = matches!(w.as_str(), "-o" | "--output" | "--save" | "--heatmap");
+            }
+            let out = std::process::Command::new(env!("CARGO_BIN_EXE_raystep"))
+                .args(&args)
+                .current_dir(root())
+                .output()
+                .map_err(|e| format!("cannot run `{}`: {e}", q.line))?;
+            let text = String::from_utf8_lossy(&out.stdout).into_owned()
+                + &String::from_utf8_lossy(&out.stderr);
+            if out.status.success() {
+                Ok(text)
+            } else {
+                Err(format!("`{}` failed ({}):\n{text}", q.line, out.status))
+            }
+        })();
+        self.seen.insert(q.line.clone(), r.clone());
+        r
+    }
+}
+
+/// What is wrong with the numbers `text` (a lesson named `name`) quotes: one line per number
+/// that its commands do not print, at the precision quoted. A number's commands run in the
+/// order the lesson writes them, until one prints it.
+fn stale_numbers(text: &str, name: &str, runner: &mut Runner) -> Vec<String> {
+    let mut problems = vec![];
+    for c in claims(text) {
+        let at = format!("{name}:{}: {}", c.line, c.number.text);
+        if c.sources.is_empty() {
+            problems.push(format!(
+                "{at}: no command it could come from (put the command that prints it in a ```sh \
+                 block above it, or in a code span of its paragraph; or mark the paragraph \
+                 `<!-- not checked: why -->`)"
+            ));
+            continue;
+        }
+        let mut printed = false;
+        let mut errors = vec![];
+        for q in &c.sources {
+            match runner.output(q) {
+                Ok(out) => {
+                    if numbers_in(&out).iter().any(|p| quotes(&c.number, p.value)) {
+                        printed = true;
+                        break;
+                    }
+                }
+                Err(e) => errors.push(e),
+            }
+        }
+        if !printed {
+            let cmds: Vec<&str> = c.sources.iter().map(|q| q.line.as_str()).collect();
+            problems.push(format!(
+                "{at}: not printed by {}{}",
+                cmds.join(" or "),
+                if errors.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({})", errors.join("; "))
+                }
+            ));
+        }
+    }
+    problems
+}
+
+#[test]
+fn every_quoted_number_is_printed_by_the_command_beside_it() {
+    let mut runner = Runner::new();
+    let mut problems = vec![];
+    let mut checked = 0;
+    for p in lesson_files() {
+        let text = read(&p);
+        let name = file_name(&p);
+        let n = claims(&text).len();
+        // Every lesson quotes what its commands print (lesson 11 the fewest: 2 numbers).
+        eprintln!("{name}: {n} quoted numbers checked");
+        assert!(n >= 2, "{name}: only {n} quoted numbers are checked");
+        checked += n;
+        problems.extend(stale_numbers(&text, &name, &mut runner));
+    }
+    assert!(
+        problems.is_empty(),
+        "{} quoted numbers are not what their commands print (see lessons/README.md, \"Quoted \
+         numbers\"):\n{}",
+        problems.len(),
+        problems.join("\n")
+    );
+    // The convention reaches the lessons: most of their numbers are checked.
+    assert!(checked >= 140, "only {checked} numbers were checked");
+    eprintln!("{checked} quoted numbers checked");
+}
+
+#[test]
+fn numbers_are_read_as_written() {
+    let n = numbers_in(
+        "t = −7.8414445e−07, Q = (0.5, -2, 3), E1 and D0 = 4.0, pbrt-v4, 1.2.3, 41.8°, \
+         0.5863… and ≈ 46.9°, trace 168.4 ms, 1e-6",
+    );
+    let texts: Vec<&str> = n.iter().map(|x| x.text.as_str()).collect();
+    assert_eq!(
+        texts,
+        [
+            "−7.8414445e−07",
+            "0.5",
+            "-2",
+            "3",
+            "4.0",
+            "41.8",
+            "0.5863",
+            "46.9",
+            "168.4",
+            "1e-6"
+        ]
+    );
+    assert!((n[0].value - -7.8414445e-7).abs() < 1e-20, "{}", n[0].value);
+    assert!((n[0].ulp - 1e-14).abs() < 1e-20);
+    assert!(n[0].decimal && n[1].decimal && !n[2].decimal);
+    assert!(n[6].cut && n[7].approx && n[8].timing);
+    assert!(!n[5].cut && !n[5].approx && !n[5].timing);
+    assert!(n[9].decimal && n[9].value == 1e-6);
+}
+
+#[test]
+fn a_quoted_number_matches_at_the_precision_it_is_written() {
+    let q = |s: &str| numbers_in(s).remove(0);
+    // Rounded: 5.479765 is not 5.479516; 2.73 is 2.7312; a full quote is exact.
+    assert!(!quotes(&q("5.479765"), 5.479516));
+    assert!(quotes(&q("2.73"), 2.7312));
+    assert!(!quotes(&q("2.73"), 2.7362));
+    assert!(quotes(&q("−0.0017258584"), -0.0017258584));
+    assert!(!quotes(&q("0.0017258584"), -0.0017258584));
+    assert!(quotes(&q("2.842413e−09"), 2.842413e-9));
+    assert!(!quotes(&q("2.842413e−09"), 2.842413e-8));
+    // Cut: 0.5863… is 0.58639 but not 0.58629.
+    assert!(quotes(&q("0.5863…"), 0.58639));
+    assert!(!quotes(&q("0.5863…"), 0.58629));
+}
+
+/// The check catches what issue 37 found: lesson 6's grid paragraph quoting the BVH's t_near
+/// (5.479765) for the grid cell's entry, where `--accel grid` prints 5.479516.
+#[test]
+fn a_stale_number_is_caught_and_a_fresh_one_passes() {
+    let mut runner = Runner::new();
+    let lesson = |t_enter: &str| {
+        format!(
+            "# 6.\n\n```sh\nraystep trace scenes/triangles.toml --pixel 80,130 --accel grid\n```\n\n\
+             - The ray enters cell (7, 0, 0) at t = {t_enter} and leaves at t = 6.1018186.\n"
+        )
+    };
+    let stale = stale_numbers(&lesson("5.479765"), "stale.md", &mut runner);
+    assert_eq!(stale.len(), 1, "{stale:?}");
+    assert!(
+        stale[0].starts_with("stale.md:7: 5.479765: not printed by raystep trace"),
+        "{stale:?}"
+    );
+    assert!(stale_numbers(&lesson("5.479516"), "fresh.md", &mut runner).is_empty());
+    // A number with no command before it is reported, and a marked paragraph is not checked.
+    let orphan = stale_numbers("Q is 0.25 long.\n", "o.md", &mut runner);
+    assert!(
+        orphan[0].contains("no command it could come from"),
+        "{orphan:?}"
+    );
+    assert!(
+        stale_numbers(
+            "Q is 0.25 long. <!-- not checked: by hand -->\n",
+            "o.md",
+            &mut runner
+        )
+        .is_empty()
+    );
+    // A `# comment` in a sh block is checked against its own line.
+    let comment = "```sh\nraystep intersect sphere --center 0,0,0 --radius 1 --origin 0,0,-5 --dir 0,0,1   # t = 4.5\n```\n";
+    assert_eq!(stale_numbers(comment, "c.md", &mut runner).len(), 1);
+}

@@ -18,7 +18,8 @@ pub struct DiagramArgs {
     /// Which sample of the pixel (scenes only).
     #[arg(long, default_value_t = 0)]
     pub sample: u32,
-    /// Highlight timeline step K (0-based; see `raystep trace`); default: the whole trace.
+    /// Highlight step K: the `[K]` that `raystep trace` prints before the step (counted from 0,
+    /// as in the app's step list); default: the whole trace.
     #[arg(long)]
     pub step: Option<usize>,
     /// The diagram kind (default: the one that best explains the step, else the slice).

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 /// Arguments of `raystep exercise`.
 #[derive(Debug, clap::Args)]
 pub struct ExerciseArgs {
-    /// The exercise sheet (TOML).
+    /// The exercise sheet (TOML), or a built-in sheet's name (`02-sphere`).
     pub sheet: PathBuf,
     /// The student's id: each id gets its own variant of every question.
     #[arg(long)]
@@ -30,7 +30,7 @@ pub struct ExerciseArgs {
 /// Arguments of `raystep check`.
 #[derive(Debug, clap::Args)]
 pub struct CheckArgs {
-    /// The exercise sheet (TOML).
+    /// The exercise sheet (TOML), or a built-in sheet's name (`02-sphere`).
     pub sheet: PathBuf,
     /// The student's id.
     #[arg(long)]
@@ -46,7 +46,7 @@ pub struct CheckArgs {
 /// Arguments of `raystep grade`.
 #[derive(Debug, clap::Args)]
 pub struct GradeArgs {
-    /// The exercise sheet (TOML).
+    /// The exercise sheet (TOML), or a built-in sheet's name (`02-sphere`).
     pub sheet: PathBuf,
     /// The class's answers: CSV with header `student,<question ids…>`.
     pub submissions: PathBuf,
@@ -55,8 +55,20 @@ pub struct GradeArgs {
     pub output: PathBuf,
 }
 
-fn load(path: &std::path::Path) -> Result<Sheet, String> {
-    lesson::load_sheet(path).map_err(|e| e.to_string())
+/// Loads a sheet named on the command line: a file, or a built-in sheet by name (`02-sphere`),
+/// as scenes are. A missing file's error lists the built-in names.
+fn load(arg: &std::path::Path) -> Result<Sheet, String> {
+    let path = crate::assets::resolve_sheet(arg)?;
+    lesson::load_sheet(&path).map_err(|e| {
+        if path.exists() {
+            e.to_string()
+        } else {
+            format!(
+                "{e} (built-in sheets: {})",
+                crate::assets::sheet_names().join(", ")
+            )
+        }
+    })
 }
 
 fn student_id(s: &str) -> Result<&str, String> {

@@ -15,8 +15,8 @@ pub struct ViewArgs {
     /// The pixel X,Y whose rays are drawn.
     #[arg(long, value_parser = parse_pixel)]
     pub pixel: Option<[u32; 2]>,
-    /// Draw the rays up to timeline step K (0-based, as `raystep trace` numbers them); default:
-    /// the whole trace.
+    /// Draw the rays up to step K: the `[K]` that `raystep trace` prints before the step
+    /// (counted from 0, as in the app's step list); default: the whole trace.
     #[arg(long)]
     pub step: Option<usize>,
     /// Orbit YAW,PITCH in degrees around the scene (0,0 = from behind the scene's camera);

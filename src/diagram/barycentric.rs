@@ -11,7 +11,7 @@ use super::canvas::{Rgba, clip_segment, with_alpha};
 use super::text::{
     Placer, Rich, draw_panel, fitting_panel_width, interval_at, ray_name, rich, rich_width,
 };
-use super::{Anchor, Canvas, ViewOptions, pick_step, title};
+use super::{Anchor, Canvas, ViewOptions, pick_step, title, title_first_fitting};
 use crate::record::number::{Style, fmt64, num};
 use crate::record::{Step, Trace};
 use crate::shapes::{TriangleMethod, TriangleTest};
@@ -315,6 +315,26 @@ fn strip_text_size(c: &Canvas, method: TriangleMethod, width: f32, small: f32) -
     (col_w / widest).min(small).max(7.0)
 }
 
+/// The diagram's titles, longest first ([`super::test_titles`]): the object and ray, the
+/// step's number and which ray–triangle test of the trace it is.
+pub fn titles(trace: &Trace, l: &BarycentricLayout) -> Vec<String> {
+    let tl = trace.timeline();
+    let is_test = |s: &Step| matches!(s, Step::Triangle { .. });
+    let tests = tl.iter().filter(|(_, s)| is_test(&s.step)).count();
+    let nth = tl[..=l.step.min(tl.len().saturating_sub(1))]
+        .iter()
+        .filter(|(_, s)| is_test(&s.step))
+        .count();
+    super::test_titles(
+        "Barycentric",
+        &l.name,
+        &l.ray,
+        l.step,
+        tl.len(),
+        (nth, tests),
+    )
+}
+
 /// Draws the diagram.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let mut c = Canvas::for_view(opts);
@@ -324,24 +344,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     };
     let s = c.text_size;
     let small = (s * 0.85).max(13.0 * c.scale);
-    let tl = trace.timeline();
-    let tests = tl
-        .iter()
-        .filter(|(_, s)| matches!(s.step, Step::Triangle { .. }))
-        .count();
-    let heading = if tests > 1 {
-        let nth = tl[..=l.step]
-            .iter()
-            .filter(|(_, s)| matches!(s.step, Step::Triangle { .. }))
-            .count();
-        format!(
-            "Barycentric: \"{}\", {} (test {nth} of {tests})",
-            l.name, l.ray
-        )
-    } else {
-        format!("Barycentric: \"{}\", {}", l.name, l.ray)
-    };
-    title(&mut c, &heading);
+    title_first_fitting(&mut c, &titles(trace, &l));
     draw_triangle(&mut c, &l, small);
     draw_numbers(&mut c, &l, small);
     draw_steps(&mut c, &l, small);

@@ -234,6 +234,68 @@ pub fn title(c: &mut Canvas, text: &str) -> f32 {
     c.text_size * 0.6 + big * 1.5
 }
 
+/// The first of `titles` that fits a title line of `c` whole (at the body text's size at
+/// least), else the last one.
+pub fn first_fitting<'a>(c: &Canvas, titles: &'a [String]) -> &'a str {
+    let avail = c.width() - c.text_size * 1.6;
+    titles
+        .iter()
+        .find(|t| c.text_width(t, c.text_size) <= avail)
+        .or(titles.last())
+        .map_or("", String::as_str)
+}
+
+/// Draws the first of `titles` that fits the canvas whole ([`first_fitting`]), else the last
+/// one as [`title`] does (smaller, then cut): a title with details (`… · step 3 of 0–15 · test 1
+/// of 4`) on a wide canvas, a shorter one on a narrow canvas rather than a cut `(…`. Returns
+/// the y below it.
+pub fn title_first_fitting(c: &mut Canvas, titles: &[String]) -> f32 {
+    let text = first_fitting(c, titles).to_string();
+    let big = c.text_size * 1.15;
+    let avail = c.width() - c.text_size * 1.6;
+    let w = c.text_width(&text, c.text_size);
+    if w > avail || w <= 0.0 {
+        return title(c, &text);
+    }
+    // It fits at the body size: drawn as large as fits, up to the title size, and never cut
+    // (`title` would cut a text shrunk to exactly the width by a rounding error).
+    let size = big.min(c.text_size * avail / w);
+    let ink = c.theme.ink;
+    c.text(
+        c.text_size * 0.8,
+        c.text_size * 0.6,
+        size,
+        &text,
+        ink,
+        Anchor::TopLeft,
+    );
+    c.text_size * 0.6 + big * 1.5
+}
+
+/// The titles of a diagram of one intersection test (`kind` names it: `Ray–sphere
+/// quadratic`), longest first: its object and ray, then, each after a ` · ` as in the app's
+/// step bar, the step's number as the app, `raystep trace` and `--step` count it and which test
+/// of the trace it is (the `nth` of `tests`); then without the test's count; then the object
+/// and ray alone.
+pub fn test_titles(
+    kind: &str,
+    object: &str,
+    ray: &str,
+    step: usize,
+    trace_len: usize,
+    (nth, tests): (usize, usize),
+) -> Vec<String> {
+    let name = format!("{kind}: \"{object}\", {ray}");
+    let step = crate::record::words::step_of(step, trace_len);
+    let mut titles = vec![];
+    if tests > 1 {
+        titles.push(format!("{name} · {step} · test {nth} of {tests}"));
+    }
+    titles.push(format!("{name} · {step}"));
+    titles.push(name);
+    titles
+}
+
 /// Timeline step `k` of `trace` drawn as one animation frame, focused on its step: of `kind`
 /// when given, else of the kind that best explains that step ([`kinds_for_step`]).
 pub fn frame(

@@ -12,7 +12,7 @@ use super::text::{
     Placer, Rich, draw_panel, fitting_panel_width, interval_at, label_box, ray_name, rect_dist,
     rich, short_eq,
 };
-use super::{Anchor, Canvas, ViewOptions, pick_step, title};
+use super::{Anchor, Canvas, ViewOptions, pick_step, title, title_first_fitting};
 use crate::record::number::{Style, fmt64, num};
 use crate::record::words;
 use crate::record::{Step, Trace};
@@ -292,6 +292,26 @@ fn chosen_root(test: &SphereTest<f32>) -> &'static str {
     }
 }
 
+/// The diagram's titles, longest first ([`super::test_titles`]): the object and ray, the
+/// step's number and which ray–sphere test of the trace it is.
+pub fn titles(trace: &Trace, l: &QuadraticLayout) -> Vec<String> {
+    let tl = trace.timeline();
+    let is_test = |s: &Step| matches!(s, Step::Sphere { .. });
+    let tests = tl.iter().filter(|(_, s)| is_test(&s.step)).count();
+    let nth = tl[..=l.step.min(tl.len().saturating_sub(1))]
+        .iter()
+        .filter(|(_, s)| is_test(&s.step))
+        .count();
+    super::test_titles(
+        "Ray–sphere quadratic",
+        &l.name,
+        &l.ray,
+        l.step,
+        tl.len(),
+        (nth, tests),
+    )
+}
+
 /// Draws the diagram.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     draw_labelled(trace, opts).0
@@ -309,28 +329,7 @@ pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLa
     let th = c.theme;
     let s = c.text_size;
     let small = (s * 0.85).max(13.0 * c.scale);
-    let tests = trace
-        .timeline()
-        .iter()
-        .filter(|(_, s)| matches!(s.step, Step::Sphere { .. }))
-        .count();
-    let heading = if tests > 1 {
-        format!(
-            "Ray–sphere quadratic: \"{}\", {} (test {} of {tests})",
-            l.name,
-            l.ray,
-            {
-                let tl = trace.timeline();
-                tl[..=l.step]
-                    .iter()
-                    .filter(|(_, s)| matches!(s.step, Step::Sphere { .. }))
-                    .count()
-            }
-        )
-    } else {
-        format!("Ray–sphere quadratic: \"{}\", {}", l.name, l.ray)
-    };
-    title(&mut c, &heading);
+    title_first_fitting(&mut c, &titles(trace, &l));
     let test = &l.test;
 
     let mut labels = vec![];

@@ -293,8 +293,14 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
 }
 
 /// The whole trace as an indented tree of rays and steps, children where they were spawned.
+///
+/// Every step line starts with its number in brackets, `[K]`: its index in
+/// [`Trace::timeline`], counted from 0 over every step in the order it happened, the spawn steps
+/// included (`[9] [closest-hit] → child ray 0`, the child ray's steps below it). That is the
+/// number the app's step list and step bar show and what `--step K` takes (`raystep diagram`,
+/// `raystep view`, `raystep open`).
 pub fn tree(trace: &Trace) -> String {
-    fn ray(r: &RayRecord, indent: usize, out: &mut String) {
+    fn ray(r: &RayRecord, indent: usize, k: &mut usize, out: &mut String) {
         let pad = "  ".repeat(indent);
         let _ = writeln!(
             out,
@@ -312,18 +318,19 @@ pub fn tree(trace: &Trace) -> String {
             }
         );
         for s in &r.steps {
-            if let Step::Spawn { child } = s.step {
-                if let Some(c) = r.children.get(child as usize) {
-                    ray(c, indent + 1, out);
-                }
-                continue;
-            }
             let _ = writeln!(
                 out,
-                "{pad}  [{}] {}",
+                "{pad}  [{k}] [{}] {}",
                 stage_name(s.stage),
                 describe(&s.step, r.kind)
             );
+            *k += 1;
+            // The child's steps follow its spawn step, as in the timeline.
+            if let Step::Spawn { child } = s.step
+                && let Some(c) = r.children.get(child as usize)
+            {
+                ray(c, indent + 1, k, out);
+            }
         }
         match (&r.hit, r.kind) {
             (Some(h), RayKind::Shadow) => {
@@ -351,6 +358,6 @@ pub fn tree(trace: &Trace) -> String {
         trace.sample,
         v3(trace.color)
     );
-    ray(&trace.root, 0, &mut out);
+    ray(&trace.root, 0, &mut 0, &mut out);
     out
 }

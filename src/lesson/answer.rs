@@ -1,6 +1,7 @@
 //! Answers: what the tracer says, what a student wrote, and marking one against the other.
 
 use super::Tolerance;
+use crate::record::number::{Style, fmt, fmt64};
 use std::collections::BTreeMap;
 
 /// The kind of answer a quantity has.
@@ -43,11 +44,30 @@ pub enum Answer {
     None,
 }
 
+/// A number of an answer as the trace prints it ([`Style::Exact`]): the tracer's f32 values in
+/// their shortest form (`5.573929`, not the f64 widening `5.5739288330078125`), counts as
+/// integers.
+fn answer_number(x: f64) -> String {
+    if (x as f32) as f64 == x {
+        fmt(x as f32, Style::Exact)
+    } else {
+        fmt64(x, Style::Exact)
+    }
+}
+
+/// An answer as the trace writes its numbers (see [`crate::record::number`]), so `--solutions`
+/// and the feedback quote the digits `raystep trace` prints.
 impl std::fmt::Display for Answer {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            Answer::Number(x) => write!(f, "{x}"),
-            Answer::Vector([x, y, z]) => write!(f, "{x}, {y}, {z}"),
+            Answer::Number(x) => f.write_str(&answer_number(*x)),
+            Answer::Vector([x, y, z]) => write!(
+                f,
+                "{}, {}, {}",
+                answer_number(*x),
+                answer_number(*y),
+                answer_number(*z)
+            ),
             Answer::YesNo(b) => f.write_str(if *b { "yes" } else { "no" }),
             Answer::Name(n) => f.write_str(n),
             Answer::None => f.write_str("none"),
@@ -534,5 +554,24 @@ mod tests {
         let ok = parse_answers("# c\na = 1 # why\nb = \"x # y\"\n", "f", &["a", "b"]).unwrap();
         assert_eq!(ok["a"], "1");
         assert_eq!(ok["b"], "\"x # y\"");
+    }
+
+    #[test]
+    fn answers_print_their_numbers_as_the_trace_does() {
+        // The tracer's f32, widened to f64 for marking: printed as the trace prints the f32.
+        let t = 5.573929f32;
+        assert_eq!(Answer::Number(t as f64).to_string(), "5.573929");
+        assert_eq!(
+            Answer::Number(t as f64).to_string(),
+            crate::record::number::num(t)
+        );
+        assert_eq!(
+            Answer::Vector([0.1f32 as f64, -0.0, 2.5e-7f32 as f64]).to_string(),
+            "0.1, -0, 2.5e-7"
+        );
+        // A count, and a number no f32 holds, keep every digit they have.
+        assert_eq!(Answer::Number(7.0).to_string(), "7");
+        assert_eq!(Answer::Number(0.1).to_string(), "0.1");
+        assert_eq!(Answer::Number(1.0 / 3.0).to_string(), "0.3333333333333333");
     }
 }

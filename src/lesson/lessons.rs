@@ -39,7 +39,7 @@ pub struct Lesson {
     pub settings: LessonSettings,
     /// The exercise sheet, as written (a path from the lessons folder).
     pub exercises: Option<String>,
-    /// The Markdown after the front matter.
+    /// The Markdown after the front matter, without its HTML comments (notes for the tests).
     pub body: String,
 }
 
@@ -175,8 +175,39 @@ pub fn parse_lesson(text: &str, file: &Path) -> Result<Lesson, String> {
         steps: parsed.steps,
         settings: parsed.settings,
         exercises: parsed.exercises,
-        body: body.to_string(),
+        body: without_comments(body),
     })
+}
+
+/// `body` without its HTML comments (`<!-- not checked: … -->`, the lessons' notes for
+/// `tests/lessons.rs`), which a Markdown viewer that does not render HTML would show as text; a
+/// line that held only a comment goes with it.
+fn without_comments(body: &str) -> String {
+    let mut out = String::with_capacity(body.len());
+    let mut rest = body;
+    while let Some(start) = rest.find("<!--") {
+        let Some(len) = rest[start..].find("-->") else {
+            break;
+        };
+        let end = start + len + 3;
+        let before = &rest[..start];
+        let line_start = before.rfind('\n').map_or(0, |k| k + 1);
+        let alone = before[line_start..].trim().is_empty()
+            && rest[end..]
+                .split('\n')
+                .next()
+                .is_some_and(|l| l.trim().is_empty());
+        if alone {
+            // Drop the whole line, its newline included.
+            out.push_str(&before[..line_start]);
+            rest = rest[end..].split_once('\n').map_or("", |(_, after)| after);
+        } else {
+            out.push_str(before.trim_end_matches(' '));
+            rest = &rest[end..];
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 /// Every lesson in `dir` (each `*.md` but README.md), sorted by file name.
@@ -257,6 +288,15 @@ mod tests {
             l.exercises_path().unwrap(),
             Path::new("/r/lessons/exercises/a.toml")
         );
+    }
+
+    #[test]
+    fn the_body_leaves_out_html_comments() {
+        let text = "+++\ntitle = \"T\"\nscene = \"scenes/a.toml\"\npixel = [1, 2]\nhits = \"ball\"\nsteps = [0]\n+++\nA 0.5 by hand. <!-- not checked: by hand -->\nB\n<!-- a note\non two lines -->\nC\n";
+        let l = parse_lesson(text, Path::new("l.md")).unwrap();
+        assert_eq!(l.body, "A 0.5 by hand.\nB\nC\n");
+        // An unclosed comment is left as it is.
+        assert_eq!(without_comments("a <!-- b"), "a <!-- b");
     }
 
     #[test]

@@ -76,6 +76,13 @@ pub fn axis(a: u8) -> &'static str {
     ["x", "y", "z"].get(a as usize).copied().unwrap_or("?")
 }
 
+/// Step `k` of a trace of `len` steps, as every reader numbers it: `step 3 of 0–15`. Steps are
+/// counted from 0 over the whole timeline (spawn steps included), as the app's step bar and
+/// step list show them, `raystep trace` prints them (`[3]`) and `--step K` takes them.
+pub fn step_of(k: usize, len: usize) -> String {
+    format!("step {k} of 0–{}", len.saturating_sub(1))
+}
+
 /// A wording as a sentence: capital first letter, full stop.
 pub fn sentence(words: &str) -> String {
     let mut c = words.chars();
@@ -103,6 +110,14 @@ mod tests {
                 format!("\"{}\"", k.name())
             );
         }
+    }
+
+    #[test]
+    fn steps_are_counted_from_zero_with_the_range_shown() {
+        // 148 steps are numbered 0 … 147: the last one is "147 of 0–147", never "147 of 147"
+        // (which reads as a 147-step trace) or "148 of 148" (a 1-based count).
+        assert_eq!(step_of(0, 148), "step 0 of 0–147");
+        assert_eq!(step_of(147, 148), "step 147 of 0–147");
     }
 
     #[test]

@@ -69,7 +69,7 @@ impl Drawer<'_, '_> {
             Anchor::TopLeft,
         );
         if let Some(k) = self.info.focus {
-            let text = format!("step {k} of {}", self.info.len.saturating_sub(1));
+            let text = crate::record::words::step_of(k, self.info.len);
             let ts = self.c.text_size;
             // On a narrow canvas the counter would be drawn over the title: leave it out (the
             // app's step bar and the GIF's frame order say which step it is).
