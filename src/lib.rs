@@ -32,7 +32,7 @@
 //!   of every intermediate it computed.
 //! - [`record`]: the trace records, the observer, and the shared vocabulary (one number
 //!   formatter, one wording per outcome) — below everything that produces or reads records.
-//! - [`accel`]: finding the closest hit — the seeds' naive loop and the BVH, observed.
+//! - [`accel`]: finding the closest hit — the course notes' naive loop and the BVH, observed.
 //! - [`trace`]: deterministic sampling, Phong/Snell/Schlick shading, the one recursive Whitted
 //!   tracer, and [`PreparedScene`].
 //! - [`render`]: the full parallel render and image output.

@@ -218,7 +218,8 @@ pub enum RayError {
     BadInterval(f64, f64),
 }
 
-/// A ray p(t) = S + t·Q with t in (t_min, t_max) — the seeds' notation: S the start, Q the direction.
+/// A ray p(t) = S + t·Q with t in (t_min, t_max) — the notation of Bailey's notes
+/// (docs/SOURCES.md): S the start, Q the direction.
 ///
 /// A `Ray` can only be built through [`Ray::new`], which rejects non-finite or zero directions:
 /// NaN rays "hit" every slab test (docs/NUMERICS.md, S25), so they must never reach a kernel.

@@ -525,7 +525,7 @@ fn triangle_hit_moller_trumbore_and_watertight() {
     }
 }
 
-/// A miss at each of the seeds' stop steps, with the intermediates after the stop null:
+/// A miss at each of the stop steps of Bailey's notes, with the intermediates after the stop null:
 /// * step 2, parallel: Q = (0, 1, 0) lies in the triangle's plane z = 0: D0 = −Q·(0, 0, 2) = 0.
 /// * step 5, behind: S = (0, 0.5, 2): T = (0, −0.5, 2), Dt = 2·2 = 4, t = 4/−2 = −2 ≤ 0.
 /// * step 8, u out (RTC "A ray misses the p1-p3 edge"): S = (1, 1, −2): T = (1, 0, −2),

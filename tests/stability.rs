@@ -1,8 +1,8 @@
-//! The stability lab: the exact references against hand-computed answers, the
-//! renderer's default methods free of failures on the stiff cases that justify them, the seeds'
-//! methods visibly failing (so a regression either way is caught), no NaN anywhere, the shipped
-//! failure scenes showing their failure, and `raystep stability --quick` / `raystep converge`
-//! writing well-formed outputs.
+//! The stability lab: the exact references against hand-computed answers, the renderer's default
+//! methods free of failures on the stiff cases that justify them, the course notes' methods visibly
+//! failing (so a regression either way is caught), no NaN anywhere, the shipped failure scenes
+//! showing their failure, and `raystep stability --quick` / `raystep converge` writing well-formed
+//! outputs.
 
 use assert_cmd::Command;
 use num_rational::BigRational;

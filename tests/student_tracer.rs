@@ -151,7 +151,7 @@ fn planted_bugs_are_found_at_the_right_ray_and_named() {
         "{out}"
     );
     assert!(
-        out.contains("your b looks like f·Q: the seeds' b is 2 f·Q"),
+        out.contains("your b looks like f·Q: the course notes' b is 2 f·Q"),
         "{out}"
     );
     assert!(out.contains("raystep open"), "{out}");

@@ -1,4 +1,5 @@
-//! The uniform grid: spatial subdivision, the seeds' third way of avoiding tests.
+//! The uniform grid: spatial subdivision, the "Raytracing" slides' third way (docs/SOURCES.md) of
+//! avoiding tests.
 //!
 //! The box around the scene's finite primitives is cut into equal cells; each cell lists every
 //! primitive whose bounding box overlaps it. A ray walks the cells it crosses, nearest first, by

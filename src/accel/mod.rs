@@ -1,8 +1,9 @@
 //! Finding the closest hit (and, for shadow rays, any hit), observed.
 //!
 //! [`test_object`] is the one place a primitive is tested: it runs the scene's chosen kernel and
-//! hands the full test record to the observer. [`BruteForce`] is the seeds' naive loop — "for
-//! each ray, for each primitive" — behind the [`Accelerator`] trait that the BVH also implements.
+//! hands the full test record to the observer. [`BruteForce`] is the lecture notes' naive loop
+//! (docs/SOURCES.md) — "for each ray, for each primitive" — behind the [`Accelerator`] trait that
+//! the BVH also implements.
 
 mod brute;
 pub mod bvh;

@@ -1,4 +1,5 @@
-//! A hierarchy of bounding spheres: the seeds' second way of avoiding tests.
+//! A hierarchy of bounding spheres: the "Raytracing" slides' second way (docs/SOURCES.md) of
+//! avoiding tests.
 //!
 //! The tree is the BVH's own tree (obvhs's build, see [`super::Bvh`]) with every box replaced by
 //! a sphere, built bottom-up: a leaf's sphere encloses its primitives' bounding spheres (a

@@ -1,5 +1,5 @@
-//! `raystep intersect …`: one ray against one primitive, every intermediate explained in the
-//! order the seeds compute it, in f32 or f64.
+//! `raystep intersect …`: one ray against one primitive, every intermediate explained in the order
+//! the course notes (docs/SOURCES.md) compute it, in f32 or f64.
 
 use super::parse_vec3;
 use crate::explain::intersect as explain;

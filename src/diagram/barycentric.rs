@@ -247,7 +247,7 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<BarycentricLayout> {
     Some(out)
 }
 
-/// The steps, each with the seeds' step number it stands for.
+/// The steps, each with the step number of Bailey's notes it stands for.
 fn steps(method: TriangleMethod) -> Vec<(u8, &'static str)> {
     match method {
         TriangleMethod::MollerTrumbore => vec![
@@ -264,7 +264,7 @@ fn steps(method: TriangleMethod) -> Vec<(u8, &'static str)> {
             (11, "v* < 0 or u*+v* > 1 → stop"),
             (12, "hit at t*"),
         ],
-        // Watertight's own order, tagged with the seeds' numbers its stops map onto.
+        // Watertight's own order, tagged with Bailey's numbers its stops map onto.
         TriangleMethod::Watertight => vec![
             (1, "shear: ray along +z"),
             (1, "edge functions e_0, e_1, e_2"),
@@ -296,7 +296,7 @@ fn reached(test: &TriangleTest<f32>, interval: (f32, f32)) -> usize {
     }
 }
 
-/// A step as listed: the seeds' number for Möller–Trumbore, a bullet for watertight (whose
+/// A step as listed: Bailey's number for Möller–Trumbore, a bullet for watertight (whose
 /// items carry the number they map onto).
 fn step_line(method: TriangleMethod, i: usize, text: &str) -> String {
     match method {

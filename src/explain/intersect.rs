@@ -1,6 +1,6 @@
-//! The text of `raystep intersect`: one kernel's record explained line by line, in the order
-//! the seeds compute it, in f32 or f64. Every number printed is a field of the record the
-//! kernel returned (or its input); nothing here repeats the kernel's arithmetic.
+//! The text of `raystep intersect`: one kernel's record explained line by line, in the order the
+//! course notes (docs/SOURCES.md) compute it, in f32 or f64. Every number printed is a field of the
+//! record the kernel returned (or its input); nothing here repeats the kernel's arithmetic.
 //!
 //! Each function appends its lines to a string and returns the record as JSON.
 

@@ -40,7 +40,7 @@ pub enum GpuError {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum GpuPath {
     /// A full-screen triangle: the rasterizer interpolates the ray direction per pixel and the
-    /// fragment shader traces it (the seeds' approach).
+    /// fragment shader traces it (the lecture notes' approach, docs/SOURCES.md).
     #[default]
     Fragment,
     /// A compute shader, one invocation per pixel, the ray computed as on the CPU.

@@ -77,7 +77,7 @@ pub enum AccelChoice {
     /// Brute force for small scenes, the BVH for larger ones.
     #[default]
     Auto,
-    /// The seeds' naive loop over every primitive.
+    /// The lecture notes' naive loop over every primitive.
     None,
     /// A bounding volume hierarchy.
     Bvh,

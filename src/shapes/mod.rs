@@ -1,10 +1,10 @@
 //! The intersection kernels, one file per primitive.
 //!
-//! Every kernel is a pure function that returns a *test record*: every intermediate the seeds
-//! compute, in order, plus the outcome. The renderer calls the very same function and reads only
-//! the outcome; because the kernels are `#[inline]` and the record is plain data, the unused
-//! intermediates are dead code on the render path. This is how raystep keeps one copy of each
-//! kernel: there is no separate "teaching" version.
+//! Every kernel is a pure function that returns a *test record*: every intermediate the course
+//! notes (docs/SOURCES.md) compute, in order, plus the outcome. The renderer calls the very same
+//! function and reads only the outcome; because the kernels are `#[inline]` and the record is plain
+//! data, the unused intermediates are dead code on the render path. This is how raystep keeps one
+//! copy of each kernel: there is no separate "teaching" version.
 
 pub mod aabb;
 pub mod plane;

@@ -20,7 +20,7 @@ pub enum PlaneForm<T> {
         #[serde(with = "crate::jsonf")]
         offset: T,
     },
-    /// X_axis = c: the seeds' shortcut t = (c − S_axis)/Q_axis.
+    /// X_axis = c: the lecture notes' shortcut t = (c − S_axis)/Q_axis.
     Axis {
         /// 0 = x, 1 = y, 2 = z.
         axis: usize,

@@ -1,4 +1,5 @@
-//! Ray–sphere intersection: the seeds' quadratic, and the stable form of Ray Tracing Gems ch. 7.
+//! Ray–sphere intersection: the course notes' quadratic (docs/SOURCES.md), and the stable form of
+//! Ray Tracing Gems ch. 7.
 
 use crate::math::{Ray, Real, Vector, to_array};
 use serde::{Deserialize, Serialize};
@@ -7,7 +8,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum SphereMethod {
-    /// The seeds' formula: a = d·d, b = 2 f·d, c = f·f − r², Δ = b² − 4ac, t = (−b ± √Δ)/2a.
+    /// The course notes' formula: a = d·d, b = 2 f·d, c = f·f − r², Δ = b² − 4ac, t = (−b ± √Δ)/2a.
     /// Loses the radius for far spheres (c cancels) and the near root of huge spheres (−b ± √Δ cancels).
     Textbook,
     /// Ray Tracing Gems ch. 7 (Haines, Günther, Akenine-Möller 2019): Δ′ from a vector difference,
@@ -64,13 +65,13 @@ pub struct SphereTest<T> {
     /// a = d·d.
     #[serde(with = "crate::jsonf")]
     pub a: T,
-    /// b = 2 f·d with f = S − G (reported in the seeds' form for both methods).
+    /// b = 2 f·d with f = S − G (reported in the course notes' form for both methods).
     #[serde(with = "crate::jsonf")]
     pub b: T,
     /// c = f·f − r².
     #[serde(with = "crate::jsonf")]
     pub c: T,
-    /// The seeds' discriminant b² − 4ac (for `stable`, 4a·Δ′, the same quantity computed robustly).
+    /// The course notes' discriminant b² − 4ac (for `stable`, 4a·Δ′, the same quantity computed robustly).
     #[serde(with = "crate::jsonf")]
     pub discriminant: T,
     /// `stable` only: Δ′ = r² − ‖f − (f·d / a)·d‖², the squared distance margin of the ray's line.
@@ -159,7 +160,7 @@ pub fn intersect<T: Real>(
     }
 }
 
-/// The seeds' quadratic, exactly as taught.
+/// The course notes' quadratic, exactly as taught.
 #[inline(always)]
 pub fn textbook<T: Real>(ray: &Ray<T>, center: T::V, radius: T) -> SphereTest<T> {
     let two = T::lit(2.0);

@@ -1,5 +1,6 @@
-//! Ray–triangle intersection: Möller–Trumbore as Cramer's rule (the seeds' 12 steps) and the
-//! watertight test of Woop, Benthin and Wald (JCGT 2013), as in pbrt-v4's `IntersectTriangle`.
+//! Ray–triangle intersection: Möller–Trumbore as Cramer's rule (the 12 steps of Mike Bailey's
+//! Vulkan Ray Tracing notes, docs/SOURCES.md) and the watertight test of Woop, Benthin and Wald
+//! (JCGT 2013), as in pbrt-v4's `IntersectTriangle`.
 
 use crate::math::{Ray, Real, Vector, gamma, to_array};
 use serde::{Deserialize, Serialize};
@@ -8,7 +9,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum TriangleMethod {
-    /// Möller–Trumbore via Cramer's rule, no ε on the determinant (the seeds' form).
+    /// Möller–Trumbore via Cramer's rule, no ε on the determinant (the form of Bailey's notes).
     MollerTrumbore,
     /// Woop–Benthin–Wald watertight test. The renderer's default: docs/NUMERICS.md measured 7.4% of
     /// rays aimed exactly at a shared edge slipping between two Möller–Trumbore triangles in f32
@@ -29,7 +30,7 @@ pub enum TriangleMethod {
 /// For Möller–Trumbore the system S + tQ = P0 + u(P1 − P0) + v(P2 − P0), written
 /// [−Q, E1, E2]·(t, u, v)ᵀ = T with T = S − P0, is solved by Cramer's rule:
 /// D0 = det(−Q, E1, E2), Dt = det(T, E1, E2), Du = det(−Q, T, E2), Dv = det(−Q, E1, T),
-/// t* = Dt/D0, u* = Du/D0, v* = Dv/D0. The seeds' 12 steps:
+/// t* = Dt/D0, u* = Du/D0, v* = Dv/D0. Bailey's 12 steps:
 ///
 /// 1. E1 = P1 − P0, E2 = P2 − P0
 /// 2. D0; if D0 = 0 the ray is parallel to the plane: **stop**
@@ -179,7 +180,7 @@ fn det3<T: Real>(a: T::V, b: T::V, c: T::V) -> T {
     a.dot(b.cross(c))
 }
 
-/// Möller–Trumbore as Cramer's rule, stopping at the seeds' early exits.
+/// Möller–Trumbore as Cramer's rule, stopping at the early exits of Bailey's 12 steps.
 #[inline(always)]
 pub fn moller_trumbore<T: Real>(ray: &Ray<T>, p: [T::V; 3]) -> TriangleTest<T> {
     let mut out = TriangleTest {

@@ -474,7 +474,7 @@ fn tests(
                             continue;
                         }
                         let hint = if k == 1 && tol.close(ys * 2.0, ws) {
-                            " — your b looks like f·Q: the seeds' b is 2 f·Q"
+                            " — your b looks like f·Q: the course notes' b is 2 f·Q"
                         } else if k == 1 && tol.close(-ys, ws) {
                             " — the sign is wrong: f = S − G (from the centre to the origin)"
                         } else if k == 2 {

@@ -1,6 +1,6 @@
 //! raystep's own trace in the student format: what a student's tracer is checked against.
 //!
-//! Sphere and plane values are the ones raystep recorded (its seeds'-form a, b, c and
+//! Sphere and plane values are the ones raystep recorded (its course-notes-form a, b, c and
 //! discriminant, its denominator); a test's `t` is the nearest root past t_min *ignoring* the
 //! closest hit so far, because a student's loop usually tests every object against an open
 //! interval and keeps the nearest afterwards. Triangles are given in Möller–Trumbore's terms

@@ -55,7 +55,7 @@ pub enum Record {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         light: Option<String>,
     },
-    /// A ray–sphere test in the seeds' form: a = Q·Q, b = 2 f·Q, c = f·f − r², f = S − G.
+    /// A ray–sphere test in the course notes' form (docs/SOURCES.md): a = Q·Q, b = 2 f·Q, c = f·f − r², f = S − G.
     Sphere {
         /// The sphere's name in the scene file.
         #[serde(default, skip_serializing_if = "Option::is_none")]
