@@ -208,6 +208,41 @@ pub fn shown_path(p: &Path) -> String {
     builtin.unwrap_or_else(|| p.display().to_string())
 }
 
+/// A scene path as a command to type should name it: a built-in scene's unpacked copy by the
+/// scene's name (`three-spheres`, which every command that takes a scene accepts), so the
+/// command works on any machine; any other absolute path without its `..`s.
+pub fn scene_argument(p: &Path) -> String {
+    // A sheet names its scene relative to itself (`lessons/exercises/../../scenes/…`): resolve
+    // the `..` by the names alone (the unpacked folder has no links).
+    let mut lexical = PathBuf::new();
+    for c in p.components() {
+        match c {
+            std::path::Component::ParentDir => {
+                lexical.pop();
+            }
+            std::path::Component::CurDir => {}
+            c => lexical.push(c),
+        }
+    }
+    let name = unpacked()
+        .ok()
+        .and_then(|root| lexical.strip_prefix(root).ok())
+        .and_then(|rel| rel.strip_prefix("scenes").ok())
+        .and_then(|f| f.to_str()?.strip_suffix(".toml"))
+        .filter(|n| builtin_scene(n).is_some());
+    match name {
+        Some(n) => n.to_string(),
+        // An absolute path without its `..` (a sheet's scene) when that is the same file (a
+        // link before a `..` would make it another); a relative one as given.
+        None if p.is_absolute()
+            && std::fs::canonicalize(&lexical).ok() == std::fs::canonicalize(p).ok() =>
+        {
+            lexical.display().to_string()
+        }
+        None => p.display().to_string(),
+    }
+}
+
 /// The built-in scenes' files (unpacked), sorted by name.
 pub fn builtin_scene_paths() -> Result<Vec<PathBuf>, String> {
     let root = unpacked()?;

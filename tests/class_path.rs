@@ -196,3 +196,54 @@ fn misnamed_objects_and_debug_prints_are_named() {
         "{err}"
     );
 }
+
+/// A built-in sheet's questions name their built-in scene by its name in the command beside them
+/// (`raystep trace three-spheres …`), which works from any folder — not by the path of the
+/// unpacked copy in the user's cache.
+#[test]
+fn a_builtin_sheet_names_its_scene_by_name() {
+    let out = assert_cmd::Command::cargo_bin("raystep")
+        .unwrap()
+        .args(["exercise", "02-sphere", "--student", "s1001"])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("trace it: raystep trace three-spheres --pixel "),
+        "{text}"
+    );
+    assert!(!text.contains("builtin-"), "{text}");
+}
+
+/// The grades file's notes tell each wrong answer what `check` would: the reason and what the
+/// sheet's feedback policy adds ("too high" under `feedback = "direction"`), never the answer.
+#[test]
+fn grade_notes_follow_the_feedback_policy() {
+    use raystep::lesson::{grade_class, parse_sheet};
+    let scene = root().join("scenes/three-spheres.toml");
+    let sheet = |feedback: &str| {
+        let text = format!(
+            "title = \"q\"\nfeedback = \"{feedback}\"\n[[question]]\nid = \"t\"\ntext = \"t?\"\n\
+             scene = {scene:?}\npixel = [160, 120]\nquantity = \"closest_t\"\n",
+            scene = scene.display().to_string()
+        );
+        parse_sheet(&text, "quiz.toml", None, "quiz").unwrap()
+    };
+    // Pixel (160, 120) hits "middle" at t = 4.6522236 (`raystep trace three-spheres --pixel
+    // 160,120`, step [4]): 4.9 is too high, 4.1 too low.
+    let csv = "student,t\nhigh,4.9\nlow,4.1\n";
+    let direction = grade_class(&sheet("direction"), csv, "class.csv")
+        .unwrap()
+        .csv;
+    let rows: Vec<&str> = direction.lines().collect();
+    assert!(rows[1].ends_with("; too high"), "{direction}");
+    assert!(rows[2].ends_with("; too low"), "{direction}");
+    assert!(!direction.contains("4.652"), "{direction}");
+    let plain = grade_class(&sheet("right_wrong"), csv, "class.csv")
+        .unwrap()
+        .csv;
+    assert!(!plain.contains("too "), "{plain}");
+    assert!(plain.contains("t: not within the tolerance"), "{plain}");
+}

@@ -823,6 +823,34 @@ fn the_image_check_counts_the_pixels_off() {
     );
 }
 
+/// Feedback on a built-in scene names it by its name in the commands it suggests, which work on
+/// any machine — not by its unpacked copy's path (a cache folder named after the build).
+#[test]
+fn feedback_on_a_builtin_scene_names_it() {
+    let kit = root().join("lessons/starter/tracer.py");
+    let out = raystep()
+        .args([
+            "grade-tracer",
+            "--scene",
+            "three-spheres",
+            "--pixels",
+            "160,120",
+        ])
+        .args(["--upto", "sphere", "--run"])
+        .arg(format!("python3 {} {{scene}} {{x}} {{y}}", kit.display()))
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("raystep open three-spheres --pixel 160,120 --step 3\n")
+            && text.contains("raystep trace three-spheres --pixel 160,120 (step [3])"),
+        "{text}"
+    );
+    assert!(!text.contains("builtin-"), "{text}");
+}
+
 /// `--scene` takes a built-in scene's name too (the student's program gets its unpacked file);
 /// bad arguments are refused with a message and a non-zero exit before anything runs.
 #[test]

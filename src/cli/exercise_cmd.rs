@@ -96,7 +96,7 @@ pub fn run_exercise(args: &ExerciseArgs) -> Result<(), String> {
         let expected = sheet.expected(q, &v)?;
         let [x, y] = v.pixel;
         let mut scene_path = match &q.scene {
-            lesson::SceneSource::File(p) => Some(p.display().to_string()),
+            lesson::SceneSource::File(p) => Some(crate::assets::scene_argument(p)),
             lesson::SceneSource::Inline(_) => None,
         };
         if let (Some(dir), Some(toml)) = (&args.scenes, &v.scene_toml) {

@@ -165,7 +165,14 @@ pub fn grade_class(sheet: &Sheet, text: &str, file: &str) -> Result<GradeReport,
                 line.push(format!("{}", q.points));
             } else {
                 line.push("0".into());
-                let note = m.note.as_deref().unwrap_or("wrong");
+                // The reason and what the sheet's feedback policy adds, as `check` tells it
+                // (one try: the grades file is handed back after the quiz).
+                let told = sheet.feedback.explain(&m, &expected, 1);
+                let note = if told.is_empty() {
+                    "wrong"
+                } else {
+                    told.as_str()
+                };
                 // Answers that cannot be read are a problem with the file too, located.
                 if let (true, Some(c)) = (m.unreadable, col)
                     && c < row.len()

@@ -243,8 +243,8 @@ fn see_numbers(job: &Job, x: u32, y: u32, step: Option<usize>) -> String {
     let Some(path) = &job.open_path else {
         return "\n(Your variant lives only while grading runs: grade again with --variants DIR to keep it and see raystep's numbers for it.)".into();
     };
-    let scene = shlex::try_quote(&path.display().to_string())
-        .map_or_else(|_| path.display().to_string(), |q| q.into_owned());
+    let arg = crate::assets::scene_argument(path);
+    let scene = shlex::try_quote(&arg).map_or_else(|_| arg.clone(), |q| q.into_owned());
     match step {
         Some(k) => format!(
             "\nSee raystep's numbers at step [{k}]: raystep open {scene} --pixel {x},{y} --step {k}\nor in a terminal: raystep trace {scene} --pixel {x},{y} (step [{k}])"
