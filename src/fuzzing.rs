@@ -13,8 +13,9 @@
 
 use crate::diagram::{self, Theme, ViewOptions};
 use crate::explain::describe;
-use crate::explain::diff::{Tolerance, compare};
+use crate::explain::diff::compare;
 use crate::lesson;
+use crate::record::Tolerance;
 use crate::record::Trace;
 use crate::student::compare::{self as grading, Stage, grade};
 use crate::student::expected::{Expected, expected};
@@ -57,7 +58,7 @@ pub fn scene_input(data: &[u8]) -> bool {
     let json = trace.to_json();
     match Trace::from_json(&json, "fuzz.json") {
         Ok(back) => assert!(
-            compare(&trace, &back, Tolerance::uniform(0.0)).is_equal(),
+            compare(&trace, &back, Tolerance::EXACT).is_equal(),
             "a recorded trace reads back different"
         ),
         Err(e) => panic!("a recorded trace does not read back: {e}"),
@@ -77,12 +78,12 @@ pub fn trace_input(data: &[u8]) -> bool {
     };
     let _ = describe::tree(&trace);
     let names = ["a.json", "b.json"];
-    let same = compare(&trace, &trace, Tolerance::uniform(0.0));
+    let same = compare(&trace, &trace, Tolerance::EXACT);
     let _ = same.to_text(&trace, &trace, names);
     let mut shorter = trace.clone();
     shorter.root.steps.pop();
     for tol in [0.0, 1e-3] {
-        let cmp = compare(&trace, &shorter, Tolerance::uniform(tol));
+        let cmp = compare(&trace, &shorter, Tolerance::relative_to_larger(tol, tol));
         let _ = cmp.to_text(&trace, &shorter, names);
         let _ = cmp.to_json(&trace, &shorter, names);
     }
@@ -184,7 +185,7 @@ pub fn student_input(data: &[u8]) -> bool {
             panic!("a pixel read from the format, written back, does not read: {e}\n{written}");
         }
     }
-    let zero = grading::Tolerance {
+    let zero = grading::TracerTolerances {
         rel: 0.0,
         abs: 0.0,
         color: 0.0,
@@ -192,7 +193,7 @@ pub fn student_input(data: &[u8]) -> bool {
     };
     for exp in student_expected() {
         for upto in Stage::ALL {
-            for tol in [grading::Tolerance::default(), zero] {
+            for tol in [grading::TracerTolerances::default(), zero] {
                 let checks = grade(exp, &pixels, upto, &tol);
                 assert_eq!(
                     checks.iter().map(|c| c.stage).collect::<Vec<_>>(),

@@ -1,7 +1,7 @@
 //! The student's and the teacher's path through raystep: the grader's feedback points at
 //! commands that run, and camera mistakes are named on any camera.
 
-use raystep::student::compare::{Stage, Tolerance, grade};
+use raystep::student::compare::{Stage, TracerTolerances, grade};
 use raystep::student::expected::{Expected, expected};
 use raystep::student::format::{parse, write};
 
@@ -26,7 +26,7 @@ fn camera_message(scene: &str, (x, y): (u32, u32), other: (u32, u32)) -> String 
         &e,
         &parse(&write(&mine)).unwrap(),
         Stage::Camera,
-        &Tolerance::default(),
+        &TracerTolerances::default(),
     );
     assert!(!checks[0].pass, "{scene}");
     checks[0].message.clone()
@@ -129,7 +129,7 @@ fn a_learning_platforms_class_csv_is_read() {
 /// and a wrong answer where the tracer computes nothing is not told "the answer is none".
 #[test]
 fn answers_do_not_leak() {
-    use raystep::lesson::{Answer, AnswerKind, Tolerance, mark};
+    use raystep::lesson::{Answer, AnswerKind, DEFAULT_TOLERANCE, mark};
     let dir = tempfile::tempdir().unwrap();
     let sheet = root().join("lessons/exercises/02-sphere.toml");
     let text = std::fs::read_to_string(&sheet).unwrap();
@@ -159,7 +159,7 @@ fn answers_do_not_leak() {
         &Answer::None,
         AnswerKind::Name,
         Some("tri"),
-        Tolerance::default(),
+        DEFAULT_TOLERANCE,
     );
     assert!(!m.right);
     let note = m.note.unwrap();
@@ -182,7 +182,7 @@ fn misnamed_objects_and_debug_prints_are_named() {
         &e,
         &parse(&text).unwrap(),
         Stage::Sphere,
-        &Tolerance::default(),
+        &TracerTolerances::default(),
     );
     let msg = &checks[1].message;
     assert!(

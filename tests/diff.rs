@@ -4,7 +4,8 @@
 
 use assert_cmd::Command;
 use raystep::accel::SceneAccel;
-use raystep::explain::diff::{DiffKind, Tolerance, compare};
+use raystep::explain::diff::{DiffKind, compare};
+use raystep::record::Tolerance;
 use raystep::record::{Step, Trace};
 use raystep::scene::{self, Scene};
 use raystep::trace::Tracer;

@@ -6,7 +6,7 @@
 //! silently less) are refused with the sheet named. Needs `python3` (which `.ci/run` installs).
 
 use assert_cmd::Command;
-use raystep::student::compare::{Stage, Tolerance, grade};
+use raystep::student::compare::{Stage, TracerTolerances, grade};
 use raystep::student::expected::{Expected, expected};
 use raystep::student::format::{parse, write};
 use serde_json::Value;
@@ -28,7 +28,7 @@ fn verdicts(e: &Expected, text: &str) -> Vec<(Stage, bool, String)> {
         e,
         &parse(text).unwrap(),
         Stage::Color,
-        &Tolerance::default(),
+        &TracerTolerances::default(),
     )
     .into_iter()
     .map(|c| (c.stage, c.pass, c.message))

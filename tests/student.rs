@@ -5,7 +5,7 @@
 //! Gradescope's `results.json` checked against its documented shape, and a class run's CSV.
 
 use assert_cmd::Command;
-use raystep::student::compare::{Stage, Tolerance, grade};
+use raystep::student::compare::{Stage, TracerTolerances, grade};
 use raystep::student::expected::{Expected, expected};
 use raystep::student::format::{self, Test, parse, write};
 use serde_json::Value;
@@ -132,7 +132,7 @@ fn raystep_graded_against_itself_gets_full_marks() {
                 r.line = 0;
             }
             assert_eq!(again, ours.pixel, "{} ({x}, {y})", scene.display());
-            for c in grade(&ours, &back, Stage::Color, &Tolerance::default()) {
+            for c in grade(&ours, &back, Stage::Color, &TracerTolerances::default()) {
                 assert!(c.pass, "{} ({x}, {y}): {c:?}", scene.display());
             }
         }
@@ -145,7 +145,7 @@ fn first_failure(e: &Expected, text: &str) -> Option<(Stage, String)> {
         e,
         &parse(text).unwrap(),
         Stage::Color,
-        &Tolerance::default(),
+        &TracerTolerances::default(),
     )
     .into_iter()
     .find(|c| !c.pass)
@@ -711,7 +711,7 @@ mod never_panics {
             let text = l.join("\n");
             if let Ok(px) = parse(&text) {
                 let e = traced(&root().join("scenes/mirror-glass.toml"), 200, 150);
-                let _ = grade(&e, &px, Stage::Color, &Tolerance::default());
+                let _ = grade(&e, &px, Stage::Color, &TracerTolerances::default());
             }
         }
     }

@@ -1,7 +1,8 @@
 //! `raystep diff`: compare two saved traces step by step and report the first divergence.
 //! Exit status: 0 equal (within the tolerance), 1 different, 2 bad input.
 
-use crate::explain::diff::{Tolerance, compare};
+use crate::explain::diff::compare;
+use crate::record::Tolerance;
 use crate::record::Trace;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -47,7 +48,11 @@ pub fn run(args: &DiffArgs) -> ExitCode {
             return bad;
         }
     };
-    let cmp = compare(&expected, &actual, Tolerance::uniform(args.tolerance));
+    let cmp = compare(
+        &expected,
+        &actual,
+        Tolerance::relative_to_larger(args.tolerance, args.tolerance),
+    );
     let names = [
         args.expected.display().to_string(),
         args.actual.display().to_string(),

@@ -1,6 +1,6 @@
 //! Answers: what the tracer says, what a student wrote, and marking one against the other.
 
-use super::Tolerance;
+use crate::record::Tolerance;
 use crate::record::number::{Style, fmt, fmt64};
 use std::collections::BTreeMap;
 
@@ -306,8 +306,8 @@ fn yes_no(s: &str) -> Option<bool> {
 }
 
 fn by_distance(d: f64, scale: f64, difference: Vec<f64>, tol: Tolerance) -> Mark {
-    let rel = (scale != 0.0).then(|| d / scale);
-    let right = d <= tol.abs || rel.is_some_and(|r| r <= tol.rel);
+    let rel = Tolerance::relative_error(d, scale);
+    let right = tol.allows_distance(d, scale);
     Mark {
         right,
         abs_error: Some(d),
@@ -429,7 +429,7 @@ mod tests {
 
     #[test]
     fn numbers_vectors_names_and_none() {
-        let t = Tolerance::default();
+        let t = crate::lesson::DEFAULT_TOLERANCE;
         assert!(mark(&Answer::Number(4.0), AnswerKind::Number, Some("4.0001"), t).right);
         assert!(!mark(&Answer::Number(4.0), AnswerKind::Number, Some("4.1"), t).right);
         let m = mark(&Answer::Number(4.0), AnswerKind::Number, Some("four"), t);
@@ -469,7 +469,7 @@ mod tests {
 
     #[test]
     fn names_in_any_case_and_every_wrong_mark_says_why() {
-        let t = Tolerance::default();
+        let t = crate::lesson::DEFAULT_TOLERANCE;
         let middle = Answer::Name("middle".into());
         assert!(mark(&middle, AnswerKind::Name, Some("Middle"), t).right);
         assert!(mark(&middle, AnswerKind::Name, Some("MIDDLE"), t).right);
@@ -510,7 +510,7 @@ mod tests {
 
     #[test]
     fn feedback_policies() {
-        let t = Tolerance::default();
+        let t = crate::lesson::DEFAULT_TOLERANCE;
         let e = Answer::Number(3.65);
         let m = mark(&e, AnswerKind::Number, Some("1"), t);
         let rw = Feedback::RightWrong.explain(&m, &e, 1);

@@ -127,6 +127,7 @@ pub use sheet::{
     Coord, Param, ParamValue, Question, SceneSource, Sheet, SheetError, load_sheet, parse_sheet,
 };
 
+use crate::record::Tolerance;
 use crate::trace::PreparedScene;
 use serde::Deserialize;
 use sha2::{Digest, Sha256};
@@ -227,23 +228,10 @@ pub enum RaySel {
     Refraction,
 }
 
-/// How close an answer must be: right when within `abs`, or within `rel` × |expected|.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Tolerance {
-    /// Absolute tolerance.
-    pub abs: f64,
-    /// Relative tolerance.
-    pub rel: f64,
-}
-
-impl Default for Tolerance {
-    fn default() -> Self {
-        Tolerance {
-            abs: 1e-3,
-            rel: 1e-3,
-        }
-    }
-}
+/// How close an answer must be unless the question says otherwise: [`Tolerance`]'s
+/// [`within_either`](Tolerance::within_either) rule — right when |answer − expected| ≤ 0.001, or
+/// |answer − expected| / |expected| ≤ 0.001 (0.1 %).
+pub const DEFAULT_TOLERANCE: Tolerance = Tolerance::within_either(1e-3, 1e-3);
 
 /// One student's version of one question.
 #[derive(Debug, Clone, PartialEq)]

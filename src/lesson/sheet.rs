@@ -1,6 +1,7 @@
 //! Reading an exercise sheet: TOML with located errors, validated into [`Sheet`].
 
-use super::{Feedback, Quantity, RaySel, Tolerance};
+use super::{DEFAULT_TOLERANCE, Feedback, Quantity, RaySel};
+use crate::record::Tolerance;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -90,7 +91,8 @@ pub struct Question {
     pub ray: RaySel,
     /// The light (for `shadow_blocked`).
     pub light: u32,
-    /// How close an answer must be.
+    /// How close an answer must be: the sheet's `tolerance`, always the
+    /// [`within_either`](Tolerance::within_either) rule.
     pub tolerance: Tolerance,
     /// Parameters, in name order.
     pub params: Vec<(String, Param)>,
@@ -307,21 +309,21 @@ pub fn parse_sheet(
             })?,
         };
         let tolerance = match &q.tolerance {
-            None => Tolerance::default(),
+            None => DEFAULT_TOLERANCE,
             Some(t) => {
-                let d = Tolerance::default();
-                let tol = Tolerance {
-                    abs: t.get_ref().abs.unwrap_or(if t.get_ref().rel.is_some() {
+                let d = DEFAULT_TOLERANCE;
+                let tol = Tolerance::within_either(
+                    t.get_ref().abs.unwrap_or(if t.get_ref().rel.is_some() {
                         0.0
                     } else {
                         d.abs
                     }),
-                    rel: t.get_ref().rel.unwrap_or(if t.get_ref().abs.is_some() {
+                    t.get_ref().rel.unwrap_or(if t.get_ref().abs.is_some() {
                         0.0
                     } else {
                         d.rel
                     }),
-                };
+                );
                 if !(tol.abs.is_finite() && tol.abs >= 0.0 && tol.rel.is_finite() && tol.rel >= 0.0)
                 {
                     return Err(at(

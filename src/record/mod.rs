@@ -10,7 +10,9 @@
 //! - [`validate`]: the checks a loaded trace passes before anything reads it;
 //! - [`words`]: one name per ray kind and one wording per kernel outcome;
 //! - [`number`]: one number formatter with named styles, used by the math panel, the diagrams,
-//!   the command line, the lessons and the exercise feedback.
+//!   the command line, the lessons and the exercise feedback;
+//! - [`tolerance`]: one [`Tolerance`] type for "equal enough", with its three rules named (trace
+//!   diff, tracer grading, exercise answers).
 //!
 //! A trace is plain data: walk its rays and steps, save it as JSON and load it back (checked on
 //! the way in), explain any step in words:
@@ -36,6 +38,7 @@
 pub mod number;
 pub mod observer;
 pub mod steps;
+pub mod tolerance;
 pub mod validate;
 pub mod words;
 
@@ -44,3 +47,4 @@ pub use steps::{
     GridOutline, HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step,
     StepRecord, TRACE_VERSION, Trace, TraceError, TraceObject,
 };
+pub use tolerance::Tolerance;

@@ -2,6 +2,7 @@
 
 use super::expected::Expected;
 use super::format::{Pixel, Ray, Test};
+use crate::record::Tolerance;
 use serde::{Deserialize, Serialize};
 
 /// What a course checks, one stage after another (each includes the ones before).
@@ -62,11 +63,14 @@ impl Stage {
     }
 }
 
-/// How close a student's number must be: |yours − raystep's| ≤ abs + rel·|raystep's|, on values
-/// scaled to a unit-length direction. Colours use `color`, spawned rays' origins `offset`
-/// (a student's own offset off the surface is allowed).
+/// How close a student's numbers must be (a grading sheet's `[tolerance]` table). Numbers —
+/// distances, roots, coefficients, positions, directions — follow [`Tolerance`]'s
+/// [`abs_plus_rel`](Tolerance::abs_plus_rel) rule, |yours − raystep's| ≤ abs + rel·|raystep's|
+/// ([`TracerTolerances::numbers`]), on values scaled to a unit-length direction. Colour channels
+/// must be within `color`, spawned rays' origins within `offset` (a student's own offset off the
+/// surface is allowed).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Tolerance {
+pub struct TracerTolerances {
     /// Relative.
     pub rel: f64,
     /// Absolute.
@@ -77,11 +81,11 @@ pub struct Tolerance {
     pub offset: f64,
 }
 
-impl Default for Tolerance {
+impl Default for TracerTolerances {
     /// Loose enough for a student's f32 arithmetic (rounding differs in the 7th digit), tight
     /// enough to catch any formula mistake.
     fn default() -> Self {
-        Tolerance {
+        TracerTolerances {
             rel: 1e-3,
             abs: 1e-4,
             color: 4e-3,
@@ -135,24 +139,32 @@ fn v(x: [f64; 3]) -> String {
     format!("({}, {}, {})", n(x[0]), n(x[1]), n(x[2]))
 }
 
-impl Tolerance {
-    /// The tolerance for a ray `depth` bounces deep: rounding differences compound at every
+impl TracerTolerances {
+    /// The tolerances for a ray `depth` bounces deep: rounding differences compound at every
     /// bounce (raystep computes in f32), so the relative and absolute parts grow by one unit per
     /// level (a depth-4 reflection's t may differ by 0.5 %).
-    pub fn at_depth(&self, depth: u32) -> Tolerance {
+    pub fn at_depth(&self, depth: u32) -> TracerTolerances {
         let k = 1.0 + depth.min(64) as f64;
-        Tolerance {
+        TracerTolerances {
             rel: self.rel * k,
             abs: self.abs * k,
             ..*self
         }
     }
 
-    fn close(&self, yours: f64, want: f64) -> bool {
-        (yours - want).abs() <= self.abs + self.rel * want.abs()
+    /// The rule for numbers: |yours − raystep's| ≤ abs + rel·|raystep's|.
+    pub fn numbers(&self) -> Tolerance {
+        Tolerance::abs_plus_rel(self.abs, self.rel)
     }
+
+    fn close(&self, yours: f64, want: f64) -> bool {
+        self.numbers().allows(yours, want)
+    }
+    /// Vectors: |yours − want| ≤ abs + rel·|want| with the absolute part given.
     fn close3(&self, yours: [f64; 3], want: [f64; 3], abs: f64) -> bool {
-        dist(yours, want) <= abs + self.rel * len(want)
+        self.numbers()
+            .with_abs(abs)
+            .allows_distance(dist(yours, want), len(want))
     }
 }
 
@@ -223,7 +235,7 @@ pub fn ray_name(e: &Pixel, i: usize) -> String {
 }
 
 /// Grades one pixel: a check per stage up to `upto`.
-pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &Tolerance) -> Vec<Check> {
+pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &TracerTolerances) -> Vec<Check> {
     let m = match_rays(&e.pixel, s);
     Stage::ALL
         .iter()
@@ -259,7 +271,7 @@ pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &Tolerance) -> Vec
 
 type Divergence = Option<(String, Option<usize>)>;
 
-fn camera(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+fn camera(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &TracerTolerances) -> Divergence {
     let step = e.ray_step.first().copied();
     let er = e.pixel.rays.first()?;
     let Some(sr) = m.first().copied().flatten().and_then(|k| s.rays.get(k)) else {
@@ -326,7 +338,7 @@ fn tests(
     m: &[Option<usize>],
     stage: Stage,
     upto: Stage,
-    tol: &Tolerance,
+    tol: &TracerTolerances,
 ) -> Divergence {
     for (i, er) in e.pixel.rays.iter().enumerate() {
         if !in_scope(&er.kind, upto) {
@@ -466,7 +478,8 @@ fn tests(
                                 + ea[0]
                                     .zip(ea[2])
                                     .map_or(0.0, |(a, c)| (4.0 * a * c / (le * le)).abs());
-                            (ys - ws).abs() <= tol.abs + tol.rel * size.max(ws.abs())
+                            tol.numbers()
+                                .allows_distance((ys - ws).abs(), size.max(ws.abs()))
                         } else {
                             tol.close(ys, ws)
                         };
@@ -558,7 +571,13 @@ fn tests(
     None
 }
 
-fn hits(e: &Expected, s: &Pixel, m: &[Option<usize>], upto: Stage, tol: &Tolerance) -> Divergence {
+fn hits(
+    e: &Expected,
+    s: &Pixel,
+    m: &[Option<usize>],
+    upto: Stage,
+    tol: &TracerTolerances,
+) -> Divergence {
     for (i, er) in e.pixel.rays.iter().enumerate() {
         if !in_scope(&er.kind, upto) || er.kind == "shadow" {
             continue;
@@ -664,7 +683,7 @@ fn hits(e: &Expected, s: &Pixel, m: &[Option<usize>], upto: Stage, tol: &Toleran
     None
 }
 
-fn shadows(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+fn shadows(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &TracerTolerances) -> Divergence {
     for (i, er) in e.pixel.rays.iter().enumerate() {
         if er.kind == "shadow" || er.shadows.is_empty() {
             continue;
@@ -738,7 +757,13 @@ fn shadows(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Div
 }
 
 /// A spawned ray's origin (within the offset tolerance) and direction against raystep's.
-fn direction_divergence(e: &Expected, i: usize, er: &Ray, sr: &Ray, tol: &Tolerance) -> Divergence {
+fn direction_divergence(
+    e: &Expected,
+    i: usize,
+    er: &Ray,
+    sr: &Ray,
+    tol: &TracerTolerances,
+) -> Divergence {
     let tol = &tol.at_depth(er.depth);
     let step = e.ray_step.get(i).copied();
     let name = ray_name(&e.pixel, i);
@@ -811,7 +836,7 @@ fn refract(d: [f64; 3], nrm: [f64; 3], eta: f64) -> Option<[f64; 3]> {
     Some([0, 1, 2].map(|k| eta * d[k] + (eta * cos_i - cos_t) * nrm[k]))
 }
 
-fn secondary(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+fn secondary(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &TracerTolerances) -> Divergence {
     for (i, er) in e.pixel.rays.iter().enumerate() {
         if er.kind != "reflection" && er.kind != "refraction" {
             continue;
@@ -842,7 +867,7 @@ fn secondary(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> D
     None
 }
 
-fn color(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Divergence {
+fn color(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &TracerTolerances) -> Divergence {
     let er = e.pixel.rays.first()?;
     let step = e.ray_step.first().copied();
     let sr = m.first().copied().flatten().and_then(|k| s.rays.get(k));
@@ -869,7 +894,12 @@ fn color(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &Tolerance) -> Diver
 }
 
 /// Grades `student`'s output for one pixel against raystep's trace.
-pub fn grade(expected: &Expected, student: &[Pixel], upto: Stage, tol: &Tolerance) -> Vec<Check> {
+pub fn grade(
+    expected: &Expected,
+    student: &[Pixel],
+    upto: Stage,
+    tol: &TracerTolerances,
+) -> Vec<Check> {
     let at = expected.pixel.at;
     // The pixel's own records, else the only pixel printed.
     let mine = student
@@ -892,5 +922,47 @@ pub fn grade(expected: &Expected, student: &[Pixel], upto: Stage, tol: &Toleranc
                 step: None,
             })
             .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn any() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            proptest::num::f64::ANY,
+            -10.0..10.0f64,
+            Just(0.0),
+            Just(f64::NAN)
+        ]
+    }
+
+    proptest! {
+        /// `close` and `close3`, now [`Tolerance::abs_plus_rel`], keep the formulas they had:
+        /// |yours − want| ≤ abs + rel·|want| and |yours − want| ≤ abs' + rel·|want| (vectors).
+        #[test]
+        fn close_and_close3_keep_their_formulas(
+            abs in 0.0..0.1f64,
+            rel in 0.0..0.1f64,
+            extra in 0.0..1.0f64,
+            y in [any(), any(), any()],
+            w in [any(), any(), any()],
+            d in -1e-2..1e-2f64,
+        ) {
+            let t = TracerTolerances { abs, rel, ..TracerTolerances::default() };
+            prop_assert_eq!(t.close(y[0], w[0]), (y[0] - w[0]).abs() <= abs + rel * w[0].abs());
+            let near = w[1] + d;
+            prop_assert_eq!(t.close(near, w[1]), (near - w[1]).abs() <= abs + rel * w[1].abs());
+            let by_hand = |a: [f64; 3], b: [f64; 3]| {
+                let e = [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+                (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]).sqrt()
+                    <= extra + rel * (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt()
+            };
+            prop_assert_eq!(t.close3(y, w, extra), by_hand(y, w));
+            let near3 = w.map(|c| c + d);
+            prop_assert_eq!(t.close3(near3, w, extra), by_hand(near3, w));
+        }
     }
 }

@@ -9,13 +9,13 @@
 //! one test per pixel and stage; [`gradescope_json`] writes Gradescope's `results.json`.
 //!
 //! ```
-//! use raystep::student::{compare::{Stage, Tolerance, grade}, expected::expected, format};
+//! use raystep::student::{compare::{Stage, TracerTolerances, grade}, expected::expected, format};
 //!
 //! let trace = raystep::PreparedScene::new(raystep::scene::default_scene()).record(160, 120, 0);
 //! let ours = expected(&trace);
 //! // raystep's own trace, written in the format and read back, gets full marks.
 //! let text = format::write(&ours.pixel);
-//! let checks = grade(&ours, &format::parse(&text).unwrap(), Stage::Color, &Tolerance::default());
+//! let checks = grade(&ours, &format::parse(&text).unwrap(), Stage::Color, &TracerTolerances::default());
 //! assert!(checks.iter().all(|c| c.pass));
 //! ```
 
@@ -29,7 +29,7 @@ pub mod run;
 
 use crate::record::number::{Style, fmt64};
 use crate::trace::PreparedScene;
-use compare::{Stage, Tolerance};
+use compare::{Stage, TracerTolerances};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -169,7 +169,7 @@ pub fn grade_submission(
     dir: &Path,
     jobs: &[Job],
     upto: Stage,
-    tol: &Tolerance,
+    tol: &TracerTolerances,
     limits: run::Limits,
 ) -> Report {
     let start = Instant::now();
@@ -336,7 +336,7 @@ pub struct Sheet {
     pub timeout_s: Option<f64>,
     /// Tolerances.
     #[serde(default)]
-    pub tolerance: Option<Tolerance>,
+    pub tolerance: Option<TracerTolerances>,
     /// The scenes.
     pub scene: Vec<SheetScene>,
 }
@@ -765,7 +765,7 @@ pub fn grade_class(
     template: &str,
     jobs_for: &dyn Fn(&str) -> Result<Vec<Job>, String>,
     upto: Stage,
-    tol: &Tolerance,
+    tol: &TracerTolerances,
     limits: run::Limits,
     image: Option<&ImageSpec>,
 ) -> Result<Vec<Report>, String> {

@@ -8,16 +8,17 @@
 //! the steps after it are still compared. Every difference names the ray path, the timeline step
 //! index (as [`Trace::timeline`] numbers them, 0-based), the step and the field.
 //!
-//! Numbers a and b (floats) agree when |a − b| ≤ max(abs, rel·max(|a|, |b|)); NaN equals NaN and
-//! ±∞ equals only the same infinity. Integers (ids, indices, counts) and everything else (names,
+//! Numbers a and b (floats) agree when |a − b| ≤ max(abs, rel·max(|a|, |b|)) (a [`Tolerance`] with
+//! the [`relative_to_larger`](Tolerance::relative_to_larger) rule); NaN equals NaN and ±∞ equals
+//! only the same infinity. Integers (ids, indices, counts) and everything else (names,
 //! methods, decisions such as hit or miss, which root, blocked, total internal reflection) must
 //! be equal. The header (format and raystep versions, scene name and hash, pixel, sample,
 //! settings) is compared exactly but reported as information only: comparing two settings' traces
 //! is often the point.
 
 use super::describe;
-use crate::record::Trace;
 use crate::record::number::{Style, fmt64};
+use crate::record::{Tolerance, Trace};
 use serde::{Deserialize, Serialize};
 use serde_json::{Value, json};
 use std::collections::HashMap;
@@ -30,43 +31,12 @@ mod walk;
 use json::{J, NULL};
 use walk::Walker;
 
-/// When two numbers are equal enough.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Tolerance {
-    /// Absolute tolerance.
-    pub abs: f64,
-    /// Relative tolerance (a fraction of the larger magnitude).
-    pub rel: f64,
-}
-
-impl Tolerance {
-    /// Exact comparison.
-    pub const EXACT: Tolerance = Tolerance { abs: 0.0, rel: 0.0 };
-
-    /// One value used as both the absolute and the relative tolerance (`--tolerance T`).
-    pub fn uniform(t: f64) -> Tolerance {
-        Tolerance { abs: t, rel: t }
-    }
-
-    /// Whether a and b agree: |a − b| ≤ max(abs, rel·max(|a|, |b|)); NaN equals NaN; ±∞ equals
-    /// only the same infinity.
-    pub fn allows(&self, a: f64, b: f64) -> bool {
-        if a.is_nan() || b.is_nan() {
-            return a.is_nan() && b.is_nan();
-        }
-        if a.is_infinite() || b.is_infinite() {
-            return a == b;
-        }
-        (a - b).abs() <= self.abs.max(self.rel * a.abs().max(b.abs()))
-    }
-
-    /// `0`, `1e-6`, or `abs 1e-6, rel 1e-4`.
-    pub fn describe(&self) -> String {
-        if self.abs == self.rel {
-            small(self.abs)
-        } else {
-            format!("abs {}, rel {}", small(self.abs), small(self.rel))
-        }
+/// `0`, `1e-6`, or `abs 1e-6, rel 1e-4`: a tolerance as the report names it.
+fn describe_tolerance(t: &Tolerance) -> String {
+    if t.abs == t.rel {
+        small(t.abs)
+    } else {
+        format!("abs {}, rel {}", small(t.abs), small(t.rel))
     }
 }
 
@@ -117,7 +87,7 @@ pub struct Difference {
 /// The result of comparing two traces.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Comparison {
-    /// The tolerance used.
+    /// The tolerance used (the [`relative_to_larger`](Tolerance::relative_to_larger) rule).
     pub tolerance: Tolerance,
     /// Header differences (information, not divergences).
     pub header: Vec<Difference>,
@@ -182,7 +152,7 @@ impl Comparison {
                 let _ = writeln!(out, "  {}", d.message);
             }
         }
-        let tol = self.tolerance.describe();
+        let tol = describe_tolerance(&self.tolerance);
         match self.first() {
             None => {
                 if self.tolerance == Tolerance::EXACT {
@@ -754,7 +724,7 @@ mod tests {
 
     #[test]
     fn tolerance_rule() {
-        let t = Tolerance::uniform(1e-6);
+        let t = Tolerance::relative_to_larger(1e-6, 1e-6);
         assert!(t.allows(1.0, 1.0 + 1e-6));
         assert!(!t.allows(1.0, 1.0 + 3e-6));
         assert!(t.allows(1e6, 1e6 + 0.5)); // relative
@@ -762,7 +732,7 @@ mod tests {
         assert!(!t.allows(f64::NAN, 1.0));
         assert!(t.allows(f64::INFINITY, f64::INFINITY));
         assert!(!t.allows(f64::INFINITY, f64::NEG_INFINITY));
-        assert!(!Tolerance::uniform(1e30).allows(f64::INFINITY, 1.0));
+        assert!(!Tolerance::relative_to_larger(1e30, 1e30).allows(f64::INFINITY, 1.0));
         assert!(Tolerance::EXACT.allows(0.0, -0.0));
         assert!(!Tolerance::EXACT.allows(1.0, 1.0 + f64::EPSILON));
     }

@@ -123,7 +123,7 @@ impl Walker {
                 body,
                 " (differs by {}, tolerance {})",
                 small(d),
-                self.tol.describe()
+                super::describe_tolerance(&self.tol)
             );
         }
         let diff = finite.then_some(d);
