@@ -122,7 +122,7 @@ pub fn sheet_input(data: &[u8]) -> bool {
     let (sheet_text, rest) = split_at_marker(&text, ANSWERS_MARKER);
     let (answers, csv) = split_at_marker(rest, CSV_MARKER);
     // CSV parsing stands on its own too (a CSV that no sheet accepts is still parsed).
-    let _ = lesson::parse_csv(csv, "class.csv");
+    let _ = crate::text::csv::parse_csv(csv, "class.csv");
     let base = exercises_dir();
     let Ok(sheet) = lesson::parse_sheet(sheet_text, "sheet.toml", Some(&base), "sheet") else {
         return false;

@@ -45,7 +45,9 @@
 //!   S1–S25 against exact rational references, cost per test, and image error against run time.
 //! - [`app`]: the eframe app; [`cli`]: the `raystep` command line; [`fuzzing`]: the entry points
 //!   the fuzzers and the property tests feed hostile input; [`io`]: bounded reading and atomic
-//!   writing of files.
+//!   writing of files; [`text`]: line and column of an offset, CSV reading and writing (shared by
+//!   the readers of hand-written files); `variant`: the seeded per-student draws the exercise
+//!   sheets and the tracer grading sheets share.
 // A few places opt in, with their reasons: gpu::tracer's request for wgpu's experimental ray
 // queries, the BVH's calls of its AVX2 + FMA build and its AVX box and triangle tests after
 // checking the CPU, and the command line's restoring of SIGPIPE's default action.
@@ -71,7 +73,9 @@ pub mod scene;
 pub mod shapes;
 pub mod stability;
 pub mod student;
+pub mod text;
 pub mod trace;
+pub(crate) mod variant;
 pub mod view3d;
 
 pub use scene::Scene;

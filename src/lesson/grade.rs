@@ -1,7 +1,7 @@
 //! Marking a whole class from a CSV of answers.
 
-use super::csv::text_cell;
-use super::{Sheet, mark, parse_csv, write_csv};
+use super::{Sheet, mark};
+use crate::text::csv::{parse_csv, text_cell, write_csv};
 
 /// The result of grading a class.
 #[derive(Debug, Clone, PartialEq)]

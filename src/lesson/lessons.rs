@@ -155,7 +155,7 @@ pub fn parse_lesson(text: &str, file: &Path) -> Result<Lesson, String> {
     let parsed: FrontMatter = toml::from_str(fm).map_err(|e| {
         let (line, col) = e
             .span()
-            .map(|s| super::line_col(fm, s.start))
+            .map(|s| crate::text::line_col(fm, s.start))
             .unwrap_or((0, 0));
         // +1: the opening `+++` line.
         format!("{name}:{}:{col}: {}", line + 1, e.message())

@@ -112,14 +112,12 @@
 //! ```
 
 mod answer;
-pub(crate) mod csv;
 mod extract;
 mod grade;
 mod lessons;
 mod sheet;
 
 pub use answer::{Answer, AnswerKind, Feedback, Mark, mark, parse_answers, short, show};
-pub use csv::{CsvError, parse_csv, write_csv};
 pub use extract::{explaining_step, extract};
 pub use grade::{GradeReport, grade_class};
 pub use lessons::{Lesson, LessonSettings, lessons_dir, load_lessons, parse_lesson};
@@ -129,8 +127,8 @@ pub use sheet::{
 
 use crate::record::Tolerance;
 use crate::trace::PreparedScene;
+use crate::variant::{draw, pick_int, uniform};
 use serde::Deserialize;
-use sha2::{Digest, Sha256};
 
 /// What a question asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -244,38 +242,6 @@ pub struct Variant {
     pub text: String,
     /// The inline scene with its placeholders filled, for `scene_toml` questions.
     pub scene_toml: Option<String>,
-}
-
-/// 1-based line and column of byte `pos` in `text`.
-pub(crate) fn line_col(text: &str, pos: usize) -> (usize, usize) {
-    let pos = pos.min(text.len());
-    let before = &text[..pos];
-    let line = before.matches('\n').count() + 1;
-    let col = before[before.rfind('\n').map_or(0, |nl| nl + 1)..]
-        .chars()
-        .count()
-        + 1;
-    (line, col)
-}
-
-/// A number in [0, 1) from the student, sheet, question and parameter.
-pub(crate) fn draw(sheet: &str, question: &str, student: &str, name: &str) -> u64 {
-    let mut h = Sha256::new();
-    for part in ["raystep-exercise", sheet, question, student, name] {
-        h.update(part.as_bytes());
-        h.update([0u8]);
-    }
-    let d = h.finalize();
-    u64::from_le_bytes(d[..8].try_into().expect("eight bytes"))
-}
-
-pub(crate) fn uniform(bits: u64) -> f64 {
-    (bits >> 11) as f64 / (1u64 << 53) as f64
-}
-
-pub(crate) fn pick_int(bits: u64, lo: i64, hi: i64) -> i64 {
-    let span = (hi as i128 - lo as i128 + 1) as u128;
-    (lo as i128 + (bits as u128 % span) as i128) as i64
 }
 
 /// Replaces `{name}` for every known name; other braces stay.
@@ -421,14 +387,5 @@ mod tests {
     fn fill_replaces_known_names_only() {
         let v = vec![("r".to_string(), "1.5".to_string())];
         assert_eq!(fill("r = {r}, {z} {", &v), "r = 1.5, {z} {");
-    }
-
-    #[test]
-    fn int_draws_cover_the_range() {
-        let mut seen = [false; 3];
-        for i in 0..100u64 {
-            seen[(pick_int(i.wrapping_mul(0x9e3779b97f4a7c15), 1, 3) - 1) as usize] = true;
-        }
-        assert_eq!(seen, [true; 3]);
     }
 }

@@ -597,7 +597,7 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn line_col(&self, pos: usize) -> (usize, usize) {
-        super::line_col(self.text, pos)
+        crate::text::line_col(self.text, pos)
     }
 
     fn err(

@@ -251,13 +251,7 @@ pub const MAX_OBJECTS: usize = 2_000_000;
 
 impl<'a> Ctx<'a> {
     fn line_col(&self, pos: usize) -> (usize, usize) {
-        let pos = self.text.floor_char_boundary(pos);
-        let before = &self.text[..pos];
-        let line = before.matches('\n').count() + 1;
-        // Columns count characters, as an editor does, not bytes.
-        let line_start = before.rfind('\n').map_or(0, |nl| nl + 1);
-        let col = before[line_start..].chars().count() + 1;
-        (line, col)
+        crate::text::line_col(self.text, pos)
     }
 
     /// The byte offset of `field = …` inside an object's span.

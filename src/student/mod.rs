@@ -420,7 +420,7 @@ pub(crate) fn variant_text(
             v.key,
             v.index.map_or(String::new(), |i| format!("[{i}]"))
         );
-        let u = crate::lesson::uniform(crate::lesson::draw(id, file, student, &what));
+        let u = crate::variant::uniform(crate::variant::draw(id, file, student, &what));
         let scale = 10f64.powi(v.decimals.min(9) as i32);
         let x = ((lo + u * (hi - lo)) * scale).round() / scale;
         if v.key == "name" {
@@ -509,7 +509,7 @@ pub fn parse_sheet(text: &str, path: &Path) -> Result<Sheet, String> {
     let sheet: Sheet = toml::from_str(text).map_err(|e| {
         let (line, col) = e
             .span()
-            .map(|s| crate::lesson::line_col(text, s.start))
+            .map(|s| crate::text::line_col(text, s.start))
             .unwrap_or((0, 0));
         format!("{}:{line}:{col}: {}", path.display(), e.message())
     })?;
@@ -737,11 +737,11 @@ pub fn sheet_jobs(
         }
         let file = sc.file.display().to_string();
         for k in 0..sc.random_pixels.min(MAX_RANDOM_PIXELS) {
-            let px = crate::lesson::draw(&id, &file, student, &format!("pixel {k} x"));
-            let py = crate::lesson::draw(&id, &file, student, &format!("pixel {k} y"));
+            let px = crate::variant::draw(&id, &file, student, &format!("pixel {k} x"));
+            let py = crate::variant::draw(&id, &file, student, &format!("pixel {k} y"));
             pixels.push([
-                crate::lesson::pick_int(px, 0, w as i64 - 1) as u32,
-                crate::lesson::pick_int(py, 0, h as i64 - 1) as u32,
+                crate::variant::pick_int(px, 0, w as i64 - 1) as u32,
+                crate::variant::pick_int(py, 0, h as i64 - 1) as u32,
             ]);
         }
         let mut job = Job::new(
@@ -807,7 +807,7 @@ pub fn grades_csv(reports: &[Report]) -> String {
     rows.push(head);
     for r in reports {
         let mut row = vec![
-            crate::lesson::csv::text_cell(&r.student),
+            crate::text::csv::text_cell(&r.student),
             fmt64(r.score(), Style::Exact),
             fmt64(r.max_score(), Style::Exact),
         ];
@@ -829,7 +829,7 @@ pub fn grades_csv(reports: &[Report]) -> String {
             });
         }
         // The first failure's first line, as a note.
-        row.push(crate::lesson::csv::text_cell(
+        row.push(crate::text::csv::text_cell(
             r.tests
                 .iter()
                 .find(|t| t.score < t.max_score)
@@ -838,7 +838,7 @@ pub fn grades_csv(reports: &[Report]) -> String {
         ));
         rows.push(row);
     }
-    crate::lesson::csv::write_csv(&rows)
+    crate::text::csv::write_csv(&rows)
 }
 
 /// The time limit as a duration (seconds from a sheet or the command line).
