@@ -124,7 +124,8 @@ pub fn sheet_input(data: &[u8]) -> bool {
     // CSV parsing stands on its own too (a CSV that no sheet accepts is still parsed).
     let _ = crate::text::csv::parse_csv(csv, "class.csv");
     let base = exercises_dir();
-    let Ok(sheet) = lesson::parse_sheet(sheet_text, "sheet.toml", Some(&base), "sheet") else {
+    let Ok(sheet) = lesson::parse_exercise_sheet(sheet_text, "sheet.toml", Some(&base), "sheet")
+    else {
         return false;
     };
     let ids: Vec<&str> = sheet.questions.iter().map(|q| q.id.as_str()).collect();
@@ -141,7 +142,7 @@ pub fn sheet_input(data: &[u8]) -> bool {
             );
         }
     }
-    let _ = lesson::grade_class(&sheet, csv, "class.csv");
+    let _ = lesson::grade_answers_csv(&sheet, csv, "class.csv");
     true
 }
 
@@ -225,7 +226,7 @@ pub fn grade_sheet_path() -> PathBuf {
 pub fn grade_sheet_input(data: &[u8]) -> bool {
     let text = String::from_utf8_lossy(data);
     let path = grade_sheet_path();
-    let Ok(sheet) = student::parse_sheet(&text, &path) else {
+    let Ok(sheet) = student::parse_tracer_sheet(&text, &path) else {
         return false;
     };
     let base = path.parent().unwrap_or(Path::new("."));

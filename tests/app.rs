@@ -570,7 +570,7 @@ fn an_exercise_is_marked_and_explained() {
     h.run_steps(2);
     assert_eq!(h.state().state.learn.student, "alice");
 
-    let sheet = raystep::lesson::load_sheet(&sheet_path).unwrap();
+    let sheet = raystep::lesson::load_exercise_sheet(&sheet_path).unwrap();
     let q = &sheet.questions[0];
     assert_eq!(q.quantity, raystep::lesson::Quantity::Discriminant);
     let v = sheet.variant(q, "alice");

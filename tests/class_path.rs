@@ -60,9 +60,9 @@ fn flipped_images_are_named_on_level_and_tilted_cameras() {
 /// the extra columns are listed (not refused), and a wrong answer's reason is in the notes.
 #[test]
 fn a_learning_platforms_class_csv_is_read() {
-    use raystep::lesson::{Answer, grade_class, load_sheet};
+    use raystep::lesson::{Answer, grade_answers_csv, load_exercise_sheet};
     let path = root().join("lessons/exercises/02-sphere.toml");
-    let sheet = load_sheet(&path).unwrap();
+    let sheet = load_exercise_sheet(&path).unwrap();
     let answer = |q: &raystep::lesson::Question, who: &str| -> String {
         match sheet.expected(q, &sheet.variant(q, who)).unwrap() {
             // As a spreadsheet in much of Europe writes it.
@@ -88,7 +88,7 @@ fn a_learning_platforms_class_csv_is_read() {
         }
         text += "\r\n";
     }
-    let report = grade_class(&sheet, &text, "export.csv").unwrap();
+    let report = grade_answers_csv(&sheet, &text, "export.csv").unwrap();
     assert_eq!(report.students, 2);
     let rows: Vec<&str> = report.csv.lines().collect();
     let out_of = report.out_of;
@@ -118,7 +118,7 @@ fn a_learning_platforms_class_csv_is_read() {
         "{w}"
     );
     // No student column at all: the message says so and lists the header.
-    let e = grade_class(&sheet, "Name;Disc\nann;1\n", "x.csv").unwrap_err();
+    let e = grade_answers_csv(&sheet, "Name;Disc\nann;1\n", "x.csv").unwrap_err();
     assert!(
         e.contains("no column holds the student's id") && e.contains("\"Name\""),
         "{e}"
@@ -221,7 +221,7 @@ fn a_builtin_sheet_names_its_scene_by_name() {
 /// sheet's feedback policy adds ("too high" under `feedback = "direction"`), never the answer.
 #[test]
 fn grade_notes_follow_the_feedback_policy() {
-    use raystep::lesson::{grade_class, parse_sheet};
+    use raystep::lesson::{grade_answers_csv, parse_exercise_sheet};
     let scene = root().join("scenes/three-spheres.toml");
     let sheet = |feedback: &str| {
         let text = format!(
@@ -229,19 +229,19 @@ fn grade_notes_follow_the_feedback_policy() {
              scene = {scene:?}\npixel = [160, 120]\nquantity = \"closest_t\"\n",
             scene = scene.display().to_string()
         );
-        parse_sheet(&text, "quiz.toml", None, "quiz").unwrap()
+        parse_exercise_sheet(&text, "quiz.toml", None, "quiz").unwrap()
     };
     // Pixel (160, 120) hits "middle" at t = 4.6522236 (`raystep trace three-spheres --pixel
     // 160,120`, step [4]): 4.9 is too high, 4.1 too low.
     let csv = "student,t\nhigh,4.9\nlow,4.1\n";
-    let direction = grade_class(&sheet("direction"), csv, "class.csv")
+    let direction = grade_answers_csv(&sheet("direction"), csv, "class.csv")
         .unwrap()
         .csv;
     let rows: Vec<&str> = direction.lines().collect();
     assert!(rows[1].ends_with("; too high"), "{direction}");
     assert!(rows[2].ends_with("; too low"), "{direction}");
     assert!(!direction.contains("4.652"), "{direction}");
-    let plain = grade_class(&sheet("right_wrong"), csv, "class.csv")
+    let plain = grade_answers_csv(&sheet("right_wrong"), csv, "class.csv")
         .unwrap()
         .csv;
     assert!(!plain.contains("too "), "{plain}");

@@ -5,7 +5,7 @@
 //! input exits non-zero with a located message.
 
 use assert_cmd::Command;
-use raystep::lesson::{self, Question, SceneSource, Sheet};
+use raystep::lesson::{self, ExerciseSheet, Question, SceneSource};
 use raystep::record::{RayKind, Step, Trace};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -31,7 +31,7 @@ fn raystep() -> Command {
 const STUDENTS: [&str; 4] = ["s1001", "alice@example.org", "Bob Smith", "42"];
 
 /// Records the question's variant with the library directly.
-fn record(sheet: &Sheet, q: &Question, student: &str) -> Trace {
+fn record(sheet: &ExerciseSheet, q: &Question, student: &str) -> Trace {
     let v = sheet.variant(q, student);
     let scene = match &q.scene {
         SceneSource::File(p) => raystep::scene::load_file(p).unwrap(),
@@ -212,7 +212,7 @@ fn at_least_three_sheets_ship_and_load() {
     let s = sheets();
     assert!(s.len() >= 3, "{s:?}");
     for p in &s {
-        let sheet = lesson::load_sheet(p).unwrap_or_else(|e| panic!("{e}"));
+        let sheet = lesson::load_exercise_sheet(p).unwrap_or_else(|e| panic!("{e}"));
         assert!(!sheet.questions.is_empty());
         for q in &sheet.questions {
             assert!(
@@ -228,7 +228,7 @@ fn at_least_three_sheets_ship_and_load() {
 #[test]
 fn every_shipped_sheet_marks_answers_read_from_the_trace() {
     for path in sheets() {
-        let sheet = lesson::load_sheet(&path).unwrap();
+        let sheet = lesson::load_exercise_sheet(&path).unwrap();
         for student in STUDENTS {
             let mut right = String::new();
             let mut wrong = String::new();
@@ -268,7 +268,7 @@ fn every_shipped_sheet_marks_answers_read_from_the_trace() {
 #[test]
 fn variants_differ_between_students_and_repeat_for_one() {
     for path in sheets() {
-        let sheet = lesson::load_sheet(&path).unwrap();
+        let sheet = lesson::load_exercise_sheet(&path).unwrap();
         for q in &sheet.questions {
             let varied = !q.params.is_empty()
                 || q.pixel
@@ -319,7 +319,7 @@ fn hints_are_revealed_one_at_a_time() {
             .clone();
         serde_json::from_slice(&out).unwrap()
     };
-    let sheet = lesson::load_sheet(&path).unwrap();
+    let sheet = lesson::load_exercise_sheet(&path).unwrap();
     for n in 0..3 {
         let doc = json(&n.to_string());
         for (q, j) in sheet
@@ -390,7 +390,7 @@ fn the_discriminant_and_t_match_a_hand_computation() {
     let dir = tempfile::tempdir().unwrap();
     let sheet_path = dir.path().join("hand.toml");
     std::fs::write(&sheet_path, HAND_SHEET).unwrap();
-    let sheet = lesson::load_sheet(&sheet_path).unwrap();
+    let sheet = lesson::load_exercise_sheet(&sheet_path).unwrap();
     let expected: Vec<lesson::Answer> = sheet
         .questions
         .iter()
@@ -418,7 +418,7 @@ fn the_discriminant_and_t_match_a_hand_computation() {
 #[test]
 fn grading_a_class_with_malformed_rows() {
     let path = root().join("lessons/exercises/02-sphere.toml");
-    let sheet = lesson::load_sheet(&path).unwrap();
+    let sheet = lesson::load_exercise_sheet(&path).unwrap();
     let ids: Vec<&str> = sheet.questions.iter().map(|q| q.id.as_str()).collect();
     let answers = |student: &str| -> Vec<String> {
         sheet
@@ -879,7 +879,7 @@ fn unstated(q: &Question, text: &str, scene_toml: &str) -> Vec<String> {
 fn every_question_states_what_differs_from_the_defaults() {
     let mut problems = vec![];
     for path in sheets() {
-        let sheet = lesson::load_sheet(&path).unwrap();
+        let sheet = lesson::load_exercise_sheet(&path).unwrap();
         for q in &sheet.questions {
             for student in STUDENTS {
                 let v = sheet.variant(q, student);
@@ -914,7 +914,7 @@ fn every_question_states_what_differs_from_the_defaults() {
 #[test]
 fn the_checker_finds_an_unstated_field_of_view() {
     // The check itself, on the case that was wrong: fov 45 not in the text.
-    let sheet = lesson::parse_sheet(
+    let sheet = lesson::parse_exercise_sheet(
         "[[question]]\nid = \"q\"\ntext = \"Camera at (0, 0, -5), 64 × 48 pixels, ball of radius 2.\"\n\
          scene_toml = \"\"\"\n[camera]\nfov = 45\nwidth = 64\nheight = 48\n[[sphere]]\nname = \"ball\"\nradius = 2\n\"\"\"\n\
          pixel = [1, 1]\nquantity = \"discriminant\"\nobject = \"ball\"\n",
@@ -944,7 +944,7 @@ fn small_sheet(head: &str, extra: &str) -> String {
 fn a_sheet_naming_an_object_or_light_its_scene_lacks_is_refused_with_its_place() {
     // The object: line 13, column 10 is where "bal" starts (after `object = `).
     let text = small_sheet("", "quantity = \"discriminant\"\nobject = \"bal\"");
-    let e = lesson::parse_sheet(&text, "s.toml", None, "s").unwrap_err();
+    let e = lesson::parse_exercise_sheet(&text, "s.toml", None, "s").unwrap_err();
     let msg = e.to_string();
     assert_eq!((e.line, e.column), (Some(13), Some(10)), "{msg}");
     assert!(
@@ -953,13 +953,13 @@ fn a_sheet_naming_an_object_or_light_its_scene_lacks_is_refused_with_its_place()
     );
     // The light: the scene has one light (index 0), the question asks for light 1.
     let text = small_sheet("", "quantity = \"shadow_blocked\"\nlight = 1");
-    let e = lesson::parse_sheet(&text, "s.toml", None, "s").unwrap_err();
+    let e = lesson::parse_exercise_sheet(&text, "s.toml", None, "s").unwrap_err();
     let msg = e.to_string();
     assert_eq!((e.line, e.column), (Some(13), Some(9)), "{msg}");
     assert!(msg.contains("1 light") && msg.contains("light 1"), "{msg}");
     // The same sheet with names the scene has loads.
     let ok = small_sheet("", "quantity = \"discriminant\"\nobject = \"ball\"");
-    assert!(lesson::parse_sheet(&ok, "s.toml", None, "s").is_ok());
+    assert!(lesson::parse_exercise_sheet(&ok, "s.toml", None, "s").is_ok());
 }
 
 #[test]
@@ -980,7 +980,7 @@ fn error_columns_count_characters_not_bytes() {
         byte_col, want,
         "the test needs multi-byte characters before the error"
     );
-    let e = lesson::parse_sheet(text, "s.toml", None, "s").unwrap_err();
+    let e = lesson::parse_exercise_sheet(text, "s.toml", None, "s").unwrap_err();
     assert_eq!((e.line, e.column), (Some(1), Some(want)), "{e}");
     // A lesson's front matter (its line 1 is the file's line 2).
     let fm = "title = \"Δ–Δ\"; scene = 3\n";
@@ -993,7 +993,7 @@ fn error_columns_count_characters_not_bytes() {
 #[test]
 fn feedback_is_the_sheets_choice_and_defaults_to_right_or_wrong() {
     let parse = |head: &str| {
-        lesson::parse_sheet(
+        lesson::parse_exercise_sheet(
             &small_sheet(head, "quantity = \"closest_t\""),
             "s.toml",
             None,
@@ -1018,7 +1018,7 @@ fn feedback_is_the_sheets_choice_and_defaults_to_right_or_wrong() {
     assert!(parse("feedback = { show_after = 0 }\n").is_err());
     // Every shipped sheet keeps the default or says which policy it uses.
     for path in sheets() {
-        lesson::load_sheet(&path).unwrap();
+        lesson::load_exercise_sheet(&path).unwrap();
     }
 }
 
@@ -1058,9 +1058,9 @@ fn check_uses_the_sheets_feedback_and_a_byte_order_mark_is_fine() {
 #[test]
 fn a_student_on_two_rows_is_an_error() {
     let path = root().join("lessons/exercises/02-sphere.toml");
-    let sheet = lesson::load_sheet(&path).unwrap();
+    let sheet = lesson::load_exercise_sheet(&path).unwrap();
     let csv = "student,disc\nann,1\nben,2\n ann ,3\n";
-    let e = lesson::grade_class(&sheet, csv, "class.csv").unwrap_err();
+    let e = lesson::grade_answers_csv(&sheet, csv, "class.csv").unwrap_err();
     assert!(e.starts_with("class.csv: row 4, column 1:"), "{e}");
     assert!(e.contains("\"ann\"") && e.contains("row 2"), "{e}");
 }

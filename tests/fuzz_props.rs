@@ -81,7 +81,7 @@ fn sheet_seeds() -> &'static [String] {
             .iter()
             .map(|p| {
                 let text = read(p);
-                let sheet = raystep::lesson::load_sheet(p).expect("a shipped sheet loads");
+                let sheet = raystep::lesson::load_exercise_sheet(p).expect("a shipped sheet loads");
                 let ids: Vec<&str> = sheet.questions.iter().map(|q| q.id.as_str()).collect();
                 let answers: String = ids.iter().map(|id| format!("{id} = 1\n")).collect();
                 let csv = format!(

@@ -4,7 +4,7 @@
 //! order, and together they cover the twelve topics of the course.
 
 use raystep::accel::SceneAccel;
-use raystep::lesson::{Lesson, explaining_step, load_lessons, load_sheet, parse_lesson};
+use raystep::lesson::{Lesson, explaining_step, load_exercise_sheet, load_lessons, parse_lesson};
 use raystep::trace::Tracer;
 use std::path::{Path, PathBuf};
 
@@ -205,7 +205,7 @@ fn lessons_with_exercises_point_at_sheets_that_load_and_explain_their_answers() 
     for l in &lessons {
         let name = file_name(&l.file);
         let path = l.exercises_path().unwrap();
-        let sheet = load_sheet(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let sheet = load_exercise_sheet(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(!sheet.questions.is_empty(), "{name}: an empty sheet");
         // Every question of the sheet, for one student: the step that explains the answer
         // exists and is of the kind the quantity is read from.

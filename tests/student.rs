@@ -582,7 +582,7 @@ fn sheets_give_each_student_their_own_pixels() {
         ),
     )
     .unwrap();
-    let s = raystep::student::load_sheet(&sheet).unwrap();
+    let s = raystep::student::load_tracer_sheet(&sheet).unwrap();
     let pix = |who: &str| {
         raystep::student::sheet_jobs(
             &s,
@@ -618,7 +618,7 @@ fn sheets_give_each_student_their_own_pixels() {
         ),
     ] {
         std::fs::write(&sheet, &body).unwrap();
-        let err = raystep::student::load_sheet(&sheet)
+        let err = raystep::student::load_tracer_sheet(&sheet)
             .and_then(|s| {
                 raystep::student::sheet_jobs(
                     &s,

@@ -278,7 +278,7 @@ fn sheets_vary_the_scene_per_student() {
         ),
     )
     .unwrap();
-    let s = raystep::student::load_sheet(&sheet).unwrap();
+    let s = raystep::student::load_tracer_sheet(&sheet).unwrap();
     let variants = raystep::student::VariantDir::private().unwrap();
     let jobs = |who: &str| raystep::student::sheet_jobs(&s, &sheet, who, &variants).unwrap();
     let (a, a2, b) = (jobs("ada"), jobs("ada"), jobs("bob"));
@@ -343,7 +343,7 @@ fn sheets_vary_the_scene_per_student() {
         ),
     )
     .unwrap();
-    let s = raystep::student::load_sheet(&sheet).unwrap();
+    let s = raystep::student::load_tracer_sheet(&sheet).unwrap();
     let err = raystep::student::sheet_jobs(
         &s,
         &sheet,

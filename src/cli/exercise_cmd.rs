@@ -1,7 +1,7 @@
 //! `raystep exercise`, `raystep check` and `raystep grade`: exercise sheets with answers checked
 //! against the tracer (see [`crate::lesson`] for the sheet format).
 
-use crate::lesson::{self, Sheet};
+use crate::lesson::{self, ExerciseSheet};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -57,9 +57,9 @@ pub struct GradeArgs {
 
 /// Loads a sheet named on the command line: a file, or a built-in sheet by name (`02-sphere`),
 /// as scenes are. A missing file's error lists the built-in names.
-fn load(arg: &std::path::Path) -> Result<Sheet, String> {
+fn load(arg: &std::path::Path) -> Result<ExerciseSheet, String> {
     let path = crate::assets::resolve_sheet(arg)?;
-    lesson::load_sheet(&path).map_err(|e| {
+    lesson::load_exercise_sheet(&path).map_err(|e| {
         if path.exists() {
             e.to_string()
         } else {
@@ -238,7 +238,7 @@ pub fn run_grade(args: &GradeArgs) -> Result<(), String> {
         "submissions file",
     )
     .map_err(|e| format!("{file}: cannot read the submissions: {e}"))?;
-    let report = lesson::grade_class(&sheet, &text, &file)?;
+    let report = lesson::grade_answers_csv(&sheet, &text, &file)?;
     crate::io::write_atomic(&args.output, report.csv.as_bytes())?;
     for w in &report.warnings {
         eprintln!("warning: {w}");

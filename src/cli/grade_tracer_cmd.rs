@@ -85,7 +85,7 @@ fn parse_pixels(s: &str) -> Result<Vec<[u32; 2]>, String> {
 /// Runs `raystep grade-tracer`.
 pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
     let sheet = match &args.sheet {
-        Some(p) => Some(student::load_sheet(p)?),
+        Some(p) => Some(student::load_tracer_sheet(p)?),
         None => None,
     };
     let quick: Option<Job> = match (&args.scene, &args.pixels) {
@@ -160,7 +160,7 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         }),
     });
     if let Some(class) = &args.class {
-        let reports = student::grade_class(
+        let reports = student::grade_tracer_class(
             class,
             &args.run,
             &jobs_for,

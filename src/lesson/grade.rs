@@ -1,6 +1,6 @@
 //! Marking a whole class from a CSV of answers.
 
-use super::{Sheet, mark};
+use super::{ExerciseSheet, mark};
 use crate::text::csv::{parse_csv, text_cell, write_csv};
 
 /// The result of grading a class.
@@ -22,7 +22,7 @@ pub struct GradeReport {
 /// Header names that hold the student's id (compared without case, spaces and `_`).
 const STUDENT_HEADERS: [&str; 4] = ["student", "studentid", "id", "username"];
 
-/// Marks every row of a class CSV: a column for the student's id (headed `student`, `student id`,
+/// Marks a class's typed answers (`raystep grade`): every row of a class CSV: a column for the student's id (headed `student`, `student id`,
 /// `id` or `username`, in any case) and one per question (headed by its id, in any case), in any
 /// order, separated by commas, semicolons or tabs (detected from the header). Other columns (a
 /// learning platform's Timestamp, Email, …) are ignored and listed in `warnings`. Rows with too
@@ -31,7 +31,11 @@ const STUDENT_HEADERS: [&str; 4] = ["student", "studentid", "id", "username"];
 /// twice, or a student on two rows is an error. An error from the sheet (a scene that doesn't
 /// load) is an error. Each wrong answer's reason goes into the grades file's `notes`, so a
 /// teacher has something to hand back per question.
-pub fn grade_class(sheet: &Sheet, text: &str, file: &str) -> Result<GradeReport, String> {
+pub fn grade_answers_csv(
+    sheet: &ExerciseSheet,
+    text: &str,
+    file: &str,
+) -> Result<GradeReport, String> {
     let rows = parse_csv(text, file).map_err(|e| e.to_string())?;
     let Some((header, body)) = rows.split_first() else {
         return Err(format!(

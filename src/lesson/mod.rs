@@ -74,9 +74,9 @@
 //! # From a sheet to a mark
 //!
 //! ```
-//! use raystep::lesson::{Answer, mark, parse_sheet};
+//! use raystep::lesson::{Answer, mark, parse_exercise_sheet};
 //!
-//! let sheet = parse_sheet(
+//! let sheet = parse_exercise_sheet(
 //!     r#"
 //! [[question]]
 //! id = "disc"
@@ -119,10 +119,11 @@ mod sheet;
 
 pub use answer::{Answer, AnswerKind, Feedback, Mark, mark, parse_answers, short, show};
 pub use extract::{explaining_step, extract};
-pub use grade::{GradeReport, grade_class};
+pub use grade::{GradeReport, grade_answers_csv};
 pub use lessons::{Lesson, LessonSettings, lessons_dir, load_lessons, parse_lesson};
 pub use sheet::{
-    Coord, Param, ParamValue, Question, SceneSource, Sheet, SheetError, load_sheet, parse_sheet,
+    Coord, ExerciseSheet, Param, ParamValue, Question, SceneSource, SheetError,
+    load_exercise_sheet, parse_exercise_sheet,
 };
 
 use crate::record::Tolerance;
@@ -272,7 +273,7 @@ pub fn fill(template: &str, values: &[(String, String)]) -> String {
     out + rest
 }
 
-impl Sheet {
+impl ExerciseSheet {
     /// The variant of question `q` for `student` (deterministic).
     pub fn variant(&self, q: &Question, student: &str) -> Variant {
         let student = student.trim();
@@ -341,7 +342,7 @@ impl Sheet {
     }
 
     /// The scene of question `q` as one student's variant has it, without locating an error
-    /// (what [`parse_sheet`] checks a question's `object` and `light` against).
+    /// (what [`parse_exercise_sheet`] checks a question's `object` and `light` against).
     pub(crate) fn first_scene(&self, q: &Question) -> Result<crate::scene::Scene, String> {
         let v = self.variant(q, "");
         match (&q.scene, &v.scene_toml) {

@@ -1,4 +1,4 @@
-//! Reading an exercise sheet: TOML with located errors, validated into [`Sheet`].
+//! Reading an exercise sheet: TOML with located errors, validated into [`ExerciseSheet`].
 
 use super::{DEFAULT_TOLERANCE, Feedback, Quantity, RaySel};
 use crate::record::Tolerance;
@@ -107,9 +107,11 @@ pub struct Question {
     pub line: usize,
 }
 
-/// A whole exercise sheet.
+/// A whole exercise sheet: questions whose answers a student types, checked against the tracer
+/// (`raystep exercise`). Not to be confused with [`crate::student::TracerSheet`], which grades a
+/// student's own tracer.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Sheet {
+pub struct ExerciseSheet {
     /// The file it was read from (for messages).
     pub file: String,
     /// The sheet's id: salts every student's variants (the `id` key, else the file stem).
@@ -169,8 +171,8 @@ struct ToleranceDef {
 /// Names a CSV file and an answers file can't use as question ids.
 const RESERVED: [&str; 4] = ["student", "score", "out_of", "notes"];
 
-/// Reads a sheet file.
-pub fn load_sheet(path: &Path) -> Result<Sheet, SheetError> {
+/// Reads an exercise sheet file.
+pub fn load_exercise_sheet(path: &Path) -> Result<ExerciseSheet, SheetError> {
     let file = path.display().to_string();
     let text =
         crate::io::read_text(path, crate::io::limits::SHEET, "exercise sheet").map_err(|e| {
@@ -186,17 +188,17 @@ pub fn load_sheet(path: &Path) -> Result<Sheet, SheetError> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "sheet".into());
-    parse_sheet(&text, &file, path.parent(), &stem)
+    parse_exercise_sheet(&text, &file, path.parent(), &stem)
 }
 
 /// Parses a sheet from TOML text. `file` names it in errors, `base` is where scene paths start
 /// from, `default_id` is the sheet's id when it has no `id` key.
-pub fn parse_sheet(
+pub fn parse_exercise_sheet(
     text: &str,
     file: &str,
     base: Option<&Path>,
     default_id: &str,
-) -> Result<Sheet, SheetError> {
+) -> Result<ExerciseSheet, SheetError> {
     let ctx = Ctx { text, file };
     let parsed: SheetFile = toml::from_str(text).map_err(|e| {
         let pos = e.span().map(|s| s.start);
@@ -390,7 +392,7 @@ pub fn parse_sheet(
         questions.push(question);
         spans.push((header, object_span, light_span));
     }
-    let sheet = Sheet {
+    let sheet = ExerciseSheet {
         file: file.into(),
         id,
         title,

@@ -308,7 +308,9 @@ pub fn check_images(report: &mut Report, dir: &Path, jobs: &[Job], spec: &ImageS
     }
 }
 
-/// A grading sheet (TOML): which scenes and pixels, up to which stage, with what limits.
+/// A tracer grading sheet (`raystep grade-tracer --sheet`, TOML): which scenes and pixels a
+/// student's own tracer is checked on, up to which stage, with what limits. Not to be confused
+/// with [`crate::lesson::ExerciseSheet`], questions whose answers a student types.
 ///
 /// ```toml
 /// title = "Checkpoint 2: spheres and planes"
@@ -321,7 +323,7 @@ pub fn check_images(report: &mut Report, dir: &Path, jobs: &[Job], spec: &ImageS
 /// ```
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Sheet {
+pub struct TracerSheet {
     /// A title for reports.
     #[serde(default)]
     pub title: String,
@@ -338,17 +340,17 @@ pub struct Sheet {
     #[serde(default)]
     pub tolerance: Option<TracerTolerances>,
     /// The scenes.
-    pub scene: Vec<SheetScene>,
+    pub scene: Vec<TracerSheetScene>,
 }
 
 fn all_stages() -> Stage {
     Stage::Color
 }
 
-/// One scene of a sheet.
+/// One scene of a [`TracerSheet`].
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct SheetScene {
+pub struct TracerSheetScene {
     /// The scene file, relative to the sheet.
     pub file: PathBuf,
     /// Pixels every student gets.
@@ -494,19 +496,19 @@ pub(crate) fn variant_text(
     Ok((doc.to_string(), drawn.join(", ")))
 }
 
-/// Reads a sheet; errors name the file, line and column.
-pub fn load_sheet(path: &Path) -> Result<Sheet, String> {
+/// Reads a [`TracerSheet`]; errors name the file, line and column.
+pub fn load_tracer_sheet(path: &Path) -> Result<TracerSheet, String> {
     let text = crate::io::read_text(path, crate::io::limits::SHEET, "grading sheet")
         .map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
     // A byte-order mark (some editors write one) is not part of the TOML.
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    parse_sheet(text, path)
+    parse_tracer_sheet(text, path)
 }
 
-/// Reads a sheet's `text` and checks its values (as [`load_sheet`] does); errors name `path`,
+/// Reads a sheet's `text` and checks its values (as [`load_tracer_sheet`] does); errors name `path`,
 /// the line and the column.
-pub fn parse_sheet(text: &str, path: &Path) -> Result<Sheet, String> {
-    let sheet: Sheet = toml::from_str(text).map_err(|e| {
+pub fn parse_tracer_sheet(text: &str, path: &Path) -> Result<TracerSheet, String> {
+    let sheet: TracerSheet = toml::from_str(text).map_err(|e| {
         let (line, col) = e
             .span()
             .map(|s| crate::text::line_col(text, s.start))
@@ -671,7 +673,7 @@ pub fn student_name(folder: &std::ffi::OsStr) -> String {
 /// A scene with `vary` is written, with the student's values, into `variants`; its errors (a
 /// drawn value the scene refuses) name the sheet, the scene and the student.
 pub fn sheet_jobs(
-    sheet: &Sheet,
+    sheet: &TracerSheet,
     sheet_path: &Path,
     student: &str,
     variants: &VariantDir,
@@ -758,9 +760,11 @@ pub fn sheet_jobs(
     Ok(jobs)
 }
 
-/// A class run: every subfolder of `class` is one student's submission (the folder's name is
-/// the student); returns each report, in name order.
-pub fn grade_class(
+/// Grades a class's tracers (`raystep grade-tracer --class`): every subfolder of `class` is one
+/// student's submission (the folder's name is the student), run and checked as
+/// [`grade_submission`] does; returns each report, in name order. (A class's typed answers are
+/// [`crate::lesson::grade_answers_csv`]'s.)
+pub fn grade_tracer_class(
     class: &Path,
     template: &str,
     jobs_for: &dyn Fn(&str) -> Result<Vec<Job>, String>,

@@ -9,7 +9,8 @@
 
 use super::{AppState, Message};
 use crate::lesson::{
-    self, Answer, Lesson, Mark, Question, SceneSource, Sheet, lessons_dir, load_lessons, load_sheet,
+    self, Answer, ExerciseSheet, Lesson, Mark, Question, SceneSource, lessons_dir,
+    load_exercise_sheet, load_lessons,
 };
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, TryRecvError};
@@ -55,7 +56,7 @@ pub struct Learn {
     /// The exercise sheets found (`lessons/exercises/*.toml`).
     pub sheets: Vec<PathBuf>,
     /// The open sheet (or the error that loading it gave).
-    pub sheet: Option<(PathBuf, Result<Sheet, String>)>,
+    pub sheet: Option<(PathBuf, Result<ExerciseSheet, String>)>,
     /// The student id variants are drawn for.
     pub student: String,
     /// The question shown.
@@ -146,7 +147,7 @@ impl Learn {
     }
 
     /// The open sheet, if it loaded.
-    pub fn current_sheet(&self) -> Option<&Sheet> {
+    pub fn current_sheet(&self) -> Option<&ExerciseSheet> {
         self.sheet.as_ref()?.1.as_ref().ok()
     }
 
@@ -187,7 +188,7 @@ impl AppState {
                 );
             }
             LearnCmd::OpenSheet(path) => {
-                let sheet = load_sheet(&path).map_err(|e| e.to_string());
+                let sheet = load_exercise_sheet(&path).map_err(|e| e.to_string());
                 self.learn.sheet = Some((path, sheet));
                 self.learn.question = 0;
                 self.learn.tab = LearnTab::Exercises;
