@@ -720,7 +720,8 @@ fn snapshots_of_the_lesson_and_exercise_panels() {
 /// difference tab finds the two renders within the bound (RMSE under one 8-bit step).
 #[test]
 fn the_gpu_view_agrees_with_the_cpu() {
-    use raystep::app::gpu_view::{CentralTab, Orbit};
+    use raystep::app::gpu_view::CentralTab;
+    use raystep::view3d::camera::Orbit;
     let path = scene_path("three-spheres.toml");
     let Some(mut h) = wgpu_harness("the_gpu_view_agrees_with_the_cpu", Some(path.clone()), true)
     else {
@@ -794,7 +795,7 @@ fn the_gpu_view_agrees_with_the_cpu() {
         before,
         "dragging orbits the camera"
     );
-    assert_ne!(h.state().views.gpu.orbit, Orbit::default());
+    assert_ne!(h.state().views.gpu.orbit, Orbit::IDENTITY);
 
     h.get_by_label("CPU − GPU").click();
     h.run_steps(4);

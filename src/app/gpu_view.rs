@@ -11,11 +11,11 @@ use super::state::AppState;
 use crate::gpu::{Difference, GpuContext, GpuPath, GpuTracer, PixelDebug, ShaderVariant};
 use crate::record::Step;
 use crate::record::number::num;
-use crate::scene::{Camera, Scene};
+use crate::scene::Scene;
 use crate::trace::PreparedScene;
+use crate::view3d::camera::Orbit;
 use eframe::egui_wgpu::{self, wgpu};
 use egui::{Color32, RichText, Sense};
-use glam::{Quat, Vec3};
 use std::sync::Arc;
 use std::time::Duration;
 
@@ -31,44 +31,6 @@ pub enum CentralTab {
     Difference,
     /// The scene in 3D with the pixel's rays, and the editor.
     Scene3d,
-}
-
-/// The orbit applied to the scene's camera in the GPU view.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Orbit {
-    /// Rotation about the camera's up vector (radians).
-    pub yaw: f32,
-    /// Rotation about the camera's right vector (radians).
-    pub pitch: f32,
-    /// Distance to the look-at point relative to the scene's.
-    pub distance: f32,
-}
-
-impl Default for Orbit {
-    fn default() -> Self {
-        Orbit {
-            yaw: 0.0,
-            pitch: 0.0,
-            distance: 1.0,
-        }
-    }
-}
-
-impl Orbit {
-    /// The scene camera moved by this orbit (same look-at point, up vector and field of view).
-    pub fn apply(&self, c: &Camera) -> Camera {
-        if *self == Orbit::default() {
-            return c.clone();
-        }
-        let offset = c.from - c.at;
-        let up = c.up.normalize_or(Vec3::Y);
-        let right = offset.cross(up).normalize_or(Vec3::X);
-        let q = Quat::from_axis_angle(up, self.yaw) * Quat::from_axis_angle(right, self.pitch);
-        Camera {
-            from: c.at + q * offset * self.distance,
-            ..c.clone()
-        }
-    }
 }
 
 /// A comparison and its image on the GPU.
@@ -90,7 +52,6 @@ struct Traced {
 }
 
 /// The GPU view's state (part of [`super::view::Views`]).
-#[derive(Default)]
 pub struct GpuView {
     /// eframe's wgpu device (None: no GPU view).
     pub render_state: Option<egui_wgpu::RenderState>,
@@ -98,7 +59,7 @@ pub struct GpuView {
     pub tab: CentralTab,
     /// Fragment (rasterizer-interpolated primary rays) or compute.
     pub path: GpuPath,
-    /// The camera orbit of the GPU view.
+    /// The camera orbit of the GPU view ([`Orbit::move_camera`]; [`Orbit::IDENTITY`] at first).
     pub orbit: Orbit,
     /// Show the generated WGSL.
     pub show_wgsl: bool,
@@ -107,6 +68,21 @@ pub struct GpuView {
     pub error: Option<(usize, String)>,
     /// Where the GPU image was drawn last frame (screen rect in points).
     pub image_rect: Option<egui::Rect>,
+}
+
+impl Default for GpuView {
+    fn default() -> Self {
+        GpuView {
+            render_state: None,
+            tab: CentralTab::default(),
+            path: GpuPath::default(),
+            orbit: Orbit::IDENTITY,
+            show_wgsl: false,
+            traced: None,
+            error: None,
+            image_rect: None,
+        }
+    }
 }
 
 impl GpuView {
@@ -198,7 +174,7 @@ impl GpuView {
         let t = self.tracer_for(prepared)?;
         if t.frame.is_none_or(|(o, p, _)| o != orbit || p != path) {
             t.tracer
-                .set_camera(&orbit.apply(&prepared.scene().camera))
+                .set_camera(&orbit.move_camera(&prepared.scene().camera))
                 .map_err(|e| e.to_string())?;
             let time = t.tracer.trace(path).map_err(|e| e.to_string())?;
             t.frame = Some((orbit, path, time));
@@ -233,7 +209,7 @@ impl GpuView {
             return;
         }
         let result = (|| {
-            if orbit != Orbit::default() {
+            if orbit != Orbit::IDENTITY {
                 t.tracer
                     .set_camera(&prepared.scene().camera)
                     .map_err(|e| e.to_string())?;
@@ -331,12 +307,12 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
             .on_hover_text("a compute shader, one invocation per pixel");
         if ui
             .add_enabled(
-                gpu.orbit != Orbit::default(),
+                gpu.orbit != Orbit::IDENTITY,
                 egui::Button::new("Reset view"),
             )
             .clicked()
         {
-            gpu.orbit = Orbit::default();
+            gpu.orbit = Orbit::IDENTITY;
         }
         ui.toggle_value(&mut gpu.show_wgsl, "WGSL");
     });
@@ -402,8 +378,11 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
     );
     let drag = response.drag_delta();
     if drag != egui::Vec2::ZERO {
-        gpu.orbit.yaw -= drag.x * 0.01;
-        gpu.orbit.pitch = (gpu.orbit.pitch - drag.y * 0.01).clamp(-1.4, 1.4);
+        // 0.01 radians per point; the pitch within ±1.4 radians.
+        let per_point = 0.01_f32.to_degrees();
+        let limit = 1.4_f32.to_degrees();
+        gpu.orbit.yaw -= drag.x * per_point;
+        gpu.orbit.pitch = (gpu.orbit.pitch - drag.y * per_point).clamp(-limit, limit);
     }
     if response.hovered() {
         let scroll = ui.input(|i| i.smooth_scroll_delta.y);
@@ -412,7 +391,7 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         }
     }
     if response.double_clicked() {
-        gpu.orbit = Orbit::default();
+        gpu.orbit = Orbit::IDENTITY;
     }
 }
 

@@ -12,7 +12,7 @@ use crate::gpu::GpuContext;
 use crate::record::{Silent, Trace};
 use crate::scene::edit::{Edit, LightField, MaterialField, MaterialValue};
 use crate::scene::{Scene, Shape};
-use crate::view3d::camera::{Orbit3, ViewCamera};
+use crate::view3d::camera::{Orbit, ViewCamera};
 use crate::view3d::gpu::Renderer;
 use crate::view3d::{self, Viewpoint, geometry};
 use eframe::egui_wgpu::{self, wgpu};
@@ -525,7 +525,7 @@ fn interact(
             Drag::Orbit => {
                 let mut o = match view.viewpoint {
                     Viewpoint::Orbit(o) => o,
-                    Viewpoint::Camera => Orbit3::default(),
+                    Viewpoint::Camera => Orbit::default(),
                 };
                 o.yaw -= delta.x * 0.4;
                 o.pitch += delta.y * 0.4;

@@ -3,7 +3,7 @@
 
 use super::{SettingsArgs, parse_pixel};
 use crate::diagram::Theme;
-use crate::view3d::camera::Orbit3;
+use crate::view3d::camera::Orbit;
 use crate::view3d::{self, Viewpoint, geometry};
 use std::path::PathBuf;
 
@@ -179,7 +179,7 @@ pub fn run(args: &ViewArgs) -> Result<(), String> {
         let pan = args.look_at.map_or([0.0; 3], |p| {
             (glam::Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32) - center).to_array()
         });
-        Viewpoint::Orbit(Orbit3 {
+        Viewpoint::Orbit(Orbit {
             yaw,
             pitch,
             distance: args.distance,

@@ -2,14 +2,18 @@
 //! through the camera"), with the projection both the GPU pass and the tests use.
 
 use crate::scene::Camera;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Quat, Vec3, Vec4};
 
-/// Where the 3D view looks from, in degrees and world units.
+/// An orbit about the scene's camera's up vector, in degrees and relative distances: where the
+/// 3D view looks from ([`ViewCamera::orbit`]) and how the app's GPU view moves the scene's camera
+/// ([`Orbit::move_camera`]). The one orbit type of raystep: angles are degrees everywhere (the
+/// command line's `--orbit` too) and become radians only inside the camera arithmetic.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Orbit3 {
+pub struct Orbit {
     /// Degrees around the scene camera's up vector; 0 = from behind the scene camera.
     pub yaw: f32,
-    /// Degrees above the horizontal plane through the target (−89 … 89).
+    /// Degrees up: above the horizontal plane through the target (−89 … 89) for the 3D view,
+    /// about the scene camera's right vector for [`Orbit::move_camera`].
     pub pitch: f32,
     /// The eye's distance from the target as a multiple of the distance that fits the whole
     /// scene (objects, lights, camera) in view: 1 fits it, 0.5 is twice as close.
@@ -18,9 +22,10 @@ pub struct Orbit3 {
     pub pan: [f32; 3],
 }
 
-impl Default for Orbit3 {
+impl Default for Orbit {
+    /// The 3D view's starting point: 35° round, 25° up, a little closer than fits the scene.
     fn default() -> Self {
-        Orbit3 {
+        Orbit {
             yaw: 35.0,
             pitch: 25.0,
             distance: 0.8,
@@ -29,12 +34,40 @@ impl Default for Orbit3 {
     }
 }
 
-impl Orbit3 {
+impl Orbit {
+    /// No turn, the reference distance, no pan: [`Orbit::move_camera`] leaves the scene's camera
+    /// as it is (the GPU view's starting point).
+    pub const IDENTITY: Orbit = Orbit {
+        yaw: 0.0,
+        pitch: 0.0,
+        distance: 1.0,
+        pan: [0.0; 3],
+    };
+
+    /// The scene camera `c` turned about its look-at point (the GPU view's camera): `yaw` degrees
+    /// about its up vector, then `pitch` degrees about its right vector, the eye's distance to
+    /// the look-at point times `distance`; same look-at point, up vector and field of view. `pan`
+    /// is not used. [`Orbit::IDENTITY`] returns `c` unchanged.
+    pub fn move_camera(&self, c: &Camera) -> Camera {
+        if *self == Orbit::IDENTITY {
+            return c.clone();
+        }
+        let offset = c.from - c.at;
+        let up = c.up.normalize_or(Vec3::Y);
+        let right = offset.cross(up).normalize_or(Vec3::X);
+        let q = Quat::from_axis_angle(up, self.yaw.to_radians())
+            * Quat::from_axis_angle(right, self.pitch.to_radians());
+        Camera {
+            from: c.at + q * offset * self.distance,
+            ..c.clone()
+        }
+    }
+
     /// The orbit with its pitch kept off the poles and its distance positive and finite (what a
     /// drag or a scroll may push it to).
-    pub fn sanitized(self) -> Orbit3 {
+    pub fn sanitized(self) -> Orbit {
         let finite = |v: f32, d: f32| if v.is_finite() { v } else { d };
-        Orbit3 {
+        Orbit {
             yaw: finite(self.yaw, 0.0).rem_euclid(360.0),
             pitch: finite(self.pitch, 0.0).clamp(-89.0, 89.0),
             distance: finite(self.distance, 1.0).clamp(0.02, 50.0),
@@ -92,7 +125,7 @@ impl ViewCamera {
 
     /// An orbit around the scene: yaw and pitch about the scene camera's up vector, starting
     /// from behind the scene camera, at a distance that fits `bounds` in a view of `aspect`.
-    pub fn orbit(c: &Camera, bounds: &Bounds, orbit: &Orbit3, aspect: f32) -> ViewCamera {
+    pub fn orbit(c: &Camera, bounds: &Bounds, orbit: &Orbit, aspect: f32) -> ViewCamera {
         let o = orbit.sanitized();
         let up = c.up.normalize_or(Vec3::Y);
         let back = (c.from - c.at).normalize_or(Vec3::Z);
@@ -193,5 +226,69 @@ impl ViewCamera {
         let forward = (self.target - self.eye).normalize_or(Vec3::NEG_Z);
         let depth = (p - self.eye).dot(forward).max(self.near);
         2.0 * depth * (self.fov_y.to_radians() * 0.5).tan() / height.max(1.0)
+    }
+}
+
+#[cfg(test)]
+mod orbit_tests {
+    use super::*;
+
+    fn camera(from: Vec3) -> Camera {
+        Camera {
+            from,
+            at: Vec3::ZERO,
+            up: Vec3::Y,
+            fov: 60.0,
+            width: 320,
+            height: 240,
+        }
+    }
+
+    /// The GPU view's orbit, as it was in radians (app::gpu_view before the one orbit type):
+    /// the same cameras from the same turns given in degrees.
+    fn old_apply(yaw: f32, pitch: f32, distance: f32, c: &Camera) -> Camera {
+        let offset = c.from - c.at;
+        let up = c.up.normalize_or(Vec3::Y);
+        let right = offset.cross(up).normalize_or(Vec3::X);
+        let q = Quat::from_axis_angle(up, yaw) * Quat::from_axis_angle(right, pitch);
+        Camera {
+            from: c.at + q * offset * distance,
+            ..c.clone()
+        }
+    }
+
+    #[test]
+    fn moving_the_camera_turns_it_in_degrees() {
+        let c = camera(Vec3::new(0.0, 0.0, 5.0));
+        assert_eq!(Orbit::IDENTITY.move_camera(&c), c);
+        // A quarter turn about up (Y) takes the eye from +Z to +X; a quarter turn up, to +Y.
+        let turned = |yaw, pitch| Orbit {
+            yaw,
+            pitch,
+            ..Orbit::IDENTITY
+        };
+        let e = turned(90.0, 0.0).move_camera(&c).from;
+        assert!((e - Vec3::new(5.0, 0.0, 0.0)).length() < 1e-5, "{e}");
+        let e = turned(0.0, 90.0).move_camera(&c).from;
+        assert!((e - Vec3::new(0.0, 5.0, 0.0)).length() < 1e-5, "{e}");
+        let c = camera(Vec3::new(1.0, 2.0, -4.0));
+        for (yaw, pitch, distance) in [(-0.4f32, 0.3f32, 1.0f32), (1.2, -1.4, 0.5), (3.0, 1.4, 2.0)]
+        {
+            let new = Orbit {
+                yaw: yaw.to_degrees(),
+                pitch: pitch.to_degrees(),
+                distance,
+                pan: [0.0; 3],
+            }
+            .move_camera(&c);
+            let old = old_apply(yaw, pitch, distance, &c);
+            assert!(
+                (new.from - old.from).length() < 1e-5,
+                "{} vs {}",
+                new.from,
+                old.from
+            );
+            assert_eq!((new.at, new.up, new.fov), (old.at, old.up, old.fov));
+        }
     }
 }

@@ -10,13 +10,13 @@
 //! - [`gpu`]: drawing it with wgpu into a texture (the app shows it; `raystep view` saves it).
 //!
 //! ```
-//! use raystep::view3d::{geometry, camera::{Orbit3, ViewCamera}};
+//! use raystep::view3d::{geometry, camera::{Orbit, ViewCamera}};
 //! let prepared = raystep::PreparedScene::new(raystep::scene::default_scene());
 //! let trace = prepared.record(160, 120, 0);
 //! let options = geometry::Options { step: Some(5), ..Default::default() };
 //! let g = geometry::build(prepared.scene(), Some(&trace), &[], &options);
 //! assert!(!g.rays.is_empty());
-//! let cam = ViewCamera::orbit(&prepared.scene().camera, &g.bounds, &Orbit3::default(), 4.0 / 3.0);
+//! let cam = ViewCamera::orbit(&prepared.scene().camera, &g.bounds, &Orbit::default(), 4.0 / 3.0);
 //! assert!(cam.project(g.rays[0].origin, 640.0, 480.0).is_some());
 //! ```
 
@@ -27,7 +27,7 @@ pub mod gpu;
 use crate::record::Trace;
 use crate::scene::Camera;
 use crate::trace::PreparedScene;
-use camera::{Bounds, Orbit3, ViewCamera};
+use camera::{Bounds, Orbit, ViewCamera};
 use geometry::Options;
 
 /// The pixels of an `n`×`n` grid spread evenly over the image (cell centres), for the fan of
@@ -61,14 +61,14 @@ pub fn fan_traces(prepared: &PreparedScene, n: u32) -> Vec<Trace> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Viewpoint {
     /// An orbit around the scene.
-    Orbit(Orbit3),
+    Orbit(Orbit),
     /// Through the scene's camera (the view matches the render).
     Camera,
 }
 
 impl Default for Viewpoint {
     fn default() -> Self {
-        Viewpoint::Orbit(Orbit3::default())
+        Viewpoint::Orbit(Orbit::default())
     }
 }
 
