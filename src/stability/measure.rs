@@ -8,7 +8,7 @@ use crate::math::{Ray, Real, Vector};
 use crate::scene::{OffsetPolicy, Shape};
 use crate::shapes::{aabb, plane, sphere, triangle};
 use crate::trace::shading::reflect;
-use crate::trace::whitted::{interact_shape, spawn_origin};
+use crate::trace::interaction::{interact_shape, spawn_origin};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
