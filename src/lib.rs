@@ -33,14 +33,17 @@
 //! - [`record`]: the trace records, the observer, and the shared vocabulary (one number
 //!   formatter, one wording per outcome) — below everything that produces or reads records.
 //! - [`accel`]: finding the closest hit — the course notes' naive loop and the BVH, observed.
-//! - [`trace`]: deterministic sampling, Phong/Snell/Schlick shading, the one recursive Whitted
-//!   tracer, and [`PreparedScene`].
+//! - [`trace`]: deterministic sampling, where a ray meets a surface and where its children
+//!   start, Phong/Snell/Schlick shading, the one recursive Whitted tracer, and [`PreparedScene`].
 //! - [`render`]: the full parallel render and image output.
 //! - [`explain`] and [`diagram`]: the readers of records — words, the math panel, trace diff,
 //!   `raystep intersect`'s text; the 2D diagrams.
 //! - [`gpu`]: the same scene traced on the GPU (wgpu, WGSL generated per scene), compared with
 //!   the CPU render.
+//! - [`view3d`]: the 3D view of a scene and a trace's rays, drawn with wgpu into a texture.
 //! - [`lesson`]: lessons and exercise sheets whose answers are computed by the tracer.
+//! - [`student`]: checking a student's own tracer — its printed trace lined up with raystep's,
+//!   the program run with limits, sheets, class runs and Gradescope's `results.json`.
 //! - [`stability`]: the numerical stability lab — every method in f32 and f64 on the stiff cases
 //!   S1–S25 against exact rational references, cost per test, and image error against run time.
 //! - [`app`]: the eframe app; [`cli`]: the `raystep` command line; [`fuzzing`]: the entry points

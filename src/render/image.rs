@@ -5,17 +5,23 @@ use glam::Vec3;
 use image::{ImageEncoder, Rgb, RgbImage};
 use std::path::Path;
 
-/// The sRGB transfer function of a clamped linear value, to 8 bits.
+/// The sRGB transfer function of a linear value clamped to [0, 1] (NaN maps to 0): the one
+/// encoding of images, the app's view and the 3D view's colours.
 #[inline]
-pub fn srgb8(c: f32) -> u8 {
+pub fn srgb(c: f32) -> f32 {
     // NaN never reaches an image: it maps to 0 (and the tracer never produces one).
     let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-    let s = if c <= 0.003_130_8 {
+    if c <= 0.003_130_8 {
         12.92 * c
     } else {
         1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0 + 0.5) as u8
+    }
+}
+
+/// The sRGB transfer function of a clamped linear value, to 8 bits.
+#[inline]
+pub fn srgb8(c: f32) -> u8 {
+    (srgb(c) * 255.0 + 0.5) as u8
 }
 
 /// A linear colour's three channels through [`srgb8`].

@@ -1,4 +1,4 @@
-//! The intersection kernels, one file per primitive.
+//! The shapes ([`Shape`]) and their intersection kernels, one file per primitive.
 //!
 //! Every kernel is a pure function that returns a *test record*: every intermediate the course
 //! notes (docs/SOURCES.md) compute, in order, plus the outcome. The renderer calls the very same
@@ -8,10 +8,12 @@
 
 pub mod aabb;
 pub mod plane;
+pub mod shape;
 pub mod sphere;
 pub mod triangle;
 
 pub use aabb::{BoxMethod, BoxTest, SlabAxis};
 pub use plane::{PlaneForm, PlaneTest};
+pub use shape::Shape;
 pub use sphere::{RootChoice, SphereCase, SphereMethod, SphereTest};
 pub use triangle::{TriangleMethod, TriangleTest};

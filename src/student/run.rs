@@ -240,7 +240,7 @@ impl Group {
 /// The program leads a process group of its own; whatever happens, the whole group is stopped
 /// when the run ends, so nothing it started outlives the grading. A process it left running
 /// that keeps its standard output open does not lose what the program printed: raystep waits
-/// [`LINGER`] for the output to end, then stops the group and grades what was read, saying so.
+/// `LINGER` (1 s) for the output to end, then stops the group and grades what was read, saying so.
 pub fn run(
     template: &str,
     dir: &Path,

@@ -41,7 +41,7 @@ pub fn detect_separator(text: &str) -> char {
     }
 }
 
-/// Parses CSV text into rows of fields, the separator detected ([`detect_separator`]). Blank
+/// Parses CSV text into rows of fields, the separator detected (`detect_separator`). Blank
 /// lines are skipped.
 pub fn parse_csv(text: &str, file: &str) -> Result<Vec<Vec<String>>, CsvError> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);

@@ -1,14 +1,16 @@
 //! The one recursive Whitted tracer. The render, the stepped pixel, the exercises and the CPU side
 //! of the GPU comparison all call [`Tracer::trace_sample`]; only the observer differs.
 
+use super::interaction::{interact, spawn_origin};
+use super::media::Media;
 use super::sampling::sample_offset;
 use super::shading::{critical_angle_deg, phong, reflect_recorded, refract, schlick_recorded};
 use crate::accel::{Accelerator, Hit};
-use crate::math::{Ray, gamma};
+use crate::math::Ray;
 use crate::record::observer::{Observer, Recorder};
 use crate::record::{HitRecord, RayKind, RayRecord, Step, TRACE_VERSION, Trace, TraceObject};
 use crate::scene::camera::CameraRays;
-use crate::scene::{OffsetPolicy, Scene, Shape};
+use crate::scene::{Scene, Shape};
 use glam::Vec3;
 
 /// pbrt-v4's `ShadowEpsilon`: shadow rays stop at 1 − 1e-4 of the segment to the light.
@@ -22,167 +24,6 @@ const BVH_OUTLINE_DEPTH: u32 = 6;
 /// of a sample: the contributions of the rays at one depth sum to at most 1, so at most 512 rays
 /// per depth are traced however deep the recursion may go. The GPU tracer applies the same rule.
 pub const WEIGHT_CUTOFF: f32 = 1.0 / 512.0;
-/// Nesting depth of transparent media a ray can be inside (deeper nesting is ignored).
-const MAX_MEDIA: usize = 8;
-
-/// The transparent objects a ray is inside, innermost last, with their indices of refraction.
-/// This is the Ray Tracer Challenge's `containers` list, carried down the recursion instead of
-/// rebuilt from every intersection along the ray.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Media {
-    ids: [u32; MAX_MEDIA],
-    iors: [f32; MAX_MEDIA],
-    len: usize,
-}
-
-impl Media {
-    fn top_ior(&self) -> f32 {
-        if self.len == 0 {
-            1.0
-        } else {
-            self.iors[self.len - 1]
-        }
-    }
-    fn position(&self, id: u32) -> Option<usize> {
-        self.ids[..self.len].iter().position(|&i| i == id)
-    }
-    /// (n1, n2) for a ray crossing the surface of object `id` with index `ior`.
-    fn indices(&self, id: u32, ior: f32) -> (f32, f32) {
-        let n1 = self.top_ior();
-        match self.position(id) {
-            Some(k) => {
-                // Leaving `id`: the far side is whatever encloses us once `id` is removed.
-                let mut rest = *self;
-                rest.remove(k);
-                (n1, rest.top_ior())
-            }
-            None => (n1, ior),
-        }
-    }
-    fn remove(&mut self, k: usize) {
-        self.ids.copy_within(k + 1..self.len, k);
-        self.iors.copy_within(k + 1..self.len, k);
-        self.len -= 1;
-    }
-    /// The media on the other side of the surface of `id`.
-    fn crossed(&self, id: u32, ior: f32) -> Media {
-        let mut m = *self;
-        match m.position(id) {
-            Some(k) => m.remove(k),
-            None if m.len < MAX_MEDIA => {
-                m.ids[m.len] = id;
-                m.iors[m.len] = ior;
-                m.len += 1;
-            }
-            None => {}
-        }
-        m
-    }
-}
-
-/// Where a ray met a surface.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Interaction {
-    /// The hit point (re-projected onto the surface where the shape allows).
-    pub point: Vec3,
-    /// Unit normal facing the incoming ray.
-    pub normal: Vec3,
-    /// Unit vector from the point back towards the ray origin.
-    pub eye: Vec3,
-    /// Whether the ray hit the back (inside) of the surface.
-    pub inside: bool,
-    /// Per-axis bound on the point's rounding error.
-    pub error: Vec3,
-}
-
-/// Computes the interaction at `hit`. Each shape computes the point from its own parametrization
-/// where that is more accurate than S + tQ, with the error bound of pbrt-v4 (§6.8):
-/// sphere — re-projected onto the sphere, bound γ₅|P − G| + γ₂|P|; triangle — from barycentrics,
-/// bound γ₇ Σ|bᵢPᵢ|; axis-aligned plane — the coordinate snapped exactly (zero error on that axis);
-/// general plane — re-projected, bound γ₇(|P| + |P·n||n| + |c||n|).
-#[inline(always)]
-pub fn interact(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
-    interact_shape(&scene.objects[hit.object as usize].shape, hit, ray)
-}
-
-/// [`interact`] for one shape, without a scene: the stability lab spawns rays from bare shapes
-/// through this very code, so what it measures is what the renderer does.
-#[inline(always)]
-pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
-    let raw = ray.at(hit.t);
-    let (point, outward, error) = match *shape {
-        Shape::Sphere { center, radius } => {
-            let rel = raw - center;
-            let len = rel.length();
-            let rel = if len > 0.0 { rel * (radius / len) } else { rel };
-            let p = center + rel;
-            (
-                p,
-                rel / radius,
-                gamma::<f32>(5) * rel.abs() + gamma::<f32>(2) * p.abs(),
-            )
-        }
-        Shape::Plane { normal, offset } => {
-            let p = raw - normal * (raw.dot(normal) - offset);
-            let e = gamma::<f32>(7)
-                * (p.abs() + normal.abs() * (p.abs().dot(normal.abs()) + offset.abs()));
-            (p, normal, e)
-        }
-        Shape::AxisPlane { axis, offset } => {
-            let mut p = raw;
-            p[axis] = offset;
-            let mut n = Vec3::ZERO;
-            n[axis] = 1.0;
-            let mut e = gamma::<f32>(3) * p.abs();
-            e[axis] = 0.0;
-            (p, n, e)
-        }
-        Shape::Triangle { p } => {
-            let b0 = 1.0 - hit.u - hit.v;
-            let point = p[0] * b0 + p[1] * hit.u + p[2] * hit.v;
-            let e =
-                gamma::<f32>(7) * ((p[0] * b0).abs() + (p[1] * hit.u).abs() + (p[2] * hit.v).abs());
-            let n = (p[1] - p[0]).cross(p[2] - p[0]);
-            (point, n / n.length(), e)
-        }
-    };
-    let eye = -ray.dir / ray.dir.length();
-    let inside = outward.dot(eye) < 0.0;
-    Interaction {
-        point,
-        normal: if inside { -outward } else { outward },
-        eye,
-        inside,
-        error,
-    }
-}
-
-/// The origin and t_min of a ray leaving `it` in direction `w`, by the scene's offset policy.
-#[inline(always)]
-pub fn spawn_origin(policy: OffsetPolicy, epsilon: f32, it: &Interaction, w: Vec3) -> Vec3 {
-    let side = if w.dot(it.normal) >= 0.0 { 1.0 } else { -1.0 };
-    match policy {
-        OffsetPolicy::None => it.point,
-        // RTC's over_point / under_point.
-        OffsetPolicy::Fixed => it.point + it.normal * (epsilon * side),
-        OffsetPolicy::Robust => {
-            // pbrt-v4 OffsetRayOrigin: move |n|·error along n to the side w leaves on, then round
-            // each moved coordinate one float further away so the offset survives the addition.
-            let n = it.normal * side;
-            let d = n.abs().dot(it.error);
-            let mut o = it.point + n * d;
-            for i in 0..3 {
-                if n[i] > 0.0 {
-                    o[i] = o[i].next_up();
-                } else if n[i] < 0.0 {
-                    o[i] = o[i].next_down();
-                }
-            }
-            o
-        }
-    }
-}
-
 /// The tracer: a scene, its accelerator and its camera.
 ///
 /// The same tracer renders and records: what changes is the [`Observer`] passed in.

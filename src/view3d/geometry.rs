@@ -793,18 +793,8 @@ fn wire_box(lo: Vec3, hi: Vec3, color: [f32; 4], g: &mut Geometry) {
 
 /// A linear colour as the screen shows it (sRGB transfer, clamped).
 pub fn linear_to_display(c: Vec3) -> [f32; 3] {
-    let f = |v: f32| {
-        let v = if v.is_finite() {
-            v.clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        if v <= 0.003_130_8 {
-            v * 12.92
-        } else {
-            1.055 * v.powf(1.0 / 2.4) - 0.055
-        }
-    };
+    // An infinite channel shows black here (an image clamps it to white).
+    let f = |v: f32| crate::render::image::srgb(if v.is_finite() { v } else { 0.0 });
     [f(c.x), f(c.y), f(c.z)]
 }
 
