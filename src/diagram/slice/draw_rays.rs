@@ -546,8 +546,7 @@ impl Drawer<'_, '_> {
         let u = self.u;
         let lay = self.lay;
         let [px, py, pw, ph] = lay.plot;
-        let home = Some(lay.rays[0].hit.unwrap_or(lay.eye))
-            .filter(|p| in_rect(inset_rect(lay.plot, self.c.text_size * 1.6), *p));
+        let home = Some(lay.rays[0].hit.unwrap_or(lay.eye)).filter(|p| in_rect(lay.plot, *p));
         let reference = home.unwrap_or([px + pw * 0.5, py + ph * 0.5]);
         for (li, l) in lay.lights.iter().enumerate() {
             sun(self.c, l.at, 4.5 * u, t.light, t.ink, u);

@@ -201,10 +201,15 @@ pub(super) fn compute_layout(
         let (at, on_border) = if in_rect(inset, p) {
             (p, false)
         } else {
-            // Towards it from the primary hit, or from the view's centre when that is out of
-            // the view too.
+            // Towards it from the primary hit (kept inside the inset border), or from the
+            // view's centre when that is out of the view too.
             let mut from = lay.px(reference);
-            if !in_rect(inset, from) {
+            if in_rect(plot, from) {
+                from = [
+                    from[0].clamp(inset[0], inset[0] + inset[2]),
+                    from[1].clamp(inset[1], inset[1] + inset[3]),
+                ];
+            } else {
                 from = [plot[0] + plot[2] * 0.5, plot[1] + plot[3] * 0.5];
             }
             let mut at = clip_to_rect(inset, from, p).map_or(p, |(_, b)| b);
