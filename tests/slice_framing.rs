@@ -1,7 +1,8 @@
 //! The scene slice on a projector (issue 37, item 5): the view frames what the step is about
 //! instead of zooming out to the end of a 114-unit ray, a ray that ends beyond the frame is
 //! marked at the edge, labels overlap neither each other nor a plane's line, every text reads
-//! (WCAG contrast ≥ 4.5:1, at least 16 px at 800×600).
+//! (WCAG contrast ≥ 4.5:1, at least 16 px at 800×600), and `--animate --steps A..B` draws exactly
+//! the steps asked for.
 //!
 //! The reported case: `raystep diagram mirror-glass --pixel 240,140 --kind slice --step 30
 //! --scale 1.6 --size 1280x720`. Step 30 is the depth-1 reflection ray (leaving "glass") testing
@@ -13,7 +14,7 @@ use raystep::diagram::{Theme, ViewOptions};
 use raystep::record::{RayKind, Step, Trace};
 use raystep::scene::{AccelChoice, Scene, load_file};
 use raystep::trace::Tracer;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -511,4 +512,142 @@ fn every_text_is_at_least_16_px_at_800_by_600() {
             }
         }
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// `--animate --steps A..B`.
+
+fn raystep(args: &[&str]) -> (bool, String) {
+    let out = assert_cmd::Command::cargo_bin("raystep")
+        .unwrap()
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).to_string(),
+    )
+}
+
+fn gif_frames(path: &Path) -> usize {
+    use image::AnimationDecoder as _;
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    image::codecs::gif::GifDecoder::new(file)
+        .unwrap()
+        .into_frames()
+        .count()
+}
+
+#[test]
+fn animate_draws_exactly_the_steps_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = root().join("scenes/mirror-glass.toml");
+    let scene = scene.to_str().unwrap();
+    let len = reported_trace().timeline().len();
+    let gif = dir.path().join("range.gif");
+    let frames = dir.path().join("frames");
+    for (range, want) in [
+        ("20..40", 21),
+        ("30..30", 1),
+        ("..4", 5),
+        (&format!("{}..", len - 3) as &str, 3),
+    ] {
+        let (ok, err) = raystep(&[
+            "diagram",
+            scene,
+            "--pixel",
+            "240,140",
+            "--kind",
+            "slice",
+            "--size",
+            "160x120",
+            "--animate",
+            "--steps",
+            range,
+            "-o",
+            gif.to_str().unwrap(),
+        ]);
+        assert!(ok, "--steps {range}: {err}");
+        assert_eq!(gif_frames(&gif), want, "--steps {range}");
+    }
+    // --frames writes the range's steps, named by their step numbers.
+    let (ok, err) = raystep(&[
+        "diagram",
+        scene,
+        "--pixel",
+        "240,140",
+        "--size",
+        "160x120",
+        "--frames",
+        frames.to_str().unwrap(),
+        "--steps",
+        "28..30",
+    ]);
+    assert!(ok, "{err}");
+    let mut names: Vec<String> = std::fs::read_dir(&frames)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["step-0028.png", "step-0029.png", "step-0030.png"]);
+}
+
+#[test]
+fn bad_step_ranges_fail_naming_the_flag_and_the_valid_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = root().join("scenes/mirror-glass.toml");
+    let scene = scene.to_str().unwrap();
+    let last = reported_trace().timeline().len() - 1;
+    let valid = format!("0 … {last}");
+    let gif = dir.path().join("bad.gif");
+    let frames = dir.path().join("frames");
+    for (range, why) in [
+        ("40..20", "runs backwards"),
+        (&format!("20..{}", last + 1) as &str, "does not exist"),
+        ("20..99999999999999999999999", "does not exist"),
+        ("twenty..forty", "not a step range"),
+        ("20-40", "not a step range"),
+        ("7", "not a step range"),
+        ("", "not a step range"),
+    ] {
+        let (ok, err) = raystep(&[
+            "diagram",
+            scene,
+            "--pixel",
+            "240,140",
+            "--size",
+            "160x120",
+            "--animate",
+            "--frames",
+            frames.to_str().unwrap(),
+            "--steps",
+            range,
+            "-o",
+            gif.to_str().unwrap(),
+        ]);
+        assert!(!ok, "--steps {range:?} is refused");
+        assert!(
+            err.contains(&format!("--steps {range}")) && err.contains(why) && err.contains(&valid),
+            "--steps {range:?}: {err}"
+        );
+        assert!(!gif.exists(), "--steps {range:?}: no GIF written");
+        assert!(!frames.exists(), "--steps {range:?}: no frames folder made");
+    }
+    // A range without anything to animate is an error too, not silently ignored.
+    let png = dir.path().join("one.png");
+    let (ok, err) = raystep(&[
+        "diagram",
+        scene,
+        "--pixel",
+        "240,140",
+        "--steps",
+        "1..3",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && err.contains("--steps") && err.contains("--animate"),
+        "{err}"
+    );
+    assert!(!png.exists());
 }
