@@ -46,6 +46,11 @@ pub struct DiagramArgs {
     /// Every step as numbered PNGs in this directory (made if missing).
     #[arg(long)]
     pub frames: Option<PathBuf>,
+    /// With --animate or --frames: only steps A to B, both included (A..B; A.. runs to the last
+    /// step, ..B starts at step 0), numbered as `raystep trace` prints them ([K]) and as --step
+    /// takes them. Default: every step.
+    #[arg(long, value_name = "A..B")]
+    pub steps: Option<String>,
     /// With --animate: how long the GIF shows each step, in milliseconds (20 … 60000; the last
     /// step is held for at least 3 s).
     #[arg(long, default_value_t = diagram::DEFAULT_DELAY_MS, value_parser = parse_delay)]
@@ -95,6 +100,44 @@ fn parse_scale(s: &str) -> Result<f32, String> {
 
 fn parse_size(s: &str) -> Result<[u32; 2], String> {
     super::parse_size_within(s, diagram::MAX_SIDE)
+}
+
+/// The timeline steps `--steps` names (`A..B`, both ends included; `A..`; `..B`) in a trace of
+/// `len` steps, as a range with its end excluded; a message naming the option and the trace's
+/// steps when it is not a range, runs backwards or reaches past the last step.
+pub fn parse_steps(s: &str, len: usize) -> Result<std::ops::Range<usize>, String> {
+    let valid = match len {
+        0 => "this trace has no steps".to_string(),
+        _ => format!("this trace's steps are 0 … {}", len - 1),
+    };
+    let bad = || {
+        format!(
+            "--steps {s}: not a step range: write A..B (steps A to B, both included), A.. or \
+             ..B; {valid}"
+        )
+    };
+    let (a, b) = s.trim().split_once("..").ok_or_else(bad)?;
+    let num = |x: &str, default: usize| -> Result<usize, String> {
+        let x = x.trim();
+        if x.is_empty() {
+            Ok(default)
+        } else if x.bytes().all(|c| c.is_ascii_digit()) {
+            // All digits: too large to count is past the last step.
+            Ok(x.parse().unwrap_or(usize::MAX))
+        } else {
+            Err(bad())
+        }
+    };
+    let (a, b) = (num(a, 0)?, num(b, len.saturating_sub(1))?);
+    if a > b {
+        return Err(format!(
+            "--steps {s}: the range runs backwards (step {a} comes after step {b}); {valid}"
+        ));
+    }
+    if b >= len {
+        return Err(format!("--steps {s}: step {b} does not exist: {valid}"));
+    }
+    Ok(a..b + 1)
 }
 
 /// Loads or makes the trace the command draws.
@@ -164,18 +207,17 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
     {
         return diagram::draw(&trace, kind, &base).map(|_| ());
     }
+    if args.steps.is_some() && !(args.animate || args.frames.is_some()) {
+        return Err(
+            "--steps needs --animate or --frames (for one step's diagram, use --step K)".into(),
+        );
+    }
     if args.animate || args.frames.is_some() {
-        if let Some(dir) = &args.frames {
-            // Made if missing (with its parents), like `-o`'s file.
-            if dir.exists() && !dir.is_dir() {
-                return Err(format!(
-                    "--frames {}: exists and is not a directory",
-                    dir.display()
-                ));
-            }
-            std::fs::create_dir_all(dir)
-                .map_err(|e| format!("--frames {}: cannot create: {e}", dir.display()))?;
-        }
+        // Checked before anything is made or written.
+        let range = match &args.steps {
+            Some(s) => parse_steps(s, steps)?,
+            None => 0..steps,
+        };
         let out = if args.animate {
             let out = args.output.as_ref().ok_or("--animate needs -o OUT.gif")?;
             if !out
@@ -191,11 +233,23 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         } else {
             None
         };
+        if let Some(dir) = &args.frames {
+            // Made if missing (with its parents), like `-o`'s file.
+            if dir.exists() && !dir.is_dir() {
+                return Err(format!(
+                    "--frames {}: exists and is not a directory",
+                    dir.display()
+                ));
+            }
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("--frames {}: cannot create: {e}", dir.display()))?;
+        }
         // One frame at a time: each is written (and encoded) as soon as it is drawn.
-        let (gif, n) = diagram::animate(
+        let (gif, n) = diagram::animate_steps(
             &trace,
             args.kind,
             &base,
+            range,
             out.map(|_| args.delay_ms),
             |k, f| match &args.frames {
                 Some(dir) => {
@@ -209,7 +263,11 @@ pub fn run(args: &DiagramArgs) -> Result<(), String> {
         }
         if let Some(out) = out {
             crate::io::write_atomic(out, &gif)?;
-            super::emit(&format!("wrote {} ({n} frames)\n", super::full_path(out)))?;
+            super::emit(&format!(
+                "wrote {} ({n} frame{})\n",
+                super::full_path(out),
+                if n == 1 { "" } else { "s" }
+            ))?;
         }
         return Ok(());
     }

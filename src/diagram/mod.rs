@@ -333,10 +333,32 @@ pub fn animate(
     kind: Option<DiagramKind>,
     base: &ViewOptions,
     gif_delay_ms: Option<u32>,
+    each: impl FnMut(usize, &Canvas) -> Result<(), String>,
+) -> Result<(Vec<u8>, usize), String> {
+    let n = trace.timeline().len();
+    animate_steps(trace, kind, base, 0..n, gif_delay_ms, each)
+}
+
+/// [`animate`] for the timeline steps in `steps` only (`k` handed to `each` is still the step's
+/// index in the whole timeline; the last step of the range is the one held). Fails, drawing
+/// nothing, when the range reaches past the trace's last step.
+pub fn animate_steps(
+    trace: &Trace,
+    kind: Option<DiagramKind>,
+    base: &ViewOptions,
+    steps: std::ops::Range<usize>,
+    gif_delay_ms: Option<u32>,
     mut each: impl FnMut(usize, &Canvas) -> Result<(), String>,
 ) -> Result<(Vec<u8>, usize), String> {
     use image::codecs::gif::{GifEncoder, Repeat};
-    let n = trace.timeline().len();
+    let len = trace.timeline().len();
+    if steps.end > len {
+        return Err(format!(
+            "steps {}..{} (end excluded): this trace has {len} steps",
+            steps.start, steps.end
+        ));
+    }
+    let n = steps.end;
     let mut bytes = vec![];
     {
         let mut enc = match gif_delay_ms {
@@ -351,7 +373,7 @@ pub fn animate(
         let delay = gif_delay_ms
             .unwrap_or(DEFAULT_DELAY_MS)
             .clamp(*DELAY_RANGE_MS.start(), *DELAY_RANGE_MS.end());
-        for k in 0..n {
+        for k in steps.clone() {
             let f = frame(trace, kind, base, k)?;
             each(k, &f)?;
             if let Some(enc) = enc.as_mut() {
@@ -367,5 +389,5 @@ pub fn animate(
             }
         }
     }
-    Ok((bytes, n))
+    Ok((bytes, steps.len()))
 }

@@ -25,7 +25,7 @@ impl Drawer<'_, '_> {
         let heading = format!("Scene slice · pixel ({x}, {y})");
         let heading_w = self.c.text_width(&heading, self.c.text_size * 1.15);
         let y0 = title(self.c, &heading);
-        let sub_size = self.c.text_size * 0.85;
+        let sub_size = label_size(self.c);
         let plane = if let Some((i, step)) = self.info.focused_step() {
             step_caption(self.info.rays[i].ray, step)
         } else if opts.top_down {
@@ -60,9 +60,8 @@ impl Drawer<'_, '_> {
             }
         };
         let plane = self.c.elide(&plane, sub_size, w - self.c.text_size * 1.6);
-        self.c.text(
-            self.c.text_size * 0.8,
-            y0 - self.c.text_size * 0.45,
+        self.chrome_text(
+            [self.c.text_size * 0.8, y0 - self.c.text_size * 0.45],
             sub_size,
             &plane,
             t.muted,
@@ -74,8 +73,7 @@ impl Drawer<'_, '_> {
             // On a narrow canvas the counter would be drawn over the title: leave it out (the
             // app's step bar and the GIF's frame order say which step it is).
             if ts * 0.8 + heading_w + ts + self.c.text_width(&text, ts) + ts * 0.8 <= w {
-                self.c
-                    .text(w - ts * 0.8, ts * 0.6, ts, &text, t.ink, Anchor::TopRight);
+                self.chrome_text([w - ts * 0.8, ts * 0.6], ts, &text, t.ink, Anchor::TopRight);
             }
         }
         self.legend(legend);
@@ -119,7 +117,7 @@ impl Drawer<'_, '_> {
                     }
                 }
                 x += size * 2.6;
-                self.c.text(x, y, size, text, t.ink, Anchor::MiddleLeft);
+                self.chrome_text([x, y], size, text, t.ink, Anchor::MiddleLeft);
                 x += self.c.text_width(text, size) + size * 1.2 + size * 0.2;
             }
         }
@@ -137,7 +135,7 @@ impl Drawer<'_, '_> {
             .find(|v| *v <= target)
             .unwrap_or(p10);
         let l = nice * self.lay.scale;
-        let size = self.c.text_size * 0.8;
+        let size = label_size(self.c);
         let x0 = px + size;
         let y0 = py + ph - size * 0.9;
         self.c.rect(
@@ -153,14 +151,37 @@ impl Drawer<'_, '_> {
                 .line([x, y0 - 4.0 * u], [x, y0 + 1.0 * u], t.ink, 1.6 * u);
         }
         let unit_word = if nice == 1.0 { "unit" } else { "units" };
-        self.c.text(
-            x0 + l * 0.5,
-            y0 - size * 0.8,
+        let text = format!("{} {unit_word}", fmt(nice, Style::Decimals(1)));
+        let tw = self.c.text_width(&text, size);
+        self.chrome_text(
+            [x0 + l * 0.5, y0 - size * 0.8],
             size,
-            &format!("{} {unit_word}", fmt(nice, Style::Decimals(1))),
+            &text,
             t.ink,
             Anchor::Center,
         );
+        // No label over it.
+        let right = (x0 + l + 3.0 + size * 0.2).max(x0 + l * 0.5 + tw * 0.5 + 3.0);
+        self.furniture
+            .push([x0 - 3.0, y0 - size * 1.5, right - (x0 - 3.0), size * 2.1]);
+    }
+
+    /// A line of the chrome's text, in a colour that reads on the background, recorded for
+    /// [`draw_annotated`].
+    fn chrome_text(&mut self, at: Px, size: f32, text: &str, color: Rgba, anchor: Anchor) {
+        let t = self.c.theme;
+        let color = readable(color, t.background, t.ink);
+        let w = self.c.text_width(text, size);
+        let h = size * 1.2;
+        let (x0, y0) = anchor.top_left(at[0], at[1], w, h);
+        self.c.text(at[0], at[1], size, text, color, anchor);
+        self.texts.push(SliceText {
+            text: text.to_string(),
+            rect: [x0, y0, w, h],
+            color,
+            size,
+            label: false,
+        });
     }
 
     /// The world axes, as they lie on the page (short ones are nearly perpendicular to it).
@@ -170,6 +191,9 @@ impl Drawer<'_, '_> {
         let [px, py, pw, _] = self.lay.plot;
         let l = 20.0 * u;
         let o = [px + pw - l - 14.0 * u, py + l + 10.0 * u];
+        // What it covers (no label goes there): the arrows and their letters.
+        let pad = 3.0 * u;
+        let mut b = [o[0] - pad, o[1] - pad, o[0] + pad, o[1] + pad];
         for (name, v) in [("x", Vec3::X), ("y", Vec3::Y), ("z", Vec3::Z)] {
             let d = self.lay.dpx(v);
             if len(d) < 0.3 {
@@ -177,30 +201,53 @@ impl Drawer<'_, '_> {
             }
             let tip = add(o, mul(d, l));
             self.c.arrow(o, tip, t.muted, 1.2 * u);
-            let lbl = add(tip, mul(unit(d).unwrap_or([1.0, 0.0]), 6.0 * u));
-            let size = self.c.text_size * 0.75;
-            self.c
-                .text(lbl[0], lbl[1], size, name, t.muted, Anchor::Center);
+            let size = label_size(self.c);
+            let lbl = add(
+                tip,
+                mul(unit(d).unwrap_or([1.0, 0.0]), 4.0 * u + size * 0.4),
+            );
+            self.chrome_text(lbl, size, name, t.muted, Anchor::Center);
+            let r = self.c.text_width(name, size) * 0.5 + pad;
+            for q in [tip, add(lbl, [-r, -size * 0.6]), add(lbl, [r, size * 0.6])] {
+                b = [
+                    b[0].min(q[0]),
+                    b[1].min(q[1]),
+                    b[2].max(q[0]),
+                    b[3].max(q[1]),
+                ];
+            }
         }
+        self.furniture.push([b[0], b[1], b[2] - b[0], b[3] - b[1]]);
     }
 
+    /// Places the labels, most important first ([`Prio`]), each at the first free place
+    /// around its point: inside the plot, over no label placed before it, the scale bar or the
+    /// axes, and crossed by no plane's line; among free places, the one that covers the fewest
+    /// glyphs, rays and outlines. Places are tried in rings farther and farther out (a label put
+    /// far from its point gets a thin leader line back to it); a label that finds no free place
+    /// is left out rather than drawn over another.
+    ///
+    /// Hand-written: the label-placement crates on crates.io place map labels (or need a solver
+    /// and a geometry stack); this greedy search over a few dozen candidate boxes is the whole
+    /// of what a slice needs, and keeps the drawing a pure function of the trace.
     pub(super) fn place_labels(&mut self) {
-        let labels = std::mem::take(&mut self.labels);
+        let mut labels = std::mem::take(&mut self.labels);
+        labels.sort_by_key(|l| l.prio);
         let plot = self.lay.plot;
         let u = self.u;
+        let theme = self.c.theme;
         let mut placed: Vec<[f32; 4]> = vec![];
+        let furniture = self.furniture.clone();
+        let walls = self.walls.clone();
         // Keep clear of the glyphs: eye, pixel, hits, lights.
         let mut glyphs: Vec<[f32; 4]> = vec![];
         let around = |p: Px, r: f32| [p[0] - r, p[1] - r, 2.0 * r, 2.0 * r];
         glyphs.push(around(self.lay.eye, 9.0 * u));
         glyphs.push(around(self.lay.pixel, 4.0 * u));
-        // The axes glyph in the plot's top-right corner (see `axes`).
-        let (ax, l) = ([plot[0] + plot[2] - 34.0 * u, plot[1] + 30.0 * u], 20.0 * u);
-        glyphs.push(around(ax, l + 10.0 * u));
         for l in &self.lay.lights {
             glyphs.push(around(l.at, 9.0 * u));
         }
-        // ... and of the rays drawn strongly.
+        // ... and of the rays drawn strongly, and the objects' outlines.
         let mut segments: Vec<(Px, Px)> = self.strokes.clone();
         segments.push((self.lay.image_plane[0], self.lay.image_plane[1]));
         for (i, r) in self.lay.rays.iter().enumerate() {
@@ -215,56 +262,105 @@ impl Drawer<'_, '_> {
                 && let Some(seg) = clip_to_rect(plot, r.start, r.end)
             {
                 segments.push(seg);
+                if r.current {
+                    // The step's own ray counts twice: the last thing to cover.
+                    segments.push(seg);
+                }
             }
         }
+        let circles: Vec<(Px, f32)> = self
+            .lay
+            .circles
+            .iter()
+            .map(|c| (c.center, c.radius))
+            .collect();
+        let mut leaders: Vec<(Px, Px, Rgba)> = vec![];
+        let mut boxes: Vec<([f32; 4], Label, Rgba)> = vec![];
         for l in labels {
             let w = self.c.text_width(&l.text, l.size) + 6.0;
             let h = l.size * 1.2 + 2.0;
-            let mut best: Option<([f32; 4], f32)> = None;
+            let mut best: Option<([f32; 4], f32, f32)> = None;
             let mut cands: Vec<Px> = l.prefs.clone();
             cands.extend([NE, SE, NW, SW, N, S, E, W]);
-            for (ring, extra) in [0.0, 1.0, 2.5].into_iter().enumerate() {
+            cands.extend((0..8).map(|k| rot(E, (k as f32 + 0.5) * std::f32::consts::FRAC_PI_4)));
+            // A box's number far from its corner would be read as another box's: it stays
+            // close, or is left out.
+            let rings: &[f32] = if l.prio == Prio::Detail {
+                &[0.0, 0.6, 1.3]
+            } else {
+                &[0.0, 0.6, 1.3, 2.2, 3.5, 5.0]
+            };
+            for (ring, &extra) in rings.iter().enumerate() {
                 for (k, dir) in cands.iter().enumerate() {
                     let dir = unit(*dir).unwrap_or([1.0, 0.0]);
                     let g = l.gap + extra * h;
-                    // The box's side facing `at` touches the point at + g·dir.
-                    let cx = l.at[0] + dir[0] * g + dir[0] * w * 0.5;
-                    let cy = l.at[1] + dir[1] * g + dir[1] * h * 0.5;
+                    // The box's side (or, diagonally, its corner) facing `at` touches the
+                    // point at + g·dir.
+                    let side = |v: f32| (v * std::f32::consts::SQRT_2).clamp(-1.0, 1.0);
+                    let cx = l.at[0] + dir[0] * g + side(dir[0]) * w * 0.5;
+                    let cy = l.at[1] + dir[1] * g + side(dir[1]) * h * 0.5;
                     let r = [cx - w * 0.5, cy - h * 0.5, w, h];
                     let inside = r[0] >= plot[0]
                         && r[1] >= plot[1]
                         && r[0] + r[2] <= plot[0] + plot[2]
                         && r[1] + r[3] <= plot[1] + plot[3];
-                    if !inside {
+                    let free = inside
+                        && !placed.iter().any(|p| overlap(*p, r))
+                        && !furniture.iter().any(|p| overlap(*p, r))
+                        && !walls.iter().any(|(a, b)| clip_to_rect(r, *a, *b).is_some());
+                    if !free {
                         continue;
                     }
-                    let score = 10.0 * placed.iter().filter(|p| overlap(**p, r)).count() as f32
-                        + 8.0 * glyphs.iter().filter(|p| overlap(**p, r)).count() as f32
-                        + 2.0
-                            * segments
+                    let crossing = |(a, b): &(Px, Px)| clip_to_rect(r, *a, *b).is_some();
+                    let score = 8.0 * glyphs.iter().filter(|p| overlap(**p, r)).count() as f32
+                        + 4.0 * segments.iter().filter(|s| crossing(s)).count() as f32
+                        + 1.5
+                            * circles
                                 .iter()
-                                .filter(|(a, b)| clip_to_rect(r, *a, *b).is_some())
+                                .filter(|(c, rad)| crosses_circle(r, *c, *rad))
                                 .count() as f32
                         + ring as f32 * 1.5
                         + k as f32 * 0.01;
-                    if best.is_none_or(|(_, s)| score < s) {
-                        best = Some((r, score));
+                    if best.is_none_or(|(_, s, _)| score < s) {
+                        best = Some((r, score, g));
                     }
                 }
-                if best.is_some_and(|(_, s)| s < 1.0) {
+                if best.is_some_and(|(_, s, _)| s < 1.0 + ring as f32 * 1.5) {
                     break;
                 }
             }
-            let Some((r, _)) = best else { continue };
+            let Some((r, _, g)) = best else { continue };
             placed.push(r);
+            let color = readable(l.color, theme.background, theme.ink);
+            if g > 1.5 * h {
+                // Far from its point: a thin line back to it.
+                let near = [
+                    l.at[0].clamp(r[0], r[0] + r[2]),
+                    l.at[1].clamp(r[1], r[1] + r[3]),
+                ];
+                leaders.push((l.at, near, with_alpha(color, 150)));
+            }
+            boxes.push((r, l, color));
+        }
+        for (a, b, c) in leaders {
+            self.c.line(a, b, c, 0.9 * u);
+        }
+        for (r, l, color) in boxes {
             self.c.label(
                 r[0] + 3.0,
                 r[1] + 1.0,
                 l.size,
                 &l.text,
-                l.color,
+                color,
                 Anchor::TopLeft,
             );
+            self.texts.push(SliceText {
+                text: l.text,
+                rect: r,
+                color,
+                size: l.size,
+                label: true,
+            });
         }
     }
 }

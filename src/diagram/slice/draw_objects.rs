@@ -334,7 +334,7 @@ impl Drawer<'_, '_> {
                 } else {
                     mix(col, self.c.theme.ink, 0.35)
                 };
-                self.label(at, label_name, tc, &prefs);
+                self.label_p(Prio::Names, at, label_name, tc, &prefs);
             }
         }
     }
@@ -345,6 +345,7 @@ impl Drawer<'_, '_> {
         let (a, b) = self.plane_line(n, offset)?;
         let u = self.u;
         self.c.line(a, b, col, width);
+        self.walls.push((a, b));
         // Hatching on the side the normal points away from (the solid side of a floor).
         let dir = unit(sub(b, a))?;
         let n2 = unit(self.lay.dpx(n))?;
@@ -364,26 +365,7 @@ impl Drawer<'_, '_> {
 
     /// The plane's line across the plot, in pixels.
     pub(super) fn plane_line(&self, n: Vec3, offset: f32) -> Option<(Px, Px)> {
-        let f = &self.lay.frame;
-        // Points X of the cutting plane with X·n = offset: q·(x·n, y·n) = offset − cut point·n,
-        // in the cutting plane's own 2D coordinates (through cut_o).
-        let base = f.cut_o;
-        let (kx, ky) = (f.x.dot(n), f.y.dot(n));
-        let k = (kx * kx + ky * ky).sqrt();
-        if k < 1e-4 {
-            return None;
-        }
-        let rhs = offset - base.dot(n);
-        // Closest point to base, and the line direction.
-        let q0 = [kx * rhs / (k * k), ky * rhs / (k * k)];
-        let dir = [-ky / k, kx / k];
-        let p0 = base + f.x * q0[0] + f.y * q0[1];
-        let span = 4.0 * (self.lay.plot[2] + self.lay.plot[3]) / self.lay.scale;
-        let a = self.lay.px(p0 + (f.x * dir[0] + f.y * dir[1]) * span);
-        let b = self.lay.px(p0 - (f.x * dir[0] + f.y * dir[1]) * span);
-        let (a, b) = clip_to_rect(self.lay.plot, a, b)?;
-        let (a, b) = if a[0] <= b[0] { (a, b) } else { (b, a) };
-        (len(sub(b, a)) > 1.0).then_some((a, b))
+        plane_cut(self.lay, n, offset)
     }
 
     /// Where a plane's name goes: near the right end of a level line (the eye is on the left),

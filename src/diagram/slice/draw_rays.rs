@@ -56,8 +56,9 @@ impl Drawer<'_, '_> {
             .polygon(&almond, Some(t.background), Some(ink), 1.4 * u);
         self.c.circle(lay.eye, 2.8 * u, Some(ink), None, 0.0);
         let [x, y] = self.trace.pixel;
-        self.label(lay.eye, "eye", t.muted, &[S, SW, N, W]);
-        self.label(
+        self.label_p(Prio::Scene, lay.eye, "eye", t.muted, &[S, SW, N, W]);
+        self.label_p(
+            Prio::Scene,
             lay.pixel,
             format!("pixel ({x}, {y})"),
             if fade { self.faded(t.ink) } else { t.ink },
@@ -68,7 +69,7 @@ impl Drawer<'_, '_> {
         } else {
             b
         };
-        self.label(mid, "image plane", t.muted, &[W, NW, SW, E]);
+        self.label_p(Prio::Scene, mid, "image plane", t.muted, &[W, NW, SW, E]);
     }
 
     pub(super) fn ray(&mut self, i: usize) {
@@ -104,15 +105,48 @@ impl Drawer<'_, '_> {
                     .line(sub(rl.end, [s, -s]), add(rl.end, [s, -s]), xc, 2.2 * u);
                 if !quiet {
                     let name = r.hit.as_ref().map_or(String::new(), |h| h.name.clone());
-                    self.label(
-                        rl.end,
-                        format!("blocked by {name}"),
-                        t.blocked,
-                        &[NE, NW, SE, SW, N],
-                    );
+                    match rl.exit {
+                        // The blocker lies beyond the frame: said at the edge.
+                        Some(x) => {
+                            self.c.arrow(a, x, col, width);
+                            let inward = self.inward(x);
+                            self.label_p(
+                                Prio::Marks,
+                                x,
+                                format!("→ blocked by {name}"),
+                                t.blocked,
+                                &inward,
+                            );
+                        }
+                        None => self.label_p(
+                            Prio::Marks,
+                            rl.end,
+                            format!("blocked by {name}"),
+                            t.blocked,
+                            &[NE, NW, SE, SW, N],
+                        ),
+                    }
                 }
             } else {
                 self.c.arrow(a, b, col, width);
+                // Towards a light the view does not show: said at the edge.
+                if let Some(x) = rl.exit
+                    && !self.info.faded(i)
+                    && !self.info.minor(i)
+                    && let Some(li) = self.info.rays[i].light
+                    && let (Some(light), Some(shown)) =
+                        (self.trace.lights.get(li), self.lay.lights.get(li))
+                    && !in_rect(self.lay.plot, shown.at)
+                {
+                    let inward = self.inward(x);
+                    self.label_p(
+                        Prio::Marks,
+                        x,
+                        format!("→ light {}", light.name),
+                        col,
+                        &inward,
+                    );
+                }
             }
             return;
         }
@@ -126,6 +160,19 @@ impl Drawer<'_, '_> {
                 let tip = add(mid, mul(d, 4.0 * u));
                 self.c.arrow(sub(tip, mul(d, 1.0)), tip, col, width);
             }
+        } else if let Some(x) = rl.exit {
+            // Its end lies beyond the frame: drawn to the edge, with an arrowhead there and,
+            // for a prominent ray, where it ends.
+            self.c.arrow(a, x, col, width);
+            if !self.info.faded(i) && !self.info.minor(i) {
+                let t_end = end_t(self.info, i);
+                let text = match (&rl.hit, &r.hit) {
+                    (Some(_), Some(h)) => format!("→ {}, t = {}", h.name, label(t_end)),
+                    _ => format!("→ t = {}", label(t_end)),
+                };
+                let inward = self.inward(x);
+                self.label_p(Prio::Focus, x, text, col, &inward);
+            }
         } else {
             // A miss, or a ray still searching: on to the border.
             self.c.arrow(a, b, col, width);
@@ -134,7 +181,7 @@ impl Drawer<'_, '_> {
                 .find(i, |s| matches!(s, Step::Miss { .. }))
                 .is_some_and(|(j, _)| self.info.shown(i, j));
             if done && !self.info.faded(i) && !self.info.minor(i) {
-                self.label(b, "miss → background", col, &[SW, NW, W, S, N]);
+                self.label_p(Prio::Marks, b, "miss → background", col, &[SW, NW, W, S, N]);
             }
         }
     }
@@ -174,7 +221,8 @@ impl Drawer<'_, '_> {
                 self.strokes.push((h, add(h, mul(n2, l))));
             }
             if !faded && (self.info.current == Some(i) || (self.info.focus.is_none() && i == 0)) {
-                self.label(
+                self.label_p(
+                    Prio::Marks,
                     add(h, mul(n2, l)),
                     "n",
                     t.normal,
@@ -194,7 +242,8 @@ impl Drawer<'_, '_> {
             && (self.info.current == Some(i) || (self.info.focus.is_none() && i == 0))
             && let Some(hr) = &r.hit
         {
-            self.label(
+            self.label_p(
+                Prio::Marks,
                 h,
                 format!("hit {} · t = {}", hr.name, label(hr.t)),
                 t.ink,
@@ -274,7 +323,7 @@ impl Drawer<'_, '_> {
                 },
             )) = refr
             {
-                self.label(h, "TIR", t.refract, &[n2, N, S]);
+                self.label_p(Prio::Focus, h, "TIR", t.refract, &[n2, N, S]);
             }
             return;
         }
@@ -292,7 +341,8 @@ impl Drawer<'_, '_> {
         let rad = 34.0 * u;
         let incoming = self.ray_style(i).0;
         self.arc(h, rad, back2, n2, incoming, 1.6 * u);
-        self.label(
+        self.label_p(
+            Prio::Marks,
             add(h, mul(bisect(back2, n2), rad + 4.0 * u)),
             format!("θi = {}°", fmt(theta_i, Style::Decimals(1))),
             incoming,
@@ -322,7 +372,8 @@ impl Drawer<'_, '_> {
             {
                 let theta_t = sin2_t.clamp(0.0, 1.0).sqrt().asin().to_degrees();
                 self.arc(h, rad, inward, t2, t.refract, 1.6 * u);
-                self.label(
+                self.label_p(
+                    Prio::Marks,
                     add(h, mul(bisect(inward, t2), rad + 4.0 * u)),
                     format!("θt = {}°", fmt(theta_t, Style::Decimals(1))),
                     t.refract,
@@ -343,7 +394,8 @@ impl Drawer<'_, '_> {
                 let tip = add(h, mul(cd, nl));
                 self.c.dashed(h, tip, with_alpha(t.refract, 170), 1.2 * u);
                 self.strokes.push((h, tip));
-                self.label(
+                self.label_p(
+                    Prio::Marks,
                     tip,
                     format!("θc = {}°", fmt(*crit, Style::Decimals(1))),
                     t.refract,
@@ -372,6 +424,7 @@ impl Drawer<'_, '_> {
                     size,
                     prefs: vec![n2, N, S, E, W],
                     gap: 4.0 * u,
+                    prio: Prio::Focus,
                 });
             }
         }
@@ -451,7 +504,8 @@ impl Drawer<'_, '_> {
                     NodeAction::Pushed => "pushed",
                     NodeAction::TestPrimitives => "test leaf",
                 };
-                self.label(
+                self.label_p(
+                    Prio::Focus,
                     p,
                     format!("node {}: {what}", v.node),
                     box_color(self.c),
@@ -461,7 +515,8 @@ impl Drawer<'_, '_> {
             Step::Accept { t: ta, .. } => {
                 let p = at(*ta);
                 self.c.circle(p, 5.5 * u, None, Some(t.hit), 2.2 * u);
-                self.label(
+                self.label_p(
+                    Prio::Focus,
                     p,
                     format!("closest t = {}", label(*ta)),
                     t.hit,
@@ -482,7 +537,7 @@ impl Drawer<'_, '_> {
             }
             self.c
                 .circle(p, 4.5 * u, Some(t.background), Some(t.hit), 2.0 * u);
-            self.label(p, text, t.hit, &[N, S, NE, SE, NW, SW]);
+            self.label_p(Prio::Focus, p, text, t.hit, &[N, S, NE, SE, NW, SW]);
         }
     }
 
@@ -490,7 +545,9 @@ impl Drawer<'_, '_> {
         let t = self.c.theme;
         let u = self.u;
         let lay = self.lay;
-        let reference = lay.rays[0].hit.unwrap_or(lay.eye);
+        let [px, py, pw, ph] = lay.plot;
+        let home = Some(lay.rays[0].hit.unwrap_or(lay.eye)).filter(|p| in_rect(lay.plot, *p));
+        let reference = home.unwrap_or([px + pw * 0.5, py + ph * 0.5]);
         for (li, l) in lay.lights.iter().enumerate() {
             sun(self.c, l.at, 4.5 * u, t.light, t.ink, u);
             if l.on_border {
@@ -501,8 +558,14 @@ impl Drawer<'_, '_> {
                     t.light,
                     2.0 * u,
                 );
-                // How far, from the primary hit (where the story is), else from the eye.
-                let from = surface(&self.trace.root).map_or(v3(self.trace.root.origin), |(p, _)| p);
+                // How far, from the primary hit (where the story is), else from the eye; from
+                // the view's centre when the view is elsewhere.
+                let from = match home {
+                    Some(_) => {
+                        surface(&self.trace.root).map_or(v3(self.trace.root.origin), |(p, _)| p)
+                    }
+                    None => lay.frame.o + lay.frame.x * lay.center[0] + lay.frame.y * lay.center[1],
+                };
                 let text = format!(
                     "{} ({} away)",
                     l.name,
@@ -512,14 +575,16 @@ impl Drawer<'_, '_> {
                     )
                 );
                 let inward = mul(dir, -1.0);
-                self.label(
+                self.label_p(
+                    Prio::Scene,
                     l.at,
                     text,
                     mix(t.light, t.ink, 0.45),
                     &[inward, perp(inward), mul(perp(inward), -1.0)],
                 );
             } else {
-                self.label(
+                self.label_p(
+                    Prio::Scene,
                     l.at,
                     l.name.clone(),
                     mix(t.light, t.ink, 0.45),

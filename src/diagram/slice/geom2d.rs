@@ -92,6 +92,18 @@ pub(super) fn overlap(a: [f32; 4], b: [f32; 4]) -> bool {
     a[0] < b[0] + b[2] && b[0] < a[0] + a[2] && a[1] < b[1] + b[3] && b[1] < a[1] + a[3]
 }
 
+/// Whether the outline of the circle (`c`, `r`) passes through the rectangle `rect` = [x, y,
+/// width, height].
+pub(super) fn crosses_circle(rect: [f32; 4], c: Px, r: f32) -> bool {
+    let [x, y, w, h] = rect;
+    let near = [c[0].clamp(x, x + w), c[1].clamp(y, y + h)];
+    let far = [
+        if c[0] - x > x + w - c[0] { x } else { x + w },
+        if c[1] - y > y + h - c[1] { y } else { y + h },
+    ];
+    len(sub(near, c)) <= r && len(sub(far, c)) >= r
+}
+
 pub(super) fn dot(a: Px, b: Px) -> f32 {
     a[0] * b[0] + a[1] * b[1]
 }

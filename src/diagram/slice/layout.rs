@@ -31,55 +31,8 @@ pub(super) fn compute_layout(
         (h - top - bottom).max(8.0),
     ];
 
-    // The core: the eye, every non-shadow ray's origin and hit, the objects hit.
-    let mut core = Bounds::EMPTY;
     let cam = CameraRays::new(&trace.camera);
-    frame0.fit(&mut core, cam.origin, 0.0);
-    frame0.fit(&mut core, cam.origin - cam.w, 0.0);
-    let mut misses = vec![];
-    for r in &info.rays {
-        // Deeper rays may leave the view: the first bounces matter most.
-        if r.ray.kind == RayKind::Shadow || r.ray.depth > 1 {
-            continue;
-        }
-        frame0.fit(&mut core, v3(r.ray.origin), 0.0);
-        match &r.ray.hit {
-            Some(hit) => {
-                frame0.fit(
-                    &mut core,
-                    v3(r.ray.origin) + v3(r.ray.direction) * hit.t,
-                    0.0,
-                );
-                if let Some(o) = object(trace, hit.object)
-                    && let Some((cen, rad)) = bounding_sphere(&o.shape)
-                {
-                    frame0.fit(&mut core, cen, rad);
-                }
-            }
-            None => misses.push(r.ray),
-        }
-    }
-    // Misses go a little way (they are drawn on to the border).
-    let extent = if core.is_empty() {
-        1.0
-    } else {
-        core.size()[0].max(core.size()[1])
-    };
-    for r in &misses {
-        let d = v3(r.direction).try_normalize().unwrap_or(Vec3::Z);
-        let tested = trace
-            .objects
-            .iter()
-            .filter_map(|o| bounding_sphere(&o.shape))
-            .map(|(cen, rad)| (cen - v3(r.origin)).dot(d) + rad)
-            .fold(0.0_f32, f32::max);
-        let len = if r.kind == RayKind::Primary {
-            tested.max(extent).max(2.0)
-        } else {
-            (0.3 * extent).max(0.5)
-        };
-        frame0.fit(&mut core, v3(r.origin) + d * len, 0.0);
-    }
+    let core = framing_core(trace, info, &frame0, &cam);
     // Near things: tested objects and visited boxes close to the core; lights that are near.
     let near = core.grown(0.25);
     let mut fit = core;
@@ -139,6 +92,7 @@ pub(super) fn compute_layout(
         image_plane: [[0.0; 2]; 2],
         rays: vec![],
         circles: vec![],
+        planes: vec![],
         lights: vec![],
         frame,
         center,
@@ -161,6 +115,9 @@ pub(super) fn compute_layout(
         let dir = v3(r.ray.direction);
         let t = end_t(info, i);
         let start = lay.px(o);
+        // Whether the ray has a point to end at (a hit, a light, a blocker, the closest hit so
+        // far), rather than running on to the border.
+        let ends = r.ray.kind == RayKind::Shadow || t.is_finite();
         let end = if r.ray.kind == RayKind::Shadow && r.ray.hit.is_none() {
             let target = r
                 .light
@@ -192,6 +149,11 @@ pub(super) fn compute_layout(
             blocked: r.ray.kind == RayKind::Shadow && r.ray.hit.is_some(),
             visible: info.visible(i),
             current: info.current == Some(i),
+            exit: if ends && !in_rect(plot, end) {
+                clip_to_rect(plot, start, end).map(|(_, b)| b)
+            } else {
+                None
+            },
         });
     }
 
@@ -219,6 +181,16 @@ pub(super) fn compute_layout(
             });
         }
     }
+    for o in &trace.objects {
+        if let Some((n, offset)) = plane_of(&o.shape)
+            && let Some((a, b)) = plane_cut(&lay, n, offset)
+        {
+            lay.planes.push(PlaneLayout {
+                name: o.name.clone(),
+                line: [a, b],
+            });
+        }
+    }
     // Lights: at their place, or on the border towards them.
     let reference = info.rays[0].ray.hit.as_ref().map_or(cam.origin, |h| {
         v3(trace.root.origin) + v3(trace.root.direction) * h.t
@@ -229,8 +201,28 @@ pub(super) fn compute_layout(
         let (at, on_border) = if in_rect(inset, p) {
             (p, false)
         } else {
-            let from = lay.px(reference);
-            (clip_to_rect(inset, from, p).map_or(p, |(_, b)| b), true)
+            // Towards it from the primary hit (kept inside the inset border), or from the
+            // view's centre when that is out of the view too.
+            let mut from = lay.px(reference);
+            if in_rect(plot, from) {
+                from = [
+                    from[0].clamp(inset[0], inset[0] + inset[2]),
+                    from[1].clamp(inset[1], inset[1] + inset[3]),
+                ];
+            } else {
+                from = [plot[0] + plot[2] * 0.5, plot[1] + plot[3] * 0.5];
+            }
+            let mut at = clip_to_rect(inset, from, p).map_or(p, |(_, b)| b);
+            // Not on the axes glyph: beside it.
+            let ab = axes_box(plot, ts);
+            if in_rect(ab, at) {
+                if at[1] - ab[1] < at[0] - ab[0] {
+                    at[0] = ab[0] - ts * 0.6;
+                } else {
+                    at[1] = ab[1] + ab[3] + ts * 0.6;
+                }
+            }
+            (at, true)
         };
         lay.lights.push(LightLayout {
             name: l.name.clone(),
@@ -239,6 +231,17 @@ pub(super) fn compute_layout(
         });
     }
     lay
+}
+
+/// The box of the axes glyph in the plot's top-right corner (see [`Drawer::axes`]), for a
+/// base text size `ts`.
+pub(super) fn axes_box(plot: [f32; 4], ts: f32) -> [f32; 4] {
+    let u = ts / 11.0;
+    let [px, py, pw, _] = plot;
+    let l = 20.0 * u;
+    let o = [px + pw - l - 14.0 * u, py + l + 10.0 * u];
+    let r = l + 6.0 * u + ts * 0.85 * 0.7;
+    [o[0] - r, o[1] - r, 2.0 * r, 2.0 * r]
 }
 
 /// The image plane's ends in the view: where the cutting plane crosses the image rectangle (one
@@ -284,4 +287,183 @@ pub(super) fn image_plane_ends(frame: &Frame, cam: &CameraRays, sy: f32) -> [Vec
         }
     }
     [pts[best.0], pts[best.1]]
+}
+
+/// How far the view reaches beyond its context (the eye, the image plane and the primary ray's
+/// hit), as a fraction of the context's larger side (at least one unit): a hit, an object or a
+/// ray's origin farther out is left out of the fit, and a ray to it leaves the frame, marked
+/// at the edge with its t.
+pub(super) const REACH: f32 = 0.75;
+
+/// What the view frames, in the unturned plane (see the module's docs): the context (the eye,
+/// the image plane, the primary ray's hit and the object hit) and the step's story — unfocused,
+/// the first bounces (the non-shadow rays of depth 1); focused, the current ray: its origin, its
+/// hit, the object hit and the objects it tests — each only if it lies within [`REACH`] of the
+/// context. A current ray that starts beyond that reach (or, from the step that finds its hit
+/// point on, whose hit lies beyond it) is framed on its own: a box of the context's size around
+/// that point, with what lies within reach of it (so the scale stays).
+pub(super) fn framing_core(
+    trace: &Trace,
+    info: &RayInfos,
+    frame0: &Frame,
+    cam: &CameraRays,
+) -> Bounds {
+    let root = info.rays[0].ray;
+    let mut ctx = Bounds::EMPTY;
+    frame0.fit(&mut ctx, cam.origin, 0.0);
+    frame0.fit(&mut ctx, cam.origin - cam.w, 0.0);
+    frame0.fit(&mut ctx, v3(root.origin), 0.0);
+    match &root.hit {
+        Some(h) => frame0.fit(&mut ctx, v3(root.origin) + v3(root.direction) * h.t, 0.0),
+        None => {
+            // A miss goes a little way (it is drawn on to the border): as far as the objects
+            // it passes, at least as far as the context is large.
+            let extent = ctx.size()[0].max(ctx.size()[1]);
+            let d = v3(root.direction).try_normalize().unwrap_or(Vec3::Z);
+            let tested = trace
+                .objects
+                .iter()
+                .filter_map(|o| bounding_sphere(&o.shape))
+                .map(|(cen, rad)| (cen - v3(root.origin)).dot(d) + rad)
+                .fold(0.0_f32, f32::max);
+            frame0.fit(
+                &mut ctx,
+                v3(root.origin) + d * tested.max(extent).max(2.0),
+                0.0,
+            );
+        }
+    }
+    let reach = reach_of(&ctx);
+    let mut core = ctx;
+    if let Some(s) = root
+        .hit
+        .as_ref()
+        .and_then(|h| object(trace, h.object))
+        .and_then(|o| bounding_sphere(&o.shape))
+    {
+        add_within(frame0, &mut core, &reach, s);
+    }
+    let story: Vec<usize> = match info.current {
+        Some(i) => vec![i],
+        None => (0..info.rays.len())
+            .filter(|&i| {
+                let r = info.rays[i].ray;
+                r.kind != RayKind::Shadow && r.depth <= 1
+            })
+            .collect(),
+    };
+    for i in story {
+        let r = info.rays[i].ray;
+        // Where the story stands: at the ray's origin while it searches, at its hit from the
+        // step that finds the hit point on.
+        let at_hit = info.focus.is_some()
+            && info
+                .find(i, |s| matches!(s, Step::Surface { .. }))
+                .is_some_and(|(j, _)| info.shown(i, j));
+        let anchor = match (&r.hit, at_hit) {
+            (Some(h), true) => v3(r.origin) + v3(r.direction) * h.t,
+            _ => v3(r.origin),
+        };
+        let mut reach = reach;
+        let o = frame0.to2(anchor);
+        if !reach.contains(o) {
+            // Far from the eye: framed on its own, at the context's scale.
+            let half = [ctx.size()[0] * 0.5, ctx.size()[1] * 0.5];
+            core = Bounds {
+                min: [o[0] - half[0], o[1] - half[1]],
+                max: [o[0] + half[0], o[1] + half[1]],
+            };
+            reach = reach_of(&core);
+        }
+        core.add(o);
+        let origin = (v3(r.origin), 0.0);
+        for s in std::iter::once(origin).chain(story_parts(trace, info, i)) {
+            add_within(frame0, &mut core, &reach, s);
+        }
+    }
+    core
+}
+
+/// The context grown by [`REACH`] of its larger side, at least one unit.
+fn reach_of(b: &Bounds) -> Bounds {
+    let s = b.size();
+    let g = (REACH * s[0].max(s[1])).max(1.0);
+    Bounds {
+        min: [b.min[0] - g, b.min[1] - g],
+        max: [b.max[0] + g, b.max[1] + g],
+    }
+}
+
+/// Adds the sphere `(centre, radius)` (radius 0: a point) to `core` if it lies within `reach`.
+fn add_within(frame0: &Frame, core: &mut Bounds, reach: &Bounds, (c, r): (Vec3, f32)) {
+    let mut b = Bounds::EMPTY;
+    frame0.fit(&mut b, c, r);
+    if !b.is_empty() && reach.contains(b.min) && reach.contains(b.max) {
+        core.add(b.min);
+        core.add(b.max);
+    }
+}
+
+/// What a ray's story is made of, as spheres (radius 0: points): where it ends (its hit; for a
+/// shadow ray its blocker or its light), the object it hits and the objects it tests; a miss
+/// goes a little way.
+fn story_parts(trace: &Trace, info: &RayInfos, i: usize) -> Vec<(Vec3, f32)> {
+    let r = info.rays[i].ray;
+    let (o, d) = (v3(r.origin), v3(r.direction));
+    let mut parts = vec![];
+    match (&r.hit, r.kind) {
+        (Some(h), _) => parts.push((o + d * h.t, 0.0)),
+        (None, RayKind::Shadow) => parts.push((o + d, 0.0)),
+        (None, _) => parts.push((o + d.try_normalize().unwrap_or(Vec3::Z) * 0.5, 0.0)),
+    }
+    let ids = r
+        .hit
+        .iter()
+        .map(|h| h.object)
+        .chain(r.steps.iter().filter_map(|s| match s.step {
+            Step::Sphere { object, .. } | Step::Triangle { object, .. } => Some(object),
+            _ => None,
+        }));
+    for id in ids {
+        if let Some(s) = object(trace, id).and_then(|o| bounding_sphere(&o.shape)) {
+            parts.push(s);
+        }
+    }
+    parts
+}
+
+/// Where the plane X·n = offset crosses the plot, in pixels (left end first); None when it is
+/// parallel to the view (a floor seen from above) or misses the plot.
+pub(super) fn plane_cut(lay: &SliceLayout, n: Vec3, offset: f32) -> Option<(Px, Px)> {
+    let f = &lay.frame;
+    // Points X of the cutting plane with X·n = offset: q·(x·n, y·n) = offset − base·n, in the
+    // cutting plane's own 2D coordinates through `base`: the point of the cutting plane at the
+    // view's centre (the view may lie far from the eye).
+    let c0 = f.to2(f.cut_o);
+    let base = f.cut_o + f.x * (lay.center[0] - c0[0]) + f.y * (lay.center[1] - c0[1]);
+    let (kx, ky) = (f.x.dot(n), f.y.dot(n));
+    let k = (kx * kx + ky * ky).sqrt();
+    if k < 1e-4 {
+        return None;
+    }
+    let rhs = offset - base.dot(n);
+    // Closest point to base, and the line direction.
+    let q0 = [kx * rhs / (k * k), ky * rhs / (k * k)];
+    let dir = [-ky / k, kx / k];
+    let p0 = base + f.x * q0[0] + f.y * q0[1];
+    let span = 4.0 * (lay.plot[2] + lay.plot[3]) / lay.scale;
+    let a = lay.px(p0 + (f.x * dir[0] + f.y * dir[1]) * span);
+    let b = lay.px(p0 - (f.x * dir[0] + f.y * dir[1]) * span);
+    let (a, b) = clip_to_rect(lay.plot, a, b)?;
+    let (a, b) = if a[0] <= b[0] { (a, b) } else { (b, a) };
+    (len(sub(b, a)) > 1.0).then_some((a, b))
+}
+
+/// A plane's normal and offset (X·n = offset).
+pub(super) fn plane_of(shape: &Shape) -> Option<(Vec3, f32)> {
+    match *shape {
+        Shape::Plane { normal, offset } => Some((normal, offset)),
+        Shape::AxisPlane { axis, offset } => Some((Vec3::AXES[axis.min(2)], offset)),
+        _ => None,
+    }
 }

@@ -23,12 +23,23 @@
 //! trace's records. The only geometry computed is the drawing's own — where the view plane cuts
 //! the recorded shapes (circles, lines, segments, box polygons) and where points project.
 //!
-//! **Fit.** The view fits the eye, the hits of the first two generations of rays (deeper bounces
-//! may leave it), the objects they hit and those tested close by, the visited BVH boxes and the
-//! lights that are near; far lights sit on the border with an arrow and their distance. Rays
-//! deeper than that are drawn thin and light unless they lead to the focused step (or, unfocused,
-//! to the shallowest total internal reflection), so deep trees do not bury the first bounces. The fit depends on neither the focus nor `slice_angle` (it is made in the
-//! unturned plane), so stepping through a trace or turning the plane never moves the ray.
+//! **Fit.** The view frames what the step is about: the eye, the image plane and the primary
+//! ray's hit with the object hit, and the current ray — its origin, its hit, the object it hits
+//! and the objects it tests (unfocused: the first bounces). Anything farther from the eye-to-hit
+//! box than three quarters of its size is left out of the fit: a ray that ends there leaves the
+//! frame with an arrowhead at the edge and its t ("→ wall, t = 114.8"), objects there are drawn
+//! clipped, far lights sit on the border with an arrow and their distance. A current ray that
+//! starts that far away (or, once its hit point is found, ends that far away) is framed on its
+//! own, around that point, at about the same scale. Rays deeper than the first bounces are drawn
+//! thin and light unless they lead to the focused step (or, unfocused, to the shallowest total
+//! internal reflection), so deep trees do not bury the first bounces. The fit is made in the
+//! unturned plane, so turning the plane never moves the ray; stepping keeps the view while the
+//! steps are about the same ray (and, when its hit is far, the same end of it).
+//!
+//! **Labels** are placed most important first (the step's own marks, then hits and angles, the
+//! camera and lights, object names, box numbers), each where it overlaps no label before it and
+//! no plane's line; one that finds no such place is left out. Every text is drawn in a colour
+//! with a contrast ratio of at least 4.5:1 against the background (WCAG AA).
 
 use super::canvas::{Rgba, with_alpha};
 use super::{Anchor, Canvas, ViewOptions, title};
@@ -71,6 +82,8 @@ pub struct SliceLayout {
     pub rays: Vec<RayLayout>,
     /// The spheres: their cuts by the plane (or, from above, their outlines).
     pub circles: Vec<CircleLayout>,
+    /// The planes: where each crosses the plot (planes parallel to the view are left out).
+    pub planes: Vec<PlaneLayout>,
     /// The lights.
     pub lights: Vec<LightLayout>,
     frame: Frame,
@@ -100,6 +113,11 @@ pub struct RayLayout {
     pub visible: bool,
     /// Whether the ray owns the focused step (drawn strongly; the others faded).
     pub current: bool,
+    /// Where the ray leaves the plot when the point it ends at (its hit, its light, its
+    /// blocker) lies outside it: the ray is drawn to this point on the border, with an
+    /// arrowhead and, for a prominent ray, its t. None when it ends inside the plot, runs on to
+    /// the border (a miss, a ray still searching) or never crosses the plot.
+    pub exit: Option<Px>,
 }
 
 /// A sphere on the page.
@@ -114,6 +132,15 @@ pub struct CircleLayout {
     /// True for a cut by the plane, or from above the sphere's outline (drawn solid); false
     /// for the outline of a sphere the plane misses, projected onto it (drawn dashed).
     pub cut: bool,
+}
+
+/// A plane on the page: its cut by the view plane, across the plot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlaneLayout {
+    /// The object's name.
+    pub name: String,
+    /// The line's ends on the plot's border, the left one first.
+    pub line: [Px; 2],
 }
 
 /// A light on the page.
@@ -155,6 +182,23 @@ impl SliceLayout {
     }
 }
 
+/// A text the slice drew: a label placed beside what it names, or a line of the chrome (the
+/// caption, the legend, the scale bar, the axes).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SliceText {
+    /// The text.
+    pub text: String,
+    /// Its box (for a label, the backing box drawn under it): x, y, width, height.
+    pub rect: [f32; 4],
+    /// Its colour.
+    pub color: Rgba,
+    /// Its size in pixels.
+    pub size: f32,
+    /// True for a label in the plot, placed so that it overlaps no other label and no plane's
+    /// line; false for the chrome's text.
+    pub label: bool,
+}
+
 /// Computes where everything goes, without drawing.
 pub fn layout(trace: &Trace, opts: &ViewOptions) -> SliceLayout {
     let c = Canvas::for_view(opts);
@@ -166,6 +210,12 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> SliceLayout {
 
 /// Draws the slice.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
+    draw_annotated(trace, opts).0
+}
+
+/// Draws the slice, and says which texts it drew where (for tests and for the app). Labels that
+/// found no free place are left out, so the list holds only what can be read.
+pub fn draw_annotated(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<SliceText>) {
     let mut c = Canvas::for_view(opts);
     let info = RayInfos::new(trace, opts.focus);
     let legend = fitting_legend(&c, trace, &info, opts);
@@ -178,12 +228,16 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         info: &info,
         labels: vec![],
         strokes: vec![],
+        walls: vec![],
+        furniture: vec![],
+        texts: vec![],
         u: 1.0,
     };
     d.u = d.c.text_size / 11.0;
     d.scene();
     d.chrome(opts, &legend);
-    c
+    let texts = std::mem::take(&mut d.texts);
+    (c, texts)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -618,7 +672,8 @@ fn node_visits<'t>(info: &RayInfos<'t>, i: usize, shown_only: bool) -> Vec<(usiz
 // ---------------------------------------------------------------------------------------------
 // 2D helpers.
 
-/// A label waiting to be placed: drawn last, in order, dodging the ones before it.
+/// A label waiting to be placed: drawn last, by priority (in order within one), each where it
+/// overlaps no label placed before it.
 struct Label {
     at: Px,
     text: String,
@@ -627,6 +682,22 @@ struct Label {
     /// Preferred directions from `at`, in order (unit-ish vectors, page coordinates).
     prefs: Vec<Px>,
     gap: f32,
+    prio: Prio,
+}
+
+/// Which labels are placed first, and so get the best places (the last may find none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Prio {
+    /// What the focused step is about: its t marks, its node, TIR, the current ray's end.
+    Focus,
+    /// Hits, angles, normals, blocked and missed rays.
+    Marks,
+    /// The eye, the pixel, the image plane, the lights.
+    Scene,
+    /// Object names.
+    Names,
+    /// Box and cell numbers.
+    Detail,
 }
 
 struct Drawer<'a, 't> {
@@ -637,6 +708,12 @@ struct Drawer<'a, 't> {
     labels: Vec<Label>,
     /// Strokes labels should not cover (normals, angle marks, the TIR arrow).
     strokes: Vec<(Px, Px)>,
+    /// Lines no label may cross: the planes' cuts (a floor, a wall).
+    walls: Vec<(Px, Px)>,
+    /// Boxes no label may cover: the scale bar, the axes.
+    furniture: Vec<[f32; 4]>,
+    /// The texts drawn, for [`draw_annotated`].
+    texts: Vec<SliceText>,
     /// Line-width unit (1 at the smallest text size).
     u: f32,
 }
@@ -651,8 +728,13 @@ const E: Px = [1.0, 0.0];
 const W: Px = [-1.0, 0.0];
 
 impl Drawer<'_, '_> {
+    /// A box or cell number (placed last).
     fn label(&mut self, at: Px, text: impl Into<String>, color: Rgba, prefs: &[Px]) {
-        let size = self.c.text_size * 0.85;
+        self.label_p(Prio::Detail, at, text, color, prefs);
+    }
+
+    fn label_p(&mut self, prio: Prio, at: Px, text: impl Into<String>, color: Rgba, prefs: &[Px]) {
+        let size = label_size(self.c);
         self.labels.push(Label {
             at,
             text: text.into(),
@@ -660,7 +742,15 @@ impl Drawer<'_, '_> {
             size,
             prefs: prefs.to_vec(),
             gap: 5.0 * self.u,
+            prio,
         });
+    }
+
+    /// Directions from a point on the plot's border into the plot: towards its centre first.
+    fn inward(&self, x: Px) -> Vec<Px> {
+        let [px, py, pw, ph] = self.lay.plot;
+        let d = unit(sub([px + pw * 0.5, py + ph * 0.5], x)).unwrap_or(S);
+        vec![d, rot(d, 0.6), rot(d, -0.6), perp(d), mul(perp(d), -1.0)]
     }
 
     fn faded(&self, c: Rgba) -> Rgba {

@@ -15,6 +15,69 @@ pub(super) fn dark_theme(c: &Canvas) -> bool {
     luminance(c.theme.background) < 0.5
 }
 
+/// The least contrast ratio of text against the background (WCAG 2's AA level for body text):
+/// every text the slice draws is made at least this distinct from the background by
+/// [`readable`].
+pub(super) const MIN_CONTRAST: f32 = 4.5;
+
+/// WCAG 2's relative luminance of an sRGB colour (alpha ignored).
+fn relative_luminance(c: Rgba) -> f32 {
+    let lin = |v: u8| {
+        let s = v as f32 / 255.0;
+        if s <= 0.040_45 {
+            s / 12.92
+        } else {
+            ((s + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    0.2126 * lin(c[0]) + 0.7152 * lin(c[1]) + 0.0722 * lin(c[2])
+}
+
+/// WCAG 2's contrast ratio of two colours, 1 … 21.
+pub(super) fn contrast(a: Rgba, b: Rgba) -> f32 {
+    let (la, lb) = (relative_luminance(a), relative_luminance(b));
+    (la.max(lb) + 0.05) / (la.min(lb) + 0.05)
+}
+
+/// A text colour that reads on `bg`: `c`, opaque, moved towards `ink` (else black or white)
+/// just far enough to reach [`MIN_CONTRAST`] against `bg`; colours that already reach it keep
+/// their hue and shade, so an orange hit label stays orange, only darker on white.
+pub(super) fn readable(c: Rgba, bg: Rgba, ink: Rgba) -> Rgba {
+    let c = [c[0], c[1], c[2], 255];
+    if contrast(c, bg) >= MIN_CONTRAST {
+        return c;
+    }
+    let target = if contrast(ink, bg) >= MIN_CONTRAST + 1.0 {
+        [ink[0], ink[1], ink[2], 255]
+    } else if relative_luminance(bg) > 0.18 {
+        [0, 0, 0, 255]
+    } else {
+        [255, 255, 255, 255]
+    };
+    // The least mix that reaches it: contrast grows along the way (towards the far end of
+    // the luminance scale), so a bisection finds it; the rounding to bytes is checked at the end.
+    let (mut lo, mut hi) = (0.0_f32, 1.0_f32);
+    for _ in 0..20 {
+        let mid = 0.5 * (lo + hi);
+        if contrast(mix(c, target, mid), bg) >= MIN_CONTRAST {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let mut t = hi;
+    while t < 1.0 && contrast(mix(c, target, t), bg) < MIN_CONTRAST {
+        t = (t + 0.01).min(1.0);
+    }
+    mix(c, target, t)
+}
+
+/// The size of secondary text (labels, the caption, the legend, the scale bar, the axes): 16 px
+/// at 800×600 and UI scale 1, never under 13.6 px at scale 1 however small the canvas.
+pub(super) fn label_size(c: &Canvas) -> f32 {
+    c.text_size * 0.85
+}
+
 /// A material's linear colour, sRGB-encoded and pushed away from the background so that a
 /// white floor still shows on white paper (and a black ball on black).
 pub(super) fn material_color(c: &Canvas, lin: [f32; 3]) -> Rgba {
@@ -153,7 +216,7 @@ pub(super) fn fitting_legend(
 }
 
 pub(super) fn legend_size(c: &Canvas) -> f32 {
-    c.text_size * 0.85
+    label_size(c)
 }
 
 /// Lays the legend out in rows; returns (the rows' total height, the row count).
