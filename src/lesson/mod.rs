@@ -3,73 +3,9 @@
 //! what raystep's tracer computes **when the sheet is checked** — a sheet never contains answers.
 //! The lessons themselves (Markdown with a TOML front matter) are read by [`load_lessons`].
 //!
-//! # The sheet format
-//!
-//! ```toml
-//! title = "The ray–sphere quadratic"   # optional; shown above the questions
-//! id = "02-sphere"                     # optional; salts the variants (default: the file stem)
-//! feedback = "right_wrong"             # optional: what a wrong answer is told (see below)
-//!
-//! [[question]]
-//! id = "disc"                          # letters, digits, _ and -: a CSV column, an answers key
-//! text = "Pixel ({x}, {y}), sphere of radius {r}: what is the discriminant?"
-//! scene_toml = """                     # inline scene with {placeholders} — or
-//! [[sphere]]                           # scene = "../../scenes/first-sphere.toml"
-//! name = "ball"                        # (a file, relative to the sheet)
-//! radius = {r}
-//! """
-//! pixel = { x = [150, 170], y = [110, 130] }   # inclusive ranges, or a fixed pixel = [160, 120]
-//! quantity = "discriminant"
-//! object = "ball"                      # the object the quantity refers to, where it needs one
-//! ray = "primary"                      # which ray: primary (default), shadow, reflection, refraction
-//! light = 0                            # for shadow_blocked (default 0)
-//! tolerance = { abs = 1e-3, rel = 1e-3 }   # right if within either (default 1e-3 and 1e-3)
-//! params = { r = [0.5, 2.0] }          # see below
-//! hints = ["a = d·d, b = 2 f·d, c = f·f − r²", "Δ = b² − 4ac"]
-//! points = 1                           # default 1
-//! group = "ball"                       # optional: questions of one group share their variant
-//! ```
-//!
-//! **Parameters** are drawn per student: `[lo, hi]` with integer bounds is an integer in that
-//! inclusive range; with a float bound, a number in it rounded to 2 decimals
-//! (`{ range = [lo, hi], decimals = 3 }` keeps another number of decimals); `{ one_of = [...] }`
-//! picks one of a list (numbers or strings). `{name}` in `text` and `scene_toml` is replaced by
-//! the value, `{x}` and `{y}` by the pixel; any other braces are left alone.
-//!
-//! **Variants**: each value is SHA-256(`raystep-exercise`, sheet id, question id, student id,
-//! parameter name) read as a number (a question with `group = "g"` uses "g" instead of its id, so the
-//! questions of a group get the same values for the same parameter names and pixel ranges) — deterministic, so one student id always gets the same
-//! variant, and different ids (almost always) different ones.
-//!
-//! **Quantities** ([`Quantity`]) are read from the trace of sample 0 of the pixel, from the ray
-//! chosen by `ray` (the first ray of that kind, depth first):
-//! `discriminant`, `near_root`, `far_root` (the test against `object`), `closest_t`, `hit_object`,
-//! `hit_point`, `normal`, `triangle_u`, `triangle_v` (the test against `object`, else against the
-//! object hit), `bvh_nodes_visited` (BVH nodes whose box the ray tested, culled ones included),
-//! `shadow_blocked` (`light`), `reflected_direction`, `refracted_direction`,
-//! `total_internal_reflection`, `color` (the ray's linear RGB). When the tracer never computed
-//! the quantity for a variant (the ray missed, the test stopped early, no such ray), the expected
-//! answer is `none`.
-//!
-//! **Answers** are numbers, vectors (`x, y, z`, `(x, y, z)` or `[x, y, z]`; right when the
-//! Euclidean distance is within tolerance), yes/no (also true/false), object names (any case), or
-//! `none` (also `miss`, `-`). A missing or unreadable answer is wrong, never an error.
-//!
-//! **Feedback** ([`Feedback`], the sheet's `feedback` key): every wrong answer is told why in
-//! words that do not give the answer away (unreadable, `none` where the tracer computed a value,
-//! not within the tolerance, no object of that name hit). `"right_wrong"` (the default) says no
-//! more; `"direction"` adds too high / too low; `"distance"` adds how far off, absolute and
-//! relative (which narrows the answer down at once); `{ show_after = N }` shows the tracer's answer
-//! after N tries.
-//!
-//! **Validation**: when a sheet is loaded, each question's scene (a file, or the inline scene of a
-//! first variant) is loaded and the question's `object` and `light` must exist in it; a mistake
-//! is an error naming the sheet's line and column.
-//!
-//! **Answers file** (`raystep check`): one `id = value` per line; `#` starts a comment; values
-//! may be quoted. **Class file** (`raystep grade`): CSV with the header `student,<question ids…>`
-//! and one row per student; the grades file has `student,<question ids…>,score,out_of,notes`
-//! with the points each question earned.
+//! The sheet format — questions, parameters, variants, quantities, answers, feedback, the
+//! answers file and the class CSV — is specified for users in `docs/EXERCISE-SHEETS.md`; the
+//! README's *Exercises* section shows it in short.
 //!
 //! # From a sheet to a mark
 //!

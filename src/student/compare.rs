@@ -2,66 +2,10 @@
 
 use super::expected::Expected;
 use super::format::{Pixel, Ray, Test};
+use super::stage::in_scope;
+pub use super::stage::{Stage, ray_name};
 use crate::record::Tolerance;
 use serde::{Deserialize, Serialize};
-
-/// What a course checks, one stage after another (each includes the ones before).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    PartialOrd,
-    Ord,
-    Hash,
-    Serialize,
-    Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
-pub enum Stage {
-    /// The primary ray: origin and direction.
-    Camera,
-    /// Ray–sphere tests: a, b, c, the discriminant, t.
-    Sphere,
-    /// Ray–plane and ray–triangle tests.
-    PlaneTriangle,
-    /// The closest hit: object, t, point, normal.
-    ClosestHit,
-    /// Shadows: each light blocked or not (and the shadow rays' tests).
-    Shadows,
-    /// Reflection and refraction rays (and their tests and hits).
-    Secondary,
-    /// The pixel's colour.
-    Color,
-}
-
-impl Stage {
-    /// Every stage, in order.
-    pub const ALL: [Stage; 7] = [
-        Stage::Camera,
-        Stage::Sphere,
-        Stage::PlaneTriangle,
-        Stage::ClosestHit,
-        Stage::Shadows,
-        Stage::Secondary,
-        Stage::Color,
-    ];
-
-    /// The stage's name as the command line and sheets spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            Stage::Camera => "camera",
-            Stage::Sphere => "sphere",
-            Stage::PlaneTriangle => "plane-triangle",
-            Stage::ClosestHit => "closest-hit",
-            Stage::Shadows => "shadows",
-            Stage::Secondary => "secondary",
-            Stage::Color => "color",
-        }
-    }
-}
 
 /// How close a student's numbers must be (a grading sheet's `[tolerance]` table). Numbers —
 /// distances, roots, coefficients, positions, directions — follow [`Tolerance`]'s
@@ -209,29 +153,6 @@ pub fn match_rays(e: &Pixel, s: &Pixel) -> Vec<Option<usize>> {
         }
     }
     m
-}
-
-/// Which rays a stage looks at: the primary always, shadow rays from `Shadows`, reflection and
-/// refraction rays from `Secondary`.
-pub(super) fn in_scope(kind: &str, upto: Stage) -> bool {
-    match kind {
-        "primary" => true,
-        "shadow" => upto >= Stage::Shadows,
-        _ => upto >= Stage::Secondary,
-    }
-}
-
-/// How feedback names raystep's ray `i`.
-pub fn ray_name(e: &Pixel, i: usize) -> String {
-    let Some(r) = e.rays.get(i) else {
-        return format!("ray {i}");
-    };
-    let what = match (r.kind.as_str(), &r.light) {
-        ("primary", _) => "the primary ray".to_string(),
-        ("shadow", Some(l)) => format!("the shadow ray towards light \"{l}\""),
-        (k, _) => format!("the {k} ray"),
-    };
-    format!("ray {i} ({what}, depth {})", r.depth)
 }
 
 /// Grades one pixel: a check per stage up to `upto`.

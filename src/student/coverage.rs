@@ -19,9 +19,9 @@
 //! nothing more to judge at a pixel (the shadows of a ray that hits nothing, the bounces off a
 //! surface that is not a mirror) passes once what it starts from is printed.
 
-use super::compare::{Stage, in_scope, ray_name};
 use super::expected::Expected;
 use super::format::{Pixel, Test};
+use super::stage::{Stage, in_scope, ray_name};
 
 /// A stage's first missing record: the message and raystep's timeline step that has it.
 pub(super) type Missing = Option<(String, Option<usize>)>;

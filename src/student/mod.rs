@@ -26,6 +26,7 @@ pub mod expected;
 pub mod format;
 pub mod image;
 pub mod run;
+mod stage;
 
 use crate::record::number::{Style, fmt64};
 use crate::trace::PreparedScene;

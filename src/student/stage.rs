@@ -1,0 +1,87 @@
+//! The stages a course checks, one after another, and the words and scope every stage shares:
+//! which rays a stage looks at and how feedback names a ray. Both the comparison (`compare`) and
+//! the check that the student printed what a stage judges (`coverage`) read them.
+
+use super::format::Pixel;
+use serde::{Deserialize, Serialize};
+
+/// What a course checks, one stage after another (each includes the ones before).
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    PartialOrd,
+    Ord,
+    Hash,
+    Serialize,
+    Deserialize,
+    clap::ValueEnum,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stage {
+    /// The primary ray: origin and direction.
+    Camera,
+    /// Ray–sphere tests: a, b, c, the discriminant, t.
+    Sphere,
+    /// Ray–plane and ray–triangle tests.
+    PlaneTriangle,
+    /// The closest hit: object, t, point, normal.
+    ClosestHit,
+    /// Shadows: each light blocked or not (and the shadow rays' tests).
+    Shadows,
+    /// Reflection and refraction rays (and their tests and hits).
+    Secondary,
+    /// The pixel's colour.
+    Color,
+}
+
+impl Stage {
+    /// Every stage, in order.
+    pub const ALL: [Stage; 7] = [
+        Stage::Camera,
+        Stage::Sphere,
+        Stage::PlaneTriangle,
+        Stage::ClosestHit,
+        Stage::Shadows,
+        Stage::Secondary,
+        Stage::Color,
+    ];
+
+    /// The stage's name as the command line and sheets spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Camera => "camera",
+            Stage::Sphere => "sphere",
+            Stage::PlaneTriangle => "plane-triangle",
+            Stage::ClosestHit => "closest-hit",
+            Stage::Shadows => "shadows",
+            Stage::Secondary => "secondary",
+            Stage::Color => "color",
+        }
+    }
+}
+
+/// Which rays a stage looks at: the primary always, shadow rays from `Shadows`, reflection and
+/// refraction rays from `Secondary`.
+pub(crate) fn in_scope(kind: &str, upto: Stage) -> bool {
+    match kind {
+        "primary" => true,
+        "shadow" => upto >= Stage::Shadows,
+        _ => upto >= Stage::Secondary,
+    }
+}
+
+/// How feedback names raystep's ray `i`.
+pub fn ray_name(e: &Pixel, i: usize) -> String {
+    let Some(r) = e.rays.get(i) else {
+        return format!("ray {i}");
+    };
+    let what = match (r.kind.as_str(), &r.light) {
+        ("primary", _) => "the primary ray".to_string(),
+        ("shadow", Some(l)) => format!("the shadow ray towards light \"{l}\""),
+        (k, _) => format!("the {k} ray"),
+    };
+    format!("ray {i} ({what}, depth {})", r.depth)
+}
