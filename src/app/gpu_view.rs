@@ -89,7 +89,7 @@ struct Traced {
     diff: Option<((u64, GpuPath), Result<Compared, String>)>,
 }
 
-/// The GPU view's state (part of [`super::view::Views`]).
+/// The GPU view's state (part of [`super::panels::Panels`]).
 #[derive(Default)]
 pub struct GpuView {
     /// eframe's wgpu device (None: no GPU view).

@@ -3,8 +3,9 @@
 //! current step with its numbers, and the diagrams that explain it.
 //!
 //! [`state`] owns the data and is the only place it changes (through [`state::Command`]s);
-//! [`panels`] draw read-only views of it and return commands; [`job`] renders in the
-//! background; [`view`] is the zoomable render view. [`RaystepApp::frame`] draws one whole
+//! [`panels`] draw read-only views of it and return commands, each panel in its own module
+//! with what it keeps between frames; [`job`] renders in the background; [`view`] is the
+//! zoomable render view, [`scene3d`] the 3D view and its editor. [`RaystepApp::frame`] draws one whole
 //! frame into any [`egui::Ui`], so tests (egui_kittest) and the benchmark drive the very UI
 //! the window shows.
 
@@ -63,8 +64,10 @@ impl ScreenshotPlan {
 pub struct RaystepApp {
     /// Everything it shows.
     pub state: AppState,
-    /// Textures and caches of the views (not persisted, rebuilt on demand).
-    pub views: view::Views,
+    /// The render view: its texture, zoom and pan (not persisted).
+    pub render: view::RenderView,
+    /// What the other panels keep between frames (not persisted, rebuilt on demand).
+    pub panels: panels::Panels,
     applied: Option<(ThemeChoice, f32)>,
     fullscreen: bool,
     /// How long the last frames took to build (the UI's own time, without painting), newest last.
@@ -99,7 +102,8 @@ impl RaystepApp {
         }
         RaystepApp {
             state,
-            views: view::Views::default(),
+            render: view::RenderView::default(),
+            panels: panels::Panels::default(),
             applied: None,
             fullscreen: false,
             frame_times: vec![],
@@ -145,7 +149,7 @@ impl RaystepApp {
     /// Gives the app eframe's wgpu device, which turns on the GPU view (the tabs "GPU render"
     /// and "CPU − GPU" above the render).
     pub fn with_wgpu(mut self, render_state: Option<eframe::egui_wgpu::RenderState>) -> Self {
-        self.views.gpu.render_state = render_state;
+        self.panels.gpu.render_state = render_state;
         self
     }
 
@@ -158,7 +162,13 @@ impl RaystepApp {
         let mut cmds = vec![];
         self.keyboard(&ctx, &mut cmds);
         self.dropped_files(&ctx, &mut cmds);
-        panels::show(ui, &self.state, &mut self.views, &mut cmds);
+        panels::show(
+            ui,
+            &self.state,
+            &mut self.render,
+            &mut self.panels,
+            &mut cmds,
+        );
         let mut fullscreen_toggle = false;
         // The panels were drawn before the commands are applied, so a frame that applies any
         // asks for another one to show the result. Input brings a second pass anyway; a click
@@ -184,7 +194,7 @@ impl RaystepApp {
         {
             panic!("a panic asked for with F12 (RAYSTEP_DEBUG_PANIC_KEY, debug builds only)");
         }
-        if std::mem::take(&mut self.views.toggle_fullscreen) {
+        if std::mem::take(&mut self.panels.toggle_fullscreen) {
             fullscreen_toggle = true;
         }
         if fullscreen_toggle {
@@ -344,7 +354,7 @@ impl RaystepApp {
                 Key::Home => cmds.push(Command::Step(StepMove::First)),
                 Key::End => cmds.push(Command::Step(StepMove::Last)),
                 Key::Space => cmds.push(Command::TogglePlay),
-                Key::F11 => self.views.toggle_fullscreen = true,
+                Key::F11 => self.panels.toggle_fullscreen = true,
                 Key::Escape if self.state.dialog.is_some() => cmds.push(Command::CloseDialog),
                 Key::Escape if self.state.prefs.presentation => {
                     // The state puts the layout from before presentation back.

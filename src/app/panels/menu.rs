@@ -1,13 +1,15 @@
 //! The menu bar: File, View, Help, Lessons and Lab.
 
 use crate::app::state::{AppState, Command, Dialog, Document, SaveKind};
-use crate::app::view::Views;
-use egui::{RichText, Vec2};
+use crate::app::view::RenderView;
+use egui::RichText;
 
+/// The menu bar (the Lab toggle opens the lab window in `panels`).
 pub(super) fn menu_bar(
     ui: &mut egui::Ui,
     state: &AppState,
-    views: &mut Views,
+    render: &mut RenderView,
+    panels: &mut super::Panels,
     cmds: &mut Vec<Command>,
 ) {
     egui::MenuBar::new().ui(ui, |ui| {
@@ -103,21 +105,20 @@ pub(super) fn menu_bar(
                 ));
             }
             if ui.button("Full screen (F11)").clicked() {
-                views.toggle_fullscreen = true;
+                panels.toggle_fullscreen = true;
             }
             ui.separator();
             ui.checkbox(&mut p.show_learn, "Lessons and exercises");
             ui.checkbox(&mut p.show_settings, "Settings panel");
             ui.checkbox(&mut p.show_tree, "Trace tree");
-            if Views::has_heatmap(state) {
+            if RenderView::has_heatmap(state) {
                 ui.checkbox(&mut p.heatmap, "Visits heatmap over the render");
             }
             if p.show_tree {
                 ui.checkbox(&mut p.layout.tree_collapsed, "Fold the trace tree");
             }
             if ui.button("Reset zoom").clicked() {
-                views.zoom = 1.0;
-                views.pan = Vec2::ZERO;
+                render.reset_zoom();
             }
             let reset = ui
                 .button("Reset layout")
@@ -152,7 +153,7 @@ pub(super) fn menu_bar(
             p.show_settings = !learn;
             cmds.push(Command::SetPrefs(p));
         }
-        ui.toggle_value(&mut views.lab.open, "Lab")
+        ui.toggle_value(&mut panels.lab.open, "Lab")
             .on_hover_text("the stability lab: the selected pixel's numbers against exact values, and every method on the stiff cases");
         ui.separator();
         let title = match &state.doc {

@@ -33,7 +33,7 @@ struct DrawKey {
     options: (bool, bool, bool, Option<u32>, bool),
 }
 
-/// The 3D view's state (part of [`crate::app::view::Views`]).
+/// The 3D view's state (held by [`crate::app::panels::Panels`]: the tab's and the docked one).
 #[derive(Default)]
 pub struct Scene3dView {
     /// Where the view looks from.
