@@ -1,6 +1,7 @@
 //! The dialogs over the window: File → Open (see [`crate::app::files`]) and the save dialogs
 //! (a trace, a diagram, the steps as a GIF, the edited scene).
 
+use crate::app::actions::{self, Action};
 use crate::app::state::{AppState, Command, Dialog};
 use egui::Vec2;
 use std::path::PathBuf;
@@ -29,9 +30,7 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
                     });
                     ui.horizontal(|ui| {
                         go |= ui.button("Save").clicked();
-                        if ui.button("Cancel").clicked() {
-                            cmds.push(Command::CloseDialog);
-                        }
+                        actions::button(ui, state, Action::CloseDialog, true, cmds);
                     });
                     if go && !path.trim().is_empty() {
                         cmds.push(Command::Save(*kind, PathBuf::from(path.trim())));

@@ -66,7 +66,7 @@ pub fn show(
     panels.window_rect = Some(window);
     egui::Panel::top("menu").show(ui, |ui| menu::menu_bar(ui, state, render, panels, cmds));
     if let Some(e) = &state.load_error {
-        egui::Panel::top("load-error").show(ui, |ui| status::error_banner(ui, e, cmds));
+        egui::Panel::top("load-error").show(ui, |ui| status::error_banner(ui, state, e, cmds));
     }
     egui::Panel::bottom("status").show(ui, |ui| status::status_bar(ui, state, render));
     if state.stepping.is_some() {

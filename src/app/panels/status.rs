@@ -1,13 +1,14 @@
 //! The status bar along the bottom (the scene in a few words, the render's progress or time,
 //! the pixel under the cursor, the last message) and the load-error banner along the top.
 
+use crate::app::actions::{self, Action};
 use crate::app::state::{AppState, Command};
 use crate::app::view::{self, RenderView};
 use egui::{Color32, RichText};
 
 /// The load error: one bar that never takes more than a few lines (the message scrolls), with
 /// Reload and × (hide it until the next error).
-pub fn error_banner(ui: &mut egui::Ui, e: &str, cmds: &mut Vec<Command>) {
+pub fn error_banner(ui: &mut egui::Ui, state: &AppState, e: &str, cmds: &mut Vec<Command>) {
     egui::Frame::new()
         .fill(Color32::from_rgb(120, 20, 20))
         .inner_margin(6.0)
@@ -21,9 +22,7 @@ pub fn error_banner(ui: &mut egui::Ui, e: &str, cmds: &mut Vec<Command>) {
                 .on_hover_text(
                     "What was open before stays shown; fix the file and it reloads by itself.",
                 );
-                if ui.button("Reload").clicked() {
-                    cmds.push(Command::Reload);
-                }
+                actions::button(ui, state, Action::Reload, true, cmds);
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                     if ui.button("×").on_hover_text("hide this message").clicked() {
                         cmds.push(Command::DismissError);

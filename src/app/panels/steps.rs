@@ -1,6 +1,7 @@
 //! The step controls along the bottom: first, previous, play, next, last, the speed, the
 //! current step in words, and the timeline (one cell per step, coloured by pipeline stage).
 
+use crate::app::actions::{self, Action};
 use crate::app::state::{AppState, Command, StepMove};
 use crate::explain::describe;
 use crate::record::Stage;
@@ -33,25 +34,14 @@ pub fn controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
     // buttons and the speed; on one row it ran past the window's edge and widened the panel,
     // and the timeline below (as wide as the panel) with it.
     ui.horizontal_wrapped(|ui| {
-        if ui.button("⇤ First").clicked() {
-            cmds.push(Command::Step(StepMove::First));
-        }
-        if ui.button("◀ Previous").clicked() {
-            cmds.push(Command::Step(StepMove::Previous));
-        }
-        let play = if state.playing {
-            "‖ Pause"
-        } else {
-            "▶ Play"
-        };
-        if ui.button(play).clicked() {
-            cmds.push(Command::TogglePlay);
-        }
-        if ui.button("Next ▶").clicked() {
-            cmds.push(Command::Step(StepMove::Next));
-        }
-        if ui.button("Last ⇥").clicked() {
-            cmds.push(Command::Step(StepMove::Last));
+        for a in [
+            Action::FirstStep,
+            Action::PreviousStep,
+            Action::PlayPause,
+            Action::NextStep,
+            Action::LastStep,
+        ] {
+            actions::button(ui, state, a, true, cmds);
         }
         ui.separator();
         let mut p = state.prefs.clone();

@@ -2,8 +2,9 @@
 //! and material; the lights. Every change is an [`EditCmd`] the state applies (and can undo).
 
 use super::picking::group_center;
+use crate::app::actions::{self, Action};
 use crate::app::state::editing::EditCmd;
-use crate::app::state::{AppState, Command};
+use crate::app::state::{AppState, Command, SaveKind};
 use crate::scene::edit::{Edit, LightField, MaterialField, MaterialValue};
 use crate::scene::{Scene, Shape};
 use egui::RichText;
@@ -22,33 +23,10 @@ pub(super) fn editor_ui(
         return;
     };
     ui.horizontal_wrapped(|ui| {
-        if ui
-            .add_enabled(editor.can_undo(), egui::Button::new("⟲ Undo"))
-            .on_hover_text("Ctrl+Z")
-            .clicked()
-        {
-            cmds.push(Command::Edit(EditCmd::Undo));
-        }
-        if ui
-            .add_enabled(editor.can_redo(), egui::Button::new("⟳ Redo"))
-            .on_hover_text("Ctrl+Shift+Z")
-            .clicked()
-        {
-            cmds.push(Command::Edit(EditCmd::Redo));
-        }
-        if ui
-            .button("Save")
-            .on_hover_text("Ctrl+S: write the scene file back, comments kept")
-            .clicked()
-        {
-            cmds.push(Command::Edit(EditCmd::Save(None)));
-        }
-        if ui.button("Save as…").clicked() {
-            cmds.push(Command::ShowDialog(crate::app::state::Dialog::Save {
-                kind: crate::app::state::SaveKind::Scene,
-                path: state.suggested_name(crate::app::state::SaveKind::Scene),
-            }));
-        }
+        actions::button(ui, state, Action::Undo, editor.can_undo(), cmds);
+        actions::button(ui, state, Action::Redo, editor.can_redo(), cmds);
+        actions::button(ui, state, Action::SaveScene, true, cmds);
+        actions::button(ui, state, Action::SaveAs(SaveKind::Scene), true, cmds);
     });
     if editor.dirty() {
         ui.colored_label(ui.visuals().warn_fg_color, "● unsaved changes");
