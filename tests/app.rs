@@ -48,7 +48,7 @@ fn rendered(app: &RaystepApp) -> bool {
 fn click_pixel(h: &mut Harness<'static, RaystepApp>, p: [u32; 2]) {
     let (rect, scale) = h
         .state()
-        .views
+        .render
         .image_rect
         .expect("the render view was drawn");
     let pos = rect.min + egui::vec2(p[0] as f32 + 0.5, p[1] as f32 + 0.5) * scale;
@@ -732,7 +732,7 @@ fn the_gpu_view_agrees_with_the_cpu() {
     h.state_mut().state.apply(Command::SelectPixel(p));
     h.get_by_label("GPU render").click();
     h.run_steps(4);
-    let gpu = &h.state().views.gpu;
+    let gpu = &h.state().panels.gpu;
     assert_eq!(gpu.tab, CentralTab::Gpu);
     assert!(gpu.frame_time().is_some(), "a GPU frame was traced");
     let line = gpu.adapter_line().expect("the adapter line");
@@ -772,14 +772,14 @@ fn the_gpu_view_agrees_with_the_cpu() {
     );
 
     // Orbit by dragging: a new frame with the new camera.
-    let before = h.state().views.gpu.orbit;
+    let before = h.state().panels.gpu.orbit;
     if let Ok(img) = h.render() {
         // For a person to look at (not compared: the GPU image is the adapter's).
         let _ = img.save(std::env::temp_dir().join("raystep-gpu-view.png"));
     }
     let centre = h
         .state()
-        .views
+        .panels
         .gpu
         .image_rect
         .expect("the GPU image")
@@ -791,17 +791,17 @@ fn the_gpu_view_agrees_with_the_cpu() {
     h.drop_at(centre + egui::vec2(40.0, 0.0));
     h.run_steps(2);
     assert_ne!(
-        h.state().views.gpu.orbit,
+        h.state().panels.gpu.orbit,
         before,
         "dragging orbits the camera"
     );
-    assert_ne!(h.state().views.gpu.orbit, Orbit::IDENTITY);
+    assert_ne!(h.state().panels.gpu.orbit, Orbit::IDENTITY);
 
     h.get_by_label("CPU − GPU").click();
     h.run_steps(4);
     let d = h
         .state()
-        .views
+        .panels
         .gpu
         .difference()
         .expect("the comparison ran")
@@ -818,7 +818,7 @@ fn the_gpu_view_agrees_with_the_cpu() {
     h.get_by_label("compute").click();
     h.run_steps(4);
     assert_eq!(
-        h.state().views.gpu.difference_path(),
+        h.state().panels.gpu.difference_path(),
         Some(raystep::gpu::GpuPath::Compute)
     );
     assert!(
@@ -846,7 +846,7 @@ fn the_lab_window_compares_a_pixel_with_exact_values_and_runs_the_suite() {
     h.state_mut().state.apply(Command::SelectPixel([32, 32]));
     h.get_by_label("Lab").click();
     h.run_steps(3);
-    assert!(h.state().views.lab.open);
+    assert!(h.state().panels.lab.open);
     let all = labels(&h);
     assert!(
         all.iter().any(|t| t == "discriminant"),
@@ -874,11 +874,11 @@ fn the_lab_window_compares_a_pixel_with_exact_values_and_runs_the_suite() {
         "a row's step button jumps to its step"
     );
 
-    h.state_mut().views.lab.options.rays = 4;
+    h.state_mut().panels.lab.options.rays = 4;
     h.get_by_label("Run the quick suite").click();
     h.run_steps(2);
     let start = Instant::now();
-    while h.state().views.lab.report.is_none() {
+    while h.state().panels.lab.report.is_none() {
         assert!(
             start.elapsed() < Duration::from_secs(120),
             "the suite finished"
@@ -887,7 +887,7 @@ fn the_lab_window_compares_a_pixel_with_exact_values_and_runs_the_suite() {
         h.step();
     }
     h.run_steps(3);
-    let report = h.state().views.lab.report.as_ref().unwrap();
+    let report = h.state().panels.lab.report.as_ref().unwrap();
     assert!(!report.rows.is_empty() && !report.points.is_empty());
     let all = labels(&h);
     for method in ["textbook f32", "stable f32"] {
@@ -1013,11 +1013,11 @@ fn the_lab_windows_costs_agree_with_the_command_lines() {
         // The lab as a student runs it: the window open over a scene that is still rendering,
         // the UI drawing frames while the suite runs on its background thread.
         let mut h = harness(Some(&scene_path("cornell.toml")));
-        h.state_mut().views.lab.open = true;
+        h.state_mut().panels.lab.open = true;
         let ctx = h.ctx.clone();
-        h.state_mut().views.lab.start(&ctx);
+        h.state_mut().panels.lab.start(&ctx);
         let start = Instant::now();
-        while h.state().views.lab.running() {
+        while h.state().panels.lab.running() {
             assert!(
                 start.elapsed() < Duration::from_secs(900),
                 "the lab's quick suite did not finish"
@@ -1025,7 +1025,7 @@ fn the_lab_windows_costs_agree_with_the_command_lines() {
             h.step();
             std::thread::sleep(Duration::from_millis(20));
         }
-        let app = h.state().views.lab.report.clone().expect("a report");
+        let app = h.state().panels.lab.report.clone().expect("a report");
         for p in &app.points {
             let k = (p.primitive, p.method, p.precision);
             keep_fastest(&mut lab, k, p.ns_per_test);

@@ -62,10 +62,10 @@ struct Measure {
 
 impl Measure {
     fn of(h: &Harness<'static, RaystepApp>) -> Measure {
-        let v = &h.state().views;
+        let (p, v) = (&h.state().panels, &h.state().render);
         Measure {
-            window: v.window_rect.expect("a frame was drawn"),
-            centre: v.centre_rect.expect("a frame was drawn"),
+            window: p.window_rect.expect("a frame was drawn"),
+            centre: p.centre_rect.expect("a frame was drawn"),
             image: v.image_rect.expect("the render was drawn").0,
         }
     }
@@ -89,7 +89,7 @@ fn check_layout(h: &Harness<'static, RaystepApp>, what: &str) -> Measure {
         m.centre.width(),
         m.window.width()
     );
-    let panels = &h.state().views.panel_rects;
+    let panels = &h.state().panels.panel_rects;
     let inside = m.window.expand(0.5);
     for (name, r) in panels {
         assert!(
@@ -201,15 +201,15 @@ fn panels_do_not_creep_and_lessons_off_gives_the_width_back() {
     );
     wait_for(&mut h, "the render", ready);
     h.run_steps(3);
-    let before = h.state().views.panel_rects.clone();
+    let before = h.state().panels.panel_rects.clone();
     h.get_by_label("Lessons").click();
     h.run_steps(3);
-    let with_lessons = h.state().views.panel_rects.clone();
+    let with_lessons = h.state().panels.panel_rects.clone();
     for _ in 0..200 {
         h.step();
     }
     assert_eq!(
-        h.state().views.panel_rects,
+        h.state().panels.panel_rects,
         with_lessons,
         "the panels stay put"
     );
@@ -239,7 +239,7 @@ fn panels_do_not_creep_and_lessons_off_gives_the_width_back() {
     h.get_by_label("Lessons").click();
     h.run_steps(3);
     assert_eq!(
-        h.state().views.panel_rects,
+        h.state().panels.panel_rects,
         before,
         "Lessons off: the panels are as they were"
     );
@@ -298,7 +298,7 @@ fn panels_follow_the_window_and_spoiled_sizes_are_reset() {
 
 fn panel(h: &Harness<'static, RaystepApp>, name: &str) -> egui::Rect {
     h.state()
-        .views
+        .panels
         .panel_rects
         .iter()
         .find(|(n, _)| *n == name)
@@ -323,7 +323,7 @@ fn presentation_mode_gives_the_layout_back() {
     h.state_mut().state.apply(Command::SetPrefs(p));
     h.run_steps(3);
     let before_prefs = h.state().state.prefs.clone();
-    let before = h.state().views.panel_rects.clone();
+    let before = h.state().panels.panel_rects.clone();
     let mut p = before_prefs.clone();
     p.presentation = true;
     h.state_mut().state.apply(Command::SetPrefs(p));
@@ -365,7 +365,7 @@ fn presentation_mode_gives_the_layout_back() {
             .collect::<Vec<_>>()
     };
     assert_eq!(
-        xs(&h.state().views.panel_rects),
+        xs(&h.state().panels.panel_rects),
         xs(&before),
         "the panels are where they were"
     );
@@ -462,12 +462,12 @@ fn a_double_click_fits_without_selecting() {
     );
     wait_for(&mut h, "the render", ready);
     let before = h.state().state.pixel;
-    h.state_mut().views.zoom = 3.0;
+    h.state_mut().render.zoom = 3.0;
     h.run_steps(2);
-    let (rect, _) = h.state().views.image_rect.unwrap();
+    let (rect, _) = h.state().render.image_rect.unwrap();
     let centre = h
         .state()
-        .views
+        .panels
         .centre_rect
         .unwrap()
         .intersect(rect)
@@ -491,13 +491,13 @@ fn a_double_click_fits_without_selecting() {
         h.step();
     }
     assert_eq!(
-        h.state().views.zoom,
+        h.state().render.zoom,
         1.0,
         "the double-click fitted the view"
     );
     assert_eq!(h.state().state.pixel, before, "and selected nothing");
     // One click selects, after the double-click delay.
-    let (rect, scale) = h.state().views.image_rect.unwrap();
+    let (rect, scale) = h.state().render.image_rect.unwrap();
     let pos = rect.min + egui::vec2(10.5, 10.5) * scale;
     h.hover_at(pos);
     h.step();

@@ -106,12 +106,12 @@ fn the_3d_view_orbits_steps_edits_undoes_and_saves() {
     // The tab opens and draws.
     h.get_by_label("3D view").click();
     h.run_steps(4);
-    assert_eq!(h.state().views.gpu.tab, CentralTab::Scene3d);
-    assert!(h.state().views.scene3d.draws > 0, "the 3D view was drawn");
+    assert_eq!(h.state().panels.gpu.tab, CentralTab::Scene3d);
+    assert!(h.state().panels.scene3d.draws > 0, "the 3D view was drawn");
     let first = h.render().expect("the window renders");
 
     // Orbiting (a drag on the picture) changes the viewpoint and the picture.
-    let (_, rect) = h.state().views.scene3d.last_view.expect("the picture");
+    let (_, rect) = h.state().panels.scene3d.last_view.expect("the picture");
     let c = rect.center();
     h.drag_at(c);
     h.step();
@@ -119,7 +119,7 @@ fn the_3d_view_orbits_steps_edits_undoes_and_saves() {
     h.step();
     h.drop_at(c + egui::vec2(60.0, 10.0));
     h.run_steps(3);
-    assert_ne!(h.state().views.scene3d.viewpoint, Viewpoint::default());
+    assert_ne!(h.state().panels.scene3d.viewpoint, Viewpoint::default());
     let orbited = h.render().unwrap();
     assert_ne!(
         first.as_raw(),
@@ -130,10 +130,10 @@ fn the_3d_view_orbits_steps_edits_undoes_and_saves() {
     // Stepping changes which rays are drawn: one at the start, the whole tree at the end.
     h.state_mut().state.apply(Command::Step(StepMove::First));
     h.run_steps(3);
-    let at_start = h.state().views.scene3d.drawn_rays;
+    let at_start = h.state().panels.scene3d.drawn_rays;
     h.state_mut().state.apply(Command::Step(StepMove::Last));
     h.run_steps(3);
-    let at_end = h.state().views.scene3d.drawn_rays;
+    let at_end = h.state().panels.scene3d.drawn_rays;
     assert_eq!(at_start, 1, "step 0 shows the primary ray alone");
     assert!(
         at_end > at_start,
@@ -157,7 +157,7 @@ fn the_3d_view_orbits_steps_edits_undoes_and_saves() {
     let before_center = mirror_center(h.state());
     let (centre, ends) = h
         .state()
-        .views
+        .panels
         .scene3d
         .gizmo
         .expect("the move arrows are drawn");
@@ -233,7 +233,7 @@ fn looking_through_the_camera_matches_the_render() {
     h.run_steps(3);
     h.get_by_label("Look through the camera").click();
     h.run_steps(3);
-    let v = &h.state().views.scene3d;
+    let v = &h.state().panels.scene3d;
     assert_eq!(v.viewpoint, Viewpoint::Camera);
     let (cam, rect) = v.last_view.unwrap();
     let scene = h.state().state.scene().unwrap().clone();

@@ -68,7 +68,7 @@ const KEYS: [egui::Key; 11] = [
 fn one_event(h: &mut Harness<'static, RaystepApp>, rng: &mut Rng) -> String {
     let size = h
         .state()
-        .views
+        .panels
         .window_rect
         .map_or(egui::vec2(800.0, 600.0), |r| r.size());
     let mut pos = || egui::pos2(rng.unit() * size.x, rng.unit() * size.y);
@@ -172,11 +172,11 @@ fn one_event(h: &mut Harness<'static, RaystepApp>, rng: &mut Rng) -> String {
             use raystep::app::gpu_view::CentralTab;
             let tab =
                 [CentralTab::Cpu, CentralTab::Gpu, CentralTab::Difference][rng.below(3) as usize];
-            h.state_mut().views.gpu.tab = tab;
+            h.state_mut().panels.gpu.tab = tab;
             format!("tab {tab:?}")
         }
         _ => {
-            let lab = &mut h.state_mut().views.lab;
+            let lab = &mut h.state_mut().panels.lab;
             lab.open = !lab.open;
             if rng.coin() {
                 h.state_mut()
@@ -203,7 +203,7 @@ fn run(seed: u64, scene: &Path, events: usize, gpu: bool) {
             app.with_wgpu(cc.wgpu_render_state.clone())
         });
         // The lab's suite, should the monkey start it, runs a small sample.
-        h.state_mut().views.lab.options.rays = 4;
+        h.state_mut().panels.lab.options.rays = 4;
         for i in 0..events {
             let what = one_event(&mut h, &mut rng);
             log.push(format!("{i}: {what}"));

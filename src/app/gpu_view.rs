@@ -51,7 +51,7 @@ struct Traced {
     diff: Option<((u64, GpuPath), Result<Compared, String>)>,
 }
 
-/// The GPU view's state (part of [`super::view::Views`]).
+/// The GPU view's state (part of [`super::panels::Panels`]).
 pub struct GpuView {
     /// eframe's wgpu device (None: no GPU view).
     pub render_state: Option<egui_wgpu::RenderState>,

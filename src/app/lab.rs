@@ -11,7 +11,7 @@ use egui_plot::{Legend, Plot, PlotPoints, Points};
 use std::sync::mpsc::Receiver;
 use std::time::Instant;
 
-/// The lab window's state (part of [`super::view::Views`]).
+/// The lab window's state (part of [`super::panels::Panels`]).
 pub struct LabView {
     /// The window is open.
     pub open: bool,

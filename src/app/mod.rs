@@ -3,11 +3,14 @@
 //! current step with its numbers, and the diagrams that explain it.
 //!
 //! [`state`] owns the data and is the only place it changes (through [`state::Command`]s);
-//! [`panels`] draw read-only views of it and return commands; [`job`] renders in the
-//! background; [`view`] is the zoomable render view. [`RaystepApp::frame`] draws one whole
+//! [`panels`] draw read-only views of it and return commands, each panel in its own module
+//! with what it keeps between frames; [`job`] renders in the background; [`view`] is the
+//! zoomable render view, [`scene3d`] the 3D view and its editor; [`actions`] is the one table
+//! of what the menus, the buttons and the keys do. [`RaystepApp::frame`] draws one whole
 //! frame into any [`egui::Ui`], so tests (egui_kittest) and the benchmark drive the very UI
 //! the window shows.
 
+pub mod actions;
 pub mod crash;
 pub mod files;
 pub mod gpu_view;
@@ -63,8 +66,10 @@ impl ScreenshotPlan {
 pub struct RaystepApp {
     /// Everything it shows.
     pub state: AppState,
-    /// Textures and caches of the views (not persisted, rebuilt on demand).
-    pub views: view::Views,
+    /// The render view: its texture, zoom and pan (not persisted).
+    pub render: view::RenderView,
+    /// What the other panels keep between frames (not persisted, rebuilt on demand).
+    pub panels: panels::Panels,
     applied: Option<(ThemeChoice, f32)>,
     fullscreen: bool,
     /// How long the last frames took to build (the UI's own time, without painting), newest last.
@@ -99,7 +104,8 @@ impl RaystepApp {
         }
         RaystepApp {
             state,
-            views: view::Views::default(),
+            render: view::RenderView::default(),
+            panels: panels::Panels::default(),
             applied: None,
             fullscreen: false,
             frame_times: vec![],
@@ -145,7 +151,7 @@ impl RaystepApp {
     /// Gives the app eframe's wgpu device, which turns on the GPU view (the tabs "GPU render"
     /// and "CPU − GPU" above the render).
     pub fn with_wgpu(mut self, render_state: Option<eframe::egui_wgpu::RenderState>) -> Self {
-        self.views.gpu.render_state = render_state;
+        self.panels.gpu.render_state = render_state;
         self
     }
 
@@ -158,7 +164,13 @@ impl RaystepApp {
         let mut cmds = vec![];
         self.keyboard(&ctx, &mut cmds);
         self.dropped_files(&ctx, &mut cmds);
-        panels::show(ui, &self.state, &mut self.views, &mut cmds);
+        panels::show(
+            ui,
+            &self.state,
+            &mut self.render,
+            &mut self.panels,
+            &mut cmds,
+        );
         let mut fullscreen_toggle = false;
         // The panels were drawn before the commands are applied, so a frame that applies any
         // asks for another one to show the result. Input brings a second pass anyway; a click
@@ -184,7 +196,7 @@ impl RaystepApp {
         {
             panic!("a panic asked for with F12 (RAYSTEP_DEBUG_PANIC_KEY, debug builds only)");
         }
-        if std::mem::take(&mut self.views.toggle_fullscreen) {
+        if std::mem::take(&mut self.panels.toggle_fullscreen) {
             fullscreen_toggle = true;
         }
         if fullscreen_toggle {
@@ -289,71 +301,19 @@ impl RaystepApp {
         ctx.set_zoom_factor(look.1.clamp(0.5, 4.0));
     }
 
-    /// Step controls on the keyboard (unless a text field has the keyboard).
+    /// The keys of the table of actions ([`actions`]), unless a text field has the keyboard.
     fn keyboard(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
-        if ctx.egui_wants_keyboard_input() {
-            return;
-        }
-        use egui::Key;
-        // Editing: redo first (Ctrl+Shift+Z would also match Ctrl+Z, which ignores Shift).
-        {
-            use egui::{KeyboardShortcut, Modifiers};
-            use state::editing::EditCmd;
-            let shift_cmd = Modifiers::COMMAND | Modifiers::SHIFT;
-            let (redo, undo, save) = ctx.input_mut(|i| {
-                let redo = i.consume_shortcut(&KeyboardShortcut::new(shift_cmd, Key::Z))
-                    || i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Y));
-                let undo = i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::Z));
-                let save = i.consume_shortcut(&KeyboardShortcut::new(Modifiers::COMMAND, Key::S));
-                (redo, undo, save)
-            });
-            if self.state.editor.is_some() {
-                if redo {
-                    cmds.push(Command::Edit(EditCmd::Redo));
-                }
-                if undo {
-                    cmds.push(Command::Edit(EditCmd::Undo));
-                }
-                if save {
-                    cmds.push(Command::Edit(EditCmd::Save(None)));
-                }
-            }
-        }
-        // Every press event counts (auto-repeat included), not "was it pressed this frame":
-        // two quick presses that land in one frame are two steps.
-        let pressed: Vec<Key> = ctx.input(|i| {
-            i.events
-                .iter()
-                .filter_map(|e| match e {
-                    egui::Event::Key {
-                        key,
-                        pressed: true,
-                        modifiers,
-                        ..
-                    } if !modifiers.ctrl && !modifiers.command && !modifiers.alt => Some(*key),
-                    _ => None,
-                })
-                .collect()
-        });
-        // Two moves of the same kind in one frame are applied in order; the step is clamped
-        // by the state, so a long burst at the end stays on the last step.
-        for k in pressed {
-            match k {
-                Key::ArrowLeft | Key::ArrowUp => cmds.push(Command::Step(StepMove::Previous)),
-                Key::ArrowRight | Key::ArrowDown => cmds.push(Command::Step(StepMove::Next)),
-                Key::Home => cmds.push(Command::Step(StepMove::First)),
-                Key::End => cmds.push(Command::Step(StepMove::Last)),
-                Key::Space => cmds.push(Command::TogglePlay),
-                Key::F11 => self.views.toggle_fullscreen = true,
-                Key::Escape if self.state.dialog.is_some() => cmds.push(Command::CloseDialog),
-                Key::Escape if self.state.prefs.presentation => {
-                    // The state puts the layout from before presentation back.
-                    let mut p = self.state.prefs.clone();
-                    p.presentation = false;
-                    cmds.push(Command::SetPrefs(p));
-                }
-                _ => {}
-            }
+        let pressed = actions::pressed(ctx, &self.state);
+        let to = &mut actions::Targets {
+            state: &self.state,
+            ctx,
+            render: &mut self.render,
+            toggle_fullscreen: &mut self.panels.toggle_fullscreen,
+            lab_open: &mut self.panels.lab.open,
+            cmds,
+        };
+        for a in pressed {
+            a.perform(to);
         }
     }
 

@@ -1,35 +1,15 @@
-//! The render view (zoom, pan, hover readout, click to select, heatmap overlay) and the
-//! textures and caches the panels keep between frames. Nothing here is persisted.
+//! The render view (zoom, pan, hover readout, click to select, heatmap overlay): what it keeps
+//! between frames ([`RenderView`]: the render's texture, the zoom and pan) and the function that
+//! draws it. Nothing here is persisted; the other panels keep their own caches (see
+//! [`super::panels::Panels`]).
 
 use super::state::{AppState, Command};
-use crate::diagram::DiagramKind;
 use egui::{Color32, ColorImage, Pos2, Rect, Sense, TextureHandle, TextureOptions, Vec2};
 use std::sync::atomic::Ordering;
 
-/// A row of the trace tree: a ray's heading or one of its steps.
-#[derive(Debug, Clone)]
-pub enum Row {
-    /// A ray starts (index into [`crate::record::Trace::rays`]).
-    Ray {
-        /// Nesting depth.
-        depth: u32,
-        /// The heading.
-        text: String,
-    },
-    /// A step (timeline index).
-    Step {
-        /// Timeline index.
-        k: usize,
-        /// Nesting depth.
-        depth: u32,
-        /// The description.
-        text: String,
-    },
-}
-
-/// Textures and view state.
+/// The render view's textures, zoom and pan (not persisted).
 #[derive(Default)]
-pub struct Views {
+pub struct RenderView {
     /// The render as shown (sRGB), kept on the CPU so a new render paints over the old one.
     shown: Vec<Color32>,
     shown_size: [usize; 2],
@@ -46,55 +26,18 @@ pub struct Views {
     pub hovered: Option<[u32; 2]>,
     /// Where the image was drawn last frame (screen rect in points) and points per pixel.
     pub image_rect: Option<(Rect, f32)>,
-    diagram_tex: Option<(TextureHandle, DiagramKey)>,
-    /// The diagram drawn last, or why there is none.
-    pub diagram_error: Option<String>,
-    /// Tree rows for the current trace.
-    pub tree: Option<(u64, Vec<Row>)>,
-    /// The row the tree last scrolled to (tests check it is the current step's).
-    pub tree_scroll_row: Option<usize>,
-    /// The step the tree last scrolled to.
-    pub tree_scrolled: Option<(u64, usize)>,
-    /// The F11 key or the menu asked to toggle full screen.
-    pub toggle_fullscreen: bool,
     /// A click on the render waiting to become a selection: (pixel, time of the click). It
     /// waits out the double-click delay, so that a double-click (fit to view) selects nothing.
     pub pending_click: Option<([u32; 2], f64)>,
-    /// The space the central view (the render) had last frame, in points.
-    pub centre_rect: Option<Rect>,
-    /// The whole window last frame, in points.
-    pub window_rect: Option<Rect>,
-    /// The side panels' rects last frame (name, rect), in points.
-    pub panel_rects: Vec<(&'static str, Rect)>,
-    /// The lesson viewer's cache (Markdown layout).
-    pub markdown: egui_commonmark::CommonMarkCache,
-    /// The GPU view (and which tab the central panel shows).
-    pub gpu: super::gpu_view::GpuView,
-    /// The 3D scene view.
-    pub scene3d: super::scene3d::Scene3dView,
-    /// The 3D view docked in the diagram panel (beside the render), and whether it is shown
-    /// there in place of the diagram.
-    pub scene3d_docked: super::scene3d::Scene3dView,
-    /// Show the docked 3D view in the diagram panel.
-    pub diagram_3d: bool,
-    /// The stability lab window.
-    pub lab: super::lab::LabView,
 }
 
-/// What a cached diagram texture shows.
-#[derive(Debug, Clone, PartialEq)]
-struct DiagramKey {
-    generation: u64,
-    kind: DiagramKind,
-    step: usize,
-    size: [u32; 2],
-    theme: super::state::ThemeChoice,
-    angle: f32,
-    top_down: bool,
-    scale: f32,
-}
+impl RenderView {
+    /// Back to fit: zoom 1, no pan (View → Reset zoom).
+    pub fn reset_zoom(&mut self) {
+        self.zoom = 1.0;
+        self.pan = Vec2::ZERO;
+    }
 
-impl Views {
     /// Brings the render texture up to date with the running or finished render.
     fn update_render(&mut self, ctx: &egui::Context, state: &AppState) {
         let Some(scene) = state.scene() else {
@@ -184,60 +127,6 @@ impl Views {
             .and_then(|r| r.output.node_visits.as_ref())
             .is_some_and(|v| v.iter().any(|&x| x > 0))
     }
-
-    /// The diagram texture for the current step at `size`, drawn when anything it depends on
-    /// changed.
-    pub fn diagram(
-        &mut self,
-        ctx: &egui::Context,
-        state: &AppState,
-        size: [u32; 2],
-    ) -> Option<TextureHandle> {
-        let s = state.stepping.as_ref()?;
-        let kind = state.diagram_kind()?;
-        let key = DiagramKey {
-            generation: state.trace_generation,
-            kind,
-            step: state.step,
-            size,
-            theme: state.prefs.effective_theme(),
-            angle: state.prefs.slice_angle,
-            top_down: state.prefs.top_down,
-            scale: ctx.pixels_per_point(),
-        };
-        if let Some((t, k)) = &self.diagram_tex
-            && *k == key
-        {
-            return Some(t.clone());
-        }
-        // Diagram text follows the UI scale (presentation mode included).
-        let opts = crate::diagram::ViewOptions {
-            scale: ctx.pixels_per_point(),
-            ..state.view_options(size[0], size[1])
-        };
-        match crate::diagram::draw(&s.trace, kind, &opts) {
-            Ok(c) => {
-                self.diagram_error = None;
-                let img = ColorImage::from_rgba_premultiplied(
-                    [c.pixmap.width() as usize, c.pixmap.height() as usize],
-                    c.pixmap.data(),
-                );
-                let t = match self.diagram_tex.take() {
-                    Some((mut t, _)) => {
-                        t.set(img, TextureOptions::LINEAR);
-                        t
-                    }
-                    None => ctx.load_texture("diagram", img, TextureOptions::LINEAR),
-                };
-                self.diagram_tex = Some((t.clone(), key));
-                Some(t)
-            }
-            Err(e) => {
-                self.diagram_error = Some(e);
-                None
-            }
-        }
-    }
 }
 
 /// The render view: the image fitted to the space, zoomed with the scroll wheel about the
@@ -245,18 +134,18 @@ impl Views {
 pub fn render_view(
     ui: &mut egui::Ui,
     state: &AppState,
-    views: &mut Views,
+    view: &mut RenderView,
     cmds: &mut Vec<Command>,
 ) {
     let ctx = ui.ctx().clone();
-    views.update_render(&ctx, state);
+    view.update_render(&ctx, state);
     let Some(scene) = state.scene() else {
         return;
     };
     let (w, h) = (scene.camera.width as f32, scene.camera.height as f32);
     let (rect, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-    if views.zoom <= 0.0 {
-        views.zoom = 1.0;
+    if view.zoom <= 0.0 {
+        view.zoom = 1.0;
     }
     let fit = (rect.width() / w).min(rect.height() / h).max(1e-3);
     if resp.hovered() {
@@ -264,36 +153,36 @@ pub fn render_view(
         if scroll != 0.0
             && let Some(p) = resp.hover_pos()
         {
-            let old = views.zoom;
-            views.zoom = (old * (scroll * 0.003).exp()).clamp(0.25, 64.0);
+            let old = view.zoom;
+            view.zoom = (old * (scroll * 0.003).exp()).clamp(0.25, 64.0);
             // Keep the point under the cursor where it is.
-            let c = rect.center() + views.pan;
-            views.pan += (p - c) * (1.0 - views.zoom / old);
+            let c = rect.center() + view.pan;
+            view.pan += (p - c) * (1.0 - view.zoom / old);
         }
     }
     if resp.dragged() {
-        views.pan += resp.drag_delta();
+        view.pan += resp.drag_delta();
     }
     let now = ui.input(|i| i.time);
     if resp.double_clicked() {
-        views.zoom = 1.0;
-        views.pan = Vec2::ZERO;
-        views.pending_click = None;
+        view.zoom = 1.0;
+        view.pan = Vec2::ZERO;
+        view.pending_click = None;
     }
-    let scale = fit * views.zoom;
-    let img_rect = Rect::from_center_size(rect.center() + views.pan, Vec2::new(w, h) * scale);
-    views.image_rect = Some((img_rect, scale));
+    let scale = fit * view.zoom;
+    let img_rect = Rect::from_center_size(rect.center() + view.pan, Vec2::new(w, h) * scale);
+    view.image_rect = Some((img_rect, scale));
     let to_pixel = |p: Pos2| -> Option<[u32; 2]> {
         let q = (p - img_rect.min) / scale;
         (q.x >= 0.0 && q.y >= 0.0 && q.x < w && q.y < h).then_some([q.x as u32, q.y as u32])
     };
     let painter = ui.painter_at(rect);
     let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
-    if let Some(t) = &views.render_tex {
+    if let Some(t) = &view.render_tex {
         painter.image(t.id(), img_rect, uv, Color32::WHITE);
     }
     if state.prefs.heatmap
-        && let Some(t) = views.heatmap(&ctx, state)
+        && let Some(t) = view.heatmap(&ctx, state)
     {
         painter.image(t.id(), img_rect, uv, Color32::WHITE);
     }
@@ -303,8 +192,8 @@ pub fn render_view(
             Vec2::splat(scale),
         )
     };
-    views.hovered = resp.hover_pos().and_then(to_pixel);
-    if let Some(p) = views.hovered {
+    view.hovered = resp.hover_pos().and_then(to_pixel);
+    if let Some(p) = view.hovered {
         painter.rect_stroke(
             px_rect(p).expand(1.0),
             0.0,
@@ -328,16 +217,16 @@ pub fn render_view(
         );
     }
     if resp.clicked() && !resp.double_clicked() {
-        views.pending_click = resp
+        view.pending_click = resp
             .interact_pointer_pos()
             .and_then(to_pixel)
             .map(|p| (p, now));
     }
-    if let Some((p, at)) = views.pending_click {
+    if let Some((p, at)) = view.pending_click {
         let delay = ctx.options(|o| o.input_options.max_double_click_delay);
         let waited = now - at;
         if !(0.0..delay).contains(&waited) {
-            views.pending_click = None;
+            view.pending_click = None;
             cmds.push(Command::SelectPixel(p));
         } else {
             ctx.request_repaint_after(std::time::Duration::from_secs_f64(

@@ -4,13 +4,19 @@
 
 use crate::app::state::learn::{Attempt, LearnCmd, LearnTab};
 use crate::app::state::{AppState, Command};
-use crate::app::view::Views;
 use crate::lesson::{self, Answer, Lesson, Mark};
 use egui::{Color32, RichText};
 use std::path::Path;
 
+/// What the learn panel keeps between frames (not persisted).
+#[derive(Default)]
+pub struct LearnPanel {
+    /// The Markdown viewer's cache (the lessons' layout).
+    pub markdown: egui_commonmark::CommonMarkCache,
+}
+
 /// The learn panel.
-pub fn panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+pub fn panel(ui: &mut egui::Ui, state: &AppState, cache: &mut LearnPanel, cmds: &mut Vec<Command>) {
     // Every button and label wraps: one wider than the panel would widen what follows it too
     // (a lesson's text or a question would then be cut off at the panel's edge).
     ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Wrap);
@@ -33,12 +39,17 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut 
     });
     ui.separator();
     match learn.tab {
-        LearnTab::Lesson => lesson_tab(ui, state, views, cmds),
-        LearnTab::Exercises => exercise_tab(ui, state, views, cmds),
+        LearnTab::Lesson => lesson_tab(ui, state, cache, cmds),
+        LearnTab::Exercises => exercise_tab(ui, state, cache, cmds),
     }
 }
 
-fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+fn lesson_tab(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    cache: &mut LearnPanel,
+    cmds: &mut Vec<Command>,
+) {
     let learn = &state.learn;
     if let Some(e) = &learn.lessons_error {
         ui.colored_label(ui.visuals().error_fg_color, e);
@@ -130,7 +141,7 @@ fn lesson_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut
         .id_salt(("lesson-scroll", i))
         .auto_shrink([false, false])
         .show(ui, |ui| {
-            egui_commonmark::CommonMarkViewer::new().show(ui, &mut views.markdown, &l.body);
+            egui_commonmark::CommonMarkViewer::new().show(ui, &mut cache.markdown, &l.body);
         });
     follow_links(ui, lessons, l, cmds);
 }
@@ -203,7 +214,12 @@ fn follow_links(ui: &egui::Ui, lessons: &[Lesson], current: &Lesson, cmds: &mut 
     });
 }
 
-fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &mut Vec<Command>) {
+fn exercise_tab(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    cache: &mut LearnPanel,
+    cmds: &mut Vec<Command>,
+) {
     let learn = &state.learn;
     let current = learn.sheet.as_ref().map(|(p, _)| p.as_path());
     let name = |p: &Path| {
@@ -301,7 +317,7 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
                 .strong(),
             );
             // Question texts and hints are Markdown (`code`, *emphasis*; line breaks reflow).
-            egui_commonmark::CommonMarkViewer::new().show(ui, &mut views.markdown, v.text.trim());
+            egui_commonmark::CommonMarkViewer::new().show(ui, &mut cache.markdown, v.text.trim());
             ui.add_space(6.0);
             let mut answer = a.answer.clone();
             let mut submit = false;
@@ -366,7 +382,7 @@ fn exercise_tab(ui: &mut egui::Ui, state: &AppState, views: &mut Views, cmds: &m
             for (k, h) in q.hints.iter().take(a.hints).enumerate() {
                 egui_commonmark::CommonMarkViewer::new().show(
                     ui,
-                    &mut views.markdown,
+                    &mut cache.markdown,
                     &format!("**Hint {}:** {h}", k + 1),
                 );
             }

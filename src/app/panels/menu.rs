@@ -1,56 +1,67 @@
-//! The menu bar: File, View, Help, Lessons and Lab.
+//! The menu bar: File, View, Help, Lessons and Lab. Its items, their words and their keys come
+//! from the table of actions ([`crate::app::actions`]).
 
-use crate::app::state::{AppState, Command, Dialog, Document, SaveKind};
-use crate::app::view::Views;
-use egui::{RichText, Vec2};
+use crate::app::actions::{self, Action, Targets};
+use crate::app::state::{AppState, Command, Document, SaveKind};
+use crate::app::view::RenderView;
+use egui::RichText;
 
+/// A menu button for `action` (its label with its key, its tooltip); whether it was clicked.
+fn item(ui: &mut egui::Ui, state: &AppState, action: Action, enabled: bool) -> bool {
+    let r = ui.add_enabled(enabled, egui::Button::new(action.menu_label(state)));
+    match action.tooltip() {
+        Some(t) => r.on_hover_text(t),
+        None => r,
+    }
+    .clicked()
+}
+
+/// The menu bar (the Lab toggle opens the lab window in `panels`).
 pub(super) fn menu_bar(
     ui: &mut egui::Ui,
     state: &AppState,
-    views: &mut Views,
+    render: &mut RenderView,
+    panels: &mut super::Panels,
     cmds: &mut Vec<Command>,
 ) {
+    let ctx = ui.ctx().clone();
+    let to = &mut Targets {
+        state,
+        ctx: &ctx,
+        render,
+        toggle_fullscreen: &mut panels.toggle_fullscreen,
+        lab_open: &mut panels.lab.open,
+        cmds,
+    };
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| {
-            if ui.button("Open…").clicked() {
-                cmds.push(Command::ShowDialog(Dialog::Open {
-                    path: state
-                        .path()
-                        .map(|p| p.display().to_string())
-                        .unwrap_or_default(),
-                }));
-            }
-            if ui.button("Built-in scene").clicked() {
-                cmds.push(Command::OpenBuiltin);
+            for a in [Action::Open, Action::OpenBuiltin] {
+                if item(ui, state, a, true) {
+                    a.perform(to);
+                }
             }
             if !state.prefs.recent.is_empty() {
                 ui.menu_button("Recent", |ui| {
                     for p in &state.prefs.recent {
                         if ui.button(p.display().to_string()).clicked() {
-                            cmds.push(Command::Open(p.clone()));
+                            to.cmds.push(Command::Open(p.clone()));
                         }
                     }
                 });
             }
-            if ui.button("Reload").clicked() {
-                cmds.push(Command::Reload);
+            if item(ui, state, Action::Reload, true) {
+                Action::Reload.perform(to);
             }
             ui.separator();
             let has_trace = state.stepping.is_some();
             for kind in [SaveKind::Trace, SaveKind::DiagramPng, SaveKind::StepsGif] {
-                if ui
-                    .add_enabled(has_trace, egui::Button::new(format!("{}…", kind.title())))
-                    .clicked()
-                {
-                    cmds.push(Command::ShowDialog(Dialog::Save {
-                        kind,
-                        path: state.suggested_name(kind),
-                    }));
+                if item(ui, state, Action::SaveAs(kind), has_trace) {
+                    Action::SaveAs(kind).perform(to);
                 }
             }
             ui.separator();
-            if ui.button("Quit").clicked() {
-                ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
+            if item(ui, state, Action::Quit, true) {
+                Action::Quit.perform(to);
             }
         });
         ui.menu_button("View", |ui| {
@@ -75,11 +86,15 @@ pub(super) fn menu_bar(
                     .labelled_by(l.id)
                     .on_hover_text("the size of everything outside presentation mode");
             });
-            ui.checkbox(&mut p.presentation, "Presentation mode (Esc leaves)")
-                .on_hover_text(
-                    "for a projector: high contrast, large text, a large render, diagram and \
+            let leave = actions::keys_text(&[Action::LeavePresentation]);
+            ui.checkbox(
+                &mut p.presentation,
+                format!("Presentation mode ({leave} leaves)"),
+            )
+            .on_hover_text(
+                "for a projector: high contrast, large text, a large render, diagram and \
                      math panel, the trace tree folded; leaving puts your layout back",
-                );
+            );
             ui.horizontal(|ui| {
                 let l = ui.label("Presentation scale");
                 ui.add(egui::Slider::new(&mut p.presentation_scale, 1.0..=3.0).step_by(0.05))
@@ -102,58 +117,46 @@ pub(super) fn menu_bar(
                     height.round()
                 ));
             }
-            if ui.button("Full screen (F11)").clicked() {
-                views.toggle_fullscreen = true;
+            if item(ui, state, Action::FullScreen, true) {
+                Action::FullScreen.perform(to);
             }
             ui.separator();
             ui.checkbox(&mut p.show_learn, "Lessons and exercises");
             ui.checkbox(&mut p.show_settings, "Settings panel");
             ui.checkbox(&mut p.show_tree, "Trace tree");
-            if Views::has_heatmap(state) {
+            if RenderView::has_heatmap(state) {
                 ui.checkbox(&mut p.heatmap, "Visits heatmap over the render");
             }
             if p.show_tree {
                 ui.checkbox(&mut p.layout.tree_collapsed, "Fold the trace tree");
             }
-            if ui.button("Reset zoom").clicked() {
-                views.zoom = 1.0;
-                views.pan = Vec2::ZERO;
+            if item(ui, state, Action::ResetZoom, true) {
+                Action::ResetZoom.perform(to);
             }
-            let reset = ui
-                .button("Reset layout")
-                .on_hover_text("the panels back to their default sizes, fitted to the window")
-                .clicked();
+            let reset = item(ui, state, Action::ResetLayout, true);
             if p != state.prefs {
-                cmds.push(Command::SetPrefs(p));
+                to.cmds.push(Command::SetPrefs(p));
             }
             if reset {
-                cmds.push(Command::ResetLayout);
+                Action::ResetLayout.perform(to);
             }
         });
         ui.menu_button("Help", |ui| {
             ui.label("Click a pixel of the render to trace it.");
-            ui.label("← → (or ↑ ↓): previous / next step");
-            ui.label("Home / End: first / last step");
-            ui.label("Space: play / pause");
-            ui.label("F11: full screen · Esc: leave presentation mode");
+            for line in actions::help_lines() {
+                ui.label(line);
+            }
             ui.label("Scroll on the render to zoom, drag to pan, double-click to fit.");
             ui.label("Drop a scene (.toml) or a saved trace (.json) on the window to open it.");
         });
         let mut learn = state.prefs.show_learn;
-        if ui
-            .toggle_value(&mut learn, "Lessons")
-            .on_hover_text("the lessons, and exercises whose answers the tracer checks")
-            .clicked()
-        {
-            // The lessons take the settings panel's place (a lesson sets its own settings;
-            // View → Settings panel shows both): the render keeps its width.
-            let mut p = state.prefs.clone();
-            p.show_learn = learn;
-            p.show_settings = !learn;
-            cmds.push(Command::SetPrefs(p));
+        if toggle(ui, state, &mut learn, Action::Lessons) {
+            Action::Lessons.perform(to);
         }
-        ui.toggle_value(&mut views.lab.open, "Lab")
-            .on_hover_text("the stability lab: the selected pixel's numbers against exact values, and every method on the stiff cases");
+        let mut lab = *to.lab_open;
+        if toggle(ui, state, &mut lab, Action::Lab) {
+            Action::Lab.perform(to);
+        }
         ui.separator();
         let title = match &state.doc {
             Document::Scene { scene, path } => format!(
@@ -167,4 +170,14 @@ pub(super) fn menu_bar(
         };
         ui.label(RichText::new(title).strong());
     });
+}
+
+/// A toggle button for `action`, showing `on`; whether it was clicked.
+fn toggle(ui: &mut egui::Ui, state: &AppState, on: &mut bool, action: Action) -> bool {
+    let r = ui.toggle_value(on, action.label(state));
+    match action.tooltip() {
+        Some(t) => r.on_hover_text(t),
+        None => r,
+    }
+    .clicked()
 }

@@ -2,7 +2,7 @@
 //! shown only when the scene has something it affects.
 
 use crate::app::state::{AppState, Command};
-use crate::app::view::Views;
+use crate::app::view::RenderView;
 use crate::record::number::num;
 use crate::scene::{AccelChoice, BvhQuality, OffsetPolicy, Settings};
 use crate::shapes::{SphereMethod, TriangleMethod};
@@ -12,7 +12,7 @@ use egui::RichText;
 pub(super) fn settings_panel(
     ui: &mut egui::Ui,
     state: &AppState,
-    views: &Views,
+    render: &RenderView,
     cmds: &mut Vec<Command>,
 ) {
     ui.set_min_width(ui.available_width());
@@ -184,7 +184,7 @@ pub(super) fn settings_panel(
             cmds.push(Command::SetSample(sample));
         }
     }
-    if Views::has_heatmap(state) {
+    if RenderView::has_heatmap(state) {
         ui.separator();
         let mut p = state.prefs.clone();
         // Named after what it counts: BVH nodes, bounding spheres or grid cells.
@@ -206,7 +206,7 @@ pub(super) fn settings_panel(
         if p.heatmap {
             ui.label(format!(
                 "accelerator visits per pixel (nodes or cells), dark purple = 0 … yellow ≥ {}",
-                views.heat_max()
+                render.heat_max()
             ));
         }
         if p != state.prefs {
