@@ -975,3 +975,46 @@ mod exact_arithmetic {
         assert!(!useless.config().div_fix && !useless.exact());
     }
 }
+
+/// The app opens its device through eframe with [`raystep::app::wgpu_options`]: where the adapter
+/// offers SPIR-V passthrough the device asks for it, so the app's GPU view runs the same exact
+/// arithmetic as `raystep compare` (eframe's default device descriptor asks for no feature).
+#[test]
+fn the_apps_device_asks_for_passthrough_where_the_adapter_offers_it() {
+    use eframe::egui_wgpu::{WgpuSetup, wgpu};
+    let test = "the_apps_device_asks_for_passthrough_where_the_adapter_offers_it";
+    let Some(headless) = context(test) else {
+        return;
+    };
+    let WgpuSetup::CreateNew(setup) = raystep::app::wgpu_options().wgpu_setup else {
+        panic!("the app creates its own device");
+    };
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::HighPerformance,
+        ..Default::default()
+    }))
+    .unwrap();
+    let descriptor = (setup.device_descriptor)(&adapter);
+    let offered = adapter
+        .features()
+        .contains(wgpu::Features::PASSTHROUGH_SHADERS);
+    assert_eq!(
+        descriptor
+            .required_features
+            .contains(wgpu::Features::PASSTHROUGH_SHADERS),
+        offered
+    );
+    // eframe's own limits are kept (8192² textures for 4K displays).
+    assert_eq!(descriptor.required_limits.max_texture_dimension_2d, 8192);
+    let (device, queue) = pollster::block_on(adapter.request_device(&descriptor)).unwrap();
+    let ctx = raystep::gpu::GpuContext::from_device(
+        device,
+        queue,
+        adapter.get_info(),
+        adapter.features(),
+    );
+    // The same answer as the command line's headless device.
+    assert_eq!(ctx.passthrough, headless.passthrough);
+}

@@ -371,6 +371,28 @@ impl eframe::App for RaystepApp {
     }
 }
 
+/// eframe's wgpu set-up, asking also for SPIR-V passthrough where the adapter offers it: the GPU
+/// view's compute path then runs as SPIR-V with every float result decorated `NoContraction`,
+/// the exact arithmetic `raystep compare` uses (see `gpu::exact`). Everything else is eframe's
+/// default (its limits, with 8192² textures for 4K displays).
+pub fn wgpu_options() -> eframe::egui_wgpu::WgpuConfiguration {
+    use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew, wgpu};
+    let default = WgpuSetupCreateNew::without_display_handle();
+    let base = default.device_descriptor.clone();
+    let setup = WgpuSetupCreateNew {
+        device_descriptor: std::sync::Arc::new(move |adapter: &wgpu::Adapter| {
+            let mut d = base(adapter);
+            d.required_features |= adapter.features() & wgpu::Features::PASSTHROUGH_SHADERS;
+            d
+        }),
+        ..default
+    };
+    WgpuConfiguration {
+        wgpu_setup: WgpuSetup::CreateNew(setup),
+        ..Default::default()
+    }
+}
+
 /// Opens the app window on `file` (or the last/built-in scene) and runs until it is closed;
 /// with a `screenshot` plan, writes it and closes.
 pub fn run(file: Option<PathBuf>, screenshot: Option<ScreenshotPlan>) -> Result<(), String> {
@@ -388,6 +410,7 @@ pub fn run(file: Option<PathBuf>, screenshot: Option<ScreenshotPlan>) -> Result<
             .with_inner_size([1440.0, 900.0])
             .with_min_inner_size([800.0, 500.0])
             .with_drag_and_drop(true),
+        wgpu_options: wgpu_options(),
         ..Default::default()
     };
     eframe::run_native(
