@@ -10,8 +10,9 @@ use crate::scene::Shape;
 use crate::shapes::PlaneForm;
 use std::collections::BTreeMap;
 
-/// The deepest BVH node a trace may mention (root = 0). Far beyond any tree the builder makes for
-/// a scene raystep loads; it bounds the diagram's walk down the tree.
+/// The deepest BVH node a trace may mention (root = 0), and the deepest the BVH builder makes
+/// (it cuts a deeper tree here, see [`crate::accel::Bvh::build`]), so that every trace raystep
+/// saves loads back. It bounds the diagram's walk down the tree.
 pub const MAX_BVH_DEPTH: u32 = 256;
 /// The largest `max_depth` a scene (and so a trace) may have.
 pub const MAX_RECURSION_DEPTH: u32 = 64;

@@ -1,0 +1,207 @@
+//! Degenerate scenes against the accelerators (issue 39's accelerator findings):
+//!
+//! primitives at one point: the BVH gathers them into one leaf (its build was quadratic and its
+//! tree as deep as the primitives were many), so a trace of them loads back, and the BVH and
+//! the sphere tree render what brute force renders.
+//!
+//! No test here is timed: the sizes are small enough that the old code is only slower, not
+//! hopeless, and each test asserts what the old code got wrong (a tree deeper than a trace may
+//! record, a trace refused). The depth cut of a deeper tree is tested in
+//! `src/accel/bvh/build.rs`.
+
+use assert_cmd::Command;
+use glam::Vec3;
+use raystep::PreparedScene;
+use raystep::accel::{Bvh, SphereTree};
+use raystep::record::validate::MAX_BVH_DEPTH;
+use raystep::record::{Step, Trace};
+use raystep::render::{RenderOptions, render};
+use raystep::scene::{AccelChoice, Scene, load_str};
+
+#[path = "common/rng.rs"]
+mod rng;
+use rng::{Rng, fmt};
+
+const CAMERA: &str = "[camera]\nfrom = [0, 0, -5]\nat = [0, 0, 0]\nfov = 60\nwidth = 40\nheight = 30\n\n[[light]]\nposition = [-10, 10, -10]\n\n";
+
+/// The TOML of `n` unit spheres centred on the origin (and `extra` TOML after them).
+fn coincident_toml(n: usize, extra: &str) -> String {
+    let mut t = String::from(CAMERA);
+    for _ in 0..n {
+        t += "[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n";
+    }
+    t + extra
+}
+
+/// `n` unit spheres centred on the origin (and `extra` TOML after them).
+fn coincident(n: usize, extra: &str) -> Scene {
+    load_str(&coincident_toml(n, extra), "coincident.toml", None).expect("the scene loads")
+}
+
+/// The image rendered with `accel`, as linear floats.
+fn image(scene: &Scene, accel: AccelChoice) -> Vec<Vec3> {
+    let mut s = scene.clone();
+    s.settings.accel = accel;
+    let prepared = PreparedScene::new(s);
+    let opts = RenderOptions {
+        threads: Some(2),
+        ..Default::default()
+    };
+    render(&prepared.tracer(), &opts).expect("renders").pixels
+}
+
+/// Every pixel of the images `accels` render equals brute force's, bit for bit.
+fn same_as_brute_force(scene: &Scene, accels: &[AccelChoice]) {
+    let brute = image(scene, AccelChoice::None);
+    for &a in accels {
+        let img = image(scene, a);
+        let differ = img.iter().zip(&brute).filter(|(a, b)| a != b).count();
+        assert_eq!(differ, 0, "{a:?}: {differ} pixels differ from brute force");
+    }
+}
+
+/// The deepest BVH or sphere-tree node a trace records.
+fn deepest_node(trace: &Trace) -> Option<u32> {
+    trace
+        .timeline()
+        .iter()
+        .filter_map(|(_, s)| match &s.step {
+            Step::Node(v) => Some(v.depth),
+            Step::SphereNode { depth, .. } => Some(*depth),
+            _ => None,
+        })
+        .max()
+}
+
+/// 300 spheres at one point made a BVH of depth 292: a trace wrote node visits at that depth,
+/// which the loader (at most depth 256) then refused. Now they are one leaf: the trace of the
+/// middle pixel, with the BVH, with the sphere tree over it and with the grid, loads back as
+/// saved.
+#[test]
+fn a_trace_of_three_hundred_spheres_at_one_point_loads_back() {
+    let scene = coincident(300, "");
+    let bvh = Bvh::build(&scene);
+    assert_eq!(bvh.max_depth, 0, "one leaf");
+    for accel in [AccelChoice::Bvh, AccelChoice::Spheres, AccelChoice::Grid] {
+        let mut s = scene.clone();
+        s.settings.accel = accel;
+        let trace = PreparedScene::new(s).record(20, 15, 0);
+        if accel != AccelChoice::Grid {
+            let depth = deepest_node(&trace).expect("the ray walks the tree");
+            assert!(depth <= MAX_BVH_DEPTH, "{accel:?}: depth {depth}");
+        }
+        let back = Trace::from_json(&trace.to_json(), "t.json")
+            .unwrap_or_else(|e| panic!("{accel:?}: the saved trace is refused: {e}"));
+        assert_eq!(back, trace);
+    }
+}
+
+/// The same from the command line: `raystep trace --save` writes the trace, and `raystep diff`
+/// loads it back (exit 0: equal to itself; before, exit 2: the file was refused).
+#[test]
+fn raystep_trace_save_of_spheres_at_one_point_loads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("coincident.toml");
+    std::fs::write(&scene, coincident_toml(300, "")).unwrap();
+    for accel in ["bvh", "spheres"] {
+        let saved = dir.path().join(format!("{accel}.json"));
+        Command::cargo_bin("raystep")
+            .unwrap()
+            .arg("trace")
+            .arg(&scene)
+            .args(["--pixel", "20,15", "--accel", accel, "--save"])
+            .arg(&saved)
+            .assert()
+            .success();
+        let out = Command::cargo_bin("raystep")
+            .unwrap()
+            .arg("diff")
+            .arg(&saved)
+            .arg(&saved)
+            .output()
+            .unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{accel}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+/// 2,000 spheres at one point: the BVH was a chain of depth 1,992 (20,000 made one of depth
+/// 19,992, built in 22 s). Now one leaf (the root) holds them all, the sphere tree over it
+/// likewise, and both render what brute force renders.
+#[test]
+fn two_thousand_spheres_at_one_point_make_one_leaf() {
+    let scene = coincident(2_000, "");
+    let bvh = Bvh::build(&scene);
+    assert_eq!(bvh.max_depth, 0, "one leaf");
+    assert_eq!(bvh.nodes.len(), 1);
+    assert_eq!(bvh.nodes[0].count, 2_000);
+    let mut ids = bvh.leaf_objects.clone();
+    ids.sort_unstable();
+    assert_eq!(ids, (0..2_000).collect::<Vec<u32>>());
+    let tree = SphereTree::build(&scene);
+    assert_eq!(tree.nodes.len(), 1);
+    assert_eq!(tree.nodes[0].count, 2_000);
+    same_as_brute_force(&scene, &[AccelChoice::Bvh, AccelChoice::Spheres]);
+}
+
+/// Fifteen at one point are left to obvhs as they are (a short chain, as every mesh's shared
+/// boxes make), sixteen are gathered into one leaf.
+#[test]
+fn sixteen_at_one_point_are_gathered_fifteen_are_not() {
+    let fifteen = Bvh::build(&coincident(15, ""));
+    assert!(fifteen.nodes.len() > 1, "{} nodes", fifteen.nodes.len());
+    let sixteen = Bvh::build(&coincident(16, ""));
+    assert_eq!(sixteen.nodes.len(), 1);
+    assert_eq!(sixteen.nodes[0].count, 16);
+}
+
+/// A cluster at one point beside other objects: the cluster becomes one leaf among ordinary
+/// ones, and the images still equal brute force's (ties between the coincident spheres going to
+/// the lowest id).
+#[test]
+fn a_cluster_at_one_point_among_other_objects_renders_as_brute_force() {
+    let mut extra = String::new();
+    let mut r = Rng(3);
+    for _ in 0..200 {
+        extra += &format!(
+            "[[sphere]]\ncenter = {}\nradius = 0.2\n",
+            fmt(r.vec(-3.0, 3.0))
+        );
+    }
+    // Concentric spheres of different sizes: one centre, different boxes.
+    for k in 1..=50 {
+        extra += &format!(
+            "[[sphere]]\ncenter = [1, 1, 1]\nradius = {}\n",
+            k as f32 * 0.01
+        );
+    }
+    let scene = coincident(1_000, &extra);
+    let bvh = Bvh::build(&scene);
+    assert!(bvh.max_depth < 40, "depth {}", bvh.max_depth);
+    // The cluster's 1,000 in one leaf, the 50 concentric ones in one leaf (obvhs may have put a
+    // few neighbours in with either).
+    let leaf_of = |id: u32| {
+        bvh.nodes
+            .iter()
+            .filter(|n| n.count > 0)
+            .find(|n| {
+                bvh.leaf_objects[n.first as usize..(n.first + n.count) as usize].contains(&id)
+            })
+            .unwrap()
+    };
+    assert!(
+        (1_000..1_008).contains(&leaf_of(0).count),
+        "{}",
+        leaf_of(0).count
+    );
+    assert!(
+        (50..58).contains(&leaf_of(1_200).count),
+        "{}",
+        leaf_of(1_200).count
+    );
+    same_as_brute_force(&scene, &[AccelChoice::Bvh, AccelChoice::Spheres]);
+}
