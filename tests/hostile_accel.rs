@@ -1,20 +1,24 @@
 //! Degenerate scenes against the accelerators (issue 39's accelerator findings):
 //!
-//! primitives at one point: the BVH gathers them into one leaf (its build was quadratic and its
-//! tree as deep as the primitives were many), so a trace of them loads back, and the BVH and
-//! the sphere tree render what brute force renders.
+//! - primitives at one point: the BVH gathers them into one leaf (its build was quadratic and
+//!   its tree as deep as the primitives were many), so a trace of them loads back, and every
+//!   accelerator renders what brute force renders;
+//! - one huge sphere around many small ones: the grid keeps it outside, as it keeps the planes,
+//!   instead of growing to its size and crowding the rest into one cell; primitives that all
+//!   span the scene are all kept outside unless they are few.
 //!
 //! No test here is timed: the sizes are small enough that the old code is only slower, not
 //! hopeless, and each test asserts what the old code got wrong (a tree deeper than a trace may
-//! record, a trace refused). The depth cut of a deeper tree is tested in
-//! `src/accel/bvh/build.rs`.
+//! record, a trace refused, a grid the size of the huge sphere). The depth cut of a deeper tree
+//! is tested in `src/accel/bvh/build.rs`, the grid's mailbox in `src/accel/grid.rs`.
 
 use assert_cmd::Command;
 use glam::Vec3;
 use raystep::PreparedScene;
-use raystep::accel::{Bvh, SphereTree};
+use raystep::accel::{Accelerator, BruteForce, Bvh, Grid, SphereTree};
+use raystep::math::Ray;
 use raystep::record::validate::MAX_BVH_DEPTH;
-use raystep::record::{Step, Trace};
+use raystep::record::{Counter, Silent, Step, Trace};
 use raystep::render::{RenderOptions, render};
 use raystep::scene::{AccelChoice, Scene, load_str};
 
@@ -96,6 +100,24 @@ fn a_trace_of_three_hundred_spheres_at_one_point_loads_back() {
     }
 }
 
+/// A grid of no cells (a scene of planes only, or of primitives all tested first) wrote a
+/// `grid` header of 0 cells per axis, which the loader (1 to 256) refused. Now such a trace has
+/// no `grid` header (its walk records no cell), and loads back.
+#[test]
+fn a_trace_of_a_grid_of_no_cells_loads_back() {
+    let mut scene = load_str(
+        "[camera]\nwidth = 8\nheight = 6\n\n[[plane]]\n",
+        "plane.toml",
+        None,
+    )
+    .unwrap();
+    scene.settings.accel = AccelChoice::Grid;
+    let trace = PreparedScene::new(scene).record(4, 3, 0);
+    assert_eq!(trace.grid, None);
+    let back = Trace::from_json(&trace.to_json(), "t.json").expect("the saved trace loads");
+    assert_eq!(back, trace);
+}
+
 /// The same from the command line: `raystep trace --save` writes the trace, and `raystep diff`
 /// loads it back (exit 0: equal to itself; before, exit 2: the file was refused).
 #[test]
@@ -131,7 +153,8 @@ fn raystep_trace_save_of_spheres_at_one_point_loads_back() {
 
 /// 2,000 spheres at one point: the BVH was a chain of depth 1,992 (20,000 made one of depth
 /// 19,992, built in 22 s). Now one leaf (the root) holds them all, the sphere tree over it
-/// likewise, and both render what brute force renders.
+/// likewise, the grid tests them all first, and every accelerator renders what brute force
+/// renders.
 #[test]
 fn two_thousand_spheres_at_one_point_make_one_leaf() {
     let scene = coincident(2_000, "");
@@ -145,7 +168,13 @@ fn two_thousand_spheres_at_one_point_make_one_leaf() {
     let tree = SphereTree::build(&scene);
     assert_eq!(tree.nodes.len(), 1);
     assert_eq!(tree.nodes[0].count, 2_000);
-    same_as_brute_force(&scene, &[AccelChoice::Bvh, AccelChoice::Spheres]);
+    let grid = Grid::build(&scene);
+    assert_eq!(grid.outside(), (0..2_000).collect::<Vec<u32>>());
+    assert_eq!(grid.references(), 0);
+    same_as_brute_force(
+        &scene,
+        &[AccelChoice::Bvh, AccelChoice::Spheres, AccelChoice::Grid],
+    );
 }
 
 /// Fifteen at one point are left to obvhs as they are (a short chain, as every mesh's shared
@@ -160,8 +189,10 @@ fn sixteen_at_one_point_are_gathered_fifteen_are_not() {
 }
 
 /// A cluster at one point beside other objects: the cluster becomes one leaf among ordinary
-/// ones, and the images still equal brute force's (ties between the coincident spheres going to
-/// the lowest id).
+/// ones, and the images still equal brute force's (every accelerator, with ties between the
+/// coincident spheres going to the lowest id). The grid lists the cluster in the cells around
+/// the origin, so a ray there tests its 1,000 spheres and its mailbox holds them all (a hash set
+/// past 32).
 #[test]
 fn a_cluster_at_one_point_among_other_objects_renders_as_brute_force() {
     let mut extra = String::new();
@@ -203,5 +234,90 @@ fn a_cluster_at_one_point_among_other_objects_renders_as_brute_force() {
         "{}",
         leaf_of(1_200).count
     );
-    same_as_brute_force(&scene, &[AccelChoice::Bvh, AccelChoice::Spheres]);
+    // The grid keeps them inside (they span a third of the scene, not half).
+    assert_eq!(Grid::build(&scene).outside(), &[] as &[u32]);
+    same_as_brute_force(
+        &scene,
+        &[AccelChoice::Bvh, AccelChoice::Spheres, AccelChoice::Grid],
+    );
+}
+
+/// One sphere of radius 10⁹ around 5,000 small ones: the grid grew to the huge sphere's box and
+/// put every small sphere in one cell, so every ray tested all of them. Now the huge sphere
+/// stays outside the grid, tested first like a plane; the grid spans the small spheres only, a
+/// ray tests a few of them (the observer counts the tests), and the image is brute force's.
+#[test]
+fn a_huge_sphere_stays_outside_the_grid() {
+    let mut r = Rng(7);
+    let mut t = String::from(CAMERA).replace("from = [0, 0, -5]", "from = [0, 0, -30]");
+    t += "[[sphere]]\nname = \"huge\"\ncenter = [0, 0, 1000000010]\nradius = 1e9\n";
+    for _ in 0..5_000 {
+        t += &format!(
+            "[[sphere]]\ncenter = {}\nradius = 0.1\n",
+            fmt(r.vec(-10.0, 10.0))
+        );
+    }
+    let scene = load_str(&t, "huge.toml", None).unwrap();
+    let grid = Grid::build(&scene);
+    assert!(
+        (grid.max - grid.min).max_element() < 25.0,
+        "the grid spans the small spheres only: {:?} to {:?}",
+        grid.min,
+        grid.max
+    );
+    assert_eq!(grid.outside(), &[0], "the huge sphere is tested first");
+    // Primitive tests per ray, counted by the observer, against brute force's 5,001.
+    let mut rays = vec![];
+    for _ in 0..200 {
+        let o = Vec3::new(0.0, 0.0, -30.0);
+        rays.push(Ray::infinite(o, r.vec(-10.0, 10.0) - o).unwrap());
+    }
+    let mut counted = Counter::default();
+    for ray in &rays {
+        let a = BruteForce.closest(&scene, ray, &mut Silent);
+        let b = grid.closest(&scene, ray, &mut counted);
+        assert_eq!(a, b, "{ray:?}");
+        assert_eq!(
+            BruteForce.any(&scene, ray, &mut Silent).is_some(),
+            grid.any(&scene, ray, &mut Silent).is_some(),
+            "{ray:?}"
+        );
+    }
+    let per_ray = counted.prim_tests as f64 / rays.len() as f64;
+    assert!(per_ray < 200.0, "{per_ray} primitive tests per ray");
+    same_as_brute_force(&scene, &[AccelChoice::Grid]);
+}
+
+/// A sphere that spans the scene stays in the grid when the rest do not fit a box half as wide:
+/// it is then not what made the grid big.
+#[test]
+fn a_spanning_sphere_stays_in_the_grid_when_the_rest_spread_as_wide() {
+    let mut t = String::from(CAMERA);
+    t += "[[sphere]]\ncenter = [0, 0, 0]\nradius = 2\n";
+    for c in ["[-1.9, -1.9, -1.9]", "[1.9, 1.9, 1.9]"] {
+        t += &format!("[[sphere]]\ncenter = {c}\nradius = 0.1\n");
+    }
+    let scene = load_str(&t, "wide.toml", None).unwrap();
+    let grid = Grid::build(&scene);
+    assert_eq!(grid.outside(), &[] as &[u32]);
+    same_as_brute_force(&scene, &[AccelChoice::Grid]);
+}
+
+/// Primitives that all span the whole scene (all at one point) are all tested first when there
+/// are more than 8 (no cell could leave any out), and stay in the grid when there are at most 8,
+/// so that a one-sphere scene still shows its walk.
+#[test]
+fn spanning_primitives_stay_in_the_grid_only_when_few() {
+    for n in [1, 8] {
+        let grid = Grid::build(&coincident(n, ""));
+        assert!(grid.outside().is_empty(), "{n}");
+        assert!(grid.references() >= n, "{n}");
+    }
+    for n in [9, 100] {
+        let scene = coincident(n, "");
+        let grid = Grid::build(&scene);
+        assert_eq!(grid.references(), 0, "{n}");
+        assert_eq!(grid.outside().len(), n);
+        same_as_brute_force(&scene, &[AccelChoice::Grid]);
+    }
 }
