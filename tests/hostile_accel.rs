@@ -1,16 +1,22 @@
-//! Degenerate scenes against the accelerators (issue 39's accelerator findings):
+//! Degenerate scenes against the accelerators, and corrupt grid and sphere-tree traces against
+//! the loader (issue 39's accelerator and trace findings):
 //!
 //! - primitives at one point: the BVH gathers them into one leaf (its build was quadratic and
 //!   its tree as deep as the primitives were many), so a trace of them loads back, and every
 //!   accelerator renders what brute force renders;
 //! - one huge sphere around many small ones: the grid keeps it outside, as it keeps the planes,
 //!   instead of growing to its size and crowding the rest into one cell; primitives that all
-//!   span the scene are all kept outside unless they are few.
+//!   span the scene are all kept outside unless they are few;
+//! - a cell step or a mailbox skip without a grid, a sphere-tree node outside a trace of the
+//!   sphere tree, a cell axis of 7, a bounding sphere of radius NaN or −1 and a cell corner at
+//!   ∞ are refused, the file and the field named.
 //!
 //! No test here is timed: the sizes are small enough that the old code is only slower, not
 //! hopeless, and each test asserts what the old code got wrong (a tree deeper than a trace may
-//! record, a trace refused, a grid the size of the huge sphere). The depth cut of a deeper tree
-//! is tested in `src/accel/bvh/build.rs`, the grid's mailbox in `src/accel/grid.rs`.
+//! record, a trace refused, a grid the size of the huge sphere, a planted field accepted). The
+//! slice's sample of a planted walk of thousands of cells is tested in
+//! `src/diagram/slice/draw_objects.rs`, the depth cut of a deeper tree in
+//! `src/accel/bvh/build.rs`, the grid's mailbox in `src/accel/grid.rs`.
 
 use assert_cmd::Command;
 use glam::Vec3;
@@ -18,9 +24,11 @@ use raystep::PreparedScene;
 use raystep::accel::{Accelerator, BruteForce, Bvh, Grid, SphereTree};
 use raystep::math::Ray;
 use raystep::record::validate::MAX_BVH_DEPTH;
-use raystep::record::{Counter, Silent, Step, Trace};
+use raystep::record::{Counter, Silent, Step, Trace, TraceError};
 use raystep::render::{RenderOptions, render};
-use raystep::scene::{AccelChoice, Scene, load_str};
+use raystep::scene::{AccelChoice, Scene, load_file, load_str};
+use serde_json::Value;
+use std::path::Path;
 
 #[path = "common/rng.rs"]
 mod rng;
@@ -320,4 +328,185 @@ fn spanning_primitives_stay_in_the_grid_only_when_few() {
         assert_eq!(grid.outside().len(), n);
         same_as_brute_force(&scene, &[AccelChoice::Grid]);
     }
+}
+
+fn mirror_glass(accel: AccelChoice) -> Trace {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mirror-glass.toml");
+    let mut scene = load_file(&path).unwrap();
+    scene.settings.accel = accel;
+    PreparedScene::new(scene).record(200, 150, 0)
+}
+
+fn json(t: &Trace) -> Value {
+    serde_json::from_str(&t.to_json()).unwrap()
+}
+
+/// The root ray's steps, mutable.
+fn root_steps(v: &mut Value) -> &mut Vec<Value> {
+    v["root"]["steps"].as_array_mut().unwrap()
+}
+
+/// The error for a planted trace: an `Invalid` naming the file and `field`.
+fn refused(v: &Value, field: &str) -> String {
+    let Err(e) = Trace::from_json(&v.to_string(), "planted.json") else {
+        panic!("the trace with `{field}` planted is accepted");
+    };
+    let text = e.to_string();
+    assert!(matches!(e, TraceError::Invalid { .. }), "{text}");
+    assert!(
+        text.starts_with(&format!("planted.json: field `{field}`: ")),
+        "names `{field}`: {text}"
+    );
+    text
+}
+
+/// The index of the first root step of type `ty`.
+fn first(v: &mut Value, ty: &str) -> usize {
+    root_steps(v)
+        .iter()
+        .position(|s| s["type"] == ty)
+        .unwrap_or_else(|| panic!("a {ty} step"))
+}
+
+/// The unplanted traces load back, with each accelerator.
+#[test]
+fn traces_of_every_accelerator_load_back() {
+    for accel in [
+        AccelChoice::None,
+        AccelChoice::Bvh,
+        AccelChoice::Spheres,
+        AccelChoice::Grid,
+    ] {
+        let t = mirror_glass(accel);
+        let back =
+            Trace::from_json(&t.to_json(), "t.json").unwrap_or_else(|e| panic!("{accel:?}: {e}"));
+        assert_eq!(back, t);
+    }
+}
+
+#[test]
+fn cell_steps_without_a_grid_header_are_refused() {
+    let mut v = json(&mirror_glass(AccelChoice::Grid));
+    let k = first(&mut v, "cell");
+    v.as_object_mut().unwrap().remove("grid");
+    let text = refused(&v, &format!("root.steps[{k}]"));
+    assert!(text.contains("no `grid` header"), "{text}");
+}
+
+#[test]
+fn a_mailbox_skip_without_a_grid_header_is_refused() {
+    let mut v = json(&mirror_glass(AccelChoice::None));
+    let object = v["objects"][0]["id"].clone();
+    let skip = serde_json::json!({
+        "stage": "traversal",
+        "type": "mailbox-skip",
+        "object": object,
+        "name": "planted",
+    });
+    // Check the planted step is well-formed: with a grid header it loads.
+    let mut with_grid = v.clone();
+    let grid = json(&mirror_glass(AccelChoice::Grid))["grid"].clone();
+    with_grid["grid"] = grid;
+    root_steps(&mut with_grid).insert(0, skip.clone());
+    Trace::from_json(&with_grid.to_string(), "planted.json")
+        .expect("a mailbox skip in a trace with a grid header loads");
+    root_steps(&mut v).insert(0, skip);
+    let text = refused(&v, "root.steps[0]");
+    assert!(text.contains("no `grid` header"), "{text}");
+}
+
+#[test]
+fn sphere_tree_nodes_outside_a_trace_of_the_sphere_tree_are_refused() {
+    let mut spheres = json(&mirror_glass(AccelChoice::Spheres));
+    let k = first(&mut spheres, "sphere-node");
+    let node = root_steps(&mut spheres)[k].clone();
+    for (accel, says) in [
+        (AccelChoice::Grid, "grid"),
+        (AccelChoice::Bvh, "BVH"),
+        (AccelChoice::None, "none"),
+    ] {
+        let mut v = json(&mirror_glass(accel));
+        root_steps(&mut v).insert(0, node.clone());
+        let text = refused(&v, "root.steps[0]");
+        assert!(text.contains(says), "{accel:?}: {text}");
+    }
+}
+
+#[test]
+fn a_bvh_node_in_a_grid_trace_is_refused() {
+    let mut bvh = json(&mirror_glass(AccelChoice::Bvh));
+    let k = first(&mut bvh, "node");
+    let node = root_steps(&mut bvh)[k].clone();
+    let mut v = json(&mirror_glass(AccelChoice::Grid));
+    v["bvh"] = bvh["bvh"].clone();
+    root_steps(&mut v).insert(0, node);
+    let text = refused(&v, "root.steps[0]");
+    assert!(
+        text.contains("a BVH node in a trace of the uniform grid"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_cell_axis_of_seven_is_refused() {
+    let mut v = json(&mirror_glass(AccelChoice::Grid));
+    let k = root_steps(&mut v)
+        .iter()
+        .position(|s| s["type"] == "cell" && s.get("axis").is_some())
+        .expect("a cell entered along an axis");
+    root_steps(&mut v)[k]["axis"] = 7.into();
+    let text = refused(&v, &format!("root.steps[{k}].axis"));
+    assert!(
+        text.ends_with("must be 0, 1 or 2 (x, y, z), got 7"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_bounding_sphere_of_radius_nan_or_minus_one_is_refused() {
+    for (radius, got) in [
+        (Value::from("nan"), "got NaN"),
+        (Value::from(-1.0), "got -1"),
+    ] {
+        let mut v = json(&mirror_glass(AccelChoice::Spheres));
+        let k = first(&mut v, "sphere-node");
+        root_steps(&mut v)[k]["radius"] = radius.clone();
+        let text = refused(&v, &format!("root.steps[{k}].radius"));
+        assert!(text.ends_with(got), "{radius}: {text}");
+    }
+}
+
+#[test]
+fn a_bounding_sphere_centre_at_infinity_is_refused() {
+    let mut v = json(&mirror_glass(AccelChoice::Spheres));
+    let k = first(&mut v, "sphere-node");
+    root_steps(&mut v)[k]["center"][1] = "-inf".into();
+    refused(&v, &format!("root.steps[{k}].center"));
+}
+
+#[test]
+fn a_cell_corner_at_infinity_is_refused() {
+    for corner in ["min", "max"] {
+        let mut v = json(&mirror_glass(AccelChoice::Grid));
+        let k = first(&mut v, "cell");
+        root_steps(&mut v)[k][corner][0] = "inf".into();
+        refused(&v, &format!("root.steps[{k}].{corner}"));
+    }
+    // A max below the min.
+    let mut v = json(&mirror_glass(AccelChoice::Grid));
+    let k = first(&mut v, "cell");
+    let below = v["root"]["steps"][k]["min"][1].as_f64().unwrap() - 1.0;
+    root_steps(&mut v)[k]["max"][1] = below.into();
+    let text = refused(&v, &format!("root.steps[{k}].max"));
+    assert!(text.contains("must not be below the cell's min"), "{text}");
+}
+
+#[test]
+fn a_cell_outside_the_grid_is_refused() {
+    let mut v = json(&mirror_glass(AccelChoice::Grid));
+    let k = first(&mut v, "cell");
+    let cells = v["grid"]["cells"][2].clone();
+    root_steps(&mut v)[k]["cell"][2] = cells;
+    let text = refused(&v, &format!("root.steps[{k}].cell"));
+    assert!(text.contains("outside the grid"), "{text}");
 }
