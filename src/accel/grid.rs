@@ -21,7 +21,9 @@
 //!   again where it is reached, so its hit is accepted in the right cell.
 //!
 //! Infinite planes stay outside the grid, as with the BVH: they are tested first and their hit
-//! tightens t_max.
+//! tightens t_max. So do finite primitives that span most of the grid when the rest fit a far
+//! smaller box (a sphere of radius 10⁹ around a scene): listed, they would make the grid as big
+//! as themselves and crowd every other primitive into a few cells.
 //!
 //! Resolution: Cleary & Wyvill's heuristic, cells per axis ∝ the box's extent so that the grid
 //! holds about λ·N cells for N primitives, i.e. λ^(1/3)·N^(1/3) per axis on a cube. λ =
@@ -41,6 +43,7 @@ use crate::scene::Scene;
 use crate::shapes::aabb::slab_robust;
 use glam::Vec3;
 use smallvec::SmallVec;
+use std::collections::HashSet;
 
 /// Cells per primitive (λ): the grid holds about λ·N cells for N finite primitives.
 pub const GRID_LAMBDA: f32 = 4.0;
@@ -66,8 +69,9 @@ pub struct Grid {
     starts: Vec<u32>,
     /// The primitives of every cell, ascending object ids within a cell.
     lists: Vec<u32>,
-    /// Infinite planes, tested first.
-    planes: Vec<u32>,
+    /// Infinite planes and the primitives that span the grid (see `keep_out_spanning`), tested
+    /// first, in object order.
+    outside: Vec<u32>,
 }
 
 impl Grid {
@@ -79,19 +83,19 @@ impl Grid {
     /// Builds the grid with about `lambda` cells per primitive instead of [`GRID_LAMBDA`] (the
     /// `grid-lambda` bench sweeps it). A `lambda` that is not a positive number gives one cell.
     pub fn build_with_lambda(scene: &Scene, lambda: f32) -> Grid {
-        let mut planes = vec![];
+        let mut outside = vec![];
         let mut boxes = vec![];
         for (id, o) in scene.objects.iter().enumerate() {
             match shape_bounds(&o.shape) {
                 Some(b) => boxes.push((id as u32, b)),
-                None => planes.push(id as u32),
+                None => outside.push(id as u32),
             }
         }
-        let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for (_, (lo, hi)) in &boxes {
-            min = min.min(*lo);
-            max = max.max(*hi);
-        }
+        outside.extend(keep_out_spanning(&mut boxes));
+        // Tested first in object order.
+        outside.sort_unstable();
+        let (min, max) = bounds(&boxes);
+        let (mut min, mut max) = (min, max);
         if boxes.is_empty() {
             return Grid {
                 min: Vec3::ZERO,
@@ -100,7 +104,7 @@ impl Grid {
                 cell_size: Vec3::ONE,
                 starts: vec![0],
                 lists: vec![],
-                planes,
+                outside,
             };
         }
         // A flat scene (all primitives in one plane) still gets a grid one cell thick; the box
@@ -196,8 +200,14 @@ impl Grid {
             cell_size,
             starts,
             lists,
-            planes,
+            outside,
         }
+    }
+
+    /// The objects tested before the walk, in object order: the infinite planes and the
+    /// primitives kept out of the grid because they span most of it (see [`Grid::build`]).
+    pub fn outside(&self) -> &[u32] {
+        &self.outside
     }
 
     /// Cells in the grid.
@@ -212,7 +222,7 @@ impl Grid {
 
     /// Bytes the grid takes (cell starts and lists).
     pub fn memory(&self) -> usize {
-        (self.starts.len() + self.lists.len() + self.planes.len()) * 4
+        (self.starts.len() + self.lists.len() + self.outside.len()) * 4
     }
 
     /// The primitives cell (x, y, z) lists.
@@ -326,19 +336,108 @@ impl Grid {
     }
 }
 
+/// The box around `boxes` (an empty box, +∞ to −∞, when there are none).
+fn bounds(boxes: &[(u32, (Vec3, Vec3))]) -> (Vec3, Vec3) {
+    let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for (_, (lo, hi)) in boxes {
+        min = min.min(*lo);
+        max = max.max(*hi);
+    }
+    (min, max)
+}
+
+/// With this many primitives or fewer, primitives that all span the whole scene stay in the grid
+/// (its walk is then still there to see); beyond it they are all tested first, as brute force
+/// would, since no cell could leave any of them out (the BVH's [`super::AUTO_BVH_THRESHOLD`]:
+/// below it testing every primitive costs no more).
+pub const KEEP_SPANNING_UP_TO: usize = super::AUTO_BVH_THRESHOLD;
+
+/// Takes out of `boxes` the primitives whose box spans at least half of the grid's box along
+/// every axis, when the rest then fit a box at most half as wide along every axis: it is they
+/// that made the grid big, and listed in it they would crowd the rest into a few cells (one
+/// sphere of radius 10⁹ among 20,000 small ones put them all in one cell: every ray tested all
+/// of them, and 12 pixels took 45 s to trace where brute force took 5 ms). They are tested before the walk, as the infinite planes are, which
+/// gives the same hits (ties go to the lower id whatever the order). Repeated while the smaller
+/// box shows another such primitive (at most 8 rounds). When every primitive spans the box (all
+/// at one point), none is kept unless there are at most [`KEEP_SPANNING_UP_TO`]. Returns their
+/// ids.
+fn keep_out_spanning(boxes: &mut Vec<(u32, (Vec3, Vec3))>) -> Vec<u32> {
+    let mut out = vec![];
+    for _ in 0..8 {
+        let (min, max) = bounds(boxes);
+        let extent = max - min;
+        let spans = |(lo, hi): &(Vec3, Vec3)| (*hi - *lo).cmpge(extent * 0.5).all();
+        let rest: Vec<(u32, (Vec3, Vec3))> =
+            boxes.iter().filter(|(_, b)| !spans(b)).copied().collect();
+        if rest.len() == boxes.len() {
+            break;
+        }
+        if rest.is_empty() {
+            if boxes.len() > KEEP_SPANNING_UP_TO {
+                out.extend(boxes.drain(..).map(|(id, _)| id));
+            }
+            break;
+        }
+        let (rmin, rmax) = bounds(&rest);
+        if !(rmax - rmin).cmple(extent * 0.5).all() {
+            break;
+        }
+        out.extend(boxes.iter().filter(|(_, b)| spans(b)).map(|(id, _)| *id));
+        *boxes = rest;
+    }
+    out
+}
+
+/// The grid's mailbox: the primitives a ray has already tested (and missed) in earlier cells.
+/// A short list searched in turn while it holds at most [`MAILBOX_LIST`] (the usual case, on the
+/// machine stack); beyond that a hash set, so that thousands of primitives listed in the same
+/// cells (a cluster of coincident ones) cost a lookup each rather than a pass over all the
+/// others.
+#[derive(Default)]
+struct Mailbox {
+    few: SmallVec<[u32; MAILBOX_LIST]>,
+    many: Option<HashSet<u32>>,
+}
+
+/// The most primitives the mailbox keeps as a list (see `Mailbox`).
+const MAILBOX_LIST: usize = 32;
+
+impl Mailbox {
+    #[inline(always)]
+    fn contains(&self, id: u32) -> bool {
+        match &self.many {
+            None => self.few.contains(&id),
+            Some(s) => s.contains(&id),
+        }
+    }
+
+    #[inline(always)]
+    fn insert(&mut self, id: u32) {
+        if let Some(s) = &mut self.many {
+            s.insert(id);
+        } else if self.few.len() < MAILBOX_LIST {
+            self.few.push(id);
+        } else {
+            let mut s: HashSet<u32> = self.few.drain(..).collect();
+            s.insert(id);
+            self.many = Some(s);
+        }
+    }
+}
+
 impl Accelerator for Grid {
     #[inline]
     fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
         let mut best: Option<Hit> = None;
-        closest_of(scene, &self.planes, &mut r, &mut best, obs);
+        closest_of(scene, &self.outside, &mut r, &mut best, obs);
         // Primitives already tested and missed (the mailbox).
-        let mut missed: SmallVec<[u32; 32]> = SmallVec::new();
+        let mut missed = Mailbox::default();
         self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, last, r| {
             let list = grid.cell(cell);
             obs.accel_visit(|| grid.cell_step(cell, t_entry, t_exit, axis));
             for &id in list {
-                if missed.contains(&id) {
+                if missed.contains(id) {
                     obs.step(|| Step::MailboxSkip {
                         object: id,
                         name: scene.object_name(id),
@@ -354,7 +453,7 @@ impl Accelerator for Grid {
                     }
                     // Beyond this cell: tested again where the ray reaches it.
                     Some(_) => {}
-                    None => missed.push(id),
+                    None => missed.insert(id),
                 }
             }
             // Done once the nearest hit lies in this cell.
@@ -365,17 +464,17 @@ impl Accelerator for Grid {
 
     #[inline]
     fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
-        if let Some(h) = any_of(scene, &self.planes, ray, obs) {
+        if let Some(h) = any_of(scene, &self.outside, ray, obs) {
             return Some(h);
         }
         let mut found = None;
-        let mut tested: SmallVec<[u32; 32]> = SmallVec::new();
+        let mut tested = Mailbox::default();
         let mut r = *ray;
         self.walk(&mut r, |grid, cell, t_entry, t_exit, axis, _, r| {
             let list = grid.cell(cell);
             obs.accel_visit(|| grid.cell_step(cell, t_entry, t_exit, axis));
             for &id in list {
-                if tested.contains(&id) {
+                if tested.contains(id) {
                     obs.step(|| Step::MailboxSkip {
                         object: id,
                         name: scene.object_name(id),
@@ -386,7 +485,7 @@ impl Accelerator for Grid {
                 if !test_any(scene, id, r, &mut found, obs) {
                     return false;
                 }
-                tested.push(id);
+                tested.insert(id);
             }
             true
         });
@@ -397,11 +496,40 @@ impl Accelerator for Grid {
         "uniform grid"
     }
 
+    /// None for a grid of no cells (every primitive tested first: planes only, or primitives
+    /// that all span the scene), whose walk records no cell: a trace records (and the loader
+    /// accepts) a grid of 1 to 256 cells per axis.
     fn grid_outline(&self) -> Option<crate::record::GridOutline> {
+        if self.dims.contains(&0) {
+            return None;
+        }
         Some(crate::record::GridOutline {
             min: self.min.to_array(),
             max: self.max.to_array(),
             cells: self.dims,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_mailbox_turns_into_a_hash_set_past_its_list_and_forgets_nothing() {
+        let mut m = Mailbox::default();
+        // Odd ids in, up to 999: the list fills at 32, then the set holds them all.
+        for (k, id) in (1..1000).step_by(2).enumerate() {
+            m.insert(id);
+            assert_eq!(
+                m.many.is_some(),
+                k + 1 > MAILBOX_LIST,
+                "after {} ids",
+                k + 1
+            );
+        }
+        assert!((1..1000).step_by(2).all(|id| m.contains(id)));
+        assert!(!(0..1000).step_by(2).any(|id| m.contains(id)));
+        assert!(!m.contains(1001));
     }
 }

@@ -47,7 +47,8 @@ pub trait Accelerator: Sync {
     fn outline(&self, _depth: u32) -> Option<Vec<crate::record::OutlineNode>> {
         None
     }
-    /// The uniform grid's box and cell counts, for diagrams (None: not a grid).
+    /// The uniform grid's box and cell counts, for diagrams (None: not a grid, or a grid of no
+    /// cells).
     fn grid_outline(&self) -> Option<crate::record::GridOutline> {
         None
     }

@@ -5,13 +5,14 @@
 //! size. Every error names the field by its JSON path (`root.children[0].steps[3].test.form.axis`).
 
 use crate::record::observer::MAX_TRACE_STEPS;
-use crate::record::{NodeVisit, RayKind, RayRecord, Step, Trace};
-use crate::scene::Shape;
+use crate::record::{GridOutline, NodeVisit, RayKind, RayRecord, Step, Trace};
+use crate::scene::{AccelChoice, Shape};
 use crate::shapes::PlaneForm;
 use std::collections::BTreeMap;
 
-/// The deepest BVH node a trace may mention (root = 0). Far beyond any tree the builder makes for
-/// a scene raystep loads; it bounds the diagram's walk down the tree.
+/// The deepest BVH node a trace may mention (root = 0), and the deepest the BVH builder makes
+/// (it cuts a deeper tree here, see [`crate::accel::Bvh::build`]), so that every trace raystep
+/// saves loads back. It bounds the diagram's walk down the tree.
 pub const MAX_BVH_DEPTH: u32 = 256;
 /// The largest `max_depth` a scene (and so a trace) may have.
 pub const MAX_RECURSION_DEPTH: u32 = 64;
@@ -44,6 +45,13 @@ fn finite(field: &str, v: &[f32]) -> Check {
     } else {
         bad(field, format!("must be finite numbers, got {v:?}"))
     }
+}
+
+/// An accelerator's name as a scene file and a trace spell it (`grid`, `spheres`).
+fn accel_name(a: AccelChoice) -> String {
+    use clap::ValueEnum;
+    a.to_possible_value()
+        .map_or_else(|| format!("{a:?}"), |v| v.get_name().to_string())
 }
 
 fn unit_range(field: &str, x: f32) -> Check {
@@ -236,7 +244,7 @@ struct Walk<'a> {
     truncated: usize,
 }
 
-impl Walk<'_> {
+impl<'a> Walk<'a> {
     fn object(&self, field: String, id: u32) -> Check {
         if self.trace.objects.iter().any(|o| o.id == id) {
             Ok(())
@@ -356,6 +364,15 @@ impl Walk<'_> {
         Ok(())
     }
 
+    /// The grid a cell step or a mailbox skip at `at` belongs to: the trace's `grid` header.
+    fn grid(&self, at: &str) -> Result<&'a GridOutline, Invalid> {
+        self.trace.grid.as_ref().ok_or_else(|| Invalid {
+            field: at.to_string(),
+            message: "a step of the uniform grid's walk, but the trace has no `grid` header"
+                .to_string(),
+        })
+    }
+
     fn visit(&mut self, at: &str, v: &NodeVisit) -> Check {
         self.node(at, v.node, v.depth, v.children, v.leaf)
     }
@@ -382,25 +399,85 @@ impl Walk<'_> {
                 );
             }
             match &s.step {
+                Step::Node(_) if self.trace.grid.is_some() => {
+                    return bad(
+                        sat,
+                        "a BVH node in a trace of the uniform grid (it has a `grid` header)",
+                    );
+                }
                 Step::Node(v) => self.visit(&sat, v)?,
                 // A sphere tree follows the BVH's rules: depth bounded, two distinct children.
                 Step::SphereNode {
                     node,
                     depth,
+                    center,
+                    radius,
                     children,
                     leaf,
                     ..
-                } => self.node(&sat, *node, *depth, *children, *leaf)?,
+                } => {
+                    if self.trace.grid.is_some() {
+                        return bad(
+                            sat,
+                            "a bounding-sphere node in a trace of the uniform grid (it has a `grid` header)",
+                        );
+                    }
+                    if self.trace.bvh.is_some() {
+                        return bad(
+                            sat,
+                            "a bounding-sphere node in a trace of the BVH (it has a `bvh` outline)",
+                        );
+                    }
+                    if self.trace.settings.accel != AccelChoice::Spheres {
+                        return bad(
+                            sat,
+                            format!(
+                                "a bounding-sphere node in a trace made with `settings.accel` = {}, not the sphere tree (spheres)",
+                                accel_name(self.trace.settings.accel)
+                            ),
+                        );
+                    }
+                    finite(&format!("{sat}.center"), center)?;
+                    if !(radius.is_finite() && *radius >= 0.0) {
+                        return bad(
+                            format!("{sat}.radius"),
+                            format!("must be a finite number, 0 or more, got {radius}"),
+                        );
+                    }
+                    self.node(&sat, *node, *depth, *children, *leaf)?
+                }
                 Step::MailboxSkip { object, .. } => {
+                    self.grid(&sat)?;
                     self.object(format!("{sat}.object"), *object)?
                 }
-                Step::Cell { cell, .. } => {
-                    if let Some(g) = &self.trace.grid
-                        && (0..3).any(|a| cell[a] >= g.cells[a])
-                    {
+                Step::Cell {
+                    cell,
+                    axis,
+                    min,
+                    max,
+                    ..
+                } => {
+                    let g = self.grid(&sat)?;
+                    if (0..3).any(|a| cell[a] >= g.cells[a]) {
                         return bad(
                             format!("{sat}.cell"),
                             format!("cell {cell:?} lies outside the grid's {:?} cells", g.cells),
+                        );
+                    }
+                    if let Some(a) = axis
+                        && *a > 2
+                    {
+                        return bad(
+                            format!("{sat}.axis"),
+                            format!("must be 0, 1 or 2 (x, y, z), got {a}"),
+                        );
+                    }
+                    finite(&format!("{sat}.min"), min)?;
+                    finite(&format!("{sat}.max"), max)?;
+                    if (0..3).any(|a| min[a] > max[a]) {
+                        return bad(
+                            format!("{sat}.max"),
+                            format!("must not be below the cell's min {min:?}, got {max:?}"),
                         );
                     }
                 }

@@ -5,10 +5,11 @@
 use super::tri4::{self, NO_PACK};
 use super::{Bvh, Node};
 use crate::record::OutlineNode;
+use crate::record::validate::MAX_BVH_DEPTH;
 use crate::scene::{BvhQuality, Scene, Shape};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::bvh2::{Bvh2, builder::build_bvh2};
+use obvhs::bvh2::{Bvh2, builder::build_bvh2, node::Bvh2Node};
 use obvhs::{Boundable, BvhBuildParams};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
@@ -16,6 +17,7 @@ use std::time::{Duration, Instant};
 /// How many levels of the tree the outline keeps (the ray tree diagram asks for at most this).
 const OUTLINE_DEPTH: u32 = 6;
 
+#[derive(Clone, Copy)]
 struct PrimBox(Aabb);
 
 impl Boundable for PrimBox {
@@ -61,7 +63,8 @@ fn build_params(quality: BvhQuality) -> BvhBuildParams {
 
 impl Bvh {
     /// Builds the tree over the scene's finite objects with the obvhs preset of the scene's
-    /// [`BvhQuality`].
+    /// [`BvhQuality`]. Objects whose boxes share a centre end in one leaf (see `Coincident`),
+    /// and no node lies deeper than [`MAX_BVH_DEPTH`], the depth a trace may record.
     pub fn build(scene: &Scene) -> Bvh {
         let start = Instant::now();
         // Boxes, the tree's layout and the leaf-ordered shapes are computed in parallel on big
@@ -93,12 +96,24 @@ impl Bvh {
             (boxes, Some(finite))
         };
         let mut core = Duration::ZERO;
+        // Primitives whose boxes share a centre go to obvhs as one box (see `Coincident`).
+        let coincident = Coincident::find(&boxes);
         let bvh2 = if boxes.is_empty() {
             Bvh2::default()
+        } else if let Some(c) = &coincident {
+            let mut t = build_bvh2(
+                &c.boxes,
+                build_params(scene.settings.bvh_quality),
+                &mut core,
+            );
+            c.expand(&mut t);
+            t
         } else {
             build_bvh2(&boxes, build_params(scene.settings.bvh_quality), &mut core)
         };
         drop(boxes);
+        drop(coincident);
+        let bvh2 = cap_depth(bvh2, MAX_BVH_DEPTH);
         // Two independent halves, about as long as each other on a million triangles:
         // raystep's nodes in depth-first order (see `depth_first`) and the walks over them; the
         // leaf-ordered objects and shapes.
@@ -187,6 +202,276 @@ impl Bvh {
             .map(|n| area(n) / root_area * if n.is_leaf() { f64::from(n.count) } else { 1.0 })
             .sum()
     }
+}
+
+/// Primitives whose boxes have the same centre, gathered before obvhs builds: no split can
+/// separate them, so a top-down builder stops there and makes them one leaf. obvhs's builder
+/// (PLOC, bottom-up) instead pairs nodes by the area of their union, and between equal boxes
+/// every pairing ties: each node then picks the farthest candidate, only one pair per pass
+/// agrees, and the tree becomes a chain, built in quadratic time (20,000 spheres at one point:
+/// depth 19,992 and 22 s of build; 300 made a tree of depth 292, deeper than a trace may
+/// record). Each such group goes to obvhs as one box, the union of its members' boxes, and
+/// comes back as one leaf holding all of them (`expand`), as a top-down builder would leave it.
+/// Its members are tested one after the other, as brute force tests them (ties go to the lower
+/// id whatever the order, see [`crate::accel::tie_ray`]). Only runs of at least
+/// [`COINCIDENT_FROM`] are gathered: a shorter one costs obvhs nothing worth saving, and
+/// ordinary meshes have them (each of the SPD tetrahedra's four faces has the tetrahedron's box),
+/// whose trees, and so whose renders, stay as they were.
+struct Coincident {
+    /// One box per group, in the order of each group's first member (a lone primitive is a
+    /// group of one).
+    boxes: Vec<PrimBox>,
+    /// Group `g`'s members (indices into the boxes `find` was given, ascending) are
+    /// `members[starts[g]..starts[g + 1]]`.
+    starts: Vec<u32>,
+    members: Vec<u32>,
+}
+
+/// The fewest primitives with one centre that are gathered into one leaf (see `Coincident`):
+/// twice obvhs's most primitives per leaf at every quality, so a run shorter than this makes a
+/// chain of at most 15 levels, built in a few passes.
+const COINCIDENT_FROM: usize = 16;
+
+impl Coincident {
+    /// The groups of `boxes` with the same centre, or None when no [`COINCIDENT_FROM`] share one
+    /// (the usual case: then obvhs gets the boxes as they are). Centres are compared exactly, by
+    /// their bits (with −0 taken as +0). A digest pass rules most scenes out first (see
+    /// `may_have_run`); only then are all the centres sorted.
+    fn find(boxes: &[PrimBox]) -> Option<Coincident> {
+        if boxes.len() < COINCIDENT_FROM || !may_have_run(boxes) {
+            return None;
+        }
+        let key = centre_key;
+        let mut order: Vec<([u32; 3], u32)> = if boxes.len() >= PARALLEL_FROM {
+            boxes
+                .par_iter()
+                .enumerate()
+                .map(|(i, b)| (key(b), i as u32))
+                .collect()
+        } else {
+            boxes
+                .iter()
+                .enumerate()
+                .map(|(i, b)| (key(b), i as u32))
+                .collect()
+        };
+        if order.len() >= PARALLEL_FROM {
+            order.par_sort_unstable();
+        } else {
+            order.sort_unstable();
+        }
+        // Each primitive's leader: the lowest index with its centre (a run of equal centres is
+        // sorted by index, so its first entry) in a run of at least COINCIDENT_FROM; itself in
+        // a shorter one.
+        let mut lead: Vec<u32> = (0..boxes.len() as u32).collect();
+        let mut gathered = false;
+        for run in order.chunk_by(|a, b| a.0 == b.0) {
+            if run.len() < COINCIDENT_FROM {
+                continue;
+            }
+            gathered = true;
+            let leader = run.first().map_or(0, |r| r.1);
+            for &(_, me) in run {
+                lead[me as usize] = leader;
+            }
+        }
+        drop(order);
+        if !gathered {
+            return None;
+        }
+        // Groups numbered in the order of their leaders (a leader comes first in its group);
+        // then a counting sort of the members.
+        let mut number = vec![u32::MAX; boxes.len()];
+        let mut sizes: Vec<u32> = vec![];
+        for &l in &lead {
+            let n = &mut number[l as usize];
+            if *n == u32::MAX {
+                *n = sizes.len() as u32;
+                sizes.push(0);
+            }
+            sizes[*n as usize] += 1;
+        }
+        let mut starts = Vec::with_capacity(sizes.len() + 1);
+        starts.push(0u32);
+        for s in &sizes {
+            starts.push(starts[starts.len() - 1] + s);
+        }
+        let mut fill: Vec<u32> = starts[..sizes.len()].to_vec();
+        let mut members = vec![0u32; boxes.len()];
+        let mut unions = vec![Aabb::INVALID; sizes.len()];
+        for (i, b) in boxes.iter().enumerate() {
+            let g = number[lead[i] as usize] as usize;
+            members[fill[g] as usize] = i as u32;
+            fill[g] += 1;
+            unions[g] = unions[g].union(&b.0);
+        }
+        Some(Coincident {
+            boxes: unions.into_iter().map(PrimBox).collect(),
+            starts,
+            members,
+        })
+    }
+
+    /// Turns a tree built over the groups' boxes into one over the primitives: each leaf's
+    /// groups are replaced by their members (a leaf of one group of 20,000 holds 20,000).
+    fn expand(&self, tree: &mut Bvh2) {
+        let groups = std::mem::take(&mut tree.primitive_indices);
+        // Where each slot of the old list starts in the new one.
+        let mut at = Vec::with_capacity(groups.len() + 1);
+        let mut out = Vec::with_capacity(self.members.len());
+        for &g in &groups {
+            at.push(out.len() as u32);
+            let range = match (self.starts.get(g as usize), self.starts.get(g as usize + 1)) {
+                (Some(&a), Some(&b)) => a as usize..b as usize,
+                _ => 0..0,
+            };
+            out.extend_from_slice(self.members.get(range).unwrap_or_default());
+        }
+        at.push(out.len() as u32);
+        for n in tree.nodes.iter_mut().filter(|n| n.is_leaf()) {
+            let (a, b) = (
+                n.first_index as usize,
+                n.first_index as usize + n.prim_count as usize,
+            );
+            if let (Some(&a), Some(&b)) = (at.get(a), at.get(b)) {
+                n.first_index = a;
+                n.prim_count = b - a;
+            }
+        }
+        tree.primitive_indices = out;
+        tree.primitives_to_nodes.clear();
+    }
+}
+
+/// Whether `boxes` may hold [`COINCIDENT_FROM`] with one centre (false: surely not). A 64-bit
+/// digest of each centre (SplitMix64's finalizer mixes every bit of it in; equal centres have
+/// equal digests) is counted by its top bits, in about one slot per box; only a slot counting
+/// COINCIDENT_FROM can hold such a run, and only the digests in such slots are sorted to look
+/// for one. Usually no slot is that full and the answer costs two passes over the boxes; a
+/// mesh's short runs (the tetrahedra's faces, by four) fill a few slots. On the
+/// million-triangle tetrahedron (SPD tetra 9) this pass took 13–29 ms where sorting every centre
+/// took 188–421 ms (`raystep render` of it, dev profile, two cores, five alternated runs each).
+fn may_have_run(boxes: &[PrimBox]) -> bool {
+    let mix = |mut h: u64| {
+        h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        h = (h ^ (h >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        h ^ (h >> 31)
+    };
+    let digest = |b: &PrimBox| {
+        let [x, y, z] = centre_key(b);
+        mix(mix((u64::from(x) << 32) | u64::from(y)) ^ u64::from(z))
+    };
+    let digests = map_in_order(boxes, digest);
+    // At least one bit, at most 32: a slot per box, rounded up to a power of two.
+    let bits = boxes
+        .len()
+        .next_power_of_two()
+        .trailing_zeros()
+        .clamp(1, 32);
+    let slot = |d: u64| (d >> (64 - bits)) as usize;
+    let mut counts = vec![0u8; 1 << bits];
+    for &d in &digests {
+        if let Some(c) = counts.get_mut(slot(d)) {
+            *c = c.saturating_add(1);
+        }
+    }
+    let full = |d: u64| {
+        counts
+            .get(slot(d))
+            .is_some_and(|&c| usize::from(c) >= COINCIDENT_FROM)
+    };
+    let mut suspects: Vec<u64> = digests.into_iter().filter(|&d| full(d)).collect();
+    suspects.sort_unstable();
+    suspects
+        .chunk_by(|a, b| a == b)
+        .any(|run| run.len() >= COINCIDENT_FROM)
+}
+
+/// A box's centre (its min + max, −0 taken as +0) as bits, equal for equal centres.
+fn centre_key(b: &PrimBox) -> [u32; 3] {
+    let c = b.0.min + b.0.max + Vec3A::ZERO;
+    [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()]
+}
+
+/// `tree` with every inner node at depth `limit` made a leaf of all the primitives below it, so
+/// that no node lies deeper than `limit` (the depth a trace may record, [`MAX_BVH_DEPTH`]).
+/// Gathering coincident primitives (see `Coincident`) keeps obvhs's trees far shallower on every
+/// scene seen; this is the bound should some other arrangement of boxes still chain. A tree
+/// within the limit is returned as it is; a deeper one is rewritten, its nodes in depth-first
+/// order (children after their parent) and its leaves' primitives side by side.
+fn cap_depth(tree: Bvh2, limit: u32) -> Bvh2 {
+    let nodes = &tree.nodes;
+    let child = |n: &Bvh2Node, k: u32| nodes.get((n.first_index + k) as usize);
+    // The depth, without recursion.
+    let mut deepest = 0u32;
+    let mut stack = vec![(0usize, 0u32)];
+    while let Some((i, d)) = stack.pop() {
+        let Some(n) = nodes.get(i) else { continue };
+        deepest = deepest.max(d);
+        if deepest > limit {
+            break;
+        }
+        if !n.is_leaf() {
+            stack.push((n.first_index as usize, d + 1));
+            stack.push((n.first_index as usize + 1, d + 1));
+        }
+    }
+    if deepest <= limit {
+        return tree;
+    }
+    let prims = &tree.primitive_indices;
+    let leaf_prims = |n: &Bvh2Node| {
+        prims
+            .get(n.first_index as usize..n.first_index as usize + n.prim_count as usize)
+            .unwrap_or_default()
+    };
+    let mut out_nodes: Vec<Bvh2Node> = Vec::with_capacity(nodes.len());
+    let mut out_prims: Vec<u32> = Vec::with_capacity(prims.len());
+    // (old index, new index, depth): the new node is already placed, its fields to be set.
+    let mut todo = vec![(0usize, 0usize, 0u32)];
+    out_nodes.push(nodes.first().copied().unwrap_or_default());
+    while let Some((old, new, depth)) = todo.pop() {
+        let Some(n) = nodes.get(old) else { continue };
+        let first_prim = out_prims.len() as u32;
+        if n.is_leaf() {
+            out_prims.extend_from_slice(leaf_prims(n));
+        } else if depth >= limit {
+            // Every primitive below, in the subtree's own order.
+            let mut below = vec![old];
+            while let Some(j) = below.pop() {
+                let Some(m) = nodes.get(j) else { continue };
+                if m.is_leaf() {
+                    out_prims.extend_from_slice(leaf_prims(m));
+                } else {
+                    below.push(m.first_index as usize + 1);
+                    below.push(m.first_index as usize);
+                }
+            }
+        } else if let (Some(_), Some(_)) = (child(n, 0), child(n, 1)) {
+            let at = out_nodes.len();
+            out_nodes.push(Bvh2Node::default());
+            out_nodes.push(Bvh2Node::default());
+            if let Some(p) = out_nodes.get_mut(new) {
+                *p = Bvh2Node::new(*n.aabb(), 0, at as u32);
+            }
+            todo.push((n.first_index as usize + 1, at + 1, depth + 1));
+            todo.push((n.first_index as usize, at, depth + 1));
+            continue;
+        }
+        let count = out_prims.len() as u32 - first_prim;
+        if let Some(p) = out_nodes.get_mut(new) {
+            *p = Bvh2Node::new(*n.aabb(), count, first_prim);
+        }
+    }
+    let mut capped = Bvh2 {
+        nodes: out_nodes,
+        primitive_indices: out_prims,
+        ..Bvh2::default()
+    };
+    capped.uses_spatial_splits = tree.uses_spatial_splits;
+    capped.max_depth = tree.max_depth;
+    capped.children_are_ordered_after_parents = true;
+    capped
 }
 
 /// From this many bytes of nodes a tree is prefetched as it is walked. Measured with `raystep
@@ -322,4 +607,112 @@ fn compute_outline(nodes: &[Node], depth: u32) -> Vec<OutlineNode> {
     }
     out.sort_by_key(|n| n.node);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain of `n` leaves, each inner node's second child the next inner node: depth n − 1,
+    /// leaf k holding primitive k.
+    fn chain(n: u32) -> Bvh2 {
+        let b = |k: u32| Aabb::new(Vec3A::splat(k as f32), Vec3A::splat(n as f32));
+        let mut nodes = vec![Bvh2Node::new(b(0), 0, 1)];
+        for k in 0..n - 1 {
+            let first = nodes.len() as u32;
+            // Children at first (a leaf: primitive k) and first + 1 (the rest of the chain).
+            nodes.push(Bvh2Node::new(b(k), 1, k));
+            if k + 2 == n {
+                nodes.push(Bvh2Node::new(b(k + 1), 1, k + 1));
+            } else {
+                nodes.push(Bvh2Node::new(b(k + 1), 0, first + 2));
+            }
+        }
+        Bvh2 {
+            nodes,
+            primitive_indices: (0..n).rev().collect(),
+            ..Bvh2::default()
+        }
+    }
+
+    /// Every node's depth and every primitive reached, walking from the root.
+    fn walk(t: &Bvh2) -> (u32, Vec<u32>) {
+        let (mut deepest, mut prims) = (0, vec![]);
+        let mut stack = vec![(0usize, 0u32)];
+        while let Some((i, d)) = stack.pop() {
+            let n = t.nodes[i];
+            deepest = deepest.max(d);
+            if n.is_leaf() {
+                let r = n.first_index as usize..(n.first_index + n.prim_count) as usize;
+                prims.extend_from_slice(&t.primitive_indices[r]);
+            } else {
+                stack.push((n.first_index as usize, d + 1));
+                stack.push((n.first_index as usize + 1, d + 1));
+            }
+        }
+        prims.sort_unstable();
+        (deepest, prims)
+    }
+
+    #[test]
+    fn a_tree_deeper_than_the_limit_is_cut_there_and_keeps_every_primitive() {
+        let t = chain(300);
+        assert_eq!(walk(&t).0, 299);
+        let capped = cap_depth(t.clone(), 256);
+        let (depth, prims) = walk(&capped);
+        assert_eq!(depth, 256);
+        assert_eq!(prims, (0..300).collect::<Vec<u32>>());
+        // The inner node at the cut holds the 300 − 256 primitives below it, in one leaf.
+        let leaves: Vec<u32> = capped
+            .nodes
+            .iter()
+            .filter(|n| n.is_leaf())
+            .map(|n| n.prim_count)
+            .collect();
+        assert_eq!(leaves.iter().max(), Some(&44));
+        // Within the limit: unchanged.
+        let short = chain(200);
+        let same = cap_depth(short.clone(), 256);
+        assert_eq!(same.nodes.len(), short.nodes.len());
+        assert_eq!(same.primitive_indices, short.primitive_indices);
+    }
+
+    #[test]
+    fn boxes_with_one_centre_become_one_group() {
+        let cube = |c: f32, r: f32| PrimBox(Aabb::new(Vec3A::splat(c - r), Vec3A::splat(c + r)));
+        // Distinct centres, or fewer than 16 at one: nothing to gather.
+        assert!(Coincident::find(&[cube(0.0, 1.0), cube(1.0, 1.0)]).is_none());
+        assert!(Coincident::find(&vec![cube(0.0, 1.0); COINCIDENT_FROM - 1]).is_none());
+        // Sixteen at 0 (one larger), one at 5 and fifteen at 7 (kept apart), the rest at 0.
+        let mut boxes = vec![cube(0.0, 1.0), cube(5.0, 1.0), cube(0.0, 2.0)];
+        boxes.extend(vec![cube(7.0, 1.0); 15]);
+        boxes.extend(vec![cube(0.0, 1.0); 14]);
+        let g = Coincident::find(&boxes).expect("sixteen share a centre");
+        assert_eq!(g.boxes.len(), 1 + 1 + 15);
+        let at_zero: Vec<u32> = [0, 2].into_iter().chain(18..32).collect();
+        assert_eq!(&g.members[..16], &at_zero[..]);
+        assert_eq!(&g.starts[..3], &[0, 16, 17]);
+        let apart: Vec<u32> = [1].into_iter().chain(3..18).collect();
+        assert_eq!(&g.members[16..], &apart[..]);
+        assert_eq!(g.boxes[0].0, cube(0.0, 2.0).0);
+        assert_eq!(g.boxes[1].0, cube(5.0, 1.0).0);
+        // A tree over the groups: a leaf of group 1 (one primitive), then a leaf of group 0
+        // (sixteen) and group 2 (one); expanded, the leaves hold 1 and 17 primitives.
+        let mut t = Bvh2 {
+            nodes: vec![
+                Bvh2Node::new(cube(2.0, 6.0).0, 0, 1),
+                Bvh2Node::new(g.boxes[1].0, 1, 0),
+                Bvh2Node::new(g.boxes[0].0.union(&g.boxes[2].0), 2, 1),
+            ],
+            primitive_indices: vec![1, 0, 2],
+            ..Bvh2::default()
+        };
+        g.expand(&mut t);
+        let mut want = vec![1];
+        want.extend(&at_zero);
+        want.push(3);
+        assert_eq!(t.primitive_indices, want);
+        assert_eq!((t.nodes[1].first_index, t.nodes[1].prim_count), (0, 1));
+        assert_eq!((t.nodes[2].first_index, t.nodes[2].prim_count), (1, 17));
+    }
 }

@@ -50,7 +50,9 @@ impl Drawer<'_, '_> {
                 format!("{}", n + 1)
             };
             let tcol = if culled { self.c.theme.muted } else { col };
-            self.label(corner, text, tcol, &[SE, E, S, NE]);
+            if shown_of(n + 1, visits.len()) || is_focus {
+                self.label(corner, text, tcol, &[SE, E, S, NE]);
+            }
         }
     }
 
@@ -92,6 +94,12 @@ impl Drawer<'_, '_> {
         let ray = self.info.rays[i].ray;
         let focus_step = self.info.focused_step();
         let mut cells = 0;
+        let total_cells = ray
+            .steps
+            .iter()
+            .enumerate()
+            .filter(|(j, s)| matches!(s.step, Step::Cell { .. }) && self.info.shown(i, *j))
+            .count();
         for (j, s) in ray.steps.iter().enumerate() {
             if !self.info.shown(i, j) {
                 continue;
@@ -101,6 +109,9 @@ impl Drawer<'_, '_> {
             match &s.step {
                 Step::Cell { min, max, .. } => {
                     cells += 1;
+                    if !(shown_of(cells, total_cells) || is_focus) {
+                        continue;
+                    }
                     let (poly, cut) = box_outline(self.lay, v3(*min), v3(*max));
                     if poly.len() < 2 {
                         continue;
@@ -379,5 +390,139 @@ impl Drawer<'_, '_> {
         } else {
             Some((add(a, mul(d, 0.9)), vec![NE, SE, NW, SW]))
         }
+    }
+}
+
+/// The most grid cells of one ray the slice draws and numbers, and the most BVH boxes of one ray
+/// it numbers. A walk through raystep's grid crosses at most 3 × 256 − 2 = 766 cells (256 per
+/// axis, [`crate::record::validate::MAX_GRID_CELLS_PER_AXIS`]), so only a planted trace has more.
+/// Each number is placed clear of the ones before it, a pass over them all, and each cell drawn
+/// fills its pixels again: drawing and numbering every cell of a planted walk of 99,000 took 13
+/// minutes (`raystep diagram --kind slice` of it, debug build; 3 s with this bound).
+pub(super) const MAX_SHOWN: usize = 1024;
+
+/// Whether the `n`th (from 1) of `total` cells or boxes is shown (drawn, for cells, and
+/// numbered): every one up to [`MAX_SHOWN`]; beyond, the first, the last and every k-th between,
+/// k chosen to show at most [`MAX_SHOWN`] + 1. (The focused one is shown whatever this says.)
+pub(super) fn shown_of(n: usize, total: usize) -> bool {
+    if total <= MAX_SHOWN {
+        return true;
+    }
+    let every = total.div_ceil(MAX_SHOWN - 1);
+    n == 1 || n == total || n.is_multiple_of(every)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::AccelChoice;
+
+    #[test]
+    fn a_long_walk_shows_a_bounded_sample_of_its_cells() {
+        // A real walk is shown whole.
+        assert!((1..=766).all(|n| shown_of(n, 766)));
+        for total in [MAX_SHOWN + 1, 5_000, 99_000, 100_000] {
+            let shown: Vec<usize> = (1..=total).filter(|&n| shown_of(n, total)).collect();
+            assert!(shown.len() <= MAX_SHOWN + 1, "{total}: {}", shown.len());
+            assert!(shown.len() >= MAX_SHOWN / 2, "{total}: {}", shown.len());
+            assert_eq!(shown.first(), Some(&1));
+            assert_eq!(shown.last(), Some(&total));
+        }
+    }
+
+    /// Mirror-glass's trace of its middle pixel with `accel`, the first step of `kind` of its
+    /// primary ray repeated so that the ray holds `extra` more of them (a planted trace: a walk
+    /// through raystep's grid crosses at most 766 cells). Returns the trace and how many steps
+    /// of that kind the primary ray holds.
+    fn planted(accel: AccelChoice, kind: &str, extra: usize) -> (Trace, usize) {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mirror-glass.toml");
+        let mut scene = crate::scene::load_file(&path).expect("the shipped scene loads");
+        scene.settings.accel = accel;
+        let mut trace = crate::PreparedScene::new(scene).record(200, 150, 0);
+        let is_kind = |s: &Step| match s {
+            Step::Cell { .. } => kind == "cell",
+            Step::Node(_) => kind == "node",
+            _ => false,
+        };
+        let steps = &mut trace.root.steps;
+        let k = steps
+            .iter()
+            .position(|s| is_kind(&s.step))
+            .expect("the primary ray has such a step");
+        let copy = steps[k].clone();
+        steps.splice(k..k, std::iter::repeat_n(copy, extra));
+        let count = steps.iter().filter(|s| is_kind(&s.step)).count();
+        (trace, count)
+    }
+
+    /// The numbers the slice places on `trace`'s BVH boxes and grid cells, focused on timeline
+    /// step `focus` (None: the whole trace).
+    fn numbers(trace: &Trace, focus: Option<usize>) -> Vec<String> {
+        let opts = ViewOptions {
+            width: 1200,
+            height: 900,
+            focus,
+            ..ViewOptions::default()
+        };
+        let mut c = Canvas::for_view(&opts);
+        let info = RayInfos::new(trace, opts.focus);
+        let lay = compute_layout(&c, trace, &opts, &info, 0.0);
+        let mut d = Drawer {
+            c: &mut c,
+            lay: &lay,
+            trace,
+            info: &info,
+            labels: vec![],
+            strokes: vec![],
+            u: 1.0,
+        };
+        d.boxes();
+        d.accel_visits();
+        d.labels.iter().map(|l| l.text.clone()).collect()
+    }
+
+    #[test]
+    fn a_planted_walk_of_five_thousand_cells_is_numbered_by_a_sample() {
+        let (trace, cells) = planted(AccelChoice::Grid, "cell", 5_000);
+        assert!(cells > 5_000);
+        let labels = numbers(&trace, None);
+        // Every number placed dodges those before it: numbering all of them was quadratic.
+        assert!(
+            (MAX_SHOWN / 2..=MAX_SHOWN + 1).contains(&labels.len()),
+            "{} numbers for {cells} cells",
+            labels.len()
+        );
+        let last = cells.to_string();
+        assert!(labels.iter().any(|l| l == "1") && labels.contains(&last));
+        // Focused on the 2,501st cell (it comes first in the walk, so at timeline step
+        // first + 2,500): it is numbered, and nothing after it is.
+        let first = trace
+            .root
+            .steps
+            .iter()
+            .position(|s| matches!(s.step, Step::Cell { .. }))
+            .unwrap();
+        let labels = numbers(&trace, Some(first + 2_500));
+        assert!(labels.len() <= MAX_SHOWN + 1, "{}", labels.len());
+        assert!(labels.iter().any(|l| l == "2501"), "{labels:?}");
+        assert!(!labels.iter().any(|l| l == "2502"));
+        // A real walk is numbered whole.
+        let (trace, cells) = planted(AccelChoice::Grid, "cell", 0);
+        assert_eq!(numbers(&trace, None).len(), cells);
+    }
+
+    #[test]
+    fn a_planted_ray_of_five_thousand_boxes_is_numbered_by_a_sample() {
+        let (trace, boxes) = planted(AccelChoice::Bvh, "node", 5_000);
+        assert!(boxes > 5_000);
+        let labels = numbers(&trace, None);
+        assert!(
+            (MAX_SHOWN / 2..=MAX_SHOWN + 1).contains(&labels.len()),
+            "{} numbers for {boxes} boxes",
+            labels.len()
+        );
+        let (trace, boxes) = planted(AccelChoice::Bvh, "node", 0);
+        assert_eq!(numbers(&trace, None).len(), boxes);
     }
 }
