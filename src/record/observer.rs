@@ -113,9 +113,7 @@ impl Observer for Counter {
     }
 }
 
-/// The most steps a recorded trace keeps (about 40 MB of JSON). Beyond it the recorder stops
-/// with a [`Step::Truncated`] step; the tracing itself goes on, so colours stay exact.
-pub const MAX_TRACE_STEPS: usize = 100_000;
+pub use super::validate::MAX_TRACE_STEPS;
 
 /// Builds the trace tree, up to a step limit.
 #[derive(Debug)]

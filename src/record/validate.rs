@@ -4,7 +4,6 @@
 //! BVH outline being a tree, ranges and finite numbers where the readers rely on them, and the
 //! size. Every error names the field by its JSON path (`root.children[0].steps[3].test.form.axis`).
 
-use crate::record::observer::MAX_TRACE_STEPS;
 use crate::record::{GridOutline, NodeVisit, RayKind, RayRecord, Step, Trace};
 use crate::scene::{AccelChoice, Shape};
 use crate::shapes::PlaneForm;
@@ -14,6 +13,10 @@ use std::collections::BTreeMap;
 /// (it cuts a deeper tree here, see [`crate::accel::Bvh::build`]), so that every trace raystep
 /// saves loads back. It bounds the diagram's walk down the tree.
 pub const MAX_BVH_DEPTH: u32 = 256;
+/// The most steps a recorded trace keeps (about 40 MB of JSON), and so the most a loaded one may
+/// hold. Beyond it the recorder stops with a [`Step::Truncated`] step; the tracing itself goes
+/// on, so colours stay exact.
+pub const MAX_TRACE_STEPS: usize = 100_000;
 /// The largest `max_depth` a scene (and so a trace) may have.
 pub const MAX_RECURSION_DEPTH: u32 = 64;
 /// The most cells the uniform grid has along one axis (the builder's limit, and a trace's).

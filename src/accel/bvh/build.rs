@@ -2,6 +2,7 @@
 //! then raystep's layout — nodes in depth-first order, the leaf-ordered objects and shapes, the
 //! four-lane triangle packs, the outline the diagrams draw — and the tree's SAH cost.
 
+use super::parallel::{PARALLEL_FROM, map_in_order};
 use super::tri4::{self, NO_PACK};
 use super::{Bvh, Node};
 use crate::record::OutlineNode;
@@ -479,22 +480,6 @@ fn cap_depth(tree: Bvh2, limit: u32) -> Bvh2 {
 /// nodes) shadow rays 6–8 % faster, primary rays unchanged; on the mountain of 131,072 triangles
 /// (2.9 MB) and the sphereflake (0.2 MB), whose trees sit in the caches, 4–8 % slower.
 pub(super) const PREFETCH_FROM: usize = 16 << 20;
-
-/// From this many items the build's per-item steps run on rayon's threads; below it, starting
-/// them costs more than they save (a dozen-primitive tree took 30× longer to build in parallel).
-const PARALLEL_FROM: usize = 16_384;
-
-/// `items.iter().map(f).collect()`, in parallel for big slices (the order is kept either way).
-pub(super) fn map_in_order<T: Sync, U: Send>(
-    items: &[T],
-    f: impl Fn(&T) -> U + Sync + Send,
-) -> Vec<U> {
-    if items.len() >= PARALLEL_FROM {
-        items.par_iter().map(f).collect()
-    } else {
-        items.iter().map(f).collect()
-    }
-}
 
 /// obvhs's nodes as raystep's, in depth-first order with sibling pairs kept together: the
 /// root, then each pair followed by the pairs below its second node, then those below its first

@@ -71,6 +71,7 @@ impl Todo {
 
 mod build;
 mod leaf;
+mod parallel;
 mod ray_box;
 mod tri4;
 pub use build::shape_bounds;

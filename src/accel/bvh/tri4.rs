@@ -71,7 +71,7 @@ pub(super) fn pack_leaves(nodes: &mut [Node], shapes: &[Shape]) -> Vec<Tri4> {
                 .map(|k| (start + k, (count - k).min(4))),
         );
     }
-    super::build::map_in_order(&spans, |&(start, len)| {
+    super::parallel::map_in_order(&spans, |&(start, len)| {
         let leaf = shapes.get(start..start + len).unwrap_or_default();
         Tri4::pack(leaf.iter().filter_map(vertices))
     })

@@ -476,6 +476,9 @@ mod tests {
             labels: vec![],
             strokes: vec![],
             u: 1.0,
+            walls: vec![],
+            furniture: vec![],
+            texts: vec![],
         };
         d.boxes();
         d.accel_visits();
