@@ -1,7 +1,7 @@
 //! The scene editor beside the 3D view: undo, redo and save; the selected object's place, size
 //! and material; the lights. Every change is an [`EditCmd`] the state applies (and can undo).
 
-use super::picking::group_center;
+use super::group_center;
 use crate::app::actions::{self, Action};
 use crate::app::state::editing::EditCmd;
 use crate::app::state::{AppState, Command, SaveKind};

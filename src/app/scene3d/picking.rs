@@ -2,6 +2,7 @@
 //! raystep's own closest-hit search), the selected object's coloured x, y and z arrows drag it
 //! along an axis, and drags elsewhere orbit, pan and zoom the view.
 
+use super::group_center;
 use super::view::Scene3dView;
 use crate::accel::Accelerator;
 use crate::app::state::editing::EditCmd;
@@ -36,41 +37,6 @@ pub(super) struct Handles {
     /// The x, y and z arrows' tips on screen.
     pub(super) ends: [Pos2; 3],
     world_len: f32,
-}
-
-/// Where an object group is, for its handles: a sphere's centre, the mean of triangle vertices,
-/// a plane's point nearest the scene's centre.
-pub(super) fn group_center(scene: &Scene, group: u32) -> Option<Vec3> {
-    let g = scene.groups.get(group as usize)?;
-    let objs = scene
-        .objects
-        .get(g.first as usize..(g.first + g.count) as usize)?;
-    let mut sum = Vec3::ZERO;
-    let mut n = 0.0;
-    let b = geometry::bounds(scene);
-    for o in objs {
-        match o.shape {
-            Shape::Sphere { center, .. } => {
-                sum += center;
-                n += 1.0;
-            }
-            Shape::Triangle { p } => {
-                sum += p[0] + p[1] + p[2];
-                n += 3.0;
-            }
-            Shape::Plane { normal, offset } => {
-                sum += b.center - normal * (normal.dot(b.center) - offset);
-                n += 1.0;
-            }
-            Shape::AxisPlane { axis, offset } => {
-                let mut c = b.center;
-                c[axis.min(2)] = offset;
-                sum += c;
-                n += 1.0;
-            }
-        }
-    }
-    (n > 0.0).then(|| sum / n).filter(|c| c.is_finite())
 }
 
 const AXIS_COLORS: [Color32; 3] = [
