@@ -3,7 +3,6 @@
 //! silence, `view`'s memory and its stray Wayland message, and output to a full device.
 #![cfg(unix)]
 
-use assert_cmd::Command;
 use raystep::io::limits;
 use raystep::scene::MAX_OBJECTS;
 use raystep::scene::spd::{SpdScene, generate};
@@ -12,33 +11,9 @@ use std::os::unix::process::ExitStatusExt;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-fn raystep() -> Command {
-    Command::cargo_bin("raystep").expect("the raystep binary is built")
-}
-
-fn bin() -> PathBuf {
-    assert_cmd::cargo::cargo_bin("raystep")
-}
-
-/// A small scene (one sphere, one light) of the given size.
-fn scene(dir: &Path, width: u32, height: u32) -> PathBuf {
-    let p = dir.join("scene.toml");
-    std::fs::write(
-        &p,
-        format!(
-            "[camera]\nwidth = {width}\nheight = {height}\n\n[[light]]\nposition = [-10, 10, -10]\n\n\
-             [[sphere]]\nname = \"ball\"\n"
-        ),
-    )
-    .unwrap();
-    p
-}
-
-fn mkfifo(p: &Path) {
-    let c = std::ffi::CString::new(p.as_os_str().as_encoded_bytes()).unwrap();
-    // SAFETY: a valid NUL-terminated path; mkfifo only creates a file.
-    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0, "mkfifo");
-}
+#[path = "common/hostile.rs"]
+mod hostile;
+use hostile::{bin, mkfifo, raystep, scene};
 
 /// Every file and folder under `dir`, relative to it, sorted.
 fn tree(dir: &Path) -> Vec<String> {
