@@ -1,4 +1,4 @@
-// ---- intersection: ray–sphere, the seeds' textbook quadratic (src/shapes/sphere.rs) ----
+// ---- intersection: ray–sphere, the course notes' textbook quadratic (docs/SOURCES.md) (src/shapes/sphere.rs) ----
 
 fn intersect_sphere(r: Ray, center: vec3f, radius: f32) -> Cand {
     let f = r.origin - center;

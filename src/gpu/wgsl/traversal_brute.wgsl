@@ -1,4 +1,4 @@
-// ---- traversal: the seeds' naive loop over every object (src/accel/brute.rs) ----
+// ---- traversal: the lecture notes' naive loop (docs/SOURCES.md) over every object (src/accel/brute.rs) ----
 
 fn brute_closest(ray: Ray) -> Hit {
     var r = ray;
