@@ -318,21 +318,9 @@ fn strip_text_size(c: &Canvas, method: TriangleMethod, width: f32, small: f32) -
 /// The diagram's titles, longest first ([`super::test_titles`]): the object and ray, the
 /// step's number and which ray–triangle test of the trace it is.
 pub fn titles(trace: &Trace, l: &BarycentricLayout) -> Vec<String> {
-    let tl = trace.timeline();
-    let is_test = |s: &Step| matches!(s, Step::Triangle { .. });
-    let tests = tl.iter().filter(|(_, s)| is_test(&s.step)).count();
-    let nth = tl[..=l.step.min(tl.len().saturating_sub(1))]
-        .iter()
-        .filter(|(_, s)| is_test(&s.step))
-        .count();
-    super::test_titles(
-        "Barycentric",
-        &l.name,
-        &l.ray,
-        l.step,
-        tl.len(),
-        (nth, tests),
-    )
+    super::test_titles(trace, "Barycentric", &l.name, &l.ray, l.step, |s| {
+        matches!(s, Step::Triangle { .. })
+    })
 }
 
 /// Draws the diagram.

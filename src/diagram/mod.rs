@@ -277,16 +277,24 @@ pub fn title_first_fitting(c: &mut Canvas, titles: &[String]) -> f32 {
 /// step bar, the step's number as the app, `raystep trace` and `--step` count it and which test
 /// of the trace it is (the `nth` of `tests`); then without the test's count; then the object
 /// and ray alone.
+/// Which test of the trace step `step` is: the tests are the timeline's steps `is_test` picks.
 pub fn test_titles(
+    trace: &Trace,
     kind: &str,
     object: &str,
     ray: &str,
     step: usize,
-    trace_len: usize,
-    (nth, tests): (usize, usize),
+    is_test: impl Fn(&Step) -> bool,
 ) -> Vec<String> {
+    let tl = trace.timeline();
+    let tests = tl.iter().filter(|(_, s)| is_test(&s.step)).count();
+    let nth = tl
+        .iter()
+        .take(step.saturating_add(1))
+        .filter(|(_, s)| is_test(&s.step))
+        .count();
     let name = format!("{kind}: \"{object}\", {ray}");
-    let step = crate::record::words::step_of(step, trace_len);
+    let step = crate::record::words::step_of(step, tl.len());
     let mut titles = vec![];
     if tests > 1 {
         titles.push(format!("{name} · {step} · test {nth} of {tests}"));

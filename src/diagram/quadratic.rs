@@ -295,20 +295,13 @@ fn chosen_root(test: &SphereTest<f32>) -> &'static str {
 /// The diagram's titles, longest first ([`super::test_titles`]): the object and ray, the
 /// step's number and which ray–sphere test of the trace it is.
 pub fn titles(trace: &Trace, l: &QuadraticLayout) -> Vec<String> {
-    let tl = trace.timeline();
-    let is_test = |s: &Step| matches!(s, Step::Sphere { .. });
-    let tests = tl.iter().filter(|(_, s)| is_test(&s.step)).count();
-    let nth = tl[..=l.step.min(tl.len().saturating_sub(1))]
-        .iter()
-        .filter(|(_, s)| is_test(&s.step))
-        .count();
     super::test_titles(
+        trace,
         "Ray–sphere quadratic",
         &l.name,
         &l.ray,
         l.step,
-        tl.len(),
-        (nth, tests),
+        |s| matches!(s, Step::Sphere { .. }),
     )
 }
 

@@ -468,18 +468,7 @@ mod tests {
         let mut c = Canvas::for_view(&opts);
         let info = RayInfos::new(trace, opts.focus);
         let lay = compute_layout(&c, trace, &opts, &info, 0.0);
-        let mut d = Drawer {
-            c: &mut c,
-            lay: &lay,
-            trace,
-            info: &info,
-            labels: vec![],
-            strokes: vec![],
-            u: 1.0,
-            walls: vec![],
-            furniture: vec![],
-            texts: vec![],
-        };
+        let mut d = Drawer::new(&mut c, &lay, trace, &info);
         d.boxes();
         d.accel_visits();
         d.labels.iter().map(|l| l.text.clone()).collect()

@@ -221,19 +221,7 @@ pub fn draw_annotated(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<SliceTe
     let legend = fitting_legend(&c, trace, &info, opts);
     let (legend_height, _) = legend_flow(&c, &legend);
     let lay = compute_layout(&c, trace, opts, &info, legend_height);
-    let mut d = Drawer {
-        c: &mut c,
-        lay: &lay,
-        trace,
-        info: &info,
-        labels: vec![],
-        strokes: vec![],
-        walls: vec![],
-        furniture: vec![],
-        texts: vec![],
-        u: 1.0,
-    };
-    d.u = d.c.text_size / 11.0;
+    let mut d = Drawer::new(&mut c, &lay, trace, &info);
     d.scene();
     d.chrome(opts, &legend);
     let texts = std::mem::take(&mut d.texts);
@@ -726,6 +714,30 @@ const N: Px = [0.0, -1.0];
 const S: Px = [0.0, 1.0];
 const E: Px = [1.0, 0.0];
 const W: Px = [-1.0, 0.0];
+
+impl<'a, 't> Drawer<'a, 't> {
+    /// A drawer of `trace` on `c` by `lay`, nothing placed yet; line widths follow the text size.
+    fn new(
+        c: &'a mut Canvas,
+        lay: &'a SliceLayout,
+        trace: &'t Trace,
+        info: &'a RayInfos<'t>,
+    ) -> Self {
+        let u = c.text_size / 11.0;
+        Drawer {
+            c,
+            lay,
+            trace,
+            info,
+            labels: vec![],
+            strokes: vec![],
+            walls: vec![],
+            furniture: vec![],
+            texts: vec![],
+            u,
+        }
+    }
+}
 
 impl Drawer<'_, '_> {
     /// A box or cell number (placed last).
