@@ -759,6 +759,7 @@ fn variant(s: &Step) -> &'static str {
         Step::DepthLimit { .. } => "depth-limit",
         Step::WeightCutoff { .. } => "weight-cutoff",
         Step::Truncated { .. } => "truncated",
+        Step::HardwareTraversal { .. } => "hardware-traversal",
         Step::Spawn { .. } => "spawn",
         Step::Color { .. } => "color",
     }

@@ -26,6 +26,19 @@ pub struct TraceArgs {
     /// Also save the trace as JSON to this file (written atomically).
     #[arg(long)]
     pub save: Option<PathBuf>,
+    /// Trace the pixel on the GPU: the trace shader logs every step the GPU takes into a bounded
+    /// buffer, read back into the same trace format (compare it with the CPU's with
+    /// `raystep diff`).
+    #[arg(long)]
+    pub gpu: bool,
+    /// With --gpu: the GPU path whose arithmetic the trace follows. Only `compute` (the CPU's
+    /// primary ray, per pixel) is traced step by step.
+    #[arg(long, value_enum, requires = "gpu")]
+    pub gpu_path: Option<crate::gpu::GpuPath>,
+    /// With --gpu: the size of the GPU's step log, in MiB (a trace that outgrows it ends in a
+    /// `truncated` step).
+    #[arg(long, requires = "gpu", default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
+    pub gpu_log_mib: u32,
     /// Setting overrides.
     #[command(flatten)]
     pub settings: SettingsArgs,
@@ -60,7 +73,11 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
     }
     // The same accelerator the render would use, so its node or cell visits appear in the trace.
     let prepared = PreparedScene::new(scene);
-    let trace = prepared.record(x, y, args.sample);
+    let trace = if args.gpu {
+        gpu_trace(args, &prepared)?
+    } else {
+        prepared.record(x, y, args.sample)
+    };
     if let Some(k) = trace.truncated_at() {
         eprintln!(
             "warning: the trace was cut at step {k}: a trace keeps at most {} steps (the colours are exact; lower max_depth to see the whole tree)",
@@ -81,4 +98,34 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
     } else {
         super::emit(&describe::tree(&trace))
     }
+}
+
+/// The GPU's own trace of the pixel (`--gpu`); says on stderr which adapter and arithmetic made
+/// it, and where the log ran out.
+fn gpu_trace(args: &TraceArgs, prepared: &PreparedScene) -> Result<crate::record::Trace, String> {
+    use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
+    if args.gpu_path == Some(GpuPath::Fragment) {
+        return Err(
+            "--gpu-path fragment: the fragment path's primary rays come from the rasterizer's interpolation, \
+             which no shader sees step by step; the GPU trace follows the compute path (--gpu-path compute), \
+             whose arithmetic after the primary ray is the fragment path's"
+                .into(),
+        );
+    }
+    let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
+    let mut gpu =
+        GpuTracer::new(ctx, prepared, ShaderVariant::Generated).map_err(|e| e.to_string())?;
+    eprintln!("GPU trace: {}", gpu.adapter_line(GpuPath::Compute));
+    let words = args.gpu_log_mib as usize * (1 << 18);
+    let [x, y] = args.pixel;
+    let t = gpu
+        .trace_pixel(x, y, args.sample, words)
+        .map_err(|e| e.to_string())?;
+    if t.truncated {
+        eprintln!(
+            "warning: the GPU's step log ran out after {} steps ({} MiB): the steps after that were not kept (the colours are the GPU's; raise --gpu-log-mib to see them all)",
+            t.steps, args.gpu_log_mib
+        );
+    }
+    Ok(t.trace)
 }

@@ -287,6 +287,9 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
         Step::Truncated { max_steps } => format!(
             "the trace stops here: it reached its limit of {max_steps} steps (the tracing went on; the colours are exact)"
         ),
+        Step::HardwareTraversal { primitives } => format!(
+            "hardware traversal of {primitives} primitive boxes: the boxes it tested are not revealed"
+        ),
         Step::Spawn { child } => format!("→ child ray {child}"),
         Step::Color { color } => format!("colour {}", v3(*color)),
     }

@@ -171,6 +171,7 @@ pub(crate) fn params(
     data: &SceneData,
     use_bvh: bool,
     debug_pixel: [u32; 2],
+    trace_sample: u32,
 ) -> Vec<u8> {
     let s = &scene.settings;
     let mut b = Bytes::default();
@@ -195,7 +196,7 @@ pub(crate) fn params(
         .u32(debug_pixel[0])
         .u32(debug_pixel[1])
         .f32(f32::INFINITY)
-        .u32(0);
+        .u32(trace_sample);
     debug_assert_eq!(b.0.len() as u64, PARAMS_SIZE);
     b.0
 }

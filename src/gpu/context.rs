@@ -13,6 +13,8 @@ pub enum KernelForm {
     Wgsl,
     /// SPIR-V with every float result decorated `NoContraction` (passthrough).
     SpirvNoContraction,
+    /// The same, also asking for subnormals to be kept (`DenormPreserve`, passthrough).
+    SpirvNoContractionDenormPreserve,
     /// The same SPIR-V without the decorations (passthrough): what contraction does.
     SpirvPlain,
 }
@@ -116,10 +118,28 @@ impl GpuContext {
         } else {
             KernelForm::Wgsl
         };
-        let out = self.run_kernel(&exact::probe_wgsl(), &bytes, inputs.len() * 7, form)?;
+        let outputs = inputs.len() * exact::PROBE_OUTPUTS;
+        let out = self.run_kernel(&exact::probe_wgsl(), &bytes, outputs, form)?;
+        let probe = Probe::from_outputs(&inputs, &out);
+        // A driver that flushes subnormals may keep them when asked (SPIR-V float controls).
+        // Asked only then, and kept only if nothing else came out worse.
+        if self.passthrough && !probe.subnormals_kept() {
+            let asked = KernelForm::SpirvNoContractionDenormPreserve;
+            if let Ok(out) = self.run_kernel(&exact::probe_wgsl(), &bytes, outputs, asked) {
+                let with = Probe::from_outputs(&inputs, &out);
+                if with.subnormals_kept() && with.exact() >= probe.exact() {
+                    return Ok(Arithmetic {
+                        spirv: true,
+                        float_controls: true,
+                        probe: with,
+                    });
+                }
+            }
+        }
         Ok(Arithmetic {
             spirv: self.passthrough,
-            probe: Probe::from_outputs(&inputs, &out),
+            float_controls: false,
+            probe,
         })
     }
 
@@ -150,7 +170,11 @@ impl GpuContext {
         };
         let module = match form {
             KernelForm::Wgsl => None,
-            KernelForm::SpirvNoContraction | KernelForm::SpirvPlain if !self.passthrough => {
+            KernelForm::SpirvNoContraction
+            | KernelForm::SpirvNoContractionDenormPreserve
+            | KernelForm::SpirvPlain
+                if !self.passthrough =>
+            {
                 return Err(GpuError::Device(
                     "this device does not take SPIR-V passthrough shaders".into(),
                 ));
@@ -160,6 +184,13 @@ impl GpuContext {
                     .map_err(GpuError::Shader)?
                     .0,
             ),
+            KernelForm::SpirvNoContractionDenormPreserve => {
+                let mut words = exact::spirv_no_contraction(wgsl)
+                    .map_err(GpuError::Shader)?
+                    .0;
+                exact::preserve_denormals(&mut words).map_err(GpuError::Shader)?;
+                Some(words)
+            }
             KernelForm::SpirvPlain => Some(exact::spirv(wgsl).map_err(GpuError::Shader)?),
         };
         let readback = self.checked("running a compute kernel", || {
@@ -250,7 +281,13 @@ impl GpuContext {
         entry_points: &[(&str, (u32, u32, u32))],
     ) -> Result<(wgpu::ShaderModule, bool), GpuError> {
         if self.passthrough {
-            let (words, _) = exact::spirv_no_contraction(wgsl).map_err(GpuError::Shader)?;
+            let (mut words, _) = exact::spirv_no_contraction(wgsl).map_err(GpuError::Shader)?;
+            // Subnormals kept where the probe found that asking for it works.
+            if let Some(Ok(a)) = self.arithmetic.get()
+                && a.float_controls
+            {
+                exact::preserve_denormals(&mut words).map_err(GpuError::Shader)?;
+            }
             return Ok((
                 passthrough_module(&self.device, label, words, entry_points),
                 true,

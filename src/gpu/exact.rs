@@ -58,6 +58,68 @@ pub fn spirv_no_contraction(wgsl: &str) -> Result<(Vec<u32>, usize), String> {
     Ok((words, n))
 }
 
+const OP_EXTENSION: u32 = 10;
+const OP_ENTRY_POINT: u32 = 15;
+const OP_EXECUTION_MODE: u32 = 16;
+const OP_CAPABILITY: u32 = 17;
+const CAPABILITY_DENORM_PRESERVE: u32 = 4464;
+const EXECUTION_MODE_DENORM_PRESERVE: u32 = 4459;
+
+/// Asks for 32-bit subnormals to be kept (`SPV_KHR_float_controls`: capability
+/// `DenormPreserve`, execution mode `DenormPreserve 32` on every entry point), as the CPU keeps
+/// them. A driver that cannot may still flush them: the probe, compiled the same way, says
+/// whether it did ([`Probe::subnormals_kept`]). Only used where the probe without it found
+/// subnormals flushed and the probe with it found them kept and nothing else worse.
+pub fn preserve_denormals(words: &mut Vec<u32>) -> Result<(), String> {
+    if words.len() < 5 || words[0] != 0x0723_0203 {
+        return Err("not a SPIR-V module".into());
+    }
+    let (mut after_capabilities, mut after_entry_points) = (None, None);
+    let mut entries = vec![];
+    let mut at = 5;
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        let op = words[at] & 0xffff;
+        if count == 0 || at + count > words.len() {
+            return Err(format!("malformed SPIR-V instruction at word {at}"));
+        }
+        match op {
+            OP_CAPABILITY => after_capabilities = Some(at + count),
+            OP_ENTRY_POINT => {
+                entries.push(words[at + 2]);
+                after_entry_points = Some(at + count);
+            }
+            _ => {}
+        }
+        at += count;
+    }
+    let (Some(caps), Some(eps)) = (after_capabilities, after_entry_points) else {
+        return Err("a SPIR-V module without capabilities or entry points".into());
+    };
+    let mut modes = vec![];
+    for e in entries {
+        modes.extend([
+            (4 << 16) | OP_EXECUTION_MODE,
+            e,
+            EXECUTION_MODE_DENORM_PRESERVE,
+            32,
+        ]);
+    }
+    // The extension's name, NUL-terminated, in little-endian words.
+    let mut name = b"SPV_KHR_float_controls".to_vec();
+    name.resize(name.len() / 4 * 4 + 4, 0);
+    let mut head = vec![(2 << 16) | OP_CAPABILITY, CAPABILITY_DENORM_PRESERVE];
+    head.push(((1 + name.len() as u32 / 4) << 16) | OP_EXTENSION);
+    head.extend(
+        name.chunks_exact(4)
+            .map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]])),
+    );
+    // Entry points come after the capabilities: insert the later position first.
+    words.splice(eps..eps, modes);
+    words.splice(caps..caps, head);
+    Ok(())
+}
+
 /// Compiles WGSL to SPIR-V 1.3 (1.4 with ray queries) with naga, all entry points, without any
 /// `NoContraction` decoration.
 pub fn spirv(wgsl: &str) -> Result<Vec<u32>, String> {
@@ -343,9 +405,17 @@ fn fsqrt(x: f32) -> f32 {
     return vec3f(fdiv(v.x, d), fdiv(v.y, d), fdiv(v.z, d));
 }
 
+// glam's dot product, term for term: (a.x·b.x + a.y·b.y) + a.z·b.z. Not WGSL's dot(): NVIDIA's
+// driver (580, H200) compiles OpDot as a chain of fused multiply-adds even when its result is
+// decorated NoContraction (found with `raystep trace --gpu` and `raystep diff`: the first step
+// to differ was a sphere test's a = d·d). Written out, each product and sum keeps NoContraction.
+fn fdot(a: vec3f, b: vec3f) -> f32 {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
 // glam's length: √(v·v).
 fn flen(v: vec3f) -> f32 {
-    return fsqrt(dot(v, v));
+    return fsqrt(fdot(v, v));
 }
 
 // glam's cross product, term for term.
@@ -397,7 +467,9 @@ fn fpow(x: f32, y: f32) -> f32 {
 // ---------------------------------------------------------------------------------------------
 
 /// Results per probe input.
-const PROBE_OUTPUTS: usize = 7;
+pub const PROBE_OUTPUTS: usize = 8;
+/// 2⁻¹²⁶, the smallest normal f32 (`1.1754944e-38` in the probe's WGSL).
+const SMALLEST_NORMAL: f32 = f32::MIN_POSITIVE;
 
 /// The probe kernel: for each input `(a, b, c, x)` it writes `fma(a, b, c)`, the emulated fma,
 /// `a / b`, the corrected division, `sqrt(x)`, the corrected square root and the hand-written
@@ -418,7 +490,7 @@ fn main(@builtin(global_invocation_id) gid: vec3u) {
     let b = v.y;
     let c = v.z;
     let x = v.w;
-    let o = i * 7u;
+    let o = i * 8u;
     outputs[o] = bitcast<u32>(fma(a, b, c));
     outputs[o + 1u] = bitcast<u32>(fma_emulated(a, b, c));
     let q = a / b;
@@ -432,6 +504,7 @@ fn main(@builtin(global_invocation_id) gid: vec3u) {
     let sc = fma(rs, 0.5 / s, s);
     outputs[o + 5u] = bitcast<u32>(select(s, sc, s > 0.0 && is_finite_f(s) && is_finite_f(sc)));
     outputs[o + 6u] = bitcast<u32>(a * b + c * x + b * c);
+    outputs[o + 7u] = bitcast<u32>(x * 1.1754944e-38);
 }
 ";
     s
@@ -504,6 +577,9 @@ pub struct Probe {
     pub sqrt_corrected: usize,
     /// `a*b + c*x + b*c` equal to the CPU's unfused sum (no contraction).
     pub sum_of_products: usize,
+    /// `x·2⁻¹²⁶` (subnormal for x < 1) equal to the CPU's: subnormal results kept, not flushed
+    /// to zero.
+    pub subnormals: usize,
 }
 
 impl Probe {
@@ -518,6 +594,7 @@ impl Probe {
             sqrt: 0,
             sqrt_corrected: 0,
             sum_of_products: 0,
+            subnormals: 0,
         };
         let same = |want: f32, got: u32| {
             let g = f32::from_bits(got);
@@ -535,6 +612,7 @@ impl Probe {
             p.sqrt += usize::from(same(x.sqrt(), o[4]));
             p.sqrt_corrected += usize::from(same(x.sqrt(), o[5]));
             p.sum_of_products += usize::from(same(a * b + c * x + b * c, o[6]));
+            p.subnormals += usize::from(same(x * SMALLEST_NORMAL, o[7]));
         }
         p
     }
@@ -562,6 +640,13 @@ impl Probe {
             && self.sum_of_products == n
     }
 
+    /// Whether subnormal results are kept as on the CPU. A driver that flushes them to zero
+    /// still computes every normal result as the CPU does; results below 1.2e-38 (rare in a
+    /// scene: a plane's numerator at a grazing hit) come out 0.
+    pub fn subnormals_kept(&self) -> bool {
+        self.subnormals == self.inputs
+    }
+
     /// "fma fused: no (Dekker emulation exact), / exact, sqrt exact, sums of products not
     /// contracted": the answers in words.
     pub fn summary(&self) -> String {
@@ -586,7 +671,7 @@ impl Probe {
             }
         };
         format!(
-            "fma fused: {}; {}; {}; sums of products {}",
+            "fma fused: {}; {}; {}; sums of products {}; subnormals {}",
             if c.fma_fused {
                 "yes".to_string()
             } else if self.fma_emulated == n {
@@ -600,6 +685,14 @@ impl Probe {
                 "not contracted".to_string()
             } else {
                 format!("contracted ({} as on the CPU)", share(self.sum_of_products))
+            },
+            if self.subnormals_kept() {
+                "kept".to_string()
+            } else {
+                format!(
+                    "flushed to zero ({} as on the CPU; results below 1.2e-38 differ)",
+                    share(self.subnormals)
+                )
             }
         )
     }
@@ -610,6 +703,8 @@ impl Probe {
 pub struct Arithmetic {
     /// The tracer is loaded as SPIR-V with `NoContraction` (the adapter offers passthrough).
     pub spirv: bool,
+    /// The SPIR-V also asks for subnormals to be kept ([`preserve_denormals`]).
+    pub float_controls: bool,
     /// The probe's answers, in the same form (SPIR-V or WGSL) the tracer is loaded in.
     pub probe: Probe,
 }

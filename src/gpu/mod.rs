@@ -72,9 +72,11 @@ pub mod compare;
 mod context;
 pub mod exact;
 pub mod shader;
+pub mod trace_log;
 mod tracer;
 
 pub use compare::{Difference, difference};
 pub use context::KernelForm;
 pub use shader::{ShaderConfig, ShaderVariant, full_wgsl, generated_wgsl};
+pub use trace_log::GpuTrace;
 pub use tracer::{DISPLAY_FORMAT, GpuContext, GpuError, GpuFrame, GpuPath, GpuTracer, PixelDebug};

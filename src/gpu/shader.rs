@@ -58,6 +58,9 @@ pub struct ShaderConfig {
     /// The arithmetic variant (division, square root, fma), decided per device by the probe
     /// ([`super::exact`]); the default (plain operations, emulated fma) until a tracer sets it.
     pub arith: ArithConfig,
+    /// The trace shader: one invocation logs every step it takes (`raystep trace --gpu`,
+    /// [`super::trace_log`]). The shaders that render have it off.
+    pub trace: bool,
 }
 
 /// Which shader a [`super::GpuTracer`] runs.
@@ -98,6 +101,7 @@ impl ShaderConfig {
             max_depth: s.max_depth,
             bvh_stack: tree.map_or(2, |t| t.max_depth as u32 + 2),
             arith: ArithConfig::default(),
+            trace: false,
         }
     }
 
@@ -155,6 +159,7 @@ impl ShaderConfig {
             "REFRACTION" => self.refraction,
             "FULL" => self.full,
             "RAY_QUERY" => self.ray_query,
+            "TRACE" => self.trace,
             _ => return None,
         })
     }
@@ -168,6 +173,7 @@ impl ShaderConfig {
 /// The pieces, by file.
 mod pieces {
     pub const COMMON: &str = include_str!("wgsl/common.wgsl");
+    pub const TRACE_LOG: &str = include_str!("wgsl/trace_log.wgsl");
     pub const MEDIA: &str = include_str!("wgsl/media.wgsl");
     pub const SPHERE_ROOT: &str = include_str!("wgsl/sphere_root.wgsl");
     pub const SPHERE_STABLE: &str = include_str!("wgsl/sphere_stable.wgsl");
@@ -260,6 +266,9 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         out.push('\n');
     };
     add(pieces::COMMON);
+    if config.trace {
+        add(pieces::TRACE_LOG);
+    }
     if config.refraction {
         add(pieces::MEDIA);
     }
@@ -296,7 +305,7 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     add(&traversal_dispatch(config));
     add(pieces::MISS);
     add(pieces::INTERACTION);
-    if config.spawns() {
+    if config.spawns() || config.trace {
         add(match config.offset {
             OffsetPolicy::None => pieces::OFFSET_NONE,
             OffsetPolicy::Fixed => pieces::OFFSET_FIXED,
@@ -308,12 +317,24 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     out
 }
 
-/// `intersection(id, ray)`: the switch over the primitive kinds the shader has.
+/// `intersection(id, ray)`: the switch over the primitive kinds the shader has. In the trace
+/// shader the switch is `kernel(id, ray)`, and `intersection` logs each test with the
+/// intermediates its kernel left in `scratch`.
 fn intersection_dispatch(c: &ShaderConfig) -> String {
-    let mut s = String::from(
-        "// ---- intersection: the kernel for the object's kind ----\n\n\
-         fn intersection(id: u32, r: Ray) -> Cand {\n    let o = objects[id];\n    switch o.kind {\n",
-    );
+    let mut s = String::from("// ---- intersection: the kernel for the object's kind ----\n\n");
+    if c.trace {
+        s += "fn intersection(id: u32, r: Ray) -> Cand {\n    scratch_clear();\n    \
+              let c = kernel(id, r);\n    log_open();\n    log_u(id);\n    log_u(objects[id].kind);\n    \
+              log_f(r.t_min);\n    log_f(r.t_max);\n    log_b(c.hit);\n    log_f(c.t);\n    \
+              log_f(c.u);\n    log_f(c.v);\n    for (var i = 0u; i < 32u; i++) {\n        \
+              log_f(scratch[i]);\n    }\n    log_close(EV_TEST);\n    return c;\n}\n\n";
+    }
+    s += if c.trace {
+        "fn kernel"
+    } else {
+        "fn intersection"
+    };
+    s += "(id: u32, r: Ray) -> Cand {\n    let o = objects[id];\n    switch o.kind {\n";
     if c.spheres {
         s += "        case 0u: { return intersect_sphere(r, o.a.xyz, o.a.w); }\n";
     }

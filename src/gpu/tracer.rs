@@ -13,6 +13,7 @@ use std::time::{Duration, Instant};
 
 pub use super::context::GpuContext;
 
+mod gpu_trace;
 mod readback;
 
 /// What went wrong on the GPU side. Every variant is a plain message for the user.
@@ -116,6 +117,7 @@ impl PixelDebug {
 /// Everything [`GpuTracer::build`] creates.
 struct Built {
     params: wgpu::Buffer,
+    scene_layout: wgpu::BindGroupLayout,
     scene_group: wgpu::BindGroup,
     output_layout: wgpu::BindGroupLayout,
     display_layout: wgpu::BindGroupLayout,
@@ -207,6 +209,14 @@ pub struct GpuTracer {
     wgsl: String,
     camera: Camera,
     debug_pixel: [u32; 2],
+    /// The sample the trace shader traces (0 while rendering).
+    trace_sample: u32,
+    /// The shader's configuration (the trace shader is this with `trace` on).
+    config: ShaderConfig,
+    /// The scene's bind group layout (group 0 of every pipeline).
+    scene_layout: wgpu::BindGroupLayout,
+    /// The top of the BVH the GPU walks, for GPU traces (none under ray queries or brute force).
+    outline: Option<Vec<crate::record::OutlineNode>>,
     params: wgpu::Buffer,
     scene_group: wgpu::BindGroup,
     output_layout: wgpu::BindGroupLayout,
@@ -299,6 +309,12 @@ impl GpuTracer {
             wgsl,
             camera: scene.camera.clone(),
             debug_pixel: [0, 0],
+            trace_sample: 0,
+            config,
+            scene_layout: b.scene_layout,
+            outline: bvh.and_then(|t| {
+                crate::accel::Accelerator::outline(t, crate::trace::whitted::BVH_OUTLINE_DEPTH)
+            }),
             params: b.params,
             scene_group: b.scene_group,
             output_layout: b.output_layout,
@@ -544,6 +560,7 @@ impl GpuTracer {
         );
         Built {
             params,
+            scene_layout,
             scene_group,
             output_layout,
             display_layout,
@@ -638,6 +655,7 @@ impl GpuTracer {
             &self.data,
             self.use_bvh,
             self.debug_pixel,
+            self.trace_sample,
         );
         self.ctx.queue.write_buffer(&self.params, 0, &bytes);
     }

@@ -386,6 +386,13 @@ pub enum Step {
         /// The limit, in steps.
         max_steps: u32,
     },
+    /// The GPU's hardware walked its own acceleration structure (ray queries, a BLAS and a TLAS):
+    /// the boxes it tested are not revealed to the shader, only the primitives whose boxes the
+    /// ray entered (their tests follow). Only in GPU traces.
+    HardwareTraversal {
+        /// Primitives in the hardware's structure.
+        primitives: u32,
+    },
     /// A child ray was traced here: index into the ray's `children`.
     Spawn {
         /// Index into `children`.
@@ -407,7 +414,8 @@ impl Step {
             Step::Node(_)
             | Step::SphereNode { .. }
             | Step::Cell { .. }
-            | Step::MailboxSkip { .. } => Stage::Traversal,
+            | Step::MailboxSkip { .. }
+            | Step::HardwareTraversal { .. } => Stage::Traversal,
             Step::Sphere { .. } | Step::Plane { .. } | Step::Triangle { .. } => Stage::Intersection,
             Step::Accept { .. } => Stage::AnyHit,
             Step::Miss { .. } => Stage::Miss,

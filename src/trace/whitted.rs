@@ -16,7 +16,7 @@ use glam::Vec3;
 /// pbrt-v4's `ShadowEpsilon`: shadow rays stop at 1 − 1e-4 of the segment to the light.
 pub const SHADOW_EPSILON: f32 = 1e-4;
 /// How many levels of the BVH a trace carries for the tree diagram.
-const BVH_OUTLINE_DEPTH: u32 = 6;
+pub(crate) const BVH_OUTLINE_DEPTH: u32 = 6;
 /// The ray-tree weight cut-off: a reflection or refraction ray whose contribution to the pixel
 /// (the product of the weights from the camera down to it: reflectivity or transparency, times
 /// Schlick's reflectance where both blend) is below 1/512 is not spawned, and its colour counts
@@ -155,7 +155,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         let mut rec = Recorder::new();
         let color = self.trace_sample(x, y, sample, &mut rec);
         let root = rec.finish().expect("the primary ray ends");
-        let objects = self.referenced_objects(&root);
+        let objects = referenced_objects(self.scene, &root);
         Trace {
             version: TRACE_VERSION,
             raystep: env!("CARGO_PKG_VERSION").into(),
@@ -172,45 +172,6 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             grid: self.accel.grid_outline(),
             color: color.to_array(),
         }
-    }
-
-    /// The geometry and material of every object the trace's steps mention, in id order.
-    fn referenced_objects(&self, root: &RayRecord) -> Vec<TraceObject> {
-        let mut ids = std::collections::BTreeSet::new();
-        fn walk(r: &RayRecord, ids: &mut std::collections::BTreeSet<u32>) {
-            for s in &r.steps {
-                match &s.step {
-                    Step::Sphere { object, .. }
-                    | Step::Plane { object, .. }
-                    | Step::Triangle { object, .. } => {
-                        ids.insert(*object);
-                    }
-                    _ => {}
-                }
-            }
-            if let Some(h) = &r.hit {
-                ids.insert(h.object);
-            }
-            for c in &r.children {
-                walk(c, ids);
-            }
-        }
-        walk(root, &mut ids);
-        ids.into_iter()
-            .map(|id| {
-                let m = self.scene.material_of(id);
-                TraceObject {
-                    id,
-                    name: self.scene.object_name(id),
-                    shape: self.scene.objects[id as usize].shape,
-                    material: m.name.clone(),
-                    color: m.color.to_array(),
-                    reflective: m.reflective,
-                    transparency: m.transparency,
-                    refractive_index: m.refractive_index,
-                }
-            })
-            .collect()
     }
 
     fn hit_record(&self, hit: Option<Hit>) -> Option<HitRecord> {
@@ -481,4 +442,43 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         }
         surface + reflected
     }
+}
+
+/// The geometry and material of every object the trace's steps mention, in id order.
+pub(crate) fn referenced_objects(scene: &Scene, root: &RayRecord) -> Vec<TraceObject> {
+    let mut ids = std::collections::BTreeSet::new();
+    fn walk(r: &RayRecord, ids: &mut std::collections::BTreeSet<u32>) {
+        for s in &r.steps {
+            match &s.step {
+                Step::Sphere { object, .. }
+                | Step::Plane { object, .. }
+                | Step::Triangle { object, .. } => {
+                    ids.insert(*object);
+                }
+                _ => {}
+            }
+        }
+        if let Some(h) = &r.hit {
+            ids.insert(h.object);
+        }
+        for c in &r.children {
+            walk(c, ids);
+        }
+    }
+    walk(root, &mut ids);
+    ids.into_iter()
+        .map(|id| {
+            let m = scene.material_of(id);
+            TraceObject {
+                id,
+                name: scene.object_name(id),
+                shape: scene.objects[id as usize].shape,
+                material: m.name.clone(),
+                color: m.color.to_array(),
+                reflective: m.reflective,
+                transparency: m.transparency,
+                refractive_index: m.refractive_index,
+            }
+        })
+        .collect()
 }

@@ -124,7 +124,7 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             format!("Schlick: reflectance R = {}", label(*reflectance))
         }
         Step::DepthLimit { max_depth } => format!("recursion limit {max_depth}: no secondary ray"),
-        Step::WeightCutoff { .. } | Step::Truncated { .. } => {
+        Step::WeightCutoff { .. } | Step::Truncated { .. } | Step::HardwareTraversal { .. } => {
             crate::explain::describe::describe(step, ray.kind)
         }
         Step::Spawn { .. } => format!("{kind} ray spawns a child ray"),

@@ -144,6 +144,13 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
                 "The trace reached its limit of {max_steps} recorded steps. The tracer went on and every colour is exact, but the rest of its work was not kept."
             ),
         },
+        Step::HardwareTraversal { primitives } => Explanation {
+            title: "The hardware walks its own tree".into(),
+            lines: vec![],
+            conclusion: format!(
+                "Ray queries: the GPU walks its own acceleration structure over {primitives} primitive boxes. Which boxes it tested is not revealed to the shader; the tests below are the primitives whose boxes the ray entered."
+            ),
+        },
         Step::Spawn { child } => cx.spawn(*child),
         Step::Color { color } => cx.color(*color),
     }

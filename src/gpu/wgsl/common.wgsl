@@ -23,7 +23,8 @@ struct Params {
     // +∞, uploaded from the CPU: WGSL has no infinity literal (a constant expression may not
     // overflow), and the slab test needs true IEEE infinities (docs/NUMERICS.md S20/S21).
     inf: f32,
-    pad: u32,
+    // The sample the trace shader traces (`raystep trace --gpu`); 0 when rendering.
+    trace_sample: u32,
 }
 
 // kind: 0 sphere (a = centre, radius), 1 plane (a = normal, offset), 2 axis plane (axis, a.x =
@@ -128,7 +129,7 @@ fn unit(v: vec3f) -> vec3f {
 
 // v − 2(v·n)n, as src/trace/shading.rs `reflect` (named apart from WGSL's built-in).
 fn mirror_dir(v: vec3f, n: vec3f) -> vec3f {
-    return v - n * (2.0 * dot(v, n));
+    return v - n * (2.0 * fdot(v, n));
 }
 
 // BVH node visits of the ray being traced (read by the debug pixel).

@@ -36,8 +36,8 @@ fn interact(hit: Hit, r: Ray) -> Interaction {
         case 1u: {
             let n = o.a.xyz;
             let offset = o.a.w;
-            point = raw - n * (dot(raw, n) - offset);
-            error = GAMMA7 * (abs(point) + abs(n) * (dot(abs(point), abs(n)) + abs(offset)));
+            point = raw - n * (fdot(raw, n) - offset);
+            error = GAMMA7 * (abs(point) + abs(n) * (fdot(abs(point), abs(n)) + abs(offset)));
             outward = n;
         }
         case 2u: {
@@ -65,6 +65,6 @@ fn interact(hit: Hit, r: Ray) -> Interaction {
         default: {}
     }
     let eye = fdiv3(-r.dir, flen(r.dir));
-    let inside = dot(outward, eye) < 0.0;
+    let inside = fdot(outward, eye) < 0.0;
     return Interaction(point, select(outward, -outward, inside), eye, inside, error);
 }

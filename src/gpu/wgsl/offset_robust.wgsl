@@ -15,9 +15,9 @@ fn next_down(x: f32) -> f32 {
 }
 
 fn spawn_origin(it: Interaction, w: vec3f) -> vec3f {
-    let side = select(-1.0, 1.0, dot(w, it.normal) >= 0.0);
+    let side = select(-1.0, 1.0, fdot(w, it.normal) >= 0.0);
     let n = it.normal * side;
-    let d = dot(abs(n), it.error);
+    let d = fdot(abs(n), it.error);
     var o = it.point + n * d;
     for (var i = 0u; i < 3u; i++) {
         if n[i] > 0.0 {

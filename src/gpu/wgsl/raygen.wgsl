@@ -14,10 +14,22 @@ struct Task {
 // reflection and one refraction ray, and depth-first order needs at most max_depth + 1 entries.
 var<private> ray_stack: array<Task, RAY_STACK>;
 var<private> ray_sp: u32;
+//#if TRACE
+// Beside each stacked ray: its id, its parent's, its kind and the weight its parent multiplies
+// its colour by (set by take_ray_id before the push).
+var<private> ray_info: array<vec4u, RAY_STACK>;
+var<private> pending_ray: vec4u;
+// What the camera computed for the primary ray: the offset in the pixel and the screen position.
+var<private> camera_offset: vec2f;
+var<private> camera_screen: vec2f;
+//#endif
 
 //#if REFRACTION
 fn push_ray(r: Ray, depth: u32, weight: f32, media: Media) {
     if ray_sp < RAY_STACK {
+//#if TRACE
+        ray_info[ray_sp] = pending_ray;
+//#endif
         ray_stack[ray_sp] = Task(r, depth, weight, media);
         ray_sp += 1u;
     }
@@ -25,6 +37,9 @@ fn push_ray(r: Ray, depth: u32, weight: f32, media: Media) {
 //#else
 fn push_ray(r: Ray, depth: u32, weight: f32) {
     if ray_sp < RAY_STACK {
+//#if TRACE
+        ray_info[ray_sp] = pending_ray;
+//#endif
         ray_stack[ray_sp] = Task(r, depth, weight);
         ray_sp += 1u;
     }
@@ -82,9 +97,16 @@ fn camera_dir(sx: f32, sy: f32) -> vec3f {
 fn ray_generation(p: vec2u, k: u32, centre: vec3f, exact: bool) -> Ray {
     let o = sample_offset(p, k);
     var d: vec3f;
+//#if TRACE
+    camera_offset = o;
+    camera_screen = vec2f(bitcast<f32>(NOT_COMPUTED));
+//#endif
     if exact {
         let sx = fdiv(2.0 * (f32(p.x) + o.x), f32(params.width)) - 1.0;
         let sy = 1.0 - fdiv(2.0 * (f32(p.y) + o.y), f32(params.height));
+//#if TRACE
+        camera_screen = vec2f(sx, sy);
+//#endif
         d = camera_dir(sx, sy);
     } else {
         // Off-centre samples move along the image plane from the interpolated centre direction.
@@ -99,6 +121,10 @@ fn ray_generation(p: vec2u, k: u32, centre: vec3f, exact: bool) -> Ray {
 fn trace(primary: Ray, capture: bool) -> vec3f {
     var color = vec3f(0.0);
     ray_sp = 0u;
+//#if TRACE
+    next_ray_id = 1u;
+    pending_ray = vec4u(0u, NO_OBJECT, KIND_PRIMARY, bitcast<u32>(1.0));
+//#endif
 //#if REFRACTION
     var air: Media;
     air.len = 0u;
@@ -110,6 +136,23 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
     while ray_sp > 0u {
         ray_sp -= 1u;
         let task = ray_stack[ray_sp];
+//#if TRACE
+        let info = ray_info[ray_sp];
+        current_ray = info.x;
+        log_ray(info.x, info.y, info.z, task.depth, task.ray, bitcast<f32>(info.w));
+        if info.x == 0u {
+            log_open();
+            log_u(params.debug_pixel.x);
+            log_u(params.debug_pixel.y);
+            log_u(params.trace_sample);
+            log_f(camera_offset.x);
+            log_f(camera_offset.y);
+            log_f(camera_screen.x);
+            log_f(camera_screen.y);
+            log_v(task.ray.dir);
+            log_close(EV_CAMERA);
+        }
+//#endif
         node_visits = 0u;
         let hit = traversal_closest(task.ray);
         if first {
@@ -122,10 +165,23 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
             debug_record.discriminant = hit.aux;
         }
         if hit.object == NO_OBJECT {
+//#if TRACE
+            log_open();
+            log_v(miss());
+            log_close(EV_MISS);
+            log_color(miss());
+//#endif
             color += task.weight * miss();
         } else {
-            color += task.weight * closest_hit(hit, task);
+            let own = closest_hit(hit, task);
+//#if TRACE
+            log_color(own);
+//#endif
+            color += task.weight * own;
         }
+//#if TRACE
+        log_end(hit);
+//#endif
     }
     return color;
 }
@@ -139,6 +195,20 @@ fn render_pixel(p: vec2u, centre: vec3f, exact: bool, capture: bool) -> vec3f {
     return fdiv3(sum, f32(max(params.spp, 1u)));
 }
 
+//#if TRACE
+// ---- the trace shader's one entry point: one invocation traces sample params.trace_sample of
+// params.debug_pixel and logs every step (src/gpu/trace_log.rs reads the log) ----
+
+@compute @workgroup_size(1)
+fn trace_main() {
+    log_at = LOG_HEADER;
+    log_on = true;
+    let c = trace(ray_generation(params.debug_pixel, params.trace_sample, vec3f(0.0), true), false);
+    log_open();
+    log_v(c);
+    log_close(EV_PIXEL);
+}
+//#else
 // ---- fragment path: a full-screen triangle; the rasterizer interpolates the ray direction ----
 
 struct VertexOut {
@@ -186,3 +256,4 @@ fn debug_main() {
     debug_record.color = vec4f(c, 1.0);
     debug_out = debug_record;
 }
+//#endif

@@ -6,6 +6,9 @@ fn brute_closest(ray: Ray) -> Hit {
     for (var id = 0u; id < params.n_objects; id++) {
         let c = intersection(id, r);
         if any_hit(c) {
+//#if TRACE
+            log_accept(id, c.t, r.t_max);
+//#endif
             r.t_max = c.t;
             best = Hit(id, c.t, c.u, c.v, c.aux);
         }
@@ -16,7 +19,11 @@ fn brute_closest(ray: Ray) -> Hit {
 //#if SHADOWS
 fn brute_any(r: Ray) -> bool {
     for (var id = 0u; id < params.n_objects; id++) {
-        if any_hit(intersection(id, r)) {
+        let c = intersection(id, r);
+        if any_hit(c) {
+//#if TRACE
+            log_blocker(id, c, r.t_max);
+//#endif
             return true;
         }
     }

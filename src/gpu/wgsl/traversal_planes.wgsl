@@ -8,6 +8,9 @@ fn planes_closest(ray: Ray) -> Hit {
         let id = planes[i];
         let c = intersection(id, r);
         if any_hit(c) {
+//#if TRACE
+            log_accept(id, c.t, r.t_max);
+//#endif
             r.t_max = c.t;
             best = Hit(id, c.t, c.u, c.v, c.aux);
         }
@@ -18,7 +21,11 @@ fn planes_closest(ray: Ray) -> Hit {
 //#if SHADOWS
 fn planes_any(r: Ray) -> bool {
     for (var i = 0u; i < params.n_planes; i++) {
-        if any_hit(intersection(planes[i], r)) {
+        let c = intersection(planes[i], r);
+        if any_hit(c) {
+//#if TRACE
+            log_blocker(planes[i], c, r.t_max);
+//#endif
             return true;
         }
     }

@@ -21,6 +21,11 @@ fn rq_closest(ray: Ray) -> Hit {
     if params.n_nodes == 0u {
         return best;
     }
+//#if TRACE
+    log_open();
+    log_u(params.n_nodes);
+    log_close(EV_HARDWARE);
+//#endif
     var rq: ray_query;
     rayQueryInitialize(&rq, tlas, rq_desc(r, RAY_FLAG_NONE));
     while rayQueryProceed(&rq) {
@@ -31,6 +36,9 @@ fn rq_closest(ray: Ray) -> Hit {
             // Bound before the stores below: naga 30 does not emit an expression that first
             // appears as this call's argument ("used before it was introduced").
             let t_hit = c.t;
+//#if TRACE
+            log_accept(id, t_hit, r.t_max);
+//#endif
             r.t_max = t_hit;
             best = Hit(id, t_hit, c.u, c.v, c.aux);
             rayQueryGenerateIntersection(&rq, t_hit);
@@ -47,11 +55,21 @@ fn rq_any(r: Ray) -> bool {
     if params.n_nodes == 0u {
         return false;
     }
+//#if TRACE
+    log_open();
+    log_u(params.n_nodes);
+    log_close(EV_HARDWARE);
+//#endif
     var rq: ray_query;
     rayQueryInitialize(&rq, tlas, rq_desc(r, RAY_FLAG_TERMINATE_ON_FIRST_HIT));
     while rayQueryProceed(&rq) {
         let candidate = rayQueryGetCandidateIntersection(&rq);
-        if any_hit(intersection(leaf_objects[candidate.primitive_index], r)) {
+        let id = leaf_objects[candidate.primitive_index];
+        let c = intersection(id, r);
+        if any_hit(c) {
+//#if TRACE
+            log_blocker(id, c, r.t_max);
+//#endif
             return true;
         }
     }

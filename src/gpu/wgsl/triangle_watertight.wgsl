@@ -50,6 +50,14 @@ fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
     q1.y = q1.y + sy * q1.z;
     q2.x = q2.x + sx * q2.z;
     q2.y = q2.y + sy * q2.z;
+//#if TRACE
+    scratch[0] = f32(kx); scratch[1] = f32(ky); scratch[2] = f32(kz);
+    scratch[3] = sx; scratch[4] = sy; scratch[5] = sz;
+    scratch[6] = q0.x; scratch[7] = q0.y; scratch[8] = q0.z;
+    scratch[9] = q1.x; scratch[10] = q1.y; scratch[11] = q1.z;
+    scratch[12] = q2.x; scratch[13] = q2.y; scratch[14] = q2.z;
+    scratch[26] = 2.0;
+//#endif
     // 2D edge functions.
     var e0 = difference_of_products(q1.x, q2.y, q1.y, q2.x);
     var e1 = difference_of_products(q2.x, q0.y, q2.y, q0.x);
@@ -59,10 +67,19 @@ fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
         e1 = exact_difference_of_products(q2.x, q0.y, q2.y, q0.x);
         e2 = exact_difference_of_products(q0.x, q1.y, q0.y, q1.x);
     }
+//#if TRACE
+    scratch[15] = e0; scratch[16] = e1; scratch[17] = e2;
+//#endif
     if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) && (e0 > 0.0 || e1 > 0.0 || e2 > 0.0) {
+//#if TRACE
+        scratch[26] = 8.0;
+//#endif
         return no_cand(0.0);
     }
     let det = e0 + e1 + e2;
+//#if TRACE
+    scratch[18] = det;
+//#endif
     if det == 0.0 || !finite(det) {
         return no_cand(det);
     }
@@ -75,6 +92,11 @@ fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
     let t = t_scaled * inv_det;
     let b1 = e1 * inv_det;
     let b2 = e2 * inv_det;
+//#if TRACE
+    scratch[19] = q0.z; scratch[20] = q1.z; scratch[21] = q2.z;
+    scratch[22] = t_scaled; scratch[23] = t; scratch[24] = b1; scratch[25] = b2;
+    scratch[26] = 5.0;
+//#endif
     if !accepts(r, t) {
         return no_cand(det);
     }
@@ -91,5 +113,8 @@ fn intersect_triangle(r: Ray, p0: vec3f, p1: vec3f, p2: vec3f) -> Cand {
     if t <= delta_t {
         return no_cand(det);
     }
+//#if TRACE
+    scratch[26] = 12.0;
+//#endif
     return Cand(true, t, b1, b2, det);
 }

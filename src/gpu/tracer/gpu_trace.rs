@@ -1,0 +1,125 @@
+//! The GPU's own step trace of one pixel: the trace shader (the tracer's shader with `TRACE` on,
+//! compiled the same way: SPIR-V with `NoContraction` where the device takes it) run by one
+//! invocation, its log read back and decoded ([`crate::gpu::trace_log`]).
+
+use super::*;
+use crate::gpu::trace_log::{self, GpuTrace, LOG_HEADER};
+
+impl GpuTracer {
+    /// Traces sample `sample` of pixel (x, y) on the GPU with the trace shader (the compute path:
+    /// the CPU's primary ray) and returns its steps in raystep's trace format. `log_words`: the
+    /// size of the log buffer in 32-bit words (see [`trace_log::DEFAULT_LOG_WORDS`]); a trace
+    /// that outgrows it ends in a `truncated` step.
+    pub fn trace_pixel(
+        &mut self,
+        x: u32,
+        y: u32,
+        sample: u32,
+        log_words: usize,
+    ) -> Result<GpuTrace, GpuError> {
+        if x >= self.camera.width || y >= self.camera.height {
+            return Err(GpuError::Scene(format!(
+                "pixel ({x}, {y}) is outside the {}×{} image",
+                self.camera.width, self.camera.height
+            )));
+        }
+        let spp = self.scene.settings.spp.max(1);
+        if sample >= spp {
+            return Err(GpuError::Scene(format!(
+                "sample {sample} does not exist: the scene takes {spp} per pixel (0 to {})",
+                spp - 1
+            )));
+        }
+        let max_words = (self.ctx.device.limits().max_storage_buffer_binding_size / 4) as usize;
+        let words = log_words.clamp(LOG_HEADER + 64, max_words.max(LOG_HEADER + 64));
+        let mut config = self.config;
+        config.trace = true;
+        let wgsl = shader::wgsl(&config);
+        shader::validate(&wgsl).map_err(GpuError::Shader)?;
+        let ctx = &self.ctx;
+        let device = ctx.device.clone();
+        let (module, _) = ctx.checked("compiling the GPU trace shader", || {
+            ctx.compute_module("raystep trace shader", &wgsl, &[("trace_main", (1, 1, 1))])
+        })??;
+        let size = (words * 4) as u64;
+        let (pipeline, log, readback, group) = ctx.checked("creating the GPU trace", || {
+            let log_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("raystep trace log"),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                }],
+            });
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("raystep trace"),
+                bind_group_layouts: &[Some(&self.scene_layout), Some(&log_layout)],
+                immediate_size: 0,
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("trace_main"),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some("trace_main"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            // Created zeroed (wgpu clears new buffers): no words used, not run out.
+            let log = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("raystep trace log"),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            let readback = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("raystep trace log readback"),
+                size,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("raystep trace log"),
+                layout: &log_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: log.as_entire_binding(),
+                }],
+            });
+            (pipeline, log, readback, group)
+        })?;
+        let keep = self.debug_pixel;
+        self.debug_pixel = [x, y];
+        self.trace_sample = sample;
+        self.write_params();
+        let run = self
+            .ctx
+            .checked("tracing a pixel with the trace shader", || {
+                let mut encoder = device.create_command_encoder(&Default::default());
+                {
+                    let mut pass = encoder.begin_compute_pass(&Default::default());
+                    pass.set_pipeline(&pipeline);
+                    pass.set_bind_group(0, &self.scene_group, &[]);
+                    pass.set_bind_group(1, &group, &[]);
+                    pass.dispatch_workgroups(1, 1, 1);
+                }
+                encoder.copy_buffer_to_buffer(&log, 0, &readback, 0, size);
+                self.ctx.queue.submit([encoder.finish()]);
+            });
+        self.debug_pixel = keep;
+        self.trace_sample = 0;
+        self.write_params();
+        run?;
+        let bytes = self.ctx.read_mapped(&readback)?;
+        let log: Vec<u32> = bytes
+            .chunks_exact(4)
+            .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))
+            .collect();
+        trace_log::decode(&log, &self.scene, [x, y], sample, self.outline.clone())
+            .map_err(|e| GpuError::Scene(format!("the GPU trace could not be read: {e}")))
+    }
+}
