@@ -301,6 +301,9 @@ pub struct ArithConfig {
     pub div_fix: bool,
     /// `sqrt` gets the residual step ([`corrected_sqrt`]).
     pub sqrt_fix: bool,
+    /// A planted divergence, for tests: `fdot` as a chain of fused multiply-adds (what NVIDIA's
+    /// driver makes of WGSL's `dot`) instead of glam's sum. Never chosen by the probe.
+    pub fused_dot: bool,
 }
 
 /// The arithmetic helpers every tracer shader starts with: `fmaf` (Rust's `mul_add`), `fdiv`,
@@ -401,16 +404,22 @@ fn fsqrt(x: f32) -> f32 {
         "// √x: the driver's sqrt is correctly rounded (the probe checked) or cannot be fixed.\n\
          fn fsqrt(x: f32) -> f32 {\n    return sqrt(x);\n}\n\n"
     };
-    s += "fn fdiv3(v: vec3f, d: f32) -> vec3f {
-    return vec3f(fdiv(v.x, d), fdiv(v.y, d), fdiv(v.z, d));
-}
-
-// glam's dot product, term for term: (a.x·b.x + a.y·b.y) + a.z·b.z. Not WGSL's dot(): NVIDIA's
+    s += if c.fused_dot {
+        "// A planted divergence (tests only): the dot product as a chain of fused multiply-adds.\n\
+         fn fdot(a: vec3f, b: vec3f) -> f32 {\n    return fmaf(a.z, b.z, fmaf(a.y, b.y, a.x * b.x));\n}\n\n"
+    } else {
+        "// glam's dot product, term for term: (a.x·b.x + a.y·b.y) + a.z·b.z. Not WGSL's dot(): NVIDIA's
 // driver (580, H200) compiles OpDot as a chain of fused multiply-adds even when its result is
 // decorated NoContraction (found with `raystep trace --gpu` and `raystep diff`: the first step
 // to differ was a sphere test's a = d·d). Written out, each product and sum keeps NoContraction.
 fn fdot(a: vec3f, b: vec3f) -> f32 {
     return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+"
+    };
+    s += "fn fdiv3(v: vec3f, d: f32) -> vec3f {
+    return vec3f(fdiv(v.x, d), fdiv(v.y, d), fdiv(v.z, d));
 }
 
 // glam's length: √(v·v).
@@ -623,6 +632,7 @@ impl Probe {
     pub fn config(&self) -> ArithConfig {
         let fma_fused = self.fma == self.inputs;
         ArithConfig {
+            fused_dot: false,
             fma_fused,
             div_fix: fma_fused && self.div < self.inputs && self.div_corrected > self.div,
             sqrt_fix: fma_fused && self.sqrt < self.inputs && self.sqrt_corrected > self.sqrt,

@@ -217,6 +217,8 @@ pub struct GpuTracer {
     scene_layout: wgpu::BindGroupLayout,
     /// The top of the BVH the GPU walks, for GPU traces (none under ray queries or brute force).
     outline: Option<Vec<crate::record::OutlineNode>>,
+    /// The trace shader's pipeline and its log's bind group layout, made on first use.
+    trace_kernel: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
     params: wgpu::Buffer,
     scene_group: wgpu::BindGroup,
     output_layout: wgpu::BindGroupLayout,
@@ -315,6 +317,7 @@ impl GpuTracer {
             outline: bvh.and_then(|t| {
                 crate::accel::Accelerator::outline(t, crate::trace::whitted::BVH_OUTLINE_DEPTH)
             }),
+            trace_kernel: None,
             params: b.params,
             scene_group: b.scene_group,
             output_layout: b.output_layout,

@@ -32,43 +32,17 @@ impl GpuTracer {
         }
         let max_words = (self.ctx.device.limits().max_storage_buffer_binding_size / 4) as usize;
         let words = log_words.clamp(LOG_HEADER + 64, max_words.max(LOG_HEADER + 64));
-        let mut config = self.config;
-        config.trace = true;
-        let wgsl = shader::wgsl(&config);
-        shader::validate(&wgsl).map_err(GpuError::Shader)?;
-        let ctx = &self.ctx;
-        let device = ctx.device.clone();
-        let (module, _) = ctx.checked("compiling the GPU trace shader", || {
-            ctx.compute_module("raystep trace shader", &wgsl, &[("trace_main", (1, 1, 1))])
-        })??;
+        let (pipeline, log_layout) = match &self.trace_kernel {
+            Some(k) => k.clone(),
+            None => {
+                let k = self.trace_kernel()?;
+                self.trace_kernel = Some(k.clone());
+                k
+            }
+        };
+        let device = self.ctx.device.clone();
         let size = (words * 4) as u64;
-        let (pipeline, log, readback, group) = ctx.checked("creating the GPU trace", || {
-            let log_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some("raystep trace log"),
-                entries: &[wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Storage { read_only: false },
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                }],
-            });
-            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("raystep trace"),
-                bind_group_layouts: &[Some(&self.scene_layout), Some(&log_layout)],
-                immediate_size: 0,
-            });
-            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("trace_main"),
-                layout: Some(&layout),
-                module: &module,
-                entry_point: Some("trace_main"),
-                compilation_options: Default::default(),
-                cache: None,
-            });
+        let (log, readback, group) = self.ctx.checked("creating the GPU trace's log", || {
             // Created zeroed (wgpu clears new buffers): no words used, not run out.
             let log = device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("raystep trace log"),
@@ -90,7 +64,7 @@ impl GpuTracer {
                     resource: log.as_entire_binding(),
                 }],
             });
-            (pipeline, log, readback, group)
+            (log, readback, group)
         })?;
         let keep = self.debug_pixel;
         self.debug_pixel = [x, y];
@@ -121,5 +95,57 @@ impl GpuTracer {
             .collect();
         trace_log::decode(&log, &self.scene, [x, y], sample, self.outline.clone())
             .map_err(|e| GpuError::Scene(format!("the GPU trace could not be read: {e}")))
+    }
+
+    /// Makes the trace shader's pipeline: the tracer's shader with `TRACE` on, compiled the same
+    /// way (SPIR-V with `NoContraction` where the device takes it), and its log's layout.
+    fn trace_kernel(&self) -> Result<(wgpu::ComputePipeline, wgpu::BindGroupLayout), GpuError> {
+        let mut config = self.config;
+        config.trace = true;
+        let wgsl = shader::wgsl(&config);
+        shader::validate(&wgsl).map_err(GpuError::Shader)?;
+        let ctx = &self.ctx;
+        let device = ctx.device.clone();
+        let (module, _) = ctx.checked("compiling the GPU trace shader", || {
+            ctx.compute_module("raystep trace shader", &wgsl, &[("trace_main", (1, 1, 1))])
+        })??;
+        ctx.checked("creating the GPU trace shader's pipeline", || {
+            let log_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("raystep trace log"),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                }],
+            });
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some("raystep trace"),
+                bind_group_layouts: &[Some(&self.scene_layout), Some(&log_layout)],
+                immediate_size: 0,
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("trace_main"),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some("trace_main"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            (pipeline, log_layout)
+        })
+    }
+
+    /// Plants a divergence for tests: from now on the trace shader computes dot products as a
+    /// chain of fused multiply-adds (what NVIDIA's driver makes of WGSL's `dot`), so its trace
+    /// parts from the CPU's at the first dot product that rounds differently. The render
+    /// shaders are not changed.
+    pub fn plant_fused_dot(&mut self) {
+        self.config.arith.fused_dot = true;
+        self.trace_kernel = None;
     }
 }
