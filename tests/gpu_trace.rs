@@ -61,7 +61,7 @@ fn pixels(scene: &Scene) -> Vec<[u32; 2]> {
     v
 }
 
-fn steps<'a>(t: &'a Trace) -> Vec<&'a Step> {
+fn steps(t: &Trace) -> Vec<&Step> {
     t.timeline().into_iter().map(|(_, s)| &s.step).collect()
 }
 
