@@ -797,6 +797,37 @@ fn the_gpu_view_agrees_with_the_cpu() {
     );
     assert_ne!(h.state().panels.gpu.orbit, Orbit::IDENTITY);
 
+    // CPU ⇄ GPU: the GPU's own trace of the pixel (at the scene's camera, whatever the orbit) in
+    // the stepper, compared with the CPU's. On an exact adapter the two are equal.
+    h.get_by_label("GPU trace").click();
+    h.run_steps(3);
+    let state = &h.state().state;
+    assert!(state.showing_gpu_trace, "the stepper shows the GPU's trace");
+    let shown = state.stepping.as_ref().unwrap().trace.clone();
+    assert_eq!(shown.pixel, p);
+    let cmp = raystep::explain::diff::compare(&want, &shown, raystep::record::Tolerance::EXACT);
+    let verdict = labels(&h)
+        .into_iter()
+        .find(|t| t.starts_with("the traces are equal") || t.starts_with("first divergence"))
+        .expect("the comparison is on screen");
+    assert_eq!(
+        cmp.is_equal(),
+        verdict.starts_with("the traces are equal"),
+        "{verdict}"
+    );
+    assert!(
+        labels(&h).iter().any(|t| t == "GPU trace"),
+        "the step bar says it is the GPU's trace"
+    );
+    h.state_mut().state.apply(Command::ShowCpuTrace);
+    h.run_steps(2);
+    let state = &h.state().state;
+    assert!(!state.showing_gpu_trace);
+    let back = state.stepping.as_ref().unwrap().trace.clone();
+    assert!(
+        raystep::explain::diff::compare(&want, &back, raystep::record::Tolerance::EXACT).is_equal()
+    );
+
     h.get_by_label("CPU − GPU").click();
     h.run_steps(4);
     let d = h

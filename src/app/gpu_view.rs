@@ -3,13 +3,18 @@
 //! change re-traces at once); the adapter line says which adapter, backend and path run; the
 //! selected pixel is traced into the GPU's debug buffer and shown next to the CPU trace's values;
 //! the difference tab compares the two images pixel by pixel; the generated WGSL can be read.
+//! "GPU trace" puts the GPU's own step trace of the selected pixel into the stepper, math panel
+//! and diagrams ("CPU trace" brings the CPU's back), with the first divergence named and marked.
 //!
 //! Nothing here is needed: without a wgpu render state (the glow backend, a test harness
 //! without `.wgpu()`) the tabs are left out and the app shows the CPU render alone.
 
-use super::state::AppState;
+use super::state::{AppState, Command, StepMove};
+use crate::explain::diff::compare;
+use crate::gpu::trace_log::DEFAULT_LOG_WORDS;
 use crate::gpu::{Difference, GpuContext, GpuPath, GpuTracer, PixelDebug, ShaderVariant};
 use crate::record::Step;
+use crate::record::Tolerance;
 use crate::record::number::num;
 use crate::scene::Scene;
 use crate::trace::PreparedScene;
@@ -49,6 +54,25 @@ struct Traced {
     pick: Option<([u32; 2], Result<PixelDebug, String>)>,
     /// The comparison with the CPU render, for (the render it was made against, the GPU path).
     diff: Option<((u64, GpuPath), Result<Compared, String>)>,
+    /// The GPU's own trace of a pixel.
+    gpu_trace: Option<GpuTraced>,
+}
+
+/// The GPU's own trace of (pixel, sample), and how it compares with the CPU's.
+struct GpuTraced {
+    pixel: [u32; 2],
+    sample: u32,
+    result: Result<GpuTraceShown, String>,
+}
+
+struct GpuTraceShown {
+    trace: Arc<crate::record::Trace>,
+    /// "the traces are equal: …" or "first divergence: step K (…)".
+    verdict: String,
+    /// The first step where it parts from the CPU's trace.
+    divergence: Option<usize>,
+    /// The log ran out.
+    truncated: bool,
 }
 
 /// The GPU view's state (part of [`super::panels::Panels`]).
@@ -152,6 +176,7 @@ impl GpuView {
                         frame: None,
                         pick: None,
                         diff: None,
+                        gpu_trace: None,
                     })
                 }
                 Err(e) => {
@@ -220,6 +245,58 @@ impl GpuView {
                 .map_err(|e| e.to_string())
         })();
         t.pick = Some((pixel, result));
+    }
+
+    /// The GPU's own trace of (pixel, sample), at the scene's camera, compared with the CPU's
+    /// trace `cpu` (made once per pixel and sample).
+    fn trace_on_gpu(
+        &mut self,
+        prepared: &PreparedScene,
+        pixel: [u32; 2],
+        sample: u32,
+        cpu: &crate::record::Trace,
+    ) -> Option<&Result<GpuTraceShown, String>> {
+        let orbit = self.orbit;
+        let t = self.tracer_for(prepared).ok()?;
+        let fresh = t
+            .gpu_trace
+            .as_ref()
+            .is_some_and(|g| g.pixel == pixel && g.sample == sample);
+        if !fresh {
+            let result = (|| {
+                if orbit != Orbit::IDENTITY {
+                    t.tracer
+                        .set_camera(&prepared.scene().camera)
+                        .map_err(|e| e.to_string())?;
+                    t.frame = None;
+                }
+                let g = t
+                    .tracer
+                    .trace_pixel(pixel[0], pixel[1], sample, DEFAULT_LOG_WORDS)
+                    .map_err(|e| e.to_string())?;
+                let cmp = compare(cpu, &g.trace, Tolerance::EXACT);
+                let text = cmp.to_text(cpu, &g.trace, ["CPU", "GPU"]);
+                let verdict = text
+                    .lines()
+                    .find(|l| {
+                        l.starts_with("first divergence") || l.starts_with("the traces are equal")
+                    })
+                    .unwrap_or("compared")
+                    .to_string();
+                Ok(GpuTraceShown {
+                    trace: Arc::new(g.trace),
+                    verdict,
+                    divergence: cmp.first().and_then(|d| d.actual_step.or(d.step)),
+                    truncated: g.truncated,
+                })
+            })();
+            t.gpu_trace = Some(GpuTraced {
+                pixel,
+                sample,
+                result,
+            });
+        }
+        t.gpu_trace.as_ref().map(|g| &g.result)
     }
 
     /// Renders on the GPU at the scene's camera and compares with the CPU render `render_id`.
@@ -294,7 +371,7 @@ pub fn tabs(ui: &mut egui::Ui, gpu: &mut GpuView) {
 }
 
 /// The GPU render view (the central panel's "GPU render" tab).
-pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
+pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mut Vec<Command>) {
     let Some(prepared) = &state.prepared else {
         ui.label("Preparing the scene…");
         return;
@@ -339,6 +416,7 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
     if let Some([x, y]) = state.pixel {
         gpu.pick_pixel(&prepared, [x, y]);
         pick_table(ui, state, prepared.scene(), gpu);
+        trace_switch(ui, state, &prepared, gpu, cmds);
     }
     if gpu.show_wgsl {
         if let Some(t) = &gpu.traced {
@@ -496,6 +574,78 @@ fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuView)
                 ui.end_row();
             }
         });
+}
+
+/// CPU ⇄ GPU: which trace of the selected pixel the stepper, math panel and diagrams show. The
+/// GPU's own trace is made on first use (the trace shader logs each step the compute path takes)
+/// and compared with the CPU's; the first divergence is named, marked on the step bar, and one
+/// click away.
+fn trace_switch(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    prepared: &PreparedScene,
+    gpu: &mut GpuView,
+    cmds: &mut Vec<Command>,
+) {
+    let Some(pixel) = state.pixel else {
+        return;
+    };
+    let Some(stepping) = &state.stepping else {
+        return;
+    };
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Step through:");
+        if ui
+            .selectable_label(!state.showing_gpu_trace, "CPU trace")
+            .on_hover_text("the CPU tracer's steps for this pixel")
+            .clicked()
+        {
+            cmds.push(Command::ShowCpuTrace);
+        }
+        let gpu_button = ui
+            .selectable_label(state.showing_gpu_trace, "GPU trace")
+            .on_hover_text(
+                "the GPU's own steps: the trace shader logs every step the compute path takes \
+                 for this pixel, read back into the same stepper, math panel and diagrams",
+            );
+        if gpu_button.clicked() && !state.showing_gpu_trace {
+            let cpu = Arc::clone(&stepping.trace);
+            if let Some(Ok(g)) = gpu.trace_on_gpu(prepared, pixel, state.sample, &cpu) {
+                cmds.push(Command::ShowGpuTrace(Arc::clone(&g.trace), g.divergence));
+            }
+        }
+    });
+    let shown = gpu
+        .traced
+        .as_ref()
+        .and_then(|t| t.gpu_trace.as_ref())
+        .filter(|g| g.pixel == pixel && g.sample == state.sample);
+    match shown.map(|g| &g.result) {
+        Some(Ok(g)) => {
+            let colour = if g.divergence.is_some() {
+                ui.visuals().warn_fg_color
+            } else {
+                ui.visuals().text_color()
+            };
+            ui.label(RichText::new(&g.verdict).color(colour));
+            if g.truncated {
+                ui.colored_label(
+                    ui.visuals().warn_fg_color,
+                    "The GPU's step log ran out: its trace stops early.",
+                );
+            }
+            if let Some(k) = g.divergence
+                && state.showing_gpu_trace
+                && ui.button(format!("Go to step {k}")).clicked()
+            {
+                cmds.push(Command::Step(StepMove::To(k)));
+            }
+        }
+        Some(Err(e)) => {
+            ui.colored_label(ui.visuals().error_fg_color, format!("GPU trace: {e}"));
+        }
+        None => {}
+    }
 }
 
 /// The difference tab: CPU − GPU as an image, with RMSE, max error and the count of differing

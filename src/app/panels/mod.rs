@@ -236,7 +236,7 @@ fn central(
     gpu_view::tabs(ui, &mut panels.gpu);
     match panels.gpu.tab {
         CentralTab::Cpu => view::render_view(ui, state, render, cmds),
-        CentralTab::Gpu => gpu_view::gpu_tab(ui, state, &mut panels.gpu),
+        CentralTab::Gpu => gpu_view::gpu_tab(ui, state, &mut panels.gpu, cmds),
         CentralTab::Difference => gpu_view::difference_tab(ui, state, &mut panels.gpu),
         CentralTab::Scene3d => scene3d::tab(
             ui,

@@ -57,6 +57,16 @@ pub fn controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
         }
         ui.separator();
         if let Some((ray, step)) = s.at(state.step) {
+            if state.showing_gpu_trace {
+                ui.label(
+                    RichText::new("GPU trace")
+                        .strong()
+                        .color(ui.visuals().warn_fg_color),
+                )
+                .on_hover_text(
+                    "the GPU's own steps (GPU tab); switch back with \"CPU trace\" there",
+                );
+            }
             ui.label(
                 RichText::new(format!(
                     "step {} of 0–{} · {} · {} ray (depth {})",
@@ -110,6 +120,14 @@ pub fn controls(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
                 );
             }
         }
+    }
+    // The first step where the GPU's trace parts from the CPU's: a red mark above the cell.
+    if let Some(d) = state.divergence.filter(|_| state.showing_gpu_trace) {
+        let xd = rect.left() + (d as f32 + 0.5) * rect.width() / n.max(1) as f32;
+        painter.line_segment(
+            [egui::pos2(xd, rect.top()), egui::pos2(xd, rect.bottom())],
+            egui::Stroke::new(2.0, ui.visuals().error_fg_color),
+        );
     }
     let xk = rect.left() + (state.step as f32 + 0.5) * rect.width() / n.max(1) as f32;
     painter.line_segment(

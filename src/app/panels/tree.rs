@@ -118,6 +118,12 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState, cache: &mut TreePanel, cmds: &
             t.rays().len(),
             s.record_time.as_secs_f64() * 1e3
         ));
+    } else if state.showing_gpu_trace {
+        ui.label(format!(
+            "{} steps, {} rays, traced on the GPU (its own steps, read back)",
+            s.len(),
+            t.rays().len()
+        ));
     }
     if cache
         .rows

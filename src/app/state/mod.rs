@@ -133,6 +133,12 @@ pub enum Command {
     ResetLayout,
     /// Edit the scene, select an object, undo, redo, save.
     Edit(editing::EditCmd),
+    /// Step through the GPU's own trace of the selected pixel (from the GPU tab) instead of the
+    /// CPU's; the step index is kept, so the same step can be compared.
+    /// With the first step where it parts from the CPU's, if it does.
+    ShowGpuTrace(Arc<Trace>, Option<usize>),
+    /// Back to the CPU's trace of the selected pixel (recorded again), the step index kept.
+    ShowCpuTrace,
 }
 
 /// A message for the status line.
@@ -196,6 +202,11 @@ pub struct AppState {
     pub dialog: Option<Dialog>,
     /// Bumped whenever the trace changes (caches key on it).
     pub trace_generation: u64,
+    /// The stepper shows the GPU's own trace of the pixel ([`Command::ShowGpuTrace`]), not the
+    /// CPU's.
+    pub showing_gpu_trace: bool,
+    /// While the GPU's trace is shown: the first step where it parts from the CPU's.
+    pub divergence: Option<usize>,
     /// The lessons and the exercise session.
     pub learn: Learn,
     /// The open scene's TOML document being edited (None: not editable, e.g. an exercise's
@@ -248,6 +259,8 @@ impl AppState {
             message: None,
             dialog: None,
             trace_generation: 0,
+            showing_gpu_trace: false,
+            divergence: None,
             learn: Learn::load(&prefs.student),
             editor: None,
             editor_path: None,
@@ -300,6 +313,21 @@ impl AppState {
                         self.sample = 0;
                     }
                     self.restart_render();
+                }
+            }
+            Command::ShowGpuTrace(trace, divergence) => {
+                if self.pixel == Some(trace.pixel) {
+                    let stepping = Stepping::new((*trace).clone(), Duration::ZERO);
+                    self.step = self.step.min(stepping.len().saturating_sub(1));
+                    self.stepping = Some(stepping);
+                    self.trace_generation += 1;
+                    self.showing_gpu_trace = true;
+                    self.divergence = divergence;
+                }
+            }
+            Command::ShowCpuTrace => {
+                if self.showing_gpu_trace {
+                    self.retrace(true);
                 }
             }
             Command::SelectPixel(p) => {
@@ -549,6 +577,8 @@ impl AppState {
         };
         self.stepping = Some(Stepping::new(trace, Duration::ZERO));
         self.trace_generation += 1;
+        self.showing_gpu_trace = false;
+        self.divergence = None;
         self.step = 0;
         self.playing = false;
     }
@@ -574,6 +604,8 @@ impl AppState {
     /// `keep_step` the current step index is kept (clamped), so a teacher can flip a setting and
     /// compare the same step.
     fn retrace(&mut self, keep_step: bool) {
+        self.showing_gpu_trace = false;
+        self.divergence = None;
         let (Some(p), Some([x, y])) = (&self.prepared, self.pixel) else {
             return;
         };
