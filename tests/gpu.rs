@@ -7,15 +7,17 @@
 //! return when there is none — except on CI (the CI variable set), where that is a failure.
 
 use raystep::accel::SceneAccel;
-use raystep::gpu::{
-    self, GpuContext, GpuError, GpuPath, GpuTracer, ShaderConfig, ShaderVariant, shader,
-};
+use raystep::gpu::{self, GpuError, GpuPath, GpuTracer, ShaderConfig, ShaderVariant, shader};
 use raystep::record::Step;
 use raystep::render::{RenderOptions, render};
 use raystep::scene::{Scene, Shape, load_file, load_str};
 use raystep::shapes::{SphereMethod, TriangleMethod};
 use raystep::trace::{PreparedScene, Tracer};
 use std::path::PathBuf;
+
+#[path = "common/gpu.rs"]
+mod gpu_common;
+use gpu_common::{context, one_at_a_time};
 
 /// The largest per-channel difference (in 8-bit sRGB steps) any pixel may show. The WGSL repeats
 /// the CPU's f32 operations, so the images differ only where the GPU rounds differently (WGSL's
@@ -48,31 +50,6 @@ fn small(mut scene: Scene) -> Scene {
         scene.camera.height = 120;
     }
     scene
-}
-
-/// Holds the GPU for one test at a time. NVIDIA's Vulkan driver (580, on an H200) hangs when
-/// several tests of this binary create devices, or start `raystep --gpu`, at the same time;
-/// one at a time the whole file runs in about 25 s there.
-fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
-    static GPU: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    // A test that failed while holding it leaves it poisoned; the next still runs.
-    GPU.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// The headless context, or None (after printing why) where wgpu finds no adapter.
-fn context(test: &str) -> Option<GpuContext> {
-    match GpuContext::headless() {
-        Ok(c) => Some(c),
-        Err(GpuError::NoAdapter(e)) => {
-            assert!(
-                std::env::var("CI").is_err(),
-                "CI must run the GPU tests: install Mesa's lavapipe (mesa-vulkan-drivers): {e}"
-            );
-            eprintln!("SKIPPED {test}: no wgpu adapter (install mesa-vulkan-drivers)");
-            None
-        }
-        Err(e) => panic!("{e}"),
-    }
 }
 
 fn cpu_pixels(scene: &Scene) -> Vec<glam::Vec3> {

@@ -9,33 +9,16 @@
 
 use raystep::explain::diff::compare;
 use raystep::gpu::trace_log::DEFAULT_LOG_WORDS;
-use raystep::gpu::{GpuContext, GpuError, GpuPath, GpuTracer, ShaderVariant};
+use raystep::gpu::{GpuPath, GpuTracer, ShaderVariant};
 use raystep::record::{Step, Tolerance, Trace};
 use raystep::scene::{Scene, load_file};
 use raystep::trace::PreparedScene;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-/// One test at a time on the GPU (see tests/gpu.rs: NVIDIA's driver hangs on parallel devices).
-fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
-    static GPU: std::sync::Mutex<()> = std::sync::Mutex::new(());
-    GPU.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-fn context(test: &str) -> Option<GpuContext> {
-    match GpuContext::headless() {
-        Ok(c) => Some(c),
-        Err(GpuError::NoAdapter(e)) => {
-            assert!(
-                std::env::var("CI").is_err(),
-                "CI must run the GPU tests: install Mesa's lavapipe (mesa-vulkan-drivers): {e}"
-            );
-            eprintln!("SKIPPED {test}: no wgpu adapter (install mesa-vulkan-drivers)");
-            None
-        }
-        Err(e) => panic!("{e}"),
-    }
-}
+#[path = "common/gpu.rs"]
+mod gpu_common;
+use gpu_common::{context, one_at_a_time};
 
 fn scenes() -> Vec<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");

@@ -1,0 +1,30 @@
+//! The GPU tests' shared preamble (tests/gpu.rs, tests/gpu_trace.rs): one test at a time on the
+//! GPU, and the headless context or a skip.
+
+use raystep::gpu::{GpuContext, GpuError};
+
+/// Holds the GPU for one test at a time. NVIDIA's Vulkan driver (580, on an H200) hangs when
+/// several tests of one binary create devices, or start `raystep --gpu`, at the same time; one
+/// at a time tests/gpu.rs runs in about 26 s there.
+pub fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+    static GPU: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    // A test that failed while holding it leaves it poisoned; the next still runs.
+    GPU.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The headless context, or None (after printing why) where wgpu finds no adapter. Under CI
+/// (the `CI` variable set) there must be one.
+pub fn context(test: &str) -> Option<GpuContext> {
+    match GpuContext::headless() {
+        Ok(c) => Some(c),
+        Err(GpuError::NoAdapter(e)) => {
+            assert!(
+                std::env::var("CI").is_err(),
+                "CI must run the GPU tests: install Mesa's lavapipe (mesa-vulkan-drivers): {e}"
+            );
+            eprintln!("SKIPPED {test}: no wgpu adapter (install mesa-vulkan-drivers)");
+            None
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
