@@ -58,6 +58,26 @@ pub fn spirv_no_contraction(wgsl: &str) -> Result<(Vec<u32>, usize), String> {
     Ok((words, n))
 }
 
+/// A SPIR-V module's instructions after its 5-word header: (word offset, opcode, the
+/// instruction's words). Errors on a module that is not SPIR-V or an instruction that runs past
+/// its end.
+fn instructions(words: &[u32]) -> Result<Vec<(usize, u32, &[u32])>, String> {
+    if words.len() < 5 || words[0] != 0x0723_0203 {
+        return Err("not a SPIR-V module".into());
+    }
+    let mut out = vec![];
+    let mut at = 5;
+    while at < words.len() {
+        let count = (words[at] >> 16) as usize;
+        if count == 0 || at + count > words.len() {
+            return Err(format!("malformed SPIR-V instruction at word {at}"));
+        }
+        out.push((at, words[at] & 0xffff, &words[at..at + count]));
+        at += count;
+    }
+    Ok(out)
+}
+
 const OP_EXTENSION: u32 = 10;
 const OP_ENTRY_POINT: u32 = 15;
 const OP_EXECUTION_MODE: u32 = 16;
@@ -71,27 +91,17 @@ const EXECUTION_MODE_DENORM_PRESERVE: u32 = 4459;
 /// whether it did ([`Probe::subnormals_kept`]). Only used where the probe without it found
 /// subnormals flushed and the probe with it found them kept and nothing else worse.
 pub fn preserve_denormals(words: &mut Vec<u32>) -> Result<(), String> {
-    if words.len() < 5 || words[0] != 0x0723_0203 {
-        return Err("not a SPIR-V module".into());
-    }
     let (mut after_capabilities, mut after_entry_points) = (None, None);
     let mut entries = vec![];
-    let mut at = 5;
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        let op = words[at] & 0xffff;
-        if count == 0 || at + count > words.len() {
-            return Err(format!("malformed SPIR-V instruction at word {at}"));
-        }
+    for (at, op, ins) in instructions(words)? {
         match op {
-            OP_CAPABILITY => after_capabilities = Some(at + count),
+            OP_CAPABILITY => after_capabilities = Some(at + ins.len()),
             OP_ENTRY_POINT => {
-                entries.push(words[at + 2]);
-                after_entry_points = Some(at + count);
+                entries.push(ins[2]);
+                after_entry_points = Some(at + ins.len());
             }
             _ => {}
         }
-        at += count;
     }
     let (Some(caps), Some(eps)) = (after_capabilities, after_entry_points) else {
         return Err("a SPIR-V module without capabilities or entry points".into());
@@ -154,20 +164,11 @@ pub fn spirv(wgsl: &str) -> Result<Vec<u32>, String> {
 /// OpDot, and extended instructions — Fma, Sqrt, … — whose result is a float or float vector),
 /// inserted before the module's first decoration. Returns how many were added.
 pub fn decorate_no_contraction(words: &mut Vec<u32>) -> Result<usize, String> {
-    if words.len() < 5 || words[0] != 0x0723_0203 {
-        return Err("not a SPIR-V module".into());
-    }
     let mut float_types = std::collections::HashSet::new();
     let mut targets = vec![];
     let mut first_decoration = None;
-    let mut at = 5;
-    while at < words.len() {
-        let count = (words[at] >> 16) as usize;
-        let op = words[at] & 0xffff;
-        if count == 0 || at + count > words.len() {
-            return Err(format!("malformed SPIR-V instruction at word {at}"));
-        }
-        let ins = &words[at..at + count];
+    for (at, op, ins) in instructions(words)? {
+        let count = ins.len();
         match op {
             OP_TYPE_FLOAT => {
                 float_types.insert(ins[1]);
@@ -186,7 +187,6 @@ pub fn decorate_no_contraction(words: &mut Vec<u32>) -> Result<usize, String> {
             }
             _ => {}
         }
-        at += count;
     }
     let at = first_decoration.ok_or("the SPIR-V module has no decorations section")?;
     let decorations: Vec<u32> = targets
