@@ -58,10 +58,13 @@ pub fn spirv_no_contraction(wgsl: &str) -> Result<(Vec<u32>, usize), String> {
     Ok((words, n))
 }
 
+/// One SPIR-V instruction: its word offset, opcode and words.
+type Instruction<'a> = (usize, u32, &'a [u32]);
+
 /// A SPIR-V module's instructions after its 5-word header: (word offset, opcode, the
 /// instruction's words). Errors on a module that is not SPIR-V or an instruction that runs past
 /// its end.
-fn instructions(words: &[u32]) -> Result<Vec<(usize, u32, &[u32])>, String> {
+fn instructions(words: &[u32]) -> Result<Vec<Instruction<'_>>, String> {
     if words.len() < 5 || words[0] != 0x0723_0203 {
         return Err("not a SPIR-V module".into());
     }
