@@ -259,13 +259,13 @@ fn the_cli_saves_a_gpu_trace_that_diff_reads() {
         Some(1) => assert!(out.contains("first divergence"), "{out}"),
         other => panic!("diff exited {other:?}: {out}"),
     }
-    // The fragment path is not traced step by step: a plain refusal, nothing written.
+    // The fragment path: traced too, with a note on where its primary ray comes from.
     let f = dir.path().join("f.json");
     let r = run(&[
         "trace",
         scene,
         "--pixel",
-        "1,1",
+        "160,120",
         "--gpu",
         "--gpu-path",
         "fragment",
@@ -273,9 +273,53 @@ fn the_cli_saves_a_gpu_trace_that_diff_reads() {
         f.to_str().unwrap(),
     ]);
     let err = String::from_utf8_lossy(&r.stderr);
-    assert!(!r.status.success() && err.contains("compute"), "{err}");
-    assert!(!f.exists());
+    assert!(r.status.success() && err.contains("interpolation"), "{err}");
+    Trace::load(&f).unwrap();
     // --gpu-path without --gpu is refused by the argument parser.
     let r = run(&["trace", scene, "--pixel", "1,1", "--gpu-path", "compute"]);
     assert!(!r.status.success());
+}
+
+/// The fragment path's trace: the rasterizer's interpolated primary ray (its direction within a
+/// few ulp of the CPU's; no screen position), then the same work: the same hit for a pixel away
+/// from any edge.
+#[test]
+fn the_fragment_path_is_traced_with_its_interpolated_ray() {
+    let _gpu = one_at_a_time();
+    let Some(ctx) = context("the_fragment_path_is_traced_with_its_interpolated_ray") else {
+        return;
+    };
+    let file = scenes()
+        .into_iter()
+        .find(|p| p.ends_with("three-spheres.toml"))
+        .unwrap();
+    let scene = load_file(&file).unwrap();
+    let prepared = PreparedScene::new(scene.clone());
+    let mut gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
+    let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
+    let cpu = prepared.record(x, y, 0);
+    let got = gpu
+        .trace_pixel_on(GpuPath::Fragment, x, y, 0, DEFAULT_LOG_WORDS)
+        .unwrap();
+    let camera = |t: &Trace| {
+        steps(t).into_iter().find_map(|s| match s {
+            Step::Camera {
+                pixel,
+                screen,
+                direction,
+                ..
+            } => Some((*pixel, *screen, *direction)),
+            _ => None,
+        })
+    };
+    let (cp, _, cd) = camera(&cpu).unwrap();
+    let (gp, gs, gd) = camera(&got.trace).expect("a camera step");
+    assert_eq!(cp, gp);
+    assert!(gs.iter().all(|v| v.is_nan()), "{gs:?}");
+    for (a, b) in cd.iter().zip(gd) {
+        assert!((a - b).abs() <= 1e-5, "CPU {cd:?} GPU {gd:?}");
+    }
+    let hit = |t: &Trace| t.root.hit.as_ref().map(|h| h.object);
+    assert_eq!(hit(&cpu), hit(&got.trace));
+    Trace::from_json(&got.trace.to_json(), "fragment.json").unwrap();
 }

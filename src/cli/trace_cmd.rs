@@ -31,8 +31,8 @@ pub struct TraceArgs {
     /// `raystep diff`).
     #[arg(long)]
     pub gpu: bool,
-    /// With --gpu: the GPU path whose arithmetic the trace follows. Only `compute` (the CPU's
-    /// primary ray, per pixel) is traced step by step.
+    /// With --gpu: the GPU path to trace (default compute: the CPU's primary ray, per pixel;
+    /// fragment: the rasterizer's interpolated primary ray, scissored to the pixel).
     #[arg(long, value_enum, requires = "gpu")]
     pub gpu_path: Option<crate::gpu::GpuPath>,
     /// With --gpu: the size of the GPU's step log, in MiB (a trace that outgrows it ends in a
@@ -104,22 +104,20 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
 /// it, and where the log ran out.
 fn gpu_trace(args: &TraceArgs, prepared: &PreparedScene) -> Result<crate::record::Trace, String> {
     use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
-    if args.gpu_path == Some(GpuPath::Fragment) {
-        return Err(
-            "--gpu-path fragment: the fragment path's primary rays come from the rasterizer's interpolation, \
-             which no shader sees step by step; the GPU trace follows the compute path (--gpu-path compute), \
-             whose arithmetic after the primary ray is the fragment path's"
-                .into(),
-        );
-    }
+    let path = args.gpu_path.unwrap_or(GpuPath::Compute);
     let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
     let mut gpu =
         GpuTracer::new(ctx, prepared, ShaderVariant::Generated).map_err(|e| e.to_string())?;
-    eprintln!("GPU trace: {}", gpu.adapter_line(GpuPath::Compute));
+    eprintln!("GPU trace: {}", gpu.adapter_line(path));
+    if path == GpuPath::Fragment {
+        eprintln!(
+            "note: on the fragment path the primary ray's direction is the rasterizer's interpolation (its screen position is not computed: NaN); the CPU computes it, so the last bits may differ from the first step on"
+        );
+    }
     let words = args.gpu_log_mib as usize * (1 << 18);
     let [x, y] = args.pixel;
     let t = gpu
-        .trace_pixel(x, y, args.sample, words)
+        .trace_pixel_on(path, x, y, args.sample, words)
         .map_err(|e| e.to_string())?;
     if t.truncated {
         eprintln!(

@@ -219,6 +219,8 @@ pub struct GpuTracer {
     outline: Option<Vec<crate::record::OutlineNode>>,
     /// The trace shader's pipeline and its log's bind group layout, made on first use.
     trace_kernel: Option<(wgpu::ComputePipeline, wgpu::BindGroupLayout)>,
+    /// The fragment path's trace pipeline, made on first use.
+    trace_fragment: Option<wgpu::RenderPipeline>,
     params: wgpu::Buffer,
     scene_group: wgpu::BindGroup,
     output_layout: wgpu::BindGroupLayout,
@@ -318,6 +320,7 @@ impl GpuTracer {
                 crate::accel::Accelerator::outline(t, crate::trace::whitted::BVH_OUTLINE_DEPTH)
             }),
             trace_kernel: None,
+            trace_fragment: None,
             params: b.params,
             scene_group: b.scene_group,
             output_layout: b.output_layout,

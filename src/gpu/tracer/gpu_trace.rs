@@ -17,6 +17,21 @@ impl GpuTracer {
         sample: u32,
         log_words: usize,
     ) -> Result<GpuTrace, GpuError> {
+        self.trace_pixel_on(GpuPath::Compute, x, y, sample, log_words)
+    }
+
+    /// [`GpuTracer::trace_pixel`] on either path. The fragment path draws the same full-screen
+    /// triangle as its render, scissored to the pixel, so the rasterizer interpolates the same
+    /// primary-ray direction (its screen position is not computed: NaN in the camera step); the
+    /// fragment shader is compiled from WGSL, as the fragment path's is.
+    pub fn trace_pixel_on(
+        &mut self,
+        path: GpuPath,
+        x: u32,
+        y: u32,
+        sample: u32,
+        log_words: usize,
+    ) -> Result<GpuTrace, GpuError> {
         if x >= self.camera.width || y >= self.camera.height {
             return Err(GpuError::Scene(format!(
                 "pixel ({x}, {y}) is outside the {}×{} image",
@@ -40,6 +55,18 @@ impl GpuTracer {
                 k
             }
         };
+        let fragment = match path {
+            GpuPath::Compute => None,
+            GpuPath::Fragment => Some(match &self.trace_fragment {
+                Some(f) => f.clone(),
+                None => {
+                    let f = self.trace_fragment_pipeline(&log_layout)?;
+                    self.trace_fragment = Some(f.clone());
+                    f
+                }
+            }),
+        };
+        let (width, height) = (self.camera.width, self.camera.height);
         let device = self.ctx.device.clone();
         let size = (words * 4) as u64;
         let (log, readback, group) = self.ctx.checked("creating the GPU trace's log", || {
@@ -74,7 +101,43 @@ impl GpuTracer {
             .ctx
             .checked("tracing a pixel with the trace shader", || {
                 let mut encoder = device.create_command_encoder(&Default::default());
-                {
+                if let Some(fragment) = &fragment {
+                    // A target of the image's size, so the viewport and the interpolation are
+                    // the render's; only the pixel's fragment runs.
+                    let target = device.create_texture(&wgpu::TextureDescriptor {
+                        label: Some("raystep trace target"),
+                        size: wgpu::Extent3d {
+                            width,
+                            height,
+                            depth_or_array_layers: 1,
+                        },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: LINEAR_FORMAT,
+                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                        view_formats: &[],
+                    });
+                    let view = target.create_view(&Default::default());
+                    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some("raystep trace (fragment)"),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view: &view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        ..Default::default()
+                    });
+                    pass.set_pipeline(fragment);
+                    pass.set_bind_group(0, &self.scene_group, &[]);
+                    pass.set_bind_group(1, &group, &[]);
+                    pass.set_scissor_rect(x, y, 1, 1);
+                    pass.draw(0..3, 0..1);
+                } else {
                     let mut pass = encoder.begin_compute_pass(&Default::default());
                     pass.set_pipeline(&pipeline);
                     pass.set_bind_group(0, &self.scene_group, &[]);
@@ -114,7 +177,7 @@ impl GpuTracer {
                 label: Some("raystep trace log"),
                 entries: &[wgpu::BindGroupLayoutEntry {
                     binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
+                    visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: false },
                         has_dynamic_offset: false,
@@ -140,6 +203,55 @@ impl GpuTracer {
         })
     }
 
+    /// The fragment path's trace pipeline: the trace shader's `vs_main` and `fs_trace`, compiled
+    /// from WGSL as the fragment path's render is.
+    fn trace_fragment_pipeline(
+        &self,
+        log_layout: &wgpu::BindGroupLayout,
+    ) -> Result<wgpu::RenderPipeline, GpuError> {
+        let mut config = self.config;
+        config.trace = true;
+        let wgsl = shader::wgsl(&config);
+        let device = self.ctx.device.clone();
+        self.ctx
+            .checked("creating the GPU trace shader's fragment pipeline", || {
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("raystep trace shader (fragment)"),
+                    source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+                });
+                let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some("raystep trace (fragment)"),
+                    bind_group_layouts: &[Some(&self.scene_layout), Some(log_layout)],
+                    immediate_size: 0,
+                });
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some("raystep trace (fragment)"),
+                    layout: Some(&layout),
+                    vertex: wgpu::VertexState {
+                        module: &module,
+                        entry_point: Some("vs_main"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: wgpu::PrimitiveState::default(),
+                    depth_stencil: None,
+                    multisample: wgpu::MultisampleState::default(),
+                    fragment: Some(wgpu::FragmentState {
+                        module: &module,
+                        entry_point: Some("fs_trace"),
+                        compilation_options: Default::default(),
+                        targets: &[Some(wgpu::ColorTargetState {
+                            format: LINEAR_FORMAT,
+                            blend: None,
+                            write_mask: wgpu::ColorWrites::ALL,
+                        })],
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            })
+    }
+
     /// Plants a divergence for tests: from now on the trace shader computes dot products as a
     /// chain of fused multiply-adds (what NVIDIA's driver makes of WGSL's `dot`), so its trace
     /// parts from the CPU's at the first dot product that rounds differently. The render
@@ -147,5 +259,6 @@ impl GpuTracer {
     pub fn plant_fused_dot(&mut self) {
         self.config.arith.fused_dot = true;
         self.trace_kernel = None;
+        self.trace_fragment = None;
     }
 }

@@ -195,20 +195,6 @@ fn render_pixel(p: vec2u, centre: vec3f, exact: bool, capture: bool) -> vec3f {
     return fdiv3(sum, f32(max(params.spp, 1u)));
 }
 
-//#if TRACE
-// ---- the trace shader's one entry point: one invocation traces sample params.trace_sample of
-// params.debug_pixel and logs every step (src/gpu/trace_log.rs reads the log) ----
-
-@compute @workgroup_size(1)
-fn trace_main() {
-    log_at = LOG_HEADER;
-    log_on = true;
-    let c = trace(ray_generation(params.debug_pixel, params.trace_sample, vec3f(0.0), true), false);
-    log_open();
-    log_v(c);
-    log_close(EV_PIXEL);
-}
-//#else
 // ---- fragment path: a full-screen triangle; the rasterizer interpolates the ray direction ----
 
 struct VertexOut {
@@ -227,6 +213,36 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
     return out;
 }
 
+//#if TRACE
+// ---- the trace shader's one entry point: one invocation traces sample params.trace_sample of
+// params.debug_pixel and logs every step (src/gpu/trace_log.rs reads the log) ----
+
+@compute @workgroup_size(1)
+fn trace_main() {
+    log_at = LOG_HEADER;
+    log_on = true;
+    let c = trace(ray_generation(params.debug_pixel, params.trace_sample, vec3f(0.0), true), false);
+    log_open();
+    log_v(c);
+    log_close(EV_PIXEL);
+}
+
+// The fragment path's trace: the same full-screen triangle, so the rasterizer interpolates the
+// same direction for the pixel (the pass is scissored to it); that fragment logs its steps.
+@fragment
+fn fs_trace(in: VertexOut) -> @location(0) vec4f {
+    let p = vec2u(floor(in.position.xy));
+    if all(p == params.debug_pixel) {
+        log_at = LOG_HEADER;
+        log_on = true;
+    }
+    let c = trace(ray_generation(p, params.trace_sample, in.dir, false), false);
+    log_open();
+    log_v(c);
+    log_close(EV_PIXEL);
+    return vec4f(c, 1.0);
+}
+//#else
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4f {
     let p = vec2u(floor(in.position.xy));
