@@ -62,6 +62,7 @@ struct Traced {
 struct GpuTraced {
     pixel: [u32; 2],
     sample: u32,
+    path: GpuPath,
     result: Result<GpuTraceShown, String>,
 }
 
@@ -256,12 +257,12 @@ impl GpuView {
         sample: u32,
         cpu: &crate::record::Trace,
     ) -> Option<&Result<GpuTraceShown, String>> {
-        let orbit = self.orbit;
+        let (orbit, path) = (self.orbit, self.path);
         let t = self.tracer_for(prepared).ok()?;
         let fresh = t
             .gpu_trace
             .as_ref()
-            .is_some_and(|g| g.pixel == pixel && g.sample == sample);
+            .is_some_and(|g| g.pixel == pixel && g.sample == sample && g.path == path);
         if !fresh {
             let result = (|| {
                 if orbit != Orbit::IDENTITY {
@@ -272,7 +273,7 @@ impl GpuView {
                 }
                 let g = t
                     .tracer
-                    .trace_pixel(pixel[0], pixel[1], sample, DEFAULT_LOG_WORDS)
+                    .trace_pixel_on(path, pixel[0], pixel[1], sample, DEFAULT_LOG_WORDS)
                     .map_err(|e| e.to_string())?;
                 let cmp = compare(cpu, &g.trace, Tolerance::EXACT);
                 let text = cmp.to_text(cpu, &g.trace, ["CPU", "GPU"]);
@@ -293,6 +294,7 @@ impl GpuView {
             t.gpu_trace = Some(GpuTraced {
                 pixel,
                 sample,
+                path,
                 result,
             });
         }
@@ -605,10 +607,11 @@ fn trace_switch(
         let gpu_button = ui
             .selectable_label(state.showing_gpu_trace, "GPU trace")
             .on_hover_text(
-                "the GPU's own steps: the trace shader logs every step the compute path takes \
-                 for this pixel, read back into the same stepper, math panel and diagrams",
+                "the GPU's own steps: the trace shader logs every step the chosen path (fragment \
+                 or compute) takes for this pixel, read back into the same stepper, math panel \
+                 and diagrams",
             );
-        if gpu_button.clicked() && !state.showing_gpu_trace {
+        if gpu_button.clicked() {
             let cpu = Arc::clone(&stepping.trace);
             if let Some(Ok(g)) = gpu.trace_on_gpu(prepared, pixel, state.sample, &cpu) {
                 cmds.push(Command::ShowGpuTrace(Arc::clone(&g.trace), g.divergence));
@@ -619,7 +622,7 @@ fn trace_switch(
         .traced
         .as_ref()
         .and_then(|t| t.gpu_trace.as_ref())
-        .filter(|g| g.pixel == pixel && g.sample == state.sample);
+        .filter(|g| g.pixel == pixel && g.sample == state.sample && g.path == gpu.path);
     match shown.map(|g| &g.result) {
         Some(Ok(g)) => {
             let colour = if g.divergence.is_some() {
