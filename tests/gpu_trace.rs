@@ -322,4 +322,11 @@ fn the_fragment_path_is_traced_with_its_interpolated_ray() {
     let hit = |t: &Trace| t.root.hit.as_ref().map(|h| h.object);
     assert_eq!(hit(&cpu), hit(&got.trace));
     Trace::from_json(&got.trace.to_json(), "fragment.json").unwrap();
+    // Words and the math panel say where the direction came from, with no NaN in a formula.
+    let step = &got.trace.root.steps[0].step;
+    let words = raystep::explain::describe::describe(step, got.trace.root.kind);
+    assert!(words.contains("interpolated by the rasterizer"), "{words}");
+    let e = raystep::explain::formula::explain(&got.trace, &got.trace.root, step);
+    assert!(e.conclusion.contains("never computed"), "{e:?}");
+    assert!(!format!("{e:?}").contains("NaN"), "{e:?}");
 }

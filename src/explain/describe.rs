@@ -28,6 +28,20 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             offset,
             screen,
             direction,
+        } if screen.iter().all(|s| s.is_nan()) => format!(
+            "camera: pixel ({}, {}) sample {sample}, at ({}, {}) in the pixel → direction {} (interpolated by the rasterizer)",
+            pixel[0],
+            pixel[1],
+            num(offset[0]),
+            num(offset[1]),
+            v3(*direction)
+        ),
+        Step::Camera {
+            pixel,
+            sample,
+            offset,
+            screen,
+            direction,
         } => format!(
             "camera: pixel ({}, {}) sample {sample}, at ({}, {}) in the pixel → screen ({}, {}) → direction {}",
             pixel[0],

@@ -313,6 +313,29 @@ impl Ctx<'_> {
         direction: [f32; 3],
     ) -> Explanation {
         let cam = &self.trace.camera;
+        if screen.iter().all(|s| s.is_nan()) {
+            // A GPU trace of the fragment path: the rasterizer interpolated the direction.
+            return Explanation {
+                title: format!(
+                    "Ray generation: pixel ({}, {}), sample {sample}",
+                    pixel[0], pixel[1]
+                ),
+                lines: vec![line(
+                    "offset",
+                    "the sample's place in the pixel",
+                    "",
+                    format!("({}, {})", num(offset[0]), num(offset[1])),
+                    None,
+                )],
+                conclusion: format!(
+                    "The rasterizer interpolated this ray's direction across a full-screen triangle \
+                     (the GPU's fragment path): sx and sy were never computed. The primary ray starts \
+                     at the eye S = {} and runs along Q = {}.",
+                    vv(cam.from),
+                    v3(direction)
+                ),
+            };
+        }
         // The renderer's own basis code on the trace's camera: the same f32 values it used.
         let basis = CameraRays::new(cam);
         let (w, h) = (cam.width, cam.height);
