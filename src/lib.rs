@@ -36,6 +36,8 @@
 //! - [`trace`]: deterministic sampling, where a ray meets a surface and where its children
 //!   start, Phong/Snell/Schlick shading, the one recursive Whitted tracer, and [`PreparedScene`].
 //! - [`render`]: the full parallel render and image output.
+//! - [`mc`]: the Monte Carlo core — random numbers hashed from (pixel, sample, dimension, seed)
+//!   and the sampling routines with their densities (the integrators that use them are to come).
 //! - [`explain`] and [`diagram`]: the readers of records — words, the math panel, trace diff,
 //!   `raystep intersect`'s text; the 2D diagrams.
 //! - [`gpu`]: the same scene traced on the GPU (wgpu, WGSL generated per scene), compared with
@@ -70,6 +72,7 @@ pub mod io;
 pub(crate) mod jsonf;
 pub mod lesson;
 pub mod math;
+pub mod mc;
 pub mod record;
 pub mod render;
 pub mod scene;
