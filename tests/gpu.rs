@@ -17,7 +17,7 @@ use std::path::PathBuf;
 
 #[path = "common/gpu.rs"]
 mod gpu_common;
-use gpu_common::{context, one_at_a_time};
+use gpu_common::{context, one_at_a_time, scene_paths};
 
 /// The largest per-channel difference (in 8-bit sRGB steps) any pixel may show. The WGSL repeats
 /// the CPU's f32 operations, so the images differ only where the GPU rounds differently (WGSL's
@@ -30,18 +30,6 @@ use gpu_common::{context, one_at_a_time};
 const MAX_ERROR: u8 = 16;
 /// At most this fraction of pixels may differ by more than 2 steps.
 const MAX_FLIPPED: f64 = 0.002;
-
-fn scene_paths() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    assert!(v.len() >= 6, "the shipped scenes are found");
-    v
-}
 
 fn small(mut scene: Scene) -> Scene {
     // Keep CI fast: 160×120 (far-sphere's 64×64 stays as it is).

@@ -9,27 +9,27 @@
 
 use raystep::explain::diff::compare;
 use raystep::gpu::trace_log::DEFAULT_LOG_WORDS;
-use raystep::gpu::{GpuPath, GpuTracer, ShaderVariant};
+use raystep::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
 use raystep::record::{Step, Tolerance, Trace};
 use raystep::scene::{Scene, load_file};
 use raystep::trace::PreparedScene;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 #[path = "common/gpu.rs"]
 mod gpu_common;
-use gpu_common::{context, one_at_a_time};
+use gpu_common::{context, one_at_a_time, scene_paths};
 
-fn scenes() -> Vec<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    assert!(v.len() >= 6, "the shipped scenes are found");
-    v
+/// A shipped scene by file name, prepared, with its GPU tracer.
+fn shipped(ctx: GpuContext, name: &str) -> (Scene, PreparedScene, GpuTracer) {
+    let file = scene_paths()
+        .into_iter()
+        .find(|p| p.ends_with(name))
+        .unwrap();
+    let scene = load_file(&file).unwrap();
+    let prepared = PreparedScene::new(scene.clone());
+    let gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
+    (scene, prepared, gpu)
 }
 
 /// The centre and a 3×3 grid of pixels.
@@ -56,7 +56,7 @@ fn gpu_traces_equal_the_cpu_traces_on_every_shipped_scene() {
     };
     let mut failures = vec![];
     let mut compared = 0usize;
-    for file in scenes() {
+    for file in scene_paths() {
         let scene = load_file(&file).unwrap();
         let prepared = PreparedScene::new(scene.clone());
         let mut gpu = GpuTracer::new(ctx.clone(), &prepared, ShaderVariant::Generated).unwrap();
@@ -127,13 +127,7 @@ fn a_planted_fused_dot_product_is_named_by_diff() {
     let Some(ctx) = context("a_planted_fused_dot_product_is_named_by_diff") else {
         return;
     };
-    let file = scenes()
-        .into_iter()
-        .find(|p| p.ends_with("three-spheres.toml"))
-        .unwrap();
-    let scene = load_file(&file).unwrap();
-    let prepared = PreparedScene::new(scene.clone());
-    let mut gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
+    let (scene, prepared, mut gpu) = shipped(ctx, "three-spheres.toml");
     if !gpu.exact(GpuPath::Compute) || gpu.hardware_ray_queries() {
         // Under ray queries the GPU's trace takes other traversal steps than the CPU's anyway.
         eprintln!("SKIPPED: the adapter's compute path is not exact, or walks its own tree");
@@ -196,13 +190,7 @@ fn a_trace_that_outgrows_its_log_ends_with_a_truncated_step() {
     let Some(ctx) = context("a_trace_that_outgrows_its_log_ends_with_a_truncated_step") else {
         return;
     };
-    let file = scenes()
-        .into_iter()
-        .find(|p| p.ends_with("mirror-glass.toml"))
-        .unwrap();
-    let scene = load_file(&file).unwrap();
-    let prepared = PreparedScene::new(scene.clone());
-    let mut gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
+    let (scene, _, mut gpu) = shipped(ctx, "mirror-glass.toml");
     let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
     let full = gpu.trace_pixel(x, y, 0, DEFAULT_LOG_WORDS).unwrap();
     // The smallest log holds the header and one record.
@@ -289,13 +277,7 @@ fn the_fragment_path_is_traced_with_its_interpolated_ray() {
     let Some(ctx) = context("the_fragment_path_is_traced_with_its_interpolated_ray") else {
         return;
     };
-    let file = scenes()
-        .into_iter()
-        .find(|p| p.ends_with("three-spheres.toml"))
-        .unwrap();
-    let scene = load_file(&file).unwrap();
-    let prepared = PreparedScene::new(scene.clone());
-    let mut gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
+    let (scene, prepared, mut gpu) = shipped(ctx, "three-spheres.toml");
     let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
     let cpu = prepared.record(x, y, 0);
     let got = gpu
