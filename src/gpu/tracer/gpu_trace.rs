@@ -224,31 +224,14 @@ impl GpuTracer {
                     bind_group_layouts: &[Some(&self.scene_layout), Some(log_layout)],
                     immediate_size: 0,
                 });
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some("raystep trace (fragment)"),
-                    layout: Some(&layout),
-                    vertex: wgpu::VertexState {
-                        module: &module,
-                        entry_point: Some("vs_main"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: wgpu::PrimitiveState::default(),
-                    depth_stencil: None,
-                    multisample: wgpu::MultisampleState::default(),
-                    fragment: Some(wgpu::FragmentState {
-                        module: &module,
-                        entry_point: Some("fs_trace"),
-                        compilation_options: Default::default(),
-                        targets: &[Some(wgpu::ColorTargetState {
-                            format: LINEAR_FORMAT,
-                            blend: None,
-                            write_mask: wgpu::ColorWrites::ALL,
-                        })],
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
+                full_screen_pipeline(
+                    &device,
+                    "raystep trace (fragment)",
+                    &layout,
+                    &module,
+                    "fs_trace",
+                    LINEAR_FORMAT,
+                )
             })
     }
 
