@@ -17,7 +17,16 @@ use std::path::PathBuf;
 
 #[path = "common/gpu.rs"]
 mod gpu_common;
-use gpu_common::{context, one_at_a_time, scene_paths};
+use gpu_common::{context, one_at_a_time};
+#[path = "common/scenes.rs"]
+mod scenes;
+
+/// The shipped scenes (scenes/*.toml), sorted; there are several.
+fn scene_paths() -> Vec<std::path::PathBuf> {
+    let v = scenes::shipped();
+    assert!(v.len() >= 6, "the shipped scenes are found");
+    v
+}
 
 /// The largest per-channel difference (in 8-bit sRGB steps) any pixel may show. The WGSL repeats
 /// the CPU's f32 operations, so the images differ only where the GPU rounds differently (WGSL's

@@ -18,7 +18,16 @@ use std::process::Command;
 
 #[path = "common/gpu.rs"]
 mod gpu_common;
-use gpu_common::{context, one_at_a_time, scene_paths};
+use gpu_common::{context, one_at_a_time};
+#[path = "common/scenes.rs"]
+mod scenes;
+
+/// The shipped scenes (scenes/*.toml), sorted; there are several.
+fn scene_paths() -> Vec<std::path::PathBuf> {
+    let v = scenes::shipped();
+    assert!(v.len() >= 6, "the shipped scenes are found");
+    v
+}
 
 /// A shipped scene by file name, prepared, with its GPU tracer.
 fn shipped(ctx: GpuContext, name: &str) -> (Scene, PreparedScene, GpuTracer) {

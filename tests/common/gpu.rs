@@ -2,7 +2,6 @@
 //! GPU, and the headless context or a skip.
 
 use raystep::gpu::{GpuContext, GpuError};
-use std::path::PathBuf;
 
 /// Holds the GPU for one test at a time. NVIDIA's Vulkan driver (580, on an H200) hangs when
 /// several tests of one binary create devices, or start `raystep --gpu`, at the same time; one
@@ -28,17 +27,4 @@ pub fn context(test: &str) -> Option<GpuContext> {
         }
         Err(e) => panic!("{e}"),
     }
-}
-
-/// The shipped scenes (scenes/*.toml), sorted.
-pub fn scene_paths() -> Vec<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
-        .collect();
-    v.sort();
-    assert!(v.len() >= 6, "the shipped scenes are found");
-    v
 }
