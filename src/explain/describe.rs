@@ -28,30 +28,29 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             offset,
             screen,
             direction,
-        } if screen.iter().all(|s| s.is_nan()) => format!(
-            "camera: pixel ({}, {}) sample {sample}, at ({}, {}) in the pixel → direction {} (interpolated by the rasterizer)",
-            pixel[0],
-            pixel[1],
-            num(offset[0]),
-            num(offset[1]),
-            v3(*direction)
-        ),
-        Step::Camera {
-            pixel,
-            sample,
-            offset,
-            screen,
-            direction,
-        } => format!(
-            "camera: pixel ({}, {}) sample {sample}, at ({}, {}) in the pixel → screen ({}, {}) → direction {}",
-            pixel[0],
-            pixel[1],
-            num(offset[0]),
-            num(offset[1]),
-            num(screen[0]),
-            num(screen[1]),
-            v3(*direction)
-        ),
+        } => {
+            let at = format!(
+                "camera: pixel ({}, {}) sample {sample}, at ({}, {}) in the pixel",
+                pixel[0],
+                pixel[1],
+                num(offset[0]),
+                num(offset[1])
+            );
+            if screen.iter().all(|s| s.is_nan()) {
+                // A GPU trace of the fragment path: no screen position was computed.
+                format!(
+                    "{at} → direction {} (interpolated by the rasterizer)",
+                    v3(*direction)
+                )
+            } else {
+                format!(
+                    "{at} → screen ({}, {}) → direction {}",
+                    num(screen[0]),
+                    num(screen[1]),
+                    v3(*direction)
+                )
+            }
+        }
         Step::Node(n) => format!(
             "BVH node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
             n.node,
