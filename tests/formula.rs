@@ -762,6 +762,38 @@ fn variant(s: &Step) -> &'static str {
         Step::HardwareTraversal { .. } => "hardware-traversal",
         Step::Spawn { .. } => "spawn",
         Step::Color { .. } => "color",
+        Step::Lens { .. } => "lens",
+        Step::LightSample { .. } => "light-sample",
+        Step::BsdfSample { .. } => "bsdf-sample",
+        Step::Emitted { .. } => "emitted",
+        Step::RussianRoulette { .. } => "russian-roulette",
+    }
+}
+
+/// Every step of the Monte Carlo scenes is explained, and each Monte Carlo step is among them.
+#[test]
+fn every_monte_carlo_step_is_explained() {
+    let mut seen = std::collections::BTreeSet::new();
+    for name in [
+        "cornell-area.toml",
+        "depth-of-field.toml",
+        "soft-shadows.toml",
+        "veach-mis.toml",
+    ] {
+        let mut scene = shipped(name);
+        scene.settings.rr_depth = 0;
+        for (x, y) in grid(&scene, 40) {
+            check_all_steps(&record(&scene, x, y), &mut seen);
+        }
+    }
+    for v in [
+        "lens",
+        "light-sample",
+        "bsdf-sample",
+        "emitted",
+        "russian-roulette",
+    ] {
+        assert!(seen.contains(v), "{v} not seen: {seen:?}");
     }
 }
 

@@ -41,6 +41,8 @@ const MAX_ERROR: u8 = 16;
 const MAX_FLIPPED: f64 = 0.002;
 
 fn small(mut scene: Scene) -> Scene {
+    // The GPU traces Whitted's integrator only (the Monte Carlo scenes are compared under it).
+    scene.settings.integrator = raystep::scene::Integrator::Whitted;
     // Keep CI fast: 160×120 (far-sphere's 64×64 stays as it is).
     if scene.camera.width * scene.camera.height > 160 * 120 {
         scene.camera.width = 160;
@@ -128,7 +130,7 @@ fn gpu_matches_cpu_on_every_shipped_scene() {
     let mut scenes: Vec<Scene> = scene_paths()
         .iter()
         .map(|p| {
-            let scene = load_file(p).unwrap();
+            let scene = load_whitted(p);
             // The leaky edge shows its cracks only at its own size (201×201: the edges lie
             // under pixel centres there).
             if scene.settings.triangle_method == TriangleMethod::MollerTrumbore {
@@ -361,7 +363,7 @@ fn generated_shaders_leave_out_what_the_scene_does_not_need() {
     assert!(!gpu::generated_wgsl(&prep(&dark)).contains("fn traversal_any"));
     // And every generated shader is smaller than the full one.
     for p in scene_paths() {
-        let scene = load_file(&p).unwrap();
+        let scene = load_whitted(&p);
         assert!(gpu::generated_wgsl(&prep(&scene)).len() < gpu::full_wgsl(&prep(&scene)).len());
     }
 }
@@ -417,7 +419,7 @@ fn naga_validates_every_shader_variant() {
         checked += 1;
     }
     for p in scene_paths() {
-        let scene = load_file(&p).unwrap();
+        let scene = load_whitted(&p);
         shader::validate(&gpu::generated_wgsl(&prep(&scene))).unwrap();
         // The hardware ray-query traversal, generated and full (validated even where no adapter
         // here can run it).
@@ -714,7 +716,7 @@ fn hardware_ray_queries_match_the_cpu_where_the_adapter_has_them() {
         return;
     }
     for p in scene_paths() {
-        let scene = small(load_file(&p).unwrap());
+        let scene = small(load_whitted(&p));
         let mut gpu = GpuTracer::new(ctx.clone(), &prep(&scene), ShaderVariant::Generated).unwrap();
         assert!(gpu.adapter_line(GpuPath::Compute).contains("BLAS/TLAS"));
         let frame = gpu.render(GpuPath::Compute).unwrap();
@@ -1019,4 +1021,12 @@ fn the_apps_device_asks_for_passthrough_where_the_adapter_offers_it() {
     );
     // The same answer as the command line's headless device.
     assert_eq!(ctx.passthrough, headless.passthrough);
+}
+
+/// A scene file, set to Whitted's integrator: the GPU traces Whitted only (the Monte Carlo
+/// scenes are compared under it).
+fn load_whitted(path: &std::path::Path) -> Scene {
+    let mut scene = raystep::scene::load_file(path).unwrap();
+    scene.settings.integrator = raystep::scene::Integrator::Whitted;
+    scene
 }

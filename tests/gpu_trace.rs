@@ -11,7 +11,7 @@ use raystep::explain::diff::compare;
 use raystep::gpu::trace_log::DEFAULT_LOG_WORDS;
 use raystep::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
 use raystep::record::{Step, Tolerance, Trace};
-use raystep::scene::{Scene, load_file};
+use raystep::scene::Scene;
 use raystep::trace::PreparedScene;
 use std::path::Path;
 use std::process::Command;
@@ -35,7 +35,9 @@ fn shipped(ctx: GpuContext, name: &str) -> (Scene, PreparedScene, GpuTracer) {
         .into_iter()
         .find(|p| p.ends_with(name))
         .unwrap();
-    let scene = load_file(&file).unwrap();
+    let mut scene = load_whitted(&file);
+    // The GPU traces Whitted's integrator only (the Monte Carlo scenes are compared under it).
+    scene.settings.integrator = raystep::scene::Integrator::Whitted;
     let prepared = PreparedScene::new(scene.clone());
     let gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
     (scene, prepared, gpu)
@@ -66,7 +68,7 @@ fn gpu_traces_equal_the_cpu_traces_on_every_shipped_scene() {
     let mut failures = vec![];
     let mut compared = 0usize;
     for file in scene_paths() {
-        let scene = load_file(&file).unwrap();
+        let scene = load_whitted(&file);
         let prepared = PreparedScene::new(scene.clone());
         let mut gpu = GpuTracer::new(ctx.clone(), &prepared, ShaderVariant::Generated).unwrap();
         let exact = gpu.exact(GpuPath::Compute) && gpu.arithmetic().probe.subnormals_kept();
@@ -320,4 +322,12 @@ fn the_fragment_path_is_traced_with_its_interpolated_ray() {
     let e = raystep::explain::formula::explain(&got.trace, &got.trace.root, step);
     assert!(e.conclusion.contains("never computed"), "{e:?}");
     assert!(!format!("{e:?}").contains("NaN"), "{e:?}");
+}
+
+/// A scene file, set to Whitted's integrator: the GPU traces Whitted only (the Monte Carlo
+/// scenes are compared under it).
+fn load_whitted(path: &std::path::Path) -> Scene {
+    let mut scene = raystep::scene::load_file(path).unwrap();
+    scene.settings.integrator = raystep::scene::Integrator::Whitted;
+    scene
 }

@@ -20,6 +20,62 @@ fn load(name: &str) -> Scene {
 fn expected() -> Vec<(&'static str, Features)> {
     vec![
         (
+            // Area lights only (no point lights): a light quad of 2 triangles and 5 walls of 2; a white and a mirror ball.
+            "cornell-area.toml",
+            Features {
+                spheres: 2,
+                planes: 0,
+                triangles: 12,
+                meshes: 0,
+                lights: 0,
+                reflective: false,
+                transparent: false,
+                primitives: 14,
+            },
+        ),
+        (
+            // A ball and two sphere lights over a floor plane.
+            "soft-shadows.toml",
+            Features {
+                spheres: 3,
+                planes: 1,
+                triangles: 0,
+                meshes: 0,
+                lights: 0,
+                reflective: false,
+                transparent: false,
+                primitives: 4,
+            },
+        ),
+        (
+            // Five balls and a sphere light (the sun) over a floor plane.
+            "depth-of-field.toml",
+            Features {
+                spheres: 6,
+                planes: 1,
+                triangles: 0,
+                meshes: 0,
+                lights: 0,
+                reflective: false,
+                transparent: false,
+                primitives: 7,
+            },
+        ),
+        (
+            // Four sphere lights, four plates of 2 triangles, a floor plane.
+            "veach-mis.toml",
+            Features {
+                spheres: 4,
+                planes: 1,
+                triangles: 8,
+                meshes: 0,
+                lights: 0,
+                reflective: false,
+                transparent: false,
+                primitives: 13,
+            },
+        ),
+        (
             // One red ball 4100 units away, one light, nothing reflects.
             "far-sphere.toml",
             Features {

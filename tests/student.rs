@@ -13,7 +13,7 @@ use std::path::Path;
 
 #[path = "common/scenes.rs"]
 mod scenes;
-use scenes::{root, shipped};
+use scenes::{root, shipped_whitted as shipped};
 
 fn traced(scene: &Path, x: u32, y: u32) -> Expected {
     let s = raystep::scene::load_file(scene).unwrap();

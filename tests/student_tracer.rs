@@ -11,7 +11,7 @@ use std::path::Path;
 
 #[path = "common/scenes.rs"]
 mod scenes;
-use scenes::{root, shipped};
+use scenes::{root, shipped_whitted as shipped};
 
 /// Grades `run` on `scene` at `pixels` up to `upto`; the Gradescope JSON.
 fn grade(scene: &Path, pixels: &str, upto: &str, run: &str) -> Value {

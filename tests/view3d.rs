@@ -261,7 +261,7 @@ const CORNELL_GLASS_PIXEL: [u32; 2] = [216, 230];
 #[test]
 fn drawn_rays_are_the_traced_rays_and_end_at_their_hits() {
     let (mut hits, mut lit, mut blocked) = (0, 0, 0);
-    for path in scenes::shipped() {
+    for path in scenes::shipped_whitted() {
         let p = prepared(&path);
         let scene = p.scene();
         let c = &scene.camera;
@@ -389,7 +389,7 @@ fn drawn_rays_are_the_traced_rays_and_end_at_their_hits() {
 #[test]
 fn looking_through_the_camera_puts_each_primary_ray_on_its_pixel() {
     let (mut hits, mut worst) = (0, 0.0f32);
-    for path in scenes::shipped() {
+    for path in scenes::shipped_whitted() {
         let p = prepared(&path);
         let scene = p.scene();
         let c = &scene.camera;
@@ -452,7 +452,7 @@ fn looking_through_the_camera_puts_each_primary_ray_on_its_pixel() {
 /// primary ray.
 #[test]
 fn the_image_plane_follows_the_camera_convention() {
-    for path in scenes::shipped() {
+    for path in scenes::shipped_whitted() {
         let p = prepared(&path);
         let scene = p.scene();
         let c = &scene.camera;
@@ -633,6 +633,8 @@ fn fan_pixels_spread_distinct_pixels_over_the_image() {
         fov: 60.0,
         width,
         height,
+        aperture: 0.0,
+        focus_distance: 1.0,
     };
     for (w, h) in [
         (1, 1),

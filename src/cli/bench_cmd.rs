@@ -74,6 +74,10 @@ pub enum Section {
     /// Two threads against one: full renders of the scenes and SPD balls, tetra and mount at
     /// two sizes each, shadows and reflections included.
     Threads,
+    /// The path tracer: Mrays/s with the BVH on 1 and 2 threads, and the time to equal error
+    /// against Mitsuba 3 (`scalar_rgb`, via `python3`) on the same scene (the first path-traced
+    /// scene given, `scenes/cornell-area.toml` by default) at 128×128.
+    Path,
     /// Everything.
     All,
 }
@@ -208,6 +212,14 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             crate::scene::load_str(&flake.toml, "balls-3.toml", None).map_err(|e| e.to_string())?,
         );
         crate::bench::gpu(&with_flake, reps)?;
+        crate::io::outln!();
+    }
+    if args.section == Section::Path {
+        let scene = scenes
+            .iter()
+            .find(|s| s.settings.integrator == crate::scene::Integrator::Path)
+            .ok_or("--section path needs a path-traced scene (integrator = \"path\"), e.g. scenes/cornell-area.toml")?;
+        crate::bench::path::path(scene, reps)?;
         crate::io::outln!();
     }
     if args.section == Section::App {

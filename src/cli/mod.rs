@@ -117,9 +117,12 @@ pub struct SettingsArgs {
     /// Build quality of the BVH (more build time for fewer node visits per ray).
     #[arg(long, value_enum)]
     pub bvh_quality: Option<BvhQuality>,
-    /// Seed for the antialiasing jitter.
+    /// Seed for the antialiasing jitter and every Monte Carlo random number.
     #[arg(long)]
     pub seed: Option<u32>,
+    /// Light transport: whitted, distribution (soft shadows, glossy, depth of field) or path.
+    #[arg(long, value_enum)]
+    pub integrator: Option<crate::scene::Integrator>,
 }
 
 impl SettingsArgs {
@@ -135,9 +138,23 @@ impl SettingsArgs {
             accel: self.accel,
             bvh_quality: self.bvh_quality,
             seed: self.seed,
+            integrator: self.integrator,
             ..Default::default()
         };
         overrides.apply(scene)
+    }
+}
+
+/// The GPU tracer runs Whitted's integrator only: a scene set to another one is traced with
+/// Whitted on both sides of a GPU comparison, and a note on stderr says so.
+pub fn whitted_for_gpu(scene: &mut Scene) {
+    if scene.settings.integrator != crate::scene::Integrator::Whitted {
+        eprintln!(
+            "note: the GPU traces Whitted's integrator only; \"{}\" is set to {}, so both sides use Whitted here",
+            scene.name,
+            scene_cmd::value_name(&scene.settings.integrator)
+        );
+        scene.settings.integrator = crate::scene::Integrator::Whitted;
     }
 }
 
@@ -217,6 +234,11 @@ pub fn check_png_path(p: &std::path::Path) -> Result<(), String> {
     {
         return Err(format!("{}: the output must be a .png file", p.display()));
     }
+    check_output_dir(p)
+}
+
+/// Checks that an output path's directory exists.
+pub fn check_output_dir(p: &std::path::Path) -> Result<(), String> {
     let dir = p
         .parent()
         .filter(|d| !d.as_os_str().is_empty())

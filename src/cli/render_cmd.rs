@@ -13,7 +13,8 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// The scene file.
     pub scene: PathBuf,
-    /// The PNG to write (atomically).
+    /// The image to write (atomically): .png (8-bit sRGB), or .exr (linear 32-bit float OpenEXR,
+    /// the render's own numbers).
     #[arg(short, long)]
     pub output: PathBuf,
     /// Worker threads (default: all cores).
@@ -49,10 +50,17 @@ pub struct RenderArgs {
 pub fn run(args: &RenderArgs) -> Result<(), String> {
     // Check the output paths before spending time on the render.
     for p in std::iter::once(&args.output).chain(args.heatmap.as_ref()) {
-        super::check_png_path(p)?;
+        if !(image::is_exr(p) && std::ptr::eq(p, &args.output) && !args.gpu) {
+            super::check_png_path(p)?;
+        } else {
+            super::check_output_dir(p)?;
+        }
     }
     let t0 = Instant::now();
-    let scene = super::load_scene(Some(&args.scene), &args.settings)?;
+    let mut scene = super::load_scene(Some(&args.scene), &args.settings)?;
+    if args.gpu {
+        super::whitted_for_gpu(&mut scene);
+    }
     let load = t0.elapsed();
     let prepared = PreparedScene::new(scene);
     if args.gpu {
@@ -67,8 +75,12 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         ..Default::default()
     };
     let out = render(&tracer, &opts)?;
-    let img = image::to_rgb8(out.width, out.height, &out.pixels, args.linear);
-    image::write_png(&args.output, &img)?;
+    if image::is_exr(&args.output) {
+        image::write_exr(&args.output, out.width, out.height, &out.pixels)?;
+    } else {
+        let img = image::to_rgb8(out.width, out.height, &out.pixels, args.linear);
+        image::write_png(&args.output, &img)?;
+    }
     if let Some(h) = &args.heatmap {
         let hm = crate::diagram::heatmap::heatmap(
             &out,
@@ -120,11 +132,16 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         s.trace.as_secs_f64() * 1e3
     );
     crate::io::outln!(
-        "  rays     {} primary, {} shadow, {} reflection, {} refraction ({} in all)",
+        "  rays     {} primary, {} shadow, {} reflection, {} refraction{} ({} in all)",
         c.primary,
         c.shadow,
         c.reflection,
         c.refraction,
+        if c.scattered > 0 {
+            format!(", {} diffuse or glossy", c.scattered)
+        } else {
+            String::new()
+        },
         c.rays()
     );
     let visits = match accel {
@@ -139,6 +156,14 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         c.prim_tests as f64 / rays,
     );
     crate::io::outln!("  speed    {:.2} Mrays/s", s.mrays_per_s());
+    if let Some(([x, y], k)) = s.first_bad_sample {
+        crate::io::outln!(
+            "  warning  {} sample{} had a NaN or infinite channel and were left out of their pixels; the first: pixel {x},{y}, sample {k} (raystep trace {} --pixel {x},{y} --sample {k})",
+            s.bad_samples,
+            if s.bad_samples == 1 { "" } else { "s" },
+            args.scene.display()
+        );
+    }
     if s.nan_rays > 0 || s.nan_pixels > 0 {
         crate::io::outln!(
             "  warning  {} rays and {} pixels are NaN (not finite)",

@@ -31,6 +31,19 @@ pub enum SceneCmd {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Write the scene in Mitsuba 3's XML format (with OBJ files for its triangles, beside it),
+    /// for rendering the same scene with an independent renderer.
+    Mitsuba {
+        /// The scene file.
+        scene: PathBuf,
+        /// The XML file to write (.xml).
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Settings that override the scene's `[render]` table (--spp sets Mitsuba's
+        /// sample count, --max-depth its depth).
+        #[command(flatten)]
+        settings: SettingsArgs,
+    },
 }
 
 /// Runs a scene command.
@@ -38,7 +51,44 @@ pub fn run(cmd: &SceneCmd) -> Result<(), String> {
     match cmd {
         SceneCmd::Check { scene, json } => check(scene, *json),
         SceneCmd::Spd { name, size, output } => spd(*name, *size, output),
+        SceneCmd::Mitsuba {
+            scene,
+            output,
+            settings,
+        } => mitsuba(scene, output, settings),
     }
+}
+
+fn mitsuba(
+    scene: &std::path::Path,
+    output: &std::path::Path,
+    settings: &SettingsArgs,
+) -> Result<(), String> {
+    if !output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("xml"))
+    {
+        return Err(format!(
+            "{}: the Mitsuba scene must be written to a .xml file",
+            output.display()
+        ));
+    }
+    let s = load_scene(Some(&scene.to_path_buf()), settings)?;
+    let m = crate::scene::mitsuba::to_mitsuba(&s, s.settings.spp)
+        .map_err(|e| format!("{}: {e}", scene.display()))?;
+    let dir = output
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    for (file, text) in &m.objs {
+        crate::io::write_atomic(&dir.join(file), text.as_bytes())?;
+    }
+    crate::io::write_atomic(output, m.xml.as_bytes())?;
+    super::emit(&format!(
+        "wrote {} ({} OBJ files beside it)\n",
+        super::full_path(output),
+        m.objs.len()
+    ))
 }
 
 fn spd(

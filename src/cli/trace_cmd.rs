@@ -53,7 +53,19 @@ pub enum TraceFormat {
 
 /// Runs `raystep trace`.
 pub fn run(args: &TraceArgs) -> Result<(), String> {
-    let scene = load_scene(Some(&args.scene), &args.settings)?;
+    let mut scene = load_scene(Some(&args.scene), &args.settings)?;
+    if args.format == Some(TraceFormat::Student)
+        && scene.settings.integrator != crate::scene::Integrator::Whitted
+    {
+        return Err(format!(
+            "{}: the student trace format records Whitted's tracer, and this scene is set to the {} integrator (add --integrator whitted)",
+            args.scene.display(),
+            super::scene_cmd::value_name(&scene.settings.integrator)
+        ));
+    }
+    if args.gpu {
+        super::whitted_for_gpu(&mut scene);
+    }
     let [x, y] = args.pixel;
     let c = &scene.camera;
     if x >= c.width || y >= c.height {

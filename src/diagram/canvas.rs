@@ -34,6 +34,10 @@ pub struct Theme {
     pub reflect: Rgba,
     /// Refraction rays.
     pub refract: Rgba,
+    /// Monte Carlo bounces off diffuse surfaces.
+    pub diffuse: Rgba,
+    /// Monte Carlo bounces off glossy surfaces.
+    pub glossy: Rgba,
     /// Lights.
     pub light: Rgba,
     /// Shaded regions (the t > 0 half, the barycentric region).
@@ -56,6 +60,8 @@ impl Theme {
         blocked: [90, 90, 90, 255],
         reflect: [40, 90, 220, 255],
         refract: [0, 150, 170, 255],
+        diffuse: [150, 60, 170, 255],
+        glossy: [200, 70, 130, 255],
         light: [240, 180, 0, 255],
         region: [60, 130, 230, 45],
         object: [70, 80, 110, 255],
@@ -73,6 +79,8 @@ impl Theme {
         blocked: [140, 140, 150, 255],
         reflect: [110, 160, 255, 255],
         refract: [60, 220, 230, 255],
+        diffuse: [205, 140, 255, 255],
+        glossy: [255, 130, 190, 255],
         light: [255, 220, 60, 255],
         region: [90, 160, 255, 60],
         object: [170, 180, 210, 255],

@@ -318,6 +318,8 @@ fn kind_color(c: &Canvas, k: RayKind) -> Rgba {
         RayKind::Shadow => c.theme.shadow,
         RayKind::Reflection => c.theme.reflect,
         RayKind::Refraction => c.theme.refract,
+        RayKind::Diffuse => c.theme.diffuse,
+        RayKind::Glossy => c.theme.glossy,
     }
 }
 

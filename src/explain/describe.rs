@@ -297,6 +297,82 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             num(*contribution),
             num(*cutoff)
         ),
+        Step::Lens {
+            random,
+            lens_point,
+            focus_point,
+            ..
+        } => format!(
+            "thin lens: {} → lens point {}, aimed at {} on the plane in focus",
+            crate::explain::formula::monte_carlo::draws(random),
+            v3(*lens_point),
+            v3(*focus_point)
+        ),
+        Step::LightSample {
+            name,
+            random,
+            pdf,
+            select_pdf,
+            mis_weight,
+            blocked,
+            contribution,
+            ..
+        } => format!(
+            "light sample on \"{name}\": {} · P(pick) = {}, pdf = {}, MIS w = {} → {}",
+            crate::explain::formula::monte_carlo::draws(random),
+            num(*select_pdf),
+            num(*pdf),
+            num(*mis_weight),
+            if *blocked {
+                "blocked, adds nothing".to_string()
+            } else {
+                format!("adds {}", v3(*contribution))
+            }
+        ),
+        Step::BsdfSample {
+            bsdf,
+            lobe,
+            random,
+            direction,
+            pdf,
+            weight,
+            ..
+        } => format!(
+            "{bsdf} BSDF sample ({lobe}): {} → direction {}, pdf {}, weight f·cos/pdf = {}",
+            crate::explain::formula::monte_carlo::draws(random),
+            v3(*direction),
+            pdf.map_or("δ".to_string(), num),
+            v3(*weight)
+        ),
+        Step::Emitted {
+            name,
+            radiance,
+            mis_weight,
+            contribution,
+            ..
+        } => format!(
+            "\"{name}\" emits {} · MIS w = {} → adds {}",
+            v3(*radiance),
+            num(*mis_weight),
+            v3(*contribution)
+        ),
+        Step::RussianRoulette {
+            random,
+            probability,
+            survived,
+            ..
+        } => format!(
+            "Russian roulette: u[{}] = {} {} q = {} → {}",
+            random.dimension,
+            num(random.value),
+            if *survived { "<" } else { "≥" },
+            num(*probability),
+            if *survived {
+                "the path goes on, weight ÷ q"
+            } else {
+                "the path ends"
+            }
+        ),
         Step::Truncated { max_steps } => format!(
             "the trace stops here: it reached its limit of {max_steps} steps (the tracing went on; the colours are exact)"
         ),

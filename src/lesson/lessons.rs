@@ -67,6 +67,8 @@ pub struct LessonSettings {
     pub bvh_quality: Option<BvhQuality>,
     /// Jitter seed.
     pub seed: Option<u32>,
+    /// The light transport (`whitted`, `distribution`, `path`).
+    pub integrator: Option<crate::scene::Integrator>,
 }
 
 #[derive(Deserialize)]
@@ -124,6 +126,9 @@ impl LessonSettings {
         }
         if let Some(v) = self.accel {
             s.accel = v;
+        }
+        if let Some(v) = self.integrator {
+            s.integrator = v;
         }
         if let Some(v) = self.bvh_quality {
             s.bvh_quality = v;

@@ -44,7 +44,7 @@ pub mod words;
 
 pub use observer::{Counter, MAX_TRACE_STEPS, Observer, Recorder, Silent};
 pub use steps::{
-    GridOutline, HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage, Step,
-    StepRecord, TRACE_VERSION, Trace, TraceError, TraceObject,
+    Draw, GridOutline, HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage,
+    Step, StepRecord, TRACE_VERSION, Trace, TraceError, TraceObject,
 };
 pub use tolerance::Tolerance;

@@ -62,6 +62,8 @@ pub struct Counter {
     pub reflection: u64,
     /// Refraction rays.
     pub refraction: u64,
+    /// Monte Carlo bounces off diffuse and glossy surfaces.
+    pub scattered: u64,
     /// Primitive intersection tests.
     pub prim_tests: u64,
     /// Accelerator visits: BVH nodes (box tests), bounding spheres tested, grid cells entered.
@@ -71,7 +73,7 @@ pub struct Counter {
 impl Counter {
     /// All rays.
     pub fn rays(&self) -> u64 {
-        self.primary + self.shadow + self.reflection + self.refraction
+        self.primary + self.shadow + self.reflection + self.refraction + self.scattered
     }
     /// Adds another counter's figures.
     pub fn merge(&mut self, o: &Counter) {
@@ -79,6 +81,7 @@ impl Counter {
         self.shadow += o.shadow;
         self.reflection += o.reflection;
         self.refraction += o.refraction;
+        self.scattered += o.scattered;
         self.prim_tests += o.prim_tests;
         self.node_visits += o.node_visits;
     }
@@ -93,6 +96,7 @@ impl Observer for Counter {
             RayKind::Shadow => self.shadow += 1,
             RayKind::Reflection => self.reflection += 1,
             RayKind::Refraction => self.refraction += 1,
+            RayKind::Diffuse | RayKind::Glossy => self.scattered += 1,
         }
     }
     #[inline(always)]

@@ -20,6 +20,10 @@ pub enum RayKind {
     Reflection,
     /// Transmission through a transparent surface.
     Refraction,
+    /// A Monte Carlo bounce off a diffuse surface (a direction sampled from its BSDF).
+    Diffuse,
+    /// A Monte Carlo bounce off a glossy surface (a direction sampled about the mirror direction).
+    Glossy,
 }
 
 /// The stage of a GPU ray-tracing pipeline (Vulkan / DXR) that would run a step.
@@ -393,6 +397,135 @@ pub enum Step {
         /// Primitives in the hardware's structure.
         primitives: u32,
     },
+    /// The thin lens: where on the lens the primary ray starts, and the point in focus it aims
+    /// at (Monte Carlo integrators, `aperture` > 0).
+    Lens {
+        /// The two uniform numbers drawn, with their dimensions.
+        random: Vec<Draw>,
+        /// The point on the lens (the ray's origin).
+        #[serde(with = "crate::jsonf")]
+        lens_point: [f32; 3],
+        /// Where the pinhole ray meets the plane in focus (every lens point aims here).
+        #[serde(with = "crate::jsonf")]
+        focus_point: [f32; 3],
+        /// Density of the lens point, per unit area of the lens: 1/(π r²).
+        #[serde(with = "crate::jsonf")]
+        pdf: f32,
+        /// The ray's direction.
+        #[serde(with = "crate::jsonf")]
+        direction: [f32; 3],
+    },
+    /// Next-event estimation: a point sampled on a light, a shadow ray to it (the child ray
+    /// spawned just before), and the estimate f · L · cos / pdf with its MIS weight.
+    LightSample {
+        /// Index of the light in the scene's list of lights the integrator samples.
+        light: u32,
+        /// The light's name (an object's, or a point light's).
+        name: String,
+        /// The uniform numbers drawn, with their dimensions (pick a light, then a point on it).
+        random: Vec<Draw>,
+        /// The point sampled on the light.
+        #[serde(with = "crate::jsonf")]
+        point: [f32; 3],
+        /// Unit direction from the shading point to it.
+        #[serde(with = "crate::jsonf")]
+        direction: [f32; 3],
+        /// Distance to it.
+        #[serde(with = "crate::jsonf")]
+        distance: f32,
+        /// Probability of having picked this light.
+        #[serde(with = "crate::jsonf")]
+        select_pdf: f32,
+        /// Density of the direction, per steradian, the pick included (0 for a point light: a
+        /// delta, its estimate divides by the pick's probability only).
+        #[serde(with = "crate::jsonf")]
+        pdf: f32,
+        /// The light's radiance towards the point (a point light: intensity / distance²).
+        #[serde(with = "crate::jsonf")]
+        radiance: [f32; 3],
+        /// The BSDF's value f(wo, wi).
+        #[serde(with = "crate::jsonf")]
+        bsdf: [f32; 3],
+        /// |cos θ| between the direction and the normal.
+        #[serde(with = "crate::jsonf")]
+        cos: f32,
+        /// The BSDF's density of sampling the same direction (the other strategy).
+        #[serde(with = "crate::jsonf")]
+        bsdf_pdf: f32,
+        /// The MIS weight of this strategy (power heuristic; 1 without MIS).
+        #[serde(with = "crate::jsonf")]
+        mis_weight: f32,
+        /// Whether the shadow ray found something in the way.
+        blocked: bool,
+        /// What it found.
+        blocker: Option<String>,
+        /// What the sample adds to the pixel: throughput · f · L · cos · w / pdf.
+        #[serde(with = "crate::jsonf")]
+        contribution: [f32; 3],
+    },
+    /// A direction sampled from the BSDF at the hit (the next bounce).
+    BsdfSample {
+        /// The BSDF ("diffuse", "mirror", "glass", "glossy").
+        bsdf: String,
+        /// Which lobe was taken ("reflection", "transmission").
+        lobe: String,
+        /// The uniform numbers drawn, with their dimensions.
+        random: Vec<Draw>,
+        /// The sampled direction.
+        #[serde(with = "crate::jsonf")]
+        direction: [f32; 3],
+        /// Its density per steradian (None for a delta: mirror, glass).
+        #[serde(with = "crate::jsonf")]
+        pdf: Option<f32>,
+        /// The BSDF's value f (for a delta, the weight below stands for f · cos / pdf).
+        #[serde(with = "crate::jsonf")]
+        value: [f32; 3],
+        /// |cos θ| between the direction and the normal.
+        #[serde(with = "crate::jsonf")]
+        cos: f32,
+        /// f · cos / pdf: what the next ray's radiance is multiplied by.
+        #[serde(with = "crate::jsonf")]
+        weight: [f32; 3],
+        /// The path's throughput after this bounce (the product of the weights from the camera).
+        #[serde(with = "crate::jsonf")]
+        throughput: [f32; 3],
+    },
+    /// The hit surface emits: its radiance, weighted by MIS against light sampling.
+    Emitted {
+        /// Object id.
+        object: u32,
+        /// Object name.
+        name: String,
+        /// Emitted radiance towards the ray.
+        #[serde(with = "crate::jsonf")]
+        radiance: [f32; 3],
+        /// Density of reaching this point by light sampling from the previous hit (0 when the
+        /// previous bounce was the camera or a delta BSDF).
+        #[serde(with = "crate::jsonf")]
+        light_pdf: f32,
+        /// Density of the BSDF sample that made this ray (0 from the camera or a delta).
+        #[serde(with = "crate::jsonf")]
+        bsdf_pdf: f32,
+        /// The MIS weight of this strategy (power heuristic; 1 from the camera or a delta).
+        #[serde(with = "crate::jsonf")]
+        mis_weight: f32,
+        /// What it adds to the pixel: throughput · w · Le.
+        #[serde(with = "crate::jsonf")]
+        contribution: [f32; 3],
+    },
+    /// Russian roulette: the path goes on with probability q (its weight divided by q) or ends.
+    RussianRoulette {
+        /// The uniform number drawn, with its dimension.
+        random: Draw,
+        /// The probability of going on: min(1, the throughput's largest channel).
+        #[serde(with = "crate::jsonf")]
+        probability: f32,
+        /// Whether the path went on (the number was below the probability).
+        survived: bool,
+        /// The throughput after the roulette (divided by the probability when it survived).
+        #[serde(with = "crate::jsonf")]
+        throughput: [f32; 3],
+    },
     /// A child ray was traced here: index into the ray's `children`.
     Spawn {
         /// Index into `children`.
@@ -410,7 +543,7 @@ impl Step {
     /// The pipeline stage that would run this step.
     pub fn stage(&self) -> Stage {
         match self {
-            Step::Camera { .. } => Stage::RayGeneration,
+            Step::Camera { .. } | Step::Lens { .. } => Stage::RayGeneration,
             Step::Node(_)
             | Step::SphereNode { .. }
             | Step::Cell { .. }
@@ -422,6 +555,16 @@ impl Step {
             _ => Stage::ClosestHit,
         }
     }
+}
+
+/// One uniform random number and the dimension it was drawn from ([`crate::mc::random::uniform`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Draw {
+    /// The dimension.
+    pub dimension: u32,
+    /// The number, in [0, 1).
+    #[serde(with = "crate::jsonf")]
+    pub value: f32,
 }
 
 /// A step with its pipeline stage (the stage is stored so a trace reads without raystep).

@@ -19,13 +19,15 @@ use crate::shapes::{RootChoice, SphereCase};
 
 impl RayKind {
     /// The kind's name as every reader writes it: `primary`, `shadow`, `reflection`,
-    /// `refraction` (also its name in trace files).
+    /// `refraction`, `diffuse`, `glossy` (also its name in trace files).
     pub fn name(self) -> &'static str {
         match self {
             RayKind::Primary => "primary",
             RayKind::Shadow => "shadow",
             RayKind::Reflection => "reflection",
             RayKind::Refraction => "refraction",
+            RayKind::Diffuse => "diffuse",
+            RayKind::Glossy => "glossy",
         }
     }
 }

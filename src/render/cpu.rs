@@ -86,6 +86,10 @@ pub struct RenderStats {
     pub nan_rays: u64,
     /// Pixels with a NaN channel (always counted).
     pub nan_pixels: u64,
+    /// Samples with a NaN or infinite channel, left out of their pixel (always counted).
+    pub bad_samples: u64,
+    /// The first such sample in image order: (pixel, sample index), for `raystep trace`.
+    pub first_bad_sample: Option<([u32; 2], u32)>,
 }
 
 /// The counting observer of a render: [`Counter`]'s figures, and the rays that are not finite.
@@ -168,6 +172,9 @@ struct TileDone {
     stats: StatsObserver,
     /// Its pixels with a NaN channel.
     nan_pixels: u64,
+    /// Its samples that were not finite, and the first (pixel, sample).
+    bad_samples: u64,
+    first_bad_sample: Option<([u32; 2], u32)>,
     /// How many pixels of the image it wrote (all of its own unless the render was cancelled).
     written: usize,
 }
@@ -234,6 +241,7 @@ pub fn render<A: Accelerator>(
     let per_tile = |(t, mut rows, mut visit_rows): TileWork| {
         let mut counter = StatsObserver::default();
         let (mut nan_pixels, mut written) = (0u64, 0usize);
+        let (mut bad_samples, mut first_bad_sample) = (0u64, None);
         if cancelled() {
             return TileDone::default();
         }
@@ -247,16 +255,22 @@ pub fn render<A: Accelerator>(
                 .map(|r| r.iter_mut());
             for (dx, slot) in row.iter_mut().enumerate() {
                 let x = t.x0 + dx as u32;
-                let color = if count {
+                let (color, bad, first) = if count {
                     let before = counter.counts.node_visits;
-                    let color = tracer.trace_pixel(x, y, &mut counter);
+                    let checked = tracer.trace_pixel_checked(x, y, &mut counter);
                     if let Some(slot) = visits.as_mut().and_then(|v| v.next()) {
                         *slot = (counter.counts.node_visits - before) as u32;
                     }
-                    color
+                    checked
                 } else {
-                    tracer.trace_pixel(x, y, &mut Silent)
+                    tracer.trace_pixel_checked(x, y, &mut Silent)
                 };
+                if bad > 0 {
+                    bad_samples += u64::from(bad);
+                    if let Some(k) = first {
+                        first_bad_sample.get_or_insert(([x, y], k));
+                    }
+                }
                 slot.write(color);
                 written += 1;
                 nan_pixels += u64::from(color.is_nan());
@@ -275,6 +289,8 @@ pub fn render<A: Accelerator>(
         TileDone {
             stats: counter,
             nan_pixels,
+            bad_samples,
+            first_bad_sample,
             written,
         }
     };
@@ -339,7 +355,15 @@ pub fn render<A: Accelerator>(
     }
     let mut counts = Counter::default();
     let (mut nan_rays, mut nan_pixels, mut written) = (0, 0, 0);
+    let (mut bad_samples, mut first_bad_sample) = (0, None::<([u32; 2], u32)>);
     for r in &results {
+        bad_samples += r.bad_samples;
+        // The first in image order (row, then column), whichever tile found it.
+        if let Some(b) = r.first_bad_sample
+            && first_bad_sample.is_none_or(|f| (b.0[1], b.0[0]) < (f.0[1], f.0[0]))
+        {
+            first_bad_sample = Some(b);
+        }
         counts.merge(&r.stats.counts);
         nan_rays += r.stats.nan_rays;
         nan_pixels += r.nan_pixels;
@@ -369,6 +393,8 @@ pub fn render<A: Accelerator>(
             threads,
             nan_rays,
             nan_pixels,
+            bad_samples,
+            first_bad_sample,
         },
     })
 }

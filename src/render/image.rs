@@ -70,6 +70,39 @@ pub fn write_png(path: &Path, img: &RgbImage) -> Result<(), String> {
     crate::io::write_atomic(path, &bytes)
 }
 
+/// Whether a path names an OpenEXR file (`.exr`, any case).
+pub fn is_exr(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// Writes linear RGB as a 32-bit float OpenEXR file, atomically (the image crate's encoder): the
+/// render's own numbers, for comparison outside raystep.
+pub fn write_exr(path: &Path, width: u32, height: u32, pixels: &[Vec3]) -> Result<(), String> {
+    let data: Vec<f32> = pixels.iter().flat_map(|p| p.to_array()).collect();
+    let img = image::Rgb32FImage::from_raw(width, height, data)
+        .ok_or_else(|| format!("{}: the image is not {width}×{height}", path.display()))?;
+    let mut bytes = std::io::Cursor::new(vec![]);
+    image::DynamicImage::ImageRgb32F(img)
+        .write_to(&mut bytes, image::ImageFormat::OpenExr)
+        .map_err(|e| format!("{}: cannot encode OpenEXR: {e}", path.display()))?;
+    crate::io::write_atomic(path, bytes.get_ref())
+}
+
+/// Reads an OpenEXR file's RGB channels as linear floats: (width, height, pixels).
+pub fn read_exr(path: &Path) -> Result<(u32, u32, Vec<Vec3>), String> {
+    let img = image::open(path)
+        .map_err(|e| format!("{}: cannot read OpenEXR: {e}", path.display()))?
+        .into_rgb32f();
+    let (w, h) = img.dimensions();
+    let px = img
+        .pixels()
+        .map(|p| Vec3::new(p.0[0], p.0[1], p.0[2]))
+        .collect();
+    Ok((w, h, px))
+}
+
 /// The colour scale of a visit-count heatmap: it tops out at the 99th percentile so a few very
 /// busy pixels do not flatten everything else (pixels above it show in the top colour).
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -88,6 +88,8 @@ mod tests {
             fov,
             width,
             height,
+            aperture: 0.0,
+            focus_distance: 1.0,
         })
     }
 

@@ -423,6 +423,13 @@ impl<'a> Ctx<'a> {
                 reflective: loc.unit("reflective", d.reflective)?,
                 transparency: loc.unit("transparency", d.transparency)?,
                 refractive_index,
+                emission: loc.color("emission", d.emission)?,
+                bsdf: d
+                    .bsdf
+                    .as_deref()
+                    .map(|b| loc.choice("bsdf", b))
+                    .transpose()?,
+                roughness: loc.unit("roughness", d.roughness)?,
             });
         }
         let mut default_material = None;
@@ -688,6 +695,23 @@ impl<'a> Ctx<'a> {
         if up.as_dvec3().length() == 0.0 || up.as_dvec3().normalize().cross(w).length() < 1e-6 {
             return Err(loc.err("up", format!("{:?} is parallel to the view direction (or zero): the camera's roll is undefined", d.up)));
         }
+        let aperture = loc.num("aperture", d.aperture)?;
+        if aperture < 0.0 {
+            return Err(loc.err(
+                "aperture",
+                format!("must not be negative (0 is a pinhole), got {}", d.aperture),
+            ));
+        }
+        let focus_distance = match d.focus_distance {
+            Some(f) => {
+                let f32v = loc.coord("focus_distance", f)?;
+                if f32v <= 0.0 {
+                    return Err(loc.err("focus_distance", format!("must be positive, got {f}")));
+                }
+                f32v
+            }
+            None => (from - at).length(),
+        };
         let camera = Camera {
             from,
             at,
@@ -695,6 +719,8 @@ impl<'a> Ctx<'a> {
             fov,
             width: d.width as u32,
             height: d.height as u32,
+            aperture,
+            focus_distance,
         };
         // The checks above are in f64; the tracer builds its basis in f32, where a tiny
         // `from − at` or `up × w` underflows to zero and turns every ray into NaN. Build the
@@ -767,6 +793,13 @@ impl<'a> Ctx<'a> {
                 format!("must be between 0 and {}, got {}", u32::MAX, d.seed),
             ));
         }
+        if !(0..=64).contains(&d.rr_depth) {
+            return Err(loc.err(
+                "rr_depth",
+                format!("must be between 0 and 64, got {}", d.rr_depth),
+            ));
+        }
+        let rr_depth = d.rr_depth;
         Ok(Settings {
             max_depth: d.max_depth as u32,
             spp: d.spp as u32,
@@ -778,6 +811,8 @@ impl<'a> Ctx<'a> {
             accel: loc.choice("accel", &d.accel)?,
             bvh_quality: loc.choice("bvh_quality", &d.bvh_quality)?,
             seed: d.seed as u32,
+            integrator: loc.choice("integrator", &d.integrator)?,
+            rr_depth: rr_depth as u32,
         })
     }
 }

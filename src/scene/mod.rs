@@ -6,6 +6,7 @@ pub mod camera;
 pub mod edit;
 mod features;
 mod load;
+pub mod mitsuba;
 mod model;
 mod obj;
 pub mod spd;
@@ -48,6 +49,14 @@ pub struct Camera {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
+    /// The thin lens's radius (`[camera] aperture`, scene units): 0 is a pinhole. Read by the
+    /// Monte Carlo integrators only; the Whitted tracer (and the GPU) is always a pinhole.
+    #[serde(default)]
+    pub aperture: f32,
+    /// The distance from the eye, along the view direction, of the plane in focus
+    /// (`[camera] focus_distance`; by default the distance from `from` to `at`).
+    #[serde(default)]
+    pub focus_distance: f32,
 }
 
 /// How spawned rays (shadow, reflection, refraction) leave a surface.
@@ -127,6 +136,73 @@ pub struct Settings {
     pub bvh_quality: BvhQuality,
     /// Seed mixed into every sample's jitter (renders with different seeds are independent).
     pub seed: u32,
+    /// Which light transport the tracer computes (`[render] integrator`).
+    #[serde(default)]
+    pub integrator: Integrator,
+    /// The path tracer's Russian roulette starts after this many bounces (`[render] rr_depth`).
+    #[serde(default = "default_rr_depth")]
+    pub rr_depth: u32,
+}
+
+fn default_rr_depth() -> u32 {
+    3
+}
+
+/// The light transport a scene is rendered with (`[render] integrator`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Integrator {
+    /// Whitted 1980: point lights with Phong, perfect mirror and refraction rays (the default).
+    #[default]
+    Whitted,
+    /// Cook, Porter and Carpenter 1984, distribution ray tracing: Whitted's recursion with area
+    /// lights sampled (soft shadows), glossy reflection sampled about the mirror direction and a
+    /// thin-lens camera.
+    Distribution,
+    /// Kajiya 1986, unidirectional path tracing with next-event estimation, BSDF sampling, multiple
+    /// importance sampling (Veach's power heuristic, β = 2) and Russian roulette.
+    Path,
+}
+
+/// A material's scattering model for the Monte Carlo integrators (`[[material]] bsdf`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum BsdfKind {
+    /// Lambert: albedo `color`.
+    Diffuse,
+    /// Perfect mirror reflection times `color`.
+    Mirror,
+    /// A smooth dielectric with `refractive_index`, exact Fresnel.
+    Glass,
+    /// A GGX microfacet reflector tinted by `color`, α = `roughness`².
+    Glossy,
+}
+
+/// A material's BSDF as the Monte Carlo integrators use it (see [`Material::bsdf`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Bsdf {
+    /// Lambert with this albedo.
+    Diffuse {
+        /// Albedo ρ (f = ρ/π).
+        albedo: Vec3,
+    },
+    /// A perfect mirror with this reflectance.
+    Mirror {
+        /// Reflectance.
+        tint: Vec3,
+    },
+    /// A smooth dielectric.
+    Glass {
+        /// Index of refraction (inside over outside).
+        ior: f32,
+    },
+    /// GGX microfacet reflection.
+    Glossy {
+        /// Reflectance (the Fresnel term, constant).
+        tint: Vec3,
+        /// GGX α = roughness².
+        alpha: f32,
+    },
 }
 
 impl Default for Settings {
@@ -142,6 +218,8 @@ impl Default for Settings {
             accel: AccelChoice::default(),
             bvh_quality: BvhQuality::default(),
             seed: 0,
+            integrator: Integrator::Whitted,
+            rr_depth: 3,
         }
     }
 }
@@ -178,6 +256,51 @@ pub struct Material {
     pub transparency: f32,
     /// Index of refraction.
     pub refractive_index: f32,
+    /// Emitted radiance (linear RGB): an object with a non-zero emission is an area light.
+    #[serde(default)]
+    pub emission: Vec3,
+    /// The BSDF the Monte Carlo integrators use; `None` maps the Phong fields ([`Material::bsdf`]).
+    #[serde(default)]
+    pub bsdf: Option<BsdfKind>,
+    /// A glossy BSDF's roughness in [0, 1].
+    #[serde(default)]
+    pub roughness: f32,
+}
+
+/// Below this roughness a glossy BSDF is a mirror (GGX's α = roughness² would be a delta).
+pub const MIN_ROUGHNESS: f32 = 0.03;
+
+impl Material {
+    /// The BSDF of the Monte Carlo integrators. With `bsdf` given: as named (`glossy` with
+    /// roughness below [`MIN_ROUGHNESS`] is a mirror). Without it, from the Phong fields:
+    /// transparency > 0 is glass; reflective ≥ 0.5 a mirror of reflectance `reflective`;
+    /// otherwise Lambert with albedo `color × diffuse` (each channel at most 1).
+    pub fn bsdf(&self) -> Bsdf {
+        let albedo = (self.color * self.diffuse).min(Vec3::ONE);
+        match self.bsdf {
+            Some(BsdfKind::Diffuse) => Bsdf::Diffuse {
+                albedo: self.color.min(Vec3::ONE),
+            },
+            Some(BsdfKind::Mirror) => Bsdf::Mirror { tint: self.color },
+            Some(BsdfKind::Glass) => Bsdf::Glass {
+                ior: self.refractive_index,
+            },
+            Some(BsdfKind::Glossy) if self.roughness < MIN_ROUGHNESS => {
+                Bsdf::Mirror { tint: self.color }
+            }
+            Some(BsdfKind::Glossy) => Bsdf::Glossy {
+                tint: self.color,
+                alpha: self.roughness * self.roughness,
+            },
+            None if self.transparency > 0.0 => Bsdf::Glass {
+                ior: self.refractive_index,
+            },
+            None if self.reflective >= 0.5 => Bsdf::Mirror {
+                tint: Vec3::splat(self.reflective),
+            },
+            None => Bsdf::Diffuse { albedo },
+        }
+    }
 }
 
 impl Default for Material {
@@ -192,6 +315,9 @@ impl Default for Material {
             reflective: 0.0,
             transparency: 0.0,
             refractive_index: 1.0,
+            emission: Vec3::ZERO,
+            bsdf: None,
+            roughness: 0.5,
         }
     }
 }

@@ -50,6 +50,8 @@ pub struct CameraDef {
     pub fov: f64,
     pub width: i64,
     pub height: i64,
+    pub aperture: f64,
+    pub focus_distance: Option<f64>,
 }
 
 impl Default for CameraDef {
@@ -61,6 +63,8 @@ impl Default for CameraDef {
             fov: 60.0,
             width: 320,
             height: 240,
+            aperture: 0.0,
+            focus_distance: None,
         }
     }
 }
@@ -81,6 +85,8 @@ pub struct RenderDef {
     pub accel: String,
     pub bvh_quality: String,
     pub seed: i64,
+    pub integrator: String,
+    pub rr_depth: i64,
 }
 
 impl Default for RenderDef {
@@ -96,6 +102,8 @@ impl Default for RenderDef {
             accel: "auto".into(),
             bvh_quality: "medium".into(),
             seed: 0,
+            integrator: "whitted".into(),
+            rr_depth: 3,
         }
     }
 }
@@ -137,6 +145,10 @@ pub struct MaterialDef {
     pub reflective: f64,
     pub transparency: f64,
     pub refractive_index: f64,
+    #[serde(deserialize_with = "exact::vec3")]
+    pub emission: [f64; 3],
+    pub bsdf: Option<String>,
+    pub roughness: f64,
 }
 
 impl Default for MaterialDef {
@@ -151,6 +163,9 @@ impl Default for MaterialDef {
             reflective: 0.0,
             transparency: 0.0,
             refractive_index: 1.0,
+            emission: [0.0; 3],
+            bsdf: None,
+            roughness: 0.5,
         }
     }
 }

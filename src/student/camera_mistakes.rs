@@ -164,6 +164,8 @@ mod tests {
             fov: 60.0,
             width: 320,
             height: 240,
+            aperture: 0.0,
+            focus_distance: 1.0,
         };
         let flipped = direction(
             &c,

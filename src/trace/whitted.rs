@@ -10,7 +10,7 @@ use crate::math::Ray;
 use crate::record::observer::{Observer, Recorder};
 use crate::record::{HitRecord, RayKind, RayRecord, Step, TRACE_VERSION, Trace, TraceObject};
 use crate::scene::camera::CameraRays;
-use crate::scene::{Scene, Shape};
+use crate::scene::{Integrator, Scene, Shape};
 use glam::Vec3;
 
 /// pbrt-v4's `ShadowEpsilon`: shadow rays stop at 1 − 1e-4 of the segment to the light.
@@ -59,6 +59,8 @@ pub struct Tracer<'s, A: Accelerator> {
     /// refraction). Set from the scene's features, so an opaque scene runs a tracer with no
     /// refraction code at all (docs/ARCHITECTURE.md, invariant 4).
     pub stages: (bool, bool, bool),
+    /// The lights the Monte Carlo integrators sample (empty under Whitted).
+    pub lights: crate::mc::lights::Lights,
 }
 
 /// Calls `$self.$f::<O, L, R, T>($args)` with the const flags matching `$self.stages`.
@@ -86,6 +88,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             accel,
             camera: CameraRays::new(&scene.camera),
             stages: (f.lights > 0, f.reflective, f.transparent),
+            lights: if scene.settings.integrator == Integrator::Whitted {
+                crate::mc::lights::Lights::default()
+            } else {
+                crate::mc::lights::Lights::new(scene)
+            },
         }
     }
 
@@ -99,6 +106,9 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
     /// Traces sample `sample` of pixel (x, y) and returns its linear colour.
     #[inline]
     pub fn trace_sample<O: Observer>(&self, x: u32, y: u32, sample: u32, obs: &mut O) -> Vec3 {
+        if self.scene.settings.integrator != Integrator::Whitted {
+            return self.mc_sample(x, y, sample, obs);
+        }
         specialized!(self.sample_spec::<O>(x, y, sample, obs))
     }
 
@@ -125,15 +135,36 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         color
     }
 
-    /// The pixel's colour: the mean of its `spp` samples.
+    /// The pixel's colour: the mean of its `spp` samples. A sample with a NaN or infinite
+    /// channel counts as black (see [`Tracer::trace_pixel_checked`]).
     #[inline]
     pub fn trace_pixel<O: Observer>(&self, x: u32, y: u32, obs: &mut O) -> Vec3 {
+        self.trace_pixel_checked(x, y, obs).0
+    }
+
+    /// The pixel's colour, the number of its samples that were not finite (a NaN or an infinite
+    /// channel: left out of the sum, so they never reach the image) and the first such sample's
+    /// index.
+    #[inline]
+    pub fn trace_pixel_checked<O: Observer>(
+        &self,
+        x: u32,
+        y: u32,
+        obs: &mut O,
+    ) -> (Vec3, u32, Option<u32>) {
         let spp = self.scene.settings.spp;
         let mut sum = Vec3::ZERO;
+        let (mut bad, mut first) = (0, None);
         for k in 0..spp {
-            sum += self.trace_sample(x, y, k, obs);
+            let c = self.trace_sample(x, y, k, obs);
+            if c.is_finite() {
+                sum += c;
+            } else {
+                bad += 1;
+                first.get_or_insert(k);
+            }
         }
-        sum / spp as f32
+        (sum / spp as f32, bad, first)
     }
 
     /// Traces an arbitrary ray as a primary ray (depth 0, in air) and returns its colour.
@@ -174,7 +205,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         }
     }
 
-    fn hit_record(&self, hit: Option<Hit>) -> Option<HitRecord> {
+    pub(crate) fn hit_record(&self, hit: Option<Hit>) -> Option<HitRecord> {
         hit.map(|h| {
             let tri = matches!(
                 self.scene.objects[h.object as usize].shape,

@@ -241,6 +241,8 @@ mod orbit_tests {
             fov: 60.0,
             width: 320,
             height: 240,
+            aperture: 0.0,
+            focus_distance: 1.0,
         }
     }
 

@@ -662,6 +662,8 @@ fn rays(t: &Trace, step: Option<usize>, b: &Bounds, theme: &Theme, main: bool, g
             (RayKind::Shadow, _) => rgba(theme.shadow),
             (RayKind::Reflection, _) => rgba(theme.reflect),
             (RayKind::Refraction, _) => rgba(theme.refract),
+            (RayKind::Diffuse, _) => rgba(theme.diffuse),
+            (RayKind::Glossy, _) => rgba(theme.glossy),
         };
         let (width, color) = match (main, end) {
             (false, _) => (1.0, with_alpha(color, 0.55)),

@@ -17,3 +17,18 @@ pub fn shipped() -> Vec<PathBuf> {
     v.sort();
     v
 }
+
+/// The shipped scenes rendered by Whitted's tracer (no `integrator =` line): the ones the student
+/// format, the grader and the camera-convention tests are about.
+#[allow(dead_code)]
+pub fn shipped_whitted() -> Vec<PathBuf> {
+    shipped()
+        .into_iter()
+        .filter(|p| {
+            !std::fs::read_to_string(p)
+                .unwrap()
+                .lines()
+                .any(|l| l.trim_start().starts_with("integrator"))
+        })
+        .collect()
+}

@@ -124,9 +124,14 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             format!("Schlick: reflectance R = {}", label(*reflectance))
         }
         Step::DepthLimit { max_depth } => format!("recursion limit {max_depth}: no secondary ray"),
-        Step::WeightCutoff { .. } | Step::Truncated { .. } | Step::HardwareTraversal { .. } => {
-            crate::explain::describe::describe(step, ray.kind)
-        }
+        Step::WeightCutoff { .. }
+        | Step::Truncated { .. }
+        | Step::HardwareTraversal { .. }
+        | Step::Lens { .. }
+        | Step::LightSample { .. }
+        | Step::BsdfSample { .. }
+        | Step::Emitted { .. }
+        | Step::RussianRoulette { .. } => crate::explain::describe::describe(step, ray.kind),
         Step::Spawn { .. } => format!("{kind} ray spawns a child ray"),
         Step::Color { .. } => format!("{kind} ray: colour summed"),
     }

@@ -779,6 +779,8 @@ impl Drawer<'_, '_> {
             RayKind::Shadow => t.shadow,
             RayKind::Reflection => t.reflect,
             RayKind::Refraction => t.refract,
+            RayKind::Diffuse => t.diffuse,
+            RayKind::Glossy => t.glossy,
         };
         let depth_k = if self.info.current == Some(i) {
             1.0

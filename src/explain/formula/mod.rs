@@ -33,6 +33,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 mod hit;
+pub(crate) mod monte_carlo;
 mod plane;
 mod shading;
 mod sphere;
@@ -137,6 +138,86 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             contribution,
             cutoff,
         } => cx.weight_cutoff(*kind, *contribution, *cutoff),
+        Step::Lens {
+            random,
+            lens_point,
+            focus_point,
+            pdf,
+            direction,
+        } => monte_carlo::lens(random, *lens_point, *focus_point, *pdf, *direction),
+        Step::LightSample {
+            name,
+            random,
+            point,
+            distance,
+            select_pdf,
+            pdf,
+            radiance,
+            bsdf,
+            cos,
+            bsdf_pdf,
+            mis_weight,
+            blocked,
+            contribution,
+            ..
+        } => monte_carlo::light_sample(
+            name,
+            random,
+            *point,
+            *distance,
+            *select_pdf,
+            *pdf,
+            *radiance,
+            *bsdf,
+            *cos,
+            *bsdf_pdf,
+            *mis_weight,
+            *blocked,
+            *contribution,
+        ),
+        Step::BsdfSample {
+            bsdf,
+            lobe,
+            random,
+            direction,
+            pdf,
+            value,
+            cos,
+            weight,
+            throughput,
+        } => monte_carlo::bsdf_sample(
+            bsdf,
+            lobe,
+            random,
+            *direction,
+            *pdf,
+            *value,
+            *cos,
+            *weight,
+            *throughput,
+        ),
+        Step::Emitted {
+            name,
+            radiance,
+            light_pdf,
+            bsdf_pdf,
+            mis_weight,
+            contribution,
+            ..
+        } => monte_carlo::emitted(
+            name,
+            *radiance,
+            *light_pdf,
+            *bsdf_pdf,
+            *mis_weight,
+            *contribution,
+        ),
+        Step::RussianRoulette {
+            random,
+            probability,
+            survived,
+            throughput,
+        } => monte_carlo::roulette(*random, *probability, *survived, *throughput),
         Step::Truncated { max_steps } => Explanation {
             title: "The trace stops here".into(),
             lines: vec![],

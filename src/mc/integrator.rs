@@ -1,0 +1,630 @@
+//! The Monte Carlo integrators, on the same [`Tracer`] and [`Observer`] as Whitted's: the render
+//! passes a silent observer, the stepped pixel a recorder, and both compute the same numbers.
+//!
+//! - **Distribution ray tracing** (Cook, Porter and Carpenter 1984): at a diffuse surface, every
+//!   light is sampled once (soft shadows); a glossy surface sends one reflection ray sampled from
+//!   its GGX lobe (and takes point lights directly); mirrors and glass recurse as in Whitted,
+//!   glass along both branches weighted by the exact Fresnel reflectance. Emission is added
+//!   wherever a ray from the camera, a mirror, glass or a glossy bounce lands on a light.
+//! - **Path tracing** (Kajiya 1986): one path per sample. At each hit, next-event estimation
+//!   picks one light (by power) and a point on it; the BSDF samples the next direction; emission
+//!   found by a BSDF-sampled ray and the light sample are combined by multiple importance
+//!   sampling with Veach's power heuristic (β = 2); after `rr_depth` bounces Russian roulette
+//!   ends the path with probability 1 − min(1, max channel of the throughput).
+//!
+//! `max_depth` bounds the bounces (a path has at most `max_depth` scattering events, so
+//! `max_depth + 1` segments; Mitsuba's `max_depth` is this plus one). A ray that escapes returns
+//! `background` as radiance: a constant environment.
+//!
+//! Random numbers come from [`uniform`]`(pixel, sample, dimension, seed)`; the dimensions are
+//! laid out by [`dimension`]: the lens takes 2 and 3, and bounce `b` the block from
+//! 16 + 1024·b, slot by slot ([`slot`]).
+
+use super::bsdf::{self, Lobe};
+use super::lights::LightShape;
+use super::random::uniform;
+use crate::accel::{Accelerator, Hit};
+use crate::math::Ray;
+use crate::record::observer::Observer;
+use crate::record::{Draw, RayKind, Step};
+use crate::scene::{Bsdf, Integrator};
+use crate::trace::interaction::{Interaction, interact, spawn_origin};
+use crate::trace::sampling::sample_offset;
+use crate::trace::whitted::{SHADOW_EPSILON, Tracer};
+use glam::Vec3;
+
+/// The lens's two dimensions start here.
+pub const LENS_DIMENSION: u32 = 2;
+
+/// The slots of a bounce's block of dimensions.
+pub mod slot {
+    /// The path tracer picks a light.
+    pub const LIGHT_PICK: u32 = 0;
+    /// Then a point on it (two dimensions).
+    pub const LIGHT_POINT: u32 = 1;
+    /// Glass picks its lobe.
+    pub const LOBE: u32 = 3;
+    /// The BSDF's direction (two dimensions).
+    pub const BSDF: u32 = 4;
+    /// Russian roulette.
+    pub const ROULETTE: u32 = 6;
+    /// The distribution tracer's light group g takes 3 from here: 8 + 3g (a member, a point).
+    pub const GROUP: u32 = 8;
+}
+
+/// The dimension of `slot` at bounce `depth` (the camera's hit is bounce 0).
+pub fn dimension(depth: u32, slot: u32) -> u32 {
+    16u32
+        .wrapping_add(depth.wrapping_mul(1024))
+        .wrapping_add(slot)
+}
+
+/// Veach's power heuristic (β = 2) for `a` against `b`: a² / (a² + b²).
+pub fn power_heuristic(a: f32, b: f32) -> f32 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 <= 0.0 || !(a2 + b2).is_finite() {
+        return if a > 0.0 { 1.0 } else { 0.0 };
+    }
+    a2 / (a2 + b2)
+}
+
+/// The sample being traced: where its random numbers come from.
+#[derive(Clone, Copy)]
+struct Sampler {
+    pixel: [u32; 2],
+    sample: u32,
+    seed: u32,
+}
+
+impl Sampler {
+    fn draw(&self, dimension: u32) -> Draw {
+        Draw {
+            dimension,
+            value: uniform(self.pixel, self.sample, dimension, self.seed),
+        }
+    }
+}
+
+/// How the ray being shaded was made: for MIS weights on the emission it finds.
+#[derive(Clone, Copy)]
+struct Previous {
+    /// The BSDF's density of the ray's direction (None: the camera or a delta BSDF).
+    bsdf_pdf: Option<f32>,
+    /// Where the ray left from.
+    origin: Vec3,
+}
+
+fn arr(v: Vec3) -> [f32; 3] {
+    v.to_array()
+}
+
+impl<A: Accelerator> Tracer<'_, A> {
+    /// Traces sample `sample` of pixel (x, y) with the scene's Monte Carlo integrator.
+    pub(crate) fn mc_sample<O: Observer>(&self, x: u32, y: u32, sample: u32, obs: &mut O) -> Vec3 {
+        let s = &self.scene.settings;
+        let sampler = Sampler {
+            pixel: [x, y],
+            sample,
+            seed: s.seed,
+        };
+        let offset = sample_offset(x, y, sample, s.spp, s.seed);
+        let (mut ray, screen) = self.camera.ray(x, y, offset);
+        let cam = &self.scene.camera;
+        let lens = (cam.aperture > 0.0).then(|| {
+            let u = [
+                sampler.draw(LENS_DIMENSION),
+                sampler.draw(LENS_DIMENSION + 1),
+            ];
+            let disk = super::sample::thin_lens(cam.aperture, [u[0].value, u[1].value]);
+            (u, disk)
+        });
+        let mut lens_step = None;
+        if let Some((u, Some(disk))) = lens {
+            // The plane in focus is perpendicular to the view direction, `focus_distance` away.
+            let along = ray.dir.dot(-self.camera.w);
+            if along > 0.0 {
+                let focus = ray.origin + ray.dir * (cam.focus_distance / along);
+                let origin =
+                    ray.origin + self.camera.u * disk.value[0] + self.camera.v * disk.value[1];
+                let dir = (focus - origin).normalize_or_zero();
+                if dir != Vec3::ZERO && dir.is_finite() {
+                    ray = Ray {
+                        origin,
+                        dir,
+                        t_min: 0.0,
+                        t_max: f32::INFINITY,
+                    };
+                    lens_step = Some((u, origin, focus, disk.pdf, dir));
+                }
+            }
+        }
+        obs.begin_ray(RayKind::Primary, 0, &ray, 1.0);
+        obs.step(|| Step::Camera {
+            pixel: [x, y],
+            sample,
+            offset,
+            screen,
+            direction: arr(ray.dir),
+        });
+        if let Some((u, origin, focus, pdf, dir)) = lens_step {
+            obs.step(|| Step::Lens {
+                random: u.to_vec(),
+                lens_point: arr(origin),
+                focus_point: arr(focus),
+                pdf,
+                direction: arr(dir),
+            });
+        }
+        let prev = Previous {
+            bsdf_pdf: None,
+            origin: ray.origin,
+        };
+        let (color, hit) = self.mc_shade_ray(&sampler, &ray, 0, Vec3::ONE, prev, obs);
+        obs.end_ray(|| self.hit_record(hit), color);
+        color
+    }
+
+    /// Traces a child ray (its steps bracketed as a ray of the trace).
+    #[allow(clippy::too_many_arguments)]
+    fn mc_child<O: Observer>(
+        &self,
+        sampler: &Sampler,
+        ray: &Ray<f32>,
+        kind: RayKind,
+        depth: u32,
+        weight: Vec3,
+        throughput: Vec3,
+        prev: Previous,
+        obs: &mut O,
+    ) -> Vec3 {
+        let mean = (weight.x + weight.y + weight.z) / 3.0;
+        obs.begin_ray(kind, depth, ray, mean);
+        let (color, hit) = self.mc_shade_ray(sampler, ray, depth, throughput, prev, obs);
+        obs.end_ray(|| self.hit_record(hit), color);
+        color
+    }
+
+    /// The radiance arriving along `ray`. `throughput`: what it is multiplied by on its way to
+    /// the pixel (recorded with the contributions).
+    fn mc_shade_ray<O: Observer>(
+        &self,
+        sampler: &Sampler,
+        ray: &Ray<f32>,
+        depth: u32,
+        throughput: Vec3,
+        prev: Previous,
+        obs: &mut O,
+    ) -> (Vec3, Option<Hit>) {
+        let scene = self.scene;
+        let Some(hit) = self.accel.closest(scene, ray, obs) else {
+            let bg = scene.settings.background;
+            obs.step(|| Step::Miss {
+                background: bg.to_array(),
+            });
+            obs.step(|| Step::Color {
+                color: bg.to_array(),
+            });
+            return (bg, None);
+        };
+        let it = interact(scene, &hit, ray);
+        let s = &scene.settings;
+        obs.step(|| Step::Surface {
+            point: it.point.to_array(),
+            normal: it.normal.to_array(),
+            inside: it.inside,
+            error_bound: it.error.to_array(),
+            over_point: spawn_origin(s.offset, s.epsilon, &it, it.normal).to_array(),
+        });
+        let color = match s.integrator {
+            Integrator::Path => self.path_at(sampler, &hit, &it, depth, throughput, prev, obs),
+            _ => self.distribution_at(sampler, &hit, &it, depth, throughput, obs),
+        };
+        obs.step(|| Step::Color {
+            color: color.to_array(),
+        });
+        (color, Some(hit))
+    }
+
+    /// Emission at the hit, with its MIS weight against light sampling from the previous hit.
+    fn emitted<O: Observer>(
+        &self,
+        hit: &Hit,
+        it: &Interaction,
+        throughput: Vec3,
+        prev: Option<Previous>,
+        obs: &mut O,
+    ) -> Vec3 {
+        let m = self.scene.material_of(hit.object);
+        if m.emission.max_element() <= 0.0 || it.inside {
+            return Vec3::ZERO;
+        }
+        let le = m.emission;
+        let (light_pdf, bsdf_pdf, w) = match prev.and_then(|p| p.bsdf_pdf.map(|b| (p.origin, b))) {
+            Some((origin, bsdf_pdf)) => {
+                let light_pdf = self.lights.of_object(hit.object).map_or(0.0, |i| {
+                    self.lights.pick_pdf(i) * self.lights.pdf(i, origin, it.point)
+                });
+                (light_pdf, bsdf_pdf, power_heuristic(bsdf_pdf, light_pdf))
+            }
+            None => (0.0, 0.0, 1.0),
+        };
+        let contribution = throughput * le * w;
+        obs.step(|| Step::Emitted {
+            object: hit.object,
+            name: self.scene.object_name(hit.object),
+            radiance: arr(le),
+            light_pdf,
+            bsdf_pdf,
+            mis_weight: w,
+            contribution: arr(contribution),
+        });
+        le * w
+    }
+
+    /// Samples light `index` from the hit (a shadow ray and its step): the estimate of the
+    /// reflected radiance, f · L · cos · w / (pick · pdf), before the throughput.
+    #[allow(clippy::too_many_arguments)]
+    fn light_sample<O: Observer>(
+        &self,
+        it: &Interaction,
+        b: &Bsdf,
+        index: u32,
+        select_pdf: f32,
+        mis: bool,
+        random: Vec<Draw>,
+        u: [f32; 2],
+        depth: u32,
+        throughput: Vec3,
+        obs: &mut O,
+    ) -> Vec3 {
+        let Some(lp) = self.lights.sample(index, it.point, u) else {
+            return Vec3::ZERO;
+        };
+        let light = &self.lights.lights[index as usize];
+        let delta = matches!(light.shape, LightShape::Point { .. });
+        let f = bsdf::eval(b, it.eye, lp.wi, it.normal);
+        let cos = lp.wi.dot(it.normal).max(0.0);
+        let bsdf_pdf = bsdf::pdf(b, it.eye, lp.wi, it.normal);
+        let pdf = select_pdf * lp.pdf;
+        let useful = lp.radiance.max_element() > 0.0 && f.max_element() > 0.0 && cos > 0.0;
+        let mut blocker = None;
+        if useful {
+            let s = &self.scene.settings;
+            let o = spawn_origin(s.offset, s.epsilon, it, lp.wi);
+            if let Ok(shadow) = Ray::new(o, lp.point - o, 0.0, 1.0 - SHADOW_EPSILON) {
+                obs.begin_ray(RayKind::Shadow, depth + 1, &shadow, 0.0);
+                blocker = self.accel.any(self.scene, &shadow, obs);
+                obs.end_ray(|| self.hit_record(blocker), Vec3::ZERO);
+            }
+        }
+        let w = if delta || !mis {
+            1.0
+        } else {
+            power_heuristic(pdf, bsdf_pdf)
+        };
+        let estimate = if useful && blocker.is_none() {
+            let density = if delta { select_pdf } else { pdf };
+            if density > 0.0 {
+                f * lp.radiance * (cos * w / density)
+            } else {
+                Vec3::ZERO
+            }
+        } else {
+            Vec3::ZERO
+        };
+        obs.step(|| Step::LightSample {
+            light: index,
+            name: light.name.clone(),
+            random,
+            point: arr(lp.point),
+            direction: arr(lp.wi),
+            distance: lp.distance,
+            select_pdf,
+            pdf,
+            radiance: arr(lp.radiance),
+            bsdf: arr(f),
+            cos,
+            bsdf_pdf,
+            mis_weight: w,
+            blocked: blocker.is_some(),
+            blocker: blocker.map(|h| self.scene.object_name(h.object)),
+            contribution: arr(throughput * estimate),
+        });
+        estimate
+    }
+
+    /// Records a BSDF sample and returns the next ray's kind and ray.
+    #[allow(clippy::too_many_arguments)]
+    fn bsdf_step<O: Observer>(
+        &self,
+        it: &Interaction,
+        b: &Bsdf,
+        s: &bsdf::BsdfSample,
+        random: Vec<Draw>,
+        throughput: Vec3,
+        obs: &mut O,
+    ) -> Option<(RayKind, Ray<f32>)> {
+        obs.step(|| Step::BsdfSample {
+            bsdf: bsdf::name(b).into(),
+            lobe: s.lobe.name().into(),
+            random,
+            direction: arr(s.wi),
+            pdf: s.pdf,
+            value: arr(s.value),
+            cos: s.cos,
+            weight: arr(s.weight),
+            throughput: arr(throughput),
+        });
+        let kind = match (b, s.lobe) {
+            (_, Lobe::Transmission) => RayKind::Refraction,
+            (Bsdf::Diffuse { .. }, _) => RayKind::Diffuse,
+            (Bsdf::Glossy { .. }, _) => RayKind::Glossy,
+            _ => RayKind::Reflection,
+        };
+        let st = &self.scene.settings;
+        let o = spawn_origin(st.offset, st.epsilon, it, s.wi);
+        Ray::new(o, s.wi, 0.0, f32::INFINITY)
+            .ok()
+            .map(|r| (kind, r))
+    }
+
+    /// The path tracer at a hit: emission (MIS), next-event estimation (MIS), a BSDF sample,
+    /// Russian roulette, and the rest of the path.
+    #[allow(clippy::too_many_arguments)]
+    fn path_at<O: Observer>(
+        &self,
+        sampler: &Sampler,
+        hit: &Hit,
+        it: &Interaction,
+        depth: u32,
+        throughput: Vec3,
+        prev: Previous,
+        obs: &mut O,
+    ) -> Vec3 {
+        let s = &self.scene.settings;
+        let mut l = self.emitted(hit, it, throughput, Some(prev), obs);
+        if depth >= s.max_depth {
+            obs.step(|| Step::DepthLimit {
+                max_depth: s.max_depth,
+            });
+            return l;
+        }
+        let m = self.scene.material_of(hit.object);
+        let b = m.bsdf();
+        let dim = |slot| dimension(depth, slot);
+        // Next-event estimation.
+        if !bsdf::is_delta(&b) && !self.lights.is_empty() {
+            let pick = sampler.draw(dim(slot::LIGHT_PICK));
+            if let Some((index, select_pdf)) = self.lights.pick(pick.value) {
+                let (u0, u1) = (
+                    sampler.draw(dim(slot::LIGHT_POINT)),
+                    sampler.draw(dim(slot::LIGHT_POINT + 1)),
+                );
+                l += self.light_sample(
+                    it,
+                    &b,
+                    index,
+                    select_pdf,
+                    true,
+                    vec![pick, u0, u1],
+                    [u0.value, u1.value],
+                    depth,
+                    throughput,
+                    obs,
+                );
+            }
+        }
+        // The next direction.
+        let lobe = sampler.draw(dim(slot::LOBE));
+        let (u0, u1) = (
+            sampler.draw(dim(slot::BSDF)),
+            sampler.draw(dim(slot::BSDF + 1)),
+        );
+        let glass = matches!(b, Bsdf::Glass { .. });
+        let Some(bs) = bsdf::sample(
+            &b,
+            it.eye,
+            it.normal,
+            it.inside,
+            lobe.value,
+            [u0.value, u1.value],
+        ) else {
+            return l;
+        };
+        let mut weight = bs.weight;
+        let mut next = throughput * weight;
+        let random = if glass {
+            vec![lobe, u0, u1]
+        } else {
+            vec![u0, u1]
+        };
+        let Some((kind, ray)) = self.bsdf_step(it, &b, &bs, random, next, obs) else {
+            return l;
+        };
+        // Russian roulette.
+        if depth + 1 > s.rr_depth {
+            let u = sampler.draw(dim(slot::ROULETTE));
+            let q = next.max_element().min(1.0);
+            let survived = u.value < q;
+            if survived {
+                weight /= q;
+                next /= q;
+            }
+            obs.step(|| Step::RussianRoulette {
+                random: u,
+                probability: q,
+                survived,
+                throughput: arr(next),
+            });
+            if !survived {
+                return l;
+            }
+        }
+        let prev = Previous {
+            bsdf_pdf: bs.pdf,
+            origin: it.point,
+        };
+        let li = self.mc_child(sampler, &ray, kind, depth + 1, weight, next, prev, obs);
+        l + weight * li
+    }
+
+    /// The distribution ray tracer at a hit: emission, every light sampled once at a diffuse
+    /// surface, one glossy reflection ray, and Whitted's mirror and glass recursion.
+    fn distribution_at<O: Observer>(
+        &self,
+        sampler: &Sampler,
+        hit: &Hit,
+        it: &Interaction,
+        depth: u32,
+        throughput: Vec3,
+        obs: &mut O,
+    ) -> Vec3 {
+        let s = &self.scene.settings;
+        let mut l = self.emitted(hit, it, throughput, None, obs);
+        let m = self.scene.material_of(hit.object);
+        let b = m.bsdf();
+        let dim = |slot| dimension(depth, slot);
+        // Direct light: every light group once (a diffuse surface); point lights only for glossy
+        // (its area lights are found by its reflection ray).
+        if !bsdf::is_delta(&b) {
+            for g in 0..self.lights.groups.len() {
+                let first = self.lights.groups[g].members.first().copied();
+                let point = first.is_some_and(|i| {
+                    matches!(
+                        self.lights.lights[i as usize].shape,
+                        LightShape::Point { .. }
+                    )
+                });
+                if matches!(b, Bsdf::Glossy { .. }) && !point {
+                    continue;
+                }
+                let base = slot::GROUP + 3 * g as u32;
+                let (pick, u0, u1) = (
+                    sampler.draw(dim(base)),
+                    sampler.draw(dim(base + 1)),
+                    sampler.draw(dim(base + 2)),
+                );
+                let Some((index, p)) = self.lights.pick_in_group(g, pick.value) else {
+                    continue;
+                };
+                let random = if point { vec![] } else { vec![pick, u0, u1] };
+                l += self.light_sample(
+                    it,
+                    &b,
+                    index,
+                    p,
+                    false,
+                    random,
+                    [u0.value, u1.value],
+                    depth,
+                    throughput,
+                    obs,
+                );
+            }
+        }
+        if matches!(b, Bsdf::Diffuse { .. }) {
+            return l;
+        }
+        if depth >= s.max_depth {
+            obs.step(|| Step::DepthLimit {
+                max_depth: s.max_depth,
+            });
+            return l;
+        }
+        let prev = Previous {
+            bsdf_pdf: None,
+            origin: it.point,
+        };
+        match b {
+            Bsdf::Glass { .. } => {
+                // Both branches, each weighted by its Fresnel share (u_lobe 0 takes reflection,
+                // a number past the reflectance the transmission).
+                let reflect = bsdf::sample(&b, it.eye, it.normal, it.inside, 1.0, [0.5, 0.5]);
+                let (fr, _) = bsdf::fresnel_dielectric(
+                    it.eye.dot(it.normal),
+                    match b {
+                        Bsdf::Glass { ior } if it.inside => 1.0 / ior,
+                        Bsdf::Glass { ior } => ior,
+                        _ => 1.0,
+                    },
+                );
+                let mut branches = vec![];
+                if let Some(t) = reflect.filter(|t| t.lobe == Lobe::Transmission) {
+                    branches.push((t, 1.0 - fr));
+                }
+                let r = bsdf::sample(&b, it.eye, it.normal, it.inside, 0.0, [0.5, 0.5]);
+                if let Some(r) = r.filter(|r| r.lobe == Lobe::Reflection) {
+                    branches.insert(0, (r, fr));
+                }
+                for (mut bs, share) in branches {
+                    bs.weight *= share;
+                    let next = throughput * bs.weight;
+                    if let Some((kind, ray)) = self.bsdf_step(it, &b, &bs, vec![], next, obs) {
+                        let li = self.mc_child(
+                            sampler,
+                            &ray,
+                            kind,
+                            depth + 1,
+                            bs.weight,
+                            next,
+                            prev,
+                            obs,
+                        );
+                        l += bs.weight * li;
+                    }
+                }
+            }
+            _ => {
+                let (u0, u1) = (
+                    sampler.draw(dim(slot::BSDF)),
+                    sampler.draw(dim(slot::BSDF + 1)),
+                );
+                let random = if matches!(b, Bsdf::Glossy { .. }) {
+                    vec![u0, u1]
+                } else {
+                    vec![]
+                };
+                if let Some(bs) =
+                    bsdf::sample(&b, it.eye, it.normal, it.inside, 0.0, [u0.value, u1.value])
+                {
+                    let next = throughput * bs.weight;
+                    if let Some((kind, ray)) = self.bsdf_step(it, &b, &bs, random, next, obs) {
+                        let li = self.mc_child(
+                            sampler,
+                            &ray,
+                            kind,
+                            depth + 1,
+                            bs.weight,
+                            next,
+                            prev,
+                            obs,
+                        );
+                        l += bs.weight * li;
+                    }
+                }
+            }
+        }
+        l
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_power_heuristic_by_hand() {
+        assert_eq!(power_heuristic(1.0, 1.0), 0.5);
+        assert_eq!(power_heuristic(3.0, 1.0), 0.9);
+        assert_eq!(power_heuristic(0.0, 2.0), 0.0);
+        assert_eq!(power_heuristic(2.0, 0.0), 1.0);
+    }
+
+    #[test]
+    fn bounces_take_disjoint_blocks_of_dimensions() {
+        assert_eq!(dimension(0, slot::LIGHT_PICK), 16);
+        assert_eq!(dimension(1, slot::LIGHT_PICK), 16 + 1024);
+        assert!(dimension(0, slot::GROUP + 3 * 300) < dimension(1, 0));
+        assert!(LENS_DIMENSION + 1 < dimension(0, 0));
+    }
+}
