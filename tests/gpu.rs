@@ -17,7 +17,7 @@ use std::path::PathBuf;
 
 #[path = "common/gpu.rs"]
 mod gpu_common;
-use gpu_common::{context, one_at_a_time};
+use gpu_common::{context, load_whitted, one_at_a_time};
 #[path = "common/scenes.rs"]
 mod scenes;
 
@@ -41,8 +41,6 @@ const MAX_ERROR: u8 = 16;
 const MAX_FLIPPED: f64 = 0.002;
 
 fn small(mut scene: Scene) -> Scene {
-    // The GPU traces Whitted's integrator only (the Monte Carlo scenes are compared under it).
-    scene.settings.integrator = raystep::scene::Integrator::Whitted;
     // Keep CI fast: 160×120 (far-sphere's 64×64 stays as it is).
     if scene.camera.width * scene.camera.height > 160 * 120 {
         scene.camera.width = 160;
@@ -1021,12 +1019,4 @@ fn the_apps_device_asks_for_passthrough_where_the_adapter_offers_it() {
     );
     // The same answer as the command line's headless device.
     assert_eq!(ctx.passthrough, headless.passthrough);
-}
-
-/// A scene file, set to Whitted's integrator: the GPU traces Whitted only (the Monte Carlo
-/// scenes are compared under it).
-fn load_whitted(path: &std::path::Path) -> Scene {
-    let mut scene = raystep::scene::load_file(path).unwrap();
-    scene.settings.integrator = raystep::scene::Integrator::Whitted;
-    scene
 }

@@ -18,7 +18,7 @@ use std::process::Command;
 
 #[path = "common/gpu.rs"]
 mod gpu_common;
-use gpu_common::{context, one_at_a_time};
+use gpu_common::{context, load_whitted, one_at_a_time};
 #[path = "common/scenes.rs"]
 mod scenes;
 
@@ -35,9 +35,7 @@ fn shipped(ctx: GpuContext, name: &str) -> (Scene, PreparedScene, GpuTracer) {
         .into_iter()
         .find(|p| p.ends_with(name))
         .unwrap();
-    let mut scene = load_whitted(&file);
-    // The GPU traces Whitted's integrator only (the Monte Carlo scenes are compared under it).
-    scene.settings.integrator = raystep::scene::Integrator::Whitted;
+    let scene = load_whitted(&file);
     let prepared = PreparedScene::new(scene.clone());
     let gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
     (scene, prepared, gpu)
@@ -322,12 +320,4 @@ fn the_fragment_path_is_traced_with_its_interpolated_ray() {
     let e = raystep::explain::formula::explain(&got.trace, &got.trace.root, step);
     assert!(e.conclusion.contains("never computed"), "{e:?}");
     assert!(!format!("{e:?}").contains("NaN"), "{e:?}");
-}
-
-/// A scene file, set to Whitted's integrator: the GPU traces Whitted only (the Monte Carlo
-/// scenes are compared under it).
-fn load_whitted(path: &std::path::Path) -> Scene {
-    let mut scene = raystep::scene::load_file(path).unwrap();
-    scene.settings.integrator = raystep::scene::Integrator::Whitted;
-    scene
 }

@@ -67,6 +67,43 @@ pub fn fresnel_dielectric(cos_i: f32, eta: f32) -> (f32, Option<f32>) {
     )
 }
 
+/// A smooth dielectric's two lobes at once: (the Fresnel reflectance F, the mirror reflection,
+/// the refraction unless the light is totally internally reflected). Each lobe's weight is its
+/// value given that it was chosen (1 for the reflection, 1/η² for the refraction's radiance
+/// scaling): sampling picks the reflection with probability F, so its estimate is unbiased; the
+/// distribution tracer follows both and weights them by F and 1 − F. `inside`: the light leaves
+/// towards the inside of the object (`wo` comes from inside), so the far side is air.
+pub fn glass_lobes(
+    ior: f32,
+    wo: Vec3,
+    n: Vec3,
+    inside: bool,
+) -> (f32, BsdfSample, Option<BsdfSample>) {
+    let cos_o = wo.dot(n);
+    let eta = if inside { 1.0 / ior } else { ior };
+    let (f, cos_t) = fresnel_dielectric(cos_o, eta);
+    let reflection = BsdfSample {
+        wi: mirror(wo, n),
+        value: Vec3::ONE,
+        pdf: None,
+        cos: cos_o,
+        weight: Vec3::ONE,
+        lobe: Lobe::Reflection,
+    };
+    let transmission = cos_t.map(|cos_t| {
+        let w = Vec3::splat(1.0 / (eta * eta));
+        BsdfSample {
+            wi: (-wo / eta + (cos_o / eta - cos_t) * n).normalize(),
+            value: w,
+            pdf: None,
+            cos: cos_t,
+            weight: w,
+            lobe: Lobe::Transmission,
+        }
+    });
+    (f, reflection, transmission)
+}
+
 /// Smith's masking term for GGX: G₁(v) = 2 / (1 + √(1 + α² tan²θ_v)).
 fn smith_g1(alpha: f32, cos: f32) -> f32 {
     if cos <= 0.0 {
@@ -205,29 +242,10 @@ pub fn sample(
             lobe: Lobe::Reflection,
         }),
         Bsdf::Glass { ior } => {
-            let eta = if inside { 1.0 / ior } else { ior };
-            let (f, cos_t) = fresnel_dielectric(cos_o, eta);
-            match cos_t {
-                Some(cos_t) if u_lobe >= f => {
-                    let wi = (-wo / eta + (cos_o / eta - cos_t) * n).normalize();
-                    let w = Vec3::splat(1.0 / (eta * eta));
-                    Some(BsdfSample {
-                        wi,
-                        value: w,
-                        pdf: None,
-                        cos: cos_t,
-                        weight: w,
-                        lobe: Lobe::Transmission,
-                    })
-                }
-                _ => Some(BsdfSample {
-                    wi: mirror(wo, n),
-                    value: Vec3::ONE,
-                    pdf: None,
-                    cos: cos_o,
-                    weight: Vec3::ONE,
-                    lobe: Lobe::Reflection,
-                }),
+            let (f, reflection, transmission) = glass_lobes(ior, wo, n, inside);
+            match transmission {
+                Some(t) if u_lobe >= f => Some(t),
+                _ => Some(reflection),
             }
         }
     }

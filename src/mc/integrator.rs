@@ -28,9 +28,9 @@ use crate::math::Ray;
 use crate::record::observer::Observer;
 use crate::record::{Draw, RayKind, Step};
 use crate::scene::{Bsdf, Integrator};
-use crate::trace::interaction::{Interaction, interact, spawn_origin};
+use crate::trace::interaction::{Interaction, spawn_origin};
 use crate::trace::sampling::sample_offset;
-use crate::trace::whitted::{SHADOW_EPSILON, Tracer};
+use crate::trace::whitted::{SHADOW_EPSILON, Tracer, WEIGHT_CUTOFF};
 use glam::Vec3;
 
 /// The lens's two dimensions start here.
@@ -195,34 +195,13 @@ impl<A: Accelerator> Tracer<'_, A> {
         prev: Previous,
         obs: &mut O,
     ) -> (Vec3, Option<Hit>) {
-        let scene = self.scene;
-        let Some(hit) = self.accel.closest(scene, ray, obs) else {
-            let bg = scene.settings.background;
-            obs.step(|| Step::Miss {
-                background: bg.to_array(),
-            });
-            obs.step(|| Step::Color {
-                color: bg.to_array(),
-            });
-            return (bg, None);
-        };
-        let it = interact(scene, &hit, ray);
-        let s = &scene.settings;
-        obs.step(|| Step::Surface {
-            point: it.point.to_array(),
-            normal: it.normal.to_array(),
-            inside: it.inside,
-            error_bound: it.error.to_array(),
-            over_point: spawn_origin(s.offset, s.epsilon, &it, it.normal).to_array(),
-        });
-        let color = match s.integrator {
-            Integrator::Path => self.path_at(sampler, &hit, &it, depth, throughput, prev, obs),
-            _ => self.distribution_at(sampler, &hit, &it, depth, throughput, obs),
-        };
-        obs.step(|| Step::Color {
-            color: color.to_array(),
-        });
-        (color, Some(hit))
+        self.closest_then(ray, obs, |hit, obs| {
+            let it = self.surface(hit, ray, obs);
+            match self.scene.settings.integrator {
+                Integrator::Path => self.path_at(sampler, hit, &it, depth, throughput, prev, obs),
+                _ => self.distribution_at(sampler, hit, &it, depth, throughput, obs),
+            }
+        })
     }
 
     /// Emission at the hit, with its MIS weight against light sampling from the previous hit.
@@ -271,7 +250,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         index: u32,
         select_pdf: f32,
         mis: bool,
-        random: Vec<Draw>,
+        random: &[Draw],
         u: [f32; 2],
         depth: u32,
         throughput: Vec3,
@@ -315,7 +294,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         obs.step(|| Step::LightSample {
             light: index,
             name: light.name.clone(),
-            random,
+            random: random.to_vec(),
             point: arr(lp.point),
             direction: arr(lp.wi),
             distance: lp.distance,
@@ -340,14 +319,14 @@ impl<A: Accelerator> Tracer<'_, A> {
         it: &Interaction,
         b: &Bsdf,
         s: &bsdf::BsdfSample,
-        random: Vec<Draw>,
+        random: &[Draw],
         throughput: Vec3,
         obs: &mut O,
     ) -> Option<(RayKind, Ray<f32>)> {
         obs.step(|| Step::BsdfSample {
             bsdf: bsdf::name(b).into(),
             lobe: s.lobe.name().into(),
-            random,
+            random: random.to_vec(),
             direction: arr(s.wi),
             pdf: s.pdf,
             value: arr(s.value),
@@ -406,7 +385,7 @@ impl<A: Accelerator> Tracer<'_, A> {
                     index,
                     select_pdf,
                     true,
-                    vec![pick, u0, u1],
+                    &[pick, u0, u1],
                     [u0.value, u1.value],
                     depth,
                     throughput,
@@ -433,11 +412,8 @@ impl<A: Accelerator> Tracer<'_, A> {
         };
         let mut weight = bs.weight;
         let mut next = throughput * weight;
-        let random = if glass {
-            vec![lobe, u0, u1]
-        } else {
-            vec![u0, u1]
-        };
+        let drawn = [lobe, u0, u1];
+        let random = if glass { &drawn[..] } else { &drawn[1..] };
         let Some((kind, ray)) = self.bsdf_step(it, &b, &bs, random, next, obs) else {
             return l;
         };
@@ -466,6 +442,43 @@ impl<A: Accelerator> Tracer<'_, A> {
         };
         let li = self.mc_child(sampler, &ray, kind, depth + 1, weight, next, prev, obs);
         l + weight * li
+    }
+
+    /// The distribution tracer follows one sampled direction: its step, then the ray unless its
+    /// share of the pixel is below Whitted's cut-off ([`WEIGHT_CUTOFF`]: glass's two branches at
+    /// every level would otherwise double the work per bounce), and the radiance it brings back
+    /// times its weight.
+    #[allow(clippy::too_many_arguments)]
+    fn follow<O: Observer>(
+        &self,
+        sampler: &Sampler,
+        it: &Interaction,
+        b: &Bsdf,
+        bs: bsdf::BsdfSample,
+        random: &[Draw],
+        depth: u32,
+        throughput: Vec3,
+        obs: &mut O,
+    ) -> Vec3 {
+        let next = throughput * bs.weight;
+        let Some((kind, ray)) = self.bsdf_step(it, b, &bs, random, next, obs) else {
+            return Vec3::ZERO;
+        };
+        let contribution = next.max_element();
+        if contribution < WEIGHT_CUTOFF {
+            obs.step(|| Step::WeightCutoff {
+                kind,
+                contribution,
+                cutoff: WEIGHT_CUTOFF,
+            });
+            return Vec3::ZERO;
+        }
+        let prev = Previous {
+            bsdf_pdf: None,
+            origin: it.point,
+        };
+        let li = self.mc_child(sampler, &ray, kind, depth + 1, bs.weight, next, prev, obs);
+        bs.weight * li
     }
 
     /// The distribution ray tracer at a hit: emission, every light sampled once at a diffuse
@@ -507,7 +520,8 @@ impl<A: Accelerator> Tracer<'_, A> {
                 let Some((index, p)) = self.lights.pick_in_group(g, pick.value) else {
                     continue;
                 };
-                let random = if point { vec![] } else { vec![pick, u0, u1] };
+                let drawn = [pick, u0, u1];
+                let random = if point { &[][..] } else { &drawn[..] };
                 l += self.light_sample(
                     it,
                     &b,
@@ -531,47 +545,16 @@ impl<A: Accelerator> Tracer<'_, A> {
             });
             return l;
         }
-        let prev = Previous {
-            bsdf_pdf: None,
-            origin: it.point,
-        };
         match b {
-            Bsdf::Glass { .. } => {
-                // Both branches, each weighted by its Fresnel share (u_lobe 0 takes reflection,
-                // a number past the reflectance the transmission).
-                let reflect = bsdf::sample(&b, it.eye, it.normal, it.inside, 1.0, [0.5, 0.5]);
-                let (fr, _) = bsdf::fresnel_dielectric(
-                    it.eye.dot(it.normal),
-                    match b {
-                        Bsdf::Glass { ior } if it.inside => 1.0 / ior,
-                        Bsdf::Glass { ior } => ior,
-                        _ => 1.0,
-                    },
-                );
-                let mut branches = vec![];
-                if let Some(t) = reflect.filter(|t| t.lobe == Lobe::Transmission) {
-                    branches.push((t, 1.0 - fr));
-                }
-                let r = bsdf::sample(&b, it.eye, it.normal, it.inside, 0.0, [0.5, 0.5]);
-                if let Some(r) = r.filter(|r| r.lobe == Lobe::Reflection) {
-                    branches.insert(0, (r, fr));
-                }
-                for (mut bs, share) in branches {
-                    bs.weight *= share;
-                    let next = throughput * bs.weight;
-                    if let Some((kind, ray)) = self.bsdf_step(it, &b, &bs, vec![], next, obs) {
-                        let li = self.mc_child(
-                            sampler,
-                            &ray,
-                            kind,
-                            depth + 1,
-                            bs.weight,
-                            next,
-                            prev,
-                            obs,
-                        );
-                        l += bs.weight * li;
-                    }
+            Bsdf::Glass { ior } => {
+                // Both branches, each weighted by its Fresnel share.
+                let (fr, mut reflection, transmission) =
+                    bsdf::glass_lobes(ior, it.eye, it.normal, it.inside);
+                reflection.weight *= fr;
+                l += self.follow(sampler, it, &b, reflection, &[], depth, throughput, obs);
+                if let Some(mut t) = transmission {
+                    t.weight *= 1.0 - fr;
+                    l += self.follow(sampler, it, &b, t, &[], depth, throughput, obs);
                 }
             }
             _ => {
@@ -579,28 +562,16 @@ impl<A: Accelerator> Tracer<'_, A> {
                     sampler.draw(dim(slot::BSDF)),
                     sampler.draw(dim(slot::BSDF + 1)),
                 );
+                let drawn = [u0, u1];
                 let random = if matches!(b, Bsdf::Glossy { .. }) {
-                    vec![u0, u1]
+                    &drawn[..]
                 } else {
-                    vec![]
+                    &[][..]
                 };
                 if let Some(bs) =
                     bsdf::sample(&b, it.eye, it.normal, it.inside, 0.0, [u0.value, u1.value])
                 {
-                    let next = throughput * bs.weight;
-                    if let Some((kind, ray)) = self.bsdf_step(it, &b, &bs, random, next, obs) {
-                        let li = self.mc_child(
-                            sampler,
-                            &ray,
-                            kind,
-                            depth + 1,
-                            bs.weight,
-                            next,
-                            prev,
-                            obs,
-                        );
-                        l += bs.weight * li;
-                    }
+                    l += self.follow(sampler, it, &b, bs, random, depth, throughput, obs);
                 }
             }
         }

@@ -1,7 +1,7 @@
 //! The one recursive Whitted tracer. The render, the stepped pixel, the exercises and the CPU side
 //! of the GPU comparison all call [`Tracer::trace_sample`]; only the observer differs.
 
-use super::interaction::{interact, spawn_origin};
+use super::interaction::{Interaction, interact, spawn_origin};
 use super::media::Media;
 use super::sampling::sample_offset;
 use super::shading::{critical_angle_deg, phong, reflect_recorded, refract, schlick_recorded};
@@ -250,9 +250,22 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         media: Media,
         obs: &mut O,
     ) -> (Vec3, Option<Hit>) {
-        let scene = self.scene;
-        let Some(hit) = self.accel.closest(scene, ray, obs) else {
-            let bg = scene.settings.background;
+        self.closest_then(ray, obs, |hit, obs| {
+            self.shade::<O, L, R, T>(hit, ray, depth, throughput, media, obs)
+        })
+    }
+
+    /// The body of a colour ray for every integrator: finds the closest hit; a miss returns the
+    /// background (its `Miss` step), a hit what `shade` computes; then the ray's `Color` step.
+    #[inline(always)]
+    pub(crate) fn closest_then<O: Observer>(
+        &self,
+        ray: &Ray<f32>,
+        obs: &mut O,
+        shade: impl FnOnce(&Hit, &mut O) -> Vec3,
+    ) -> (Vec3, Option<Hit>) {
+        let Some(hit) = self.accel.closest(self.scene, ray, obs) else {
+            let bg = self.scene.settings.background;
             obs.step(|| Step::Miss {
                 background: bg.to_array(),
             });
@@ -261,11 +274,31 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             });
             return (bg, None);
         };
-        let color = self.shade::<O, L, R, T>(&hit, ray, depth, throughput, media, obs);
+        let color = shade(&hit, obs);
         obs.step(|| Step::Color {
             color: color.to_array(),
         });
         (color, Some(hit))
+    }
+
+    /// The surface interaction at a hit, and its `Surface` step.
+    #[inline(always)]
+    pub(crate) fn surface<O: Observer>(
+        &self,
+        hit: &Hit,
+        ray: &Ray<f32>,
+        obs: &mut O,
+    ) -> Interaction {
+        let s = &self.scene.settings;
+        let it = interact(self.scene, hit, ray);
+        obs.step(|| Step::Surface {
+            point: it.point.to_array(),
+            normal: it.normal.to_array(),
+            inside: it.inside,
+            error_bound: it.error.to_array(),
+            over_point: spawn_origin(s.offset, s.epsilon, &it, it.normal).to_array(),
+        });
+        it
     }
 
     /// Shades a hit. `L`, `R`, `T`: whether shadow rays, reflection and refraction are compiled in.
@@ -281,14 +314,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         let scene = self.scene;
         let s = &scene.settings;
         let m = scene.material_of(hit.object);
-        let it = interact(scene, hit, ray);
-        obs.step(|| Step::Surface {
-            point: it.point.to_array(),
-            normal: it.normal.to_array(),
-            inside: it.inside,
-            error_bound: it.error.to_array(),
-            over_point: spawn_origin(s.offset, s.epsilon, &it, it.normal).to_array(),
-        });
+        let it = self.surface(hit, ray, obs);
 
         // Direct light: Phong from each light, ambient only where a shadow ray is blocked.
         let mut surface = Vec3::ZERO;

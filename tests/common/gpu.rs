@@ -28,3 +28,11 @@ pub fn context(test: &str) -> Option<GpuContext> {
         Err(e) => panic!("{e}"),
     }
 }
+
+/// A scene file, set to Whitted's integrator: the GPU traces Whitted only (the Monte Carlo
+/// scenes are compared under it).
+pub fn load_whitted(path: &std::path::Path) -> raystep::scene::Scene {
+    let mut scene = raystep::scene::load_file(path).unwrap();
+    scene.settings.integrator = raystep::scene::Integrator::Whitted;
+    scene
+}

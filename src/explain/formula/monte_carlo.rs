@@ -18,6 +18,17 @@ pub(crate) fn draws(random: &[Draw]) -> String {
         .join(", ")
 }
 
+/// The line listing the random numbers a step drew.
+fn random_line(random: &[Draw]) -> super::Formula {
+    line(
+        "u",
+        "uniform(pixel, sample, dimension, seed)",
+        "",
+        draws(random),
+        None,
+    )
+}
+
 /// The thin lens.
 pub(super) fn lens(
     random: &[Draw],
@@ -29,7 +40,7 @@ pub(super) fn lens(
     Explanation {
         title: "Thin lens".into(),
         lines: vec![
-            line("u", "uniform(pixel, sample, dimension, seed)", "", draws(random), None),
+            random_line(random),
             line(
                 "(dx, dy)",
                 "r · concentric_disk(u)",
@@ -71,13 +82,7 @@ pub(super) fn light_sample(
 ) -> Explanation {
     let delta = pdf == 0.0;
     let mut lines = vec![
-        line(
-            "u",
-            "uniform(pixel, sample, dimension, seed)",
-            "",
-            draws(random),
-            None,
-        ),
+        random_line(random),
         line(
             "y",
             "a point on the light",
@@ -155,13 +160,7 @@ pub(super) fn bsdf_sample(
     throughput: [f32; 3],
 ) -> Explanation {
     let mut lines = vec![
-        line(
-            "u",
-            "uniform(pixel, sample, dimension, seed)",
-            "",
-            draws(random),
-            None,
-        ),
+        random_line(random),
         line(
             "ωi",
             &format!("sample the {bsdf} BSDF ({lobe})"),
