@@ -175,7 +175,14 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
             if degenerate == 1 { "" } else { "s" }
         );
     }
-    let _ = writeln!(o, "  lights     {}", f.lights);
+    let _ = writeln!(
+        o,
+        "  lights     {} point light{}, {} emitting primitive{} (area lights)",
+        f.lights,
+        if f.lights == 1 { "" } else { "s" },
+        f.emitters,
+        if f.emitters == 1 { "" } else { "s" }
+    );
     let _ = writeln!(
         o,
         "  materials  {} (reflective: {}, transparent: {})",
@@ -185,7 +192,8 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     );
     let _ = writeln!(
         o,
-        "  settings   sphere {}, triangle {}, offset {}, accel {}, BVH quality {}, max depth {}, {} sample{} per pixel",
+        "  settings   integrator {}, sphere {}, triangle {}, offset {}, accel {}, BVH quality {}, max depth {}, {} sample{} per pixel",
+        value_name(&s.integrator),
         value_name(&s.sphere_method),
         value_name(&s.triangle_method),
         value_name(&s.offset),
@@ -205,14 +213,18 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     if f.triangles == 0 {
         out.push("triangle tests");
     }
-    if f.lights == 0 {
-        out.push("shadow rays");
-    }
-    if !f.reflective {
-        out.push("reflection rays");
-    }
-    if !f.transparent {
-        out.push("refraction");
+    // Whitted's tracer is specialized to the scene; the Monte Carlo integrators always sample
+    // lights and bounce.
+    if s.integrator == crate::scene::Integrator::Whitted {
+        if f.lights == 0 {
+            out.push("shadow rays");
+        }
+        if !f.reflective {
+            out.push("reflection rays");
+        }
+        if !f.transparent {
+            out.push("refraction");
+        }
     }
     if !out.is_empty() {
         let _ = writeln!(o, "  leaves out {}", out.join(", "));

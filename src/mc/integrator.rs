@@ -399,7 +399,6 @@ impl<A: Accelerator> Tracer<'_, A> {
             sampler.draw(dim(slot::BSDF)),
             sampler.draw(dim(slot::BSDF + 1)),
         );
-        let glass = matches!(b, Bsdf::Glass { .. });
         let Some(bs) = bsdf::sample(
             &b,
             it.eye,
@@ -412,8 +411,13 @@ impl<A: Accelerator> Tracer<'_, A> {
         };
         let mut weight = bs.weight;
         let mut next = throughput * weight;
+        // The numbers the BSDF used: glass its lobe's, a mirror none (it is deterministic).
         let drawn = [lobe, u0, u1];
-        let random = if glass { &drawn[..] } else { &drawn[1..] };
+        let random = match b {
+            Bsdf::Glass { .. } => &drawn[..],
+            Bsdf::Mirror { .. } => &drawn[..0],
+            _ => &drawn[1..],
+        };
         let Some((kind, ray)) = self.bsdf_step(it, &b, &bs, random, next, obs) else {
             return l;
         };

@@ -22,6 +22,9 @@ pub struct Features {
     pub transparent: bool,
     /// Total primitive count.
     pub primitives: usize,
+    /// Primitives whose material emits: the Monte Carlo integrators' area lights.
+    #[serde(default)]
+    pub emitters: usize,
 }
 
 impl Features {
@@ -46,6 +49,7 @@ impl Features {
                 Shape::Triangle { .. } => f.triangles += 1,
             }
             used[o.material as usize] = true;
+            f.emitters += usize::from(materials[o.material as usize].emission.max_element() > 0.0);
         }
         for (m, _) in materials.iter().zip(&used).filter(|(_, u)| **u) {
             f.reflective |= m.reflective > 0.0;

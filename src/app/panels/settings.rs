@@ -4,7 +4,7 @@
 use crate::app::state::{AppState, Command};
 use crate::app::view::RenderView;
 use crate::record::number::num;
-use crate::scene::{AccelChoice, BvhQuality, OffsetPolicy, Settings};
+use crate::scene::{AccelChoice, BvhQuality, Integrator, OffsetPolicy, Settings};
 use crate::shapes::{SphereMethod, TriangleMethod};
 use egui::RichText;
 
@@ -48,7 +48,20 @@ pub(super) fn settings_panel(
             .labelled_by(l.id)
             .on_hover_text("rays traced per pixel, averaged (jittered inside the pixel)");
     });
-    if f.reflective || f.transparent {
+    ui.label(RichText::new("Integrator").strong());
+    ui.horizontal_wrapped(|ui| {
+        ui.radio_value(&mut s.integrator, Integrator::Whitted, "Whitted")
+            .on_hover_text("point lights with Phong, perfect mirror and refraction rays");
+        ui.radio_value(&mut s.integrator, Integrator::Distribution, "distribution")
+            .on_hover_text(
+                "Cook 1984: area lights sampled (soft shadows), glossy rays, the thin lens",
+            );
+        ui.radio_value(&mut s.integrator, Integrator::Path, "path")
+            .on_hover_text(
+                "Kajiya 1986: light and BSDF sampling combined by MIS, Russian roulette",
+            );
+    });
+    if f.reflective || f.transparent || s.integrator != Integrator::Whitted {
         ui.horizontal(|ui| {
             let l = ui.label("Recursion depth");
             ui.add(egui::DragValue::new(&mut s.max_depth).range(0..=16))
@@ -163,7 +176,9 @@ pub(super) fn settings_panel(
             let l = ui.label("Jitter seed");
             ui.add(egui::DragValue::new(&mut s.seed))
                 .labelled_by(l.id)
-                .on_hover_text("the seed of the jitter inside each pixel");
+                .on_hover_text(
+                    "the seed of the jitter inside each pixel and of every Monte Carlo number",
+                );
         });
     }
     if scene.settings != s && ui.button("Back to the file's settings").clicked() {

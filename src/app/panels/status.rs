@@ -45,8 +45,18 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
     ui.horizontal(|ui| {
         if let Some(s) = state.scene() {
             let f = &s.features;
+            // Objects whose material emits are area lights (the Monte Carlo integrators').
+            let area = f.emitters;
+            let area = if area > 0 {
+                format!(
+                    ", {area} emitting primitive{}",
+                    if area == 1 { "" } else { "s" }
+                )
+            } else {
+                String::new()
+            };
             ui.label(format!(
-                "{} primitive{} ({}), {} light{}",
+                "{} primitive{} ({}), {} point light{}{area}",
                 f.primitives,
                 if f.primitives == 1 { "" } else { "s" },
                 f.kinds().join(", "),
