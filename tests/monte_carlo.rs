@@ -269,15 +269,8 @@ fn infinite_samples_are_left_out_and_reported() {
     assert_eq!(out.stats.first_bad_sample, Some(([0, 0], 0)));
 }
 
-/// The converged Cornell box against Mitsuba 3 (`scalar_rgb`, its `path` integrator), the same
-/// scene written by `raystep::scene::mitsuba`: the image means agree within 1 % per channel, and
-/// the differences of 8×8-pixel block means are what the two renders' noise predicts: the mean
-/// of (raystep − Mitsuba)² / (σ²_raystep + σ²_Mitsuba) over the 256 blocks, each σ² estimated
-/// from two renders of that renderer with different seeds, is below 2 (its expectation is 1).
-/// Needs `python3` with `pip install mitsuba`; CI installs it, and on CI (`CI` set) its absence
-/// fails the test.
-#[test]
-fn cornell_box_agrees_with_mitsuba() {
+/// Whether Mitsuba 3 can be imported; on CI (`CI` set) its absence fails the test.
+fn mitsuba_available() -> bool {
     let ok = std::process::Command::new("python3")
         .args(["-c", "import mitsuba"])
         .output()
@@ -288,14 +281,23 @@ fn cornell_box_agrees_with_mitsuba() {
             "Mitsuba 3 is not installed (python3 -m pip install mitsuba): CI must run this test"
         );
         eprintln!("skipped: Mitsuba 3 is not installed (python3 -m pip install mitsuba)");
-        return;
     }
-    let mut s = load_file(&shipped("cornell-area.toml")).unwrap();
+    ok
+}
+
+/// Renders `s` (128×128, 64 spp) with raystep and with Mitsuba 3 (`scalar_rgb`, its `path`
+/// integrator), the scene written by `raystep::scene::mitsuba`, each twice with different seeds.
+/// Asserts that the image means agree within 1 % per channel and that the differences of
+/// 8×8-pixel block means are what the renders' noise predicts: the mean of (raystep − Mitsuba)² /
+/// (σ²_raystep + σ²_Mitsuba) over the 256 blocks, each σ² estimated from that renderer's two
+/// renders, is below 2 (its expectation is 1).
+fn agrees_with_mitsuba(name: &str, mut s: Scene) {
     s.camera.width = 128;
     s.camera.height = 128;
     s.settings.spp = 64;
-    let dir = tempfile_dir();
-    let mi = raystep::scene::mitsuba::to_mitsuba(&s, 64).unwrap();
+    let dir = tempfile_dir().join(name);
+    std::fs::create_dir_all(&dir).unwrap();
+    let mi = raystep::scene::mitsuba::to_mitsuba(&s, 64, name).unwrap();
     for (f, text) in &mi.objs {
         std::fs::write(dir.join(f), text).unwrap();
     }
@@ -330,7 +332,7 @@ fn cornell_box_agrees_with_mitsuba() {
     for c in 0..3 {
         assert!(
             (a[c] / b[c] - 1.0).abs() < 0.01,
-            "channel {c}: raystep {a}, Mitsuba {b}"
+            "{name}: channel {c}: raystep {a}, Mitsuba {b}"
         );
     }
     let blocks = |p: &[Vec3]| -> Vec<f64> {
@@ -342,9 +344,7 @@ fn cornell_box_agrees_with_mitsuba() {
         out
     };
     let (br0, br1, bm0, bm1) = (blocks(&r0), blocks(&r1), blocks(&m0), blocks(&m1));
-    // Var(X − X') = 2σ² for two independent renders: σ² = (X − X')² / 2, pooled over all
-    // blocks in proportion to each block's own level.
-    let mut stat = 0.0;
+    // Var(X − X') = 2σ² for two independent renders: σ² = (X − X')² / 2, pooled over the blocks.
     let pooled = |x: &[f64], y: &[f64]| {
         x.iter()
             .zip(y)
@@ -353,14 +353,44 @@ fn cornell_box_agrees_with_mitsuba() {
             / x.len() as f64
     };
     let (vr, vm) = (pooled(&br0, &br1), pooled(&bm0, &bm1));
-    for i in 0..256 {
-        stat += (br0[i] - bm0[i]).powi(2) / (vr + vm);
-    }
-    stat /= 256.0;
+    let stat = (0..256)
+        .map(|i| (br0[i] - bm0[i]).powi(2) / (vr + vm))
+        .sum::<f64>()
+        / 256.0;
     eprintln!(
-        "raystep {a} Mitsuba {b}; block variance raystep {vr:e}, Mitsuba {vm:e}; statistic {stat}"
+        "{name}: raystep {a} Mitsuba {b}; block variance raystep {vr:e}, Mitsuba {vm:e}; statistic {stat}"
     );
-    assert!(stat < 2.0, "statistic {stat}");
+    assert!(stat < 2.0, "{name}: statistic {stat}");
+}
+
+/// The converged Cornell box (`scenes/cornell-area.toml`) against Mitsuba 3.
+#[test]
+fn cornell_box_agrees_with_mitsuba() {
+    if mitsuba_available() {
+        agrees_with_mitsuba("cornell", load_file(&shipped("cornell-area.toml")).unwrap());
+    }
+}
+
+/// A thin lens (radius 0.3, focused at 4 on a scene whose objects lie from 2.5 to 6 away)
+/// against Mitsuba's `thinlens` sensor: the same blur, in the path tracer, on a box of triangles
+/// lit by a sphere light and a glossy ball.
+#[test]
+fn thin_lens_agrees_with_mitsuba() {
+    if !mitsuba_available() {
+        return;
+    }
+    let mut text = std::fs::read_to_string(shipped("cornell-area.toml")).unwrap();
+    text = text.replace(
+        "fov = 39\n",
+        "fov = 39\naperture = 0.3\nfocus_distance = 4\n",
+    );
+    text = text.replace(
+        "name = \"mirror\"\nbsdf = \"mirror\"",
+        "name = \"mirror\"\nbsdf = \"glossy\"\nroughness = 0.4",
+    );
+    let s = load_str(&text, "thin-lens.toml", None).unwrap();
+    assert_eq!(s.camera.aperture, 0.3);
+    agrees_with_mitsuba("thin-lens", s);
 }
 
 fn tempfile_dir() -> PathBuf {

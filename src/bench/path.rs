@@ -47,7 +47,7 @@ fn ours(
 fn mitsuba(scene: &Scene, spp: u32, seed: u32) -> Result<(f64, Vec<Vec3>), String> {
     let dir = std::env::temp_dir().join(format!("raystep-bench-mitsuba-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-    let m = crate::scene::mitsuba::to_mitsuba(scene, spp)?;
+    let m = crate::scene::mitsuba::to_mitsuba(scene, spp, "scene")?;
     for (f, text) in &m.objs {
         std::fs::write(dir.join(f), text).map_err(|e| e.to_string())?;
     }

@@ -74,8 +74,14 @@ fn mitsuba(
         ));
     }
     let s = load_scene(Some(&scene.to_path_buf()), settings)?;
-    let m = crate::scene::mitsuba::to_mitsuba(&s, s.settings.spp)
-        .map_err(|e| format!("{}: {e}", scene.display()))?;
+    let m = crate::scene::mitsuba::to_mitsuba(
+        &s,
+        s.settings.spp,
+        &output
+            .file_stem()
+            .map_or("scene".into(), |f| f.to_string_lossy()),
+    )
+    .map_err(|e| format!("{}: {e}", scene.display()))?;
     let dir = output
         .parent()
         .filter(|d| !d.as_os_str().is_empty())

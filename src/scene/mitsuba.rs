@@ -8,7 +8,8 @@
 //! `mirror` as a `conductor` with no Fresnel and the colour as its reflectance; `glass` as a
 //! `dielectric`; `glossy` as a `roughconductor` with GGX, the same α and no Fresnel), emission as
 //! an `area` emitter, point lights as `point` emitters and the background as a `constant`
-//! environment. Infinite planes and a thin lens have no equivalent here: they are refused.
+//! environment, and a thin lens as Mitsuba's `thinlens` sensor. Infinite planes have no
+//! equivalent here: they are refused.
 
 use super::{Bsdf, Scene, Shape};
 use std::fmt::Write;
@@ -26,13 +27,21 @@ fn v(a: glam::Vec3) -> String {
     format!("{:e},{:e},{:e}", a.x, a.y, a.z)
 }
 
-/// The scene in Mitsuba's format, rendered at `spp` samples per pixel. Errors name what does
-/// not map.
-pub fn to_mitsuba(scene: &Scene, spp: u32) -> Result<MitsubaScene, String> {
+/// The scene in Mitsuba's format, rendered at `spp` samples per pixel; its OBJ files are named
+/// `{prefix}-g{N}.obj` (N: the object's index), so that they do not clobber other files beside
+/// the XML. Errors name what does not map.
+pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene, String> {
     let c = &scene.camera;
-    if c.aperture > 0.0 {
-        return Err("a thin-lens camera (aperture > 0) is not written for Mitsuba".into());
-    }
+    // A thin lens is Mitsuba's `thinlens` sensor: the same radius, and the plane in focus at the
+    // same distance along the view direction.
+    let sensor = if c.aperture > 0.0 {
+        format!(
+            "thinlens\"><float name=\"aperture_radius\" value=\"{:e}\"/><float name=\"focus_distance\" value=\"{:e}\"/",
+            c.aperture, c.focus_distance
+        )
+    } else {
+        "perspective\"".into()
+    };
     let s = &scene.settings;
     let mut x = String::new();
     let _ = writeln!(x, "<scene version=\"3.0.0\">");
@@ -43,7 +52,7 @@ pub fn to_mitsuba(scene: &Scene, spp: u32) -> Result<MitsubaScene, String> {
     );
     let _ = writeln!(
         x,
-        "  <sensor type=\"perspective\">\n    <float name=\"fov\" value=\"{:e}\"/><string name=\"fov_axis\" value=\"y\"/>\n    <transform name=\"to_world\"><lookat origin=\"{}\" target=\"{}\" up=\"{}\"/></transform>\n    <sampler type=\"independent\"><integer name=\"sample_count\" value=\"{spp}\"/></sampler>\n    <film type=\"hdrfilm\"><integer name=\"width\" value=\"{}\"/><integer name=\"height\" value=\"{}\"/><rfilter type=\"box\"/><string name=\"pixel_format\" value=\"rgb\"/></film>\n  </sensor>",
+        "  <sensor type=\"{sensor}>\n    <float name=\"fov\" value=\"{:e}\"/><string name=\"fov_axis\" value=\"y\"/>\n    <transform name=\"to_world\"><lookat origin=\"{}\" target=\"{}\" up=\"{}\"/></transform>\n    <sampler type=\"independent\"><integer name=\"sample_count\" value=\"{spp}\"/></sampler>\n    <film type=\"hdrfilm\"><integer name=\"width\" value=\"{}\"/><integer name=\"height\" value=\"{}\"/><rfilter type=\"box\"/><string name=\"pixel_format\" value=\"rgb\"/></film>\n  </sensor>",
         c.fov,
         v(c.from),
         v(c.at),
@@ -114,7 +123,7 @@ pub fn to_mitsuba(scene: &Scene, spp: u32) -> Result<MitsubaScene, String> {
                 for k in 0..objects.len() {
                     let _ = writeln!(obj, "f {} {} {}", 3 * k + 1, 3 * k + 2, 3 * k + 3);
                 }
-                let name = format!("g{gi}.obj");
+                let name = format!("{prefix}-g{gi}.obj");
                 let _ = writeln!(
                     x,
                     "  <shape type=\"obj\"><string name=\"filename\" value=\"{name}\"/><boolean name=\"face_normals\" value=\"true\"/><ref id=\"m{m}\"/>{e}</shape>"
