@@ -417,3 +417,31 @@ fn distribution_glass_stays_bounded_at_depth_64() {
         assert!(color.is_finite());
     }
 }
+
+/// The app's progressive render (passes of 1, 1, 2, … samples, each added onto the running
+/// sums) ends on the very image the one-pass render makes, bit for bit, with the same rays.
+#[test]
+fn the_progressive_render_ends_on_the_same_image() {
+    let mut s = load_file(&shipped("cornell-area.toml")).unwrap();
+    s.camera.width = 24;
+    s.camera.height = 16;
+    s.settings.spp = 7;
+    s.settings.seed = 3;
+    let prepared = PreparedScene::new(s);
+    let opts = RenderOptions {
+        count: true,
+        ..Default::default()
+    };
+    let once = render(&prepared.tracer(), &opts).unwrap();
+    let mut passes = vec![];
+    let progressive =
+        raystep::render::render_progressive(&prepared.tracer(), &opts, |samples, out| {
+            passes.push(samples);
+            assert!(out.pixels.iter().all(|p| p.is_finite()));
+        })
+        .unwrap();
+    assert_eq!(passes, [1, 2, 4, 7]);
+    assert_eq!(progressive.pixels, once.pixels);
+    assert_eq!(progressive.stats.counts, once.stats.counts);
+    assert_eq!(progressive.node_visits, once.node_visits);
+}

@@ -2,8 +2,10 @@
 //! acceleration structure), then render it tile by tile into a [`LiveRender`] the UI shows as
 //! it builds up. The UI thread never waits on it; a new job cancels the previous one.
 
-use crate::render::{CANCELLED, LiveRender, RenderOptions, RenderOutput, render};
-use crate::scene::{Scene, Settings};
+use crate::render::{
+    CANCELLED, LiveRender, RenderOptions, RenderOutput, render, render_progressive,
+};
+use crate::scene::{Integrator, Scene, Settings};
 use crate::trace::PreparedScene;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -55,6 +57,8 @@ impl RenderJob {
             }
             repaint();
             let tiles_repaint = Arc::clone(&repaint);
+            let pass_repaint = Arc::clone(&repaint);
+            let tiles_now = move || pass_repaint();
             let watcher = Arc::clone(&job_live);
             // Repaint the UI a few times a second while the tiles come in.
             let ticker = std::thread::spawn(move || {
@@ -68,8 +72,17 @@ impl RenderJob {
                 progress: false,
                 count: true,
                 live: Some(Arc::clone(&job_live)),
+                pass: None,
             };
-            let result = render(&prepared.tracer(), &opts).map(Arc::new);
+            let tracer = prepared.tracer();
+            // A Monte Carlo render accumulates: 1, 2, 4, … samples per pixel, the image shown
+            // after each pass (the finished image is the same either way).
+            let result = if settings.integrator != Integrator::Whitted && settings.spp > 1 {
+                render_progressive(&tracer, &opts, |_, _| tiles_now())
+            } else {
+                render(&tracer, &opts)
+            }
+            .map(Arc::new);
             job_live.cancel.store(true, Ordering::Relaxed);
             let _ = ticker.join();
             let _ = tx.send(JobEvent::Done(result));

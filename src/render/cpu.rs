@@ -13,7 +13,7 @@ use std::io::IsTerminal;
 use std::mem::MaybeUninit;
 use std::sync::Arc;
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 const TILE: u32 = 16;
@@ -31,6 +31,20 @@ pub struct RenderOptions {
     pub count: bool,
     /// Where a watching UI sees the image build up, and can cancel it.
     pub live: Option<Arc<LiveRender>>,
+    /// One pass of a progressive render ([`render_progressive`]): only these samples of each
+    /// pixel, added in order onto the running sums given; the output's pixels are then the
+    /// new running sums, not means. None: every sample, the output the pixels' means.
+    pub pass: Option<Pass>,
+}
+
+/// A pass of a progressive render: samples `samples.start..samples.end` of every pixel, added
+/// to `sums` (None: from zero).
+#[derive(Debug, Clone, Default)]
+pub struct Pass {
+    /// The samples this pass traces.
+    pub samples: std::ops::Range<u32>,
+    /// The running sums the previous passes left, one per pixel.
+    pub sums: Option<Arc<Vec<Vec3>>>,
 }
 
 /// A render in progress, shared with whoever watches it (the app): finished tiles appear in
@@ -39,12 +53,16 @@ pub struct RenderOptions {
 pub struct LiveRender {
     /// Set to stop the render; [`render`] then returns an error saying it was cancelled.
     pub cancel: AtomicBool,
-    /// Tiles finished so far.
+    /// Tiles finished so far (in a progressive render, tiles × the samples they traced).
     pub tiles_done: AtomicUsize,
-    /// Tiles in all.
+    /// Tiles in all (in a progressive render, tiles × spp).
     pub tiles_total: AtomicUsize,
     /// sRGB RGBA8, row-major from the top-left; tiles not yet traced are transparent.
     pub pixels: Mutex<Vec<[u8; 4]>>,
+    /// A progressive render's samples per pixel finished so far (every pixel has this many).
+    pub samples_done: AtomicU32,
+    /// A progressive render's samples per pixel in all (0 for a render in one pass).
+    pub samples_total: AtomicU32,
 }
 
 impl LiveRender {
@@ -55,6 +73,8 @@ impl LiveRender {
             tiles_done: AtomicUsize::new(0),
             tiles_total: AtomicUsize::new(0),
             pixels: Mutex::new(vec![[0; 4]; (width * height) as usize]),
+            samples_done: AtomicU32::new(0),
+            samples_total: AtomicU32::new(0),
         }
     }
 
@@ -185,6 +205,106 @@ struct Tile {
     y0: u32,
 }
 
+/// One pixel of a render: all its samples' mean, or in a pass of a progressive render its
+/// running sum with the pass's samples added ([`Pass`]).
+#[inline(always)]
+fn trace_pixel<A: Accelerator, O: Observer>(
+    tracer: &Tracer<'_, A>,
+    pass: Option<&Pass>,
+    width: u32,
+    x: u32,
+    y: u32,
+    obs: &mut O,
+) -> (Vec3, u32, Option<u32>) {
+    match pass {
+        None => tracer.trace_pixel_checked(x, y, obs),
+        Some(p) => {
+            let start = p.sums.as_ref().map_or(Vec3::ZERO, |s| {
+                s.get(y as usize * width as usize + x as usize)
+                    .copied()
+                    .unwrap_or(Vec3::ZERO)
+            });
+            tracer.accumulate_samples(x, y, p.samples.clone(), start, obs)
+        }
+    }
+}
+
+/// Renders the scene progressively: passes of 1, 1, 2, 4, … samples per pixel (each doubling
+/// the samples so far) up to the scene's spp, each pass adding its samples to the running sum of
+/// every pixel in sample order, so that the final image is bit for bit the one [`render`] makes
+/// (and the traced pixel's). After each pass `after_pass(samples so far, running sums)` is
+/// called (the app shows sum / samples). `opts.live`, when given, counts the tiles of all passes
+/// and the samples done. The output is the finished image, its stats summed over the passes.
+pub fn render_progressive<A: Accelerator>(
+    tracer: &Tracer<'_, A>,
+    opts: &RenderOptions,
+    mut after_pass: impl FnMut(u32, &RenderOutput),
+) -> Result<RenderOutput, String> {
+    let spp = tracer.scene.settings.spp.max(1);
+    let mut ends = vec![];
+    let mut end = 1u32;
+    while end < spp {
+        ends.push(end);
+        end = end.saturating_mul(2);
+    }
+    ends.push(spp);
+    if let Some(live) = &opts.live {
+        let tiles = tracer.camera.width.div_ceil(TILE) as usize
+            * tracer.camera.height.div_ceil(TILE) as usize;
+        // Progress in tile-samples: a pass's tiles count as many times as it has samples.
+        live.tiles_total
+            .store(tiles * spp as usize, Ordering::Relaxed);
+        live.samples_total.store(spp, Ordering::Relaxed);
+    }
+    let mut sums: Option<Arc<Vec<Vec3>>> = None;
+    let mut total: Option<RenderOutput> = None;
+    let mut start = 0;
+    for end in ends {
+        let pass_opts = RenderOptions {
+            pass: Some(Pass {
+                samples: start..end,
+                sums: sums.clone(),
+            }),
+            ..opts.clone()
+        };
+        let out = render(tracer, &pass_opts)?;
+        if let Some(live) = &opts.live {
+            live.samples_done.store(end, Ordering::Relaxed);
+        }
+        after_pass(end, &out);
+        total = Some(match total {
+            None => RenderOutput {
+                width: out.width,
+                height: out.height,
+                pixels: vec![],
+                node_visits: out.node_visits.clone(),
+                stats: out.stats.clone(),
+            },
+            Some(mut t) => {
+                t.stats.trace += out.stats.trace;
+                t.stats.counts.merge(&out.stats.counts);
+                t.stats.nan_rays += out.stats.nan_rays;
+                t.stats.bad_samples += out.stats.bad_samples;
+                t.stats.first_bad_sample = t.stats.first_bad_sample.or(out.stats.first_bad_sample);
+                if let (Some(a), Some(b)) = (t.node_visits.as_mut(), out.node_visits.as_ref()) {
+                    for (a, b) in a.iter_mut().zip(b) {
+                        *a += b;
+                    }
+                }
+                t
+            }
+        });
+        sums = Some(Arc::new(out.pixels));
+        start = end;
+    }
+    let mut out = total.ok_or("internal error: a progressive render with no pass")?;
+    let sums = sums.ok_or("internal error: a progressive render with no pass")?;
+    // The mean exactly as Tracer::trace_pixel divides it.
+    out.pixels = sums.iter().map(|s| *s / spp as f32).collect();
+    out.stats.nan_pixels = out.pixels.iter().filter(|p| p.is_nan()).count() as u64;
+    Ok(out)
+}
+
 /// Renders the tracer's scene.
 pub fn render<A: Accelerator>(
     tracer: &Tracer<'_, A>,
@@ -231,9 +351,15 @@ pub fn render<A: Accelerator>(
     } else {
         None
     };
-    if let Some(live) = &opts.live {
+    // A progressive render counts the tiles of all its passes itself.
+    if let Some(live) = &opts.live
+        && opts.pass.is_none()
+    {
         live.tiles_total.store(work.len(), Ordering::Relaxed);
     }
+    let pass = opts.pass.as_ref();
+    // What a pixel's value is divided by to show it: its samples so far in a pass.
+    let shown_scale = pass.map_or(1.0, |p| 1.0 / p.samples.end.max(1) as f32);
     let start = Instant::now();
     let count = opts.count;
     let live = opts.live.as_deref();
@@ -257,13 +383,13 @@ pub fn render<A: Accelerator>(
                 let x = t.x0 + dx as u32;
                 let (color, bad, first) = if count {
                     let before = counter.counts.node_visits;
-                    let checked = tracer.trace_pixel_checked(x, y, &mut counter);
+                    let checked = trace_pixel(tracer, pass, width, x, y, &mut counter);
                     if let Some(slot) = visits.as_mut().and_then(|v| v.next()) {
                         *slot = (counter.counts.node_visits - before) as u32;
                     }
                     checked
                 } else {
-                    tracer.trace_pixel_checked(x, y, &mut Silent)
+                    trace_pixel(tracer, pass, width, x, y, &mut Silent)
                 };
                 if bad > 0 {
                     bad_samples += u64::from(bad);
@@ -275,7 +401,7 @@ pub fn render<A: Accelerator>(
                 written += 1;
                 nan_pixels += u64::from(color.is_nan());
                 if live.is_some() {
-                    shown.push(srgba(color));
+                    shown.push(srgba(color * shown_scale));
                 }
             }
         }
@@ -284,7 +410,8 @@ pub fn render<A: Accelerator>(
         }
         if let Some(l) = live {
             let tile_width = rows.first().map_or(1, |r| r.len());
-            publish_tile(l, &t, width, tile_width, &shown);
+            let weight = pass.map_or(1, |p| p.samples.len());
+            publish_tile(l, &t, width, tile_width, &shown, weight);
         }
         TileDone {
             stats: counter,
@@ -530,7 +657,16 @@ fn srgba(p: Vec3) -> [u8; 4] {
 
 /// Copies a finished tile (`shown`: its pixels, row by row, `tile_width` a row) into the live
 /// image.
-fn publish_tile(live: &LiveRender, t: &Tile, width: u32, tile_width: usize, shown: &[[u8; 4]]) {
+/// Shows a finished tile and counts it `weight` times towards the progress (a progressive
+/// render's tile counts once per sample it traced).
+fn publish_tile(
+    live: &LiveRender,
+    t: &Tile,
+    width: u32,
+    tile_width: usize,
+    shown: &[[u8; 4]],
+    weight: usize,
+) {
     // A poisoned lock only means a watcher panicked while reading; the pixels are still valid.
     let mut pixels = live.pixels.lock().unwrap_or_else(|e| e.into_inner());
     for (dy, row) in shown.chunks(tile_width.max(1)).enumerate() {
@@ -541,7 +677,7 @@ fn publish_tile(live: &LiveRender, t: &Tile, width: u32, tile_width: usize, show
         dst.copy_from_slice(row);
     }
     drop(pixels);
-    live.tiles_done.fetch_add(1, Ordering::Relaxed);
+    live.tiles_done.fetch_add(weight, Ordering::Relaxed);
 }
 
 /// The image `buffer` (row-major, `width` wide) cut into tiles: for each tile (bands of `TILE`

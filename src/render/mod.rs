@@ -18,4 +18,7 @@
 pub mod cpu;
 pub mod image;
 
-pub use cpu::{CANCELLED, LiveRender, RenderOptions, RenderOutput, RenderStats, render};
+pub use cpu::{
+    CANCELLED, LiveRender, Pass, RenderOptions, RenderOutput, RenderStats, render,
+    render_progressive,
+};

@@ -153,9 +153,25 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         obs: &mut O,
     ) -> (Vec3, u32, Option<u32>) {
         let spp = self.scene.settings.spp;
-        let mut sum = Vec3::ZERO;
+        let (sum, bad, first) = self.accumulate_samples(x, y, 0..spp, Vec3::ZERO, obs);
+        (sum / spp as f32, bad, first)
+    }
+
+    /// Adds samples `samples` of pixel (x, y), in order, onto `sum`: the new sum, the number of
+    /// samples left out for not being finite, and the first of them. The pixel's colour is the
+    /// sum over all its samples divided by spp; a progressive render adds them pass by pass in
+    /// this very order, so it reaches the same bits.
+    #[inline]
+    pub fn accumulate_samples<O: Observer>(
+        &self,
+        x: u32,
+        y: u32,
+        samples: std::ops::Range<u32>,
+        mut sum: Vec3,
+        obs: &mut O,
+    ) -> (Vec3, u32, Option<u32>) {
         let (mut bad, mut first) = (0, None);
-        for k in 0..spp {
+        for k in samples {
             let c = self.trace_sample(x, y, k, obs);
             if c.is_finite() {
                 sum += c;
@@ -164,7 +180,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                 first.get_or_insert(k);
             }
         }
-        (sum / spp as f32, bad, first)
+        (sum, bad, first)
     }
 
     /// Traces an arbitrary ray as a primary ray (depth 0, in air) and returns its colour.

@@ -5,6 +5,7 @@ use crate::app::actions::{self, Action};
 use crate::app::state::{AppState, Command};
 use crate::app::view::{self, RenderView};
 use egui::{Color32, RichText};
+use std::sync::atomic::Ordering;
 
 /// The load error: one bar that never takes more than a few lines (the message scrolls), with
 /// Reload and × (hide it until the next error).
@@ -70,7 +71,18 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
             let phase = if state.prepared.is_none() {
                 "preparing (building the BVH)".to_string()
             } else {
-                format!("rendering {:.0}%", p * 100.0)
+                let total = job.live.samples_total.load(Ordering::Relaxed);
+                if total > 0 {
+                    // A progressive render: the samples every pixel has so far, and the time.
+                    format!(
+                        "rendering {:.0}%: {} of {total} samples per pixel, {:.1} s",
+                        p * 100.0,
+                        job.live.samples_done.load(Ordering::Relaxed),
+                        job.started.elapsed().as_secs_f64()
+                    )
+                } else {
+                    format!("rendering {:.0}%", p * 100.0)
+                }
             };
             ui.add(
                 egui::ProgressBar::new(p)
@@ -79,8 +91,14 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
             );
             ui.label(phase);
         } else if let Some(r) = &state.rendered {
+            let spp = state.settings.spp;
             ui.label(format!(
-                "rendered in {:.2} s (build {:.0} ms, trace {:.0} ms, {:.2} Mrays/s, {} threads)",
+                "rendered{} in {:.2} s (build {:.0} ms, trace {:.0} ms, {:.2} Mrays/s, {} threads)",
+                if spp > 1 {
+                    format!(" {spp} samples per pixel")
+                } else {
+                    String::new()
+                },
                 r.wall.as_secs_f64(),
                 r.build.as_secs_f64() * 1e3,
                 r.output.stats.trace.as_secs_f64() * 1e3,
