@@ -596,3 +596,33 @@ fn an_empty_report_says_no_tests_ran() {
         "{t}"
     );
 }
+
+/// A scene set to a Monte Carlo integrator is refused, by name, with what to change: a
+/// student's Whitted tracer would otherwise be marked wrong at every stage.
+#[test]
+fn a_monte_carlo_scene_is_refused_with_what_to_change() {
+    let out = raystep()
+        .args([
+            "grade-tracer",
+            "--scene",
+            &root()
+                .join("scenes/cornell-area.toml")
+                .display()
+                .to_string(),
+            "--pixels",
+            "10,10",
+            "--run",
+            "python3 -c pass",
+        ])
+        .assert()
+        .failure()
+        .get_output()
+        .clone();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("cornell-area.toml")
+            && err.contains("path integrator")
+            && err.contains("integrator = \"whitted\""),
+        "{err}"
+    );
+}

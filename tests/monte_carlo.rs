@@ -445,3 +445,36 @@ fn the_progressive_render_ends_on_the_same_image() {
     assert_eq!(progressive.stats.counts, once.stats.counts);
     assert_eq!(progressive.node_visits, once.node_visits);
 }
+
+/// `raystep render` on a Monte Carlo scene accumulates as the app does, counting its passes on
+/// stderr, and ends on the library's one-pass render, bit for bit (read back from its EXR).
+#[test]
+fn render_counts_its_passes_and_ends_on_the_same_image() {
+    let dir = tempfile_dir();
+    let exr = dir.join("cornell.exr");
+    let text = std::fs::read_to_string(shipped("cornell-area.toml"))
+        .unwrap()
+        .replace("width = 256", "width = 24")
+        .replace("height = 256", "height = 16");
+    let small = dir.join("small-cornell.toml");
+    std::fs::write(&small, &text).unwrap();
+    let out = assert_cmd::Command::cargo_bin("raystep")
+        .unwrap()
+        .args(["render", "--spp", "5", "-o"])
+        .arg(&exr)
+        .arg(&small)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let err = String::from_utf8_lossy(&out.stderr);
+    for n in ["1 of 5", "2 of 5", "4 of 5", "5 of 5"] {
+        assert!(err.contains(&format!("{n} samples per pixel")), "{err}");
+    }
+    let mut s = load_file(&small).unwrap();
+    s.settings.spp = 5;
+    let want = pixels(s);
+    let (w, h, got) = raystep::render::image::read_exr(&exr).unwrap();
+    assert_eq!((w, h), (24, 16));
+    assert_eq!(got, want);
+}

@@ -95,6 +95,7 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
             // program is given).
             let path = &crate::assets::resolve_scene(arg)?;
             let scene = crate::scene::load_file(path).map_err(|e| e.to_string())?;
+            student::whitted_only(&scene, path)?;
             let (w, h) = (scene.camera.width, scene.camera.height);
             if let Some([x, y]) = pixels.iter().find(|[x, y]| *x >= w || *y >= h) {
                 return Err(format!(

@@ -74,7 +74,30 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         count: true,
         ..Default::default()
     };
-    let out = render(&tracer, &opts)?;
+    // A Monte Carlo render accumulates in passes of 1, 1, 2, 4, … samples per pixel (the same
+    // image, bit for bit), saying on stderr how far it is, as the app's counter does.
+    let progressive =
+        scene.settings.integrator != crate::scene::Integrator::Whitted && scene.settings.spp > 1;
+    let out = if progressive {
+        let spp = scene.settings.spp;
+        let started = Instant::now();
+        crate::render::render_progressive(
+            &tracer,
+            &RenderOptions {
+                progress: false,
+                ..opts
+            },
+            |done, _| {
+                eprintln!(
+                    "rendering {:.0}%: {done} of {spp} samples per pixel, {:.1} s",
+                    100.0 * done as f64 / spp as f64,
+                    started.elapsed().as_secs_f64()
+                );
+            },
+        )?
+    } else {
+        render(&tracer, &opts)?
+    };
     if image::is_exr(&args.output) {
         image::write_exr(&args.output, out.width, out.height, &out.pixels)?;
     } else {

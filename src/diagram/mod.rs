@@ -18,12 +18,15 @@
 //! assert!(canvas.png().starts_with(b"\x89PNG"));
 //! ```
 
+pub mod area_light;
 pub mod barycentric;
 pub mod bvh_tree;
 pub mod canvas;
 pub mod heatmap;
+pub mod hemisphere;
 pub mod quadratic;
 pub mod ray_tree;
+pub mod samples;
 pub mod slice;
 mod text;
 
@@ -44,18 +47,30 @@ pub enum DiagramKind {
     Barycentric,
     /// The BVH (or the bounding-sphere tree) as a node-link tree with the visited path.
     Bvh,
-    /// Primary → shadow / reflection / refraction rays with weights and colours.
+    /// Primary → shadow / reflection / refraction rays with weights and colours (and a Monte
+    /// Carlo sample's path: diffuse and glossy bounces, light samples).
     Raytree,
+    /// Monte Carlo: the hemisphere at a hit — the BSDF's lobe and pdf, the sampled direction,
+    /// the lights' angles, the directions the pixel's samples took.
+    Hemisphere,
+    /// Monte Carlo: an area light with the points the pixel's samples drew on it, blocked ones
+    /// marked, and the focused point's pdf.
+    AreaLight,
+    /// Monte Carlo: the pixel's samples, their values and the running mean.
+    Samples,
 }
 
 impl DiagramKind {
     /// All kinds, in menu order.
-    pub const ALL: [DiagramKind; 5] = [
+    pub const ALL: [DiagramKind; 8] = [
         DiagramKind::Slice,
         DiagramKind::Quadratic,
         DiagramKind::Barycentric,
         DiagramKind::Bvh,
         DiagramKind::Raytree,
+        DiagramKind::Hemisphere,
+        DiagramKind::AreaLight,
+        DiagramKind::Samples,
     ];
 
     /// The kind's name as the command line spells it.
@@ -66,6 +81,9 @@ impl DiagramKind {
             DiagramKind::Barycentric => "barycentric",
             DiagramKind::Bvh => "bvh",
             DiagramKind::Raytree => "raytree",
+            DiagramKind::Hemisphere => "hemisphere",
+            DiagramKind::AreaLight => "area-light",
+            DiagramKind::Samples => "samples",
         }
     }
 }
@@ -134,6 +152,15 @@ pub fn available(trace: &Trace) -> Vec<DiagramKind> {
         out.push(DiagramKind::Bvh);
     }
     out.push(DiagramKind::Raytree);
+    if hemisphere::has_hemisphere(trace) {
+        out.push(DiagramKind::Hemisphere);
+    }
+    if area_light::has_area_light(trace) {
+        out.push(DiagramKind::AreaLight);
+    }
+    if trace.monte_carlo.is_some() {
+        out.push(DiagramKind::Samples);
+    }
     out
 }
 
@@ -143,7 +170,31 @@ pub fn kinds_for_step(trace: &Trace, k: usize) -> Vec<DiagramKind> {
     let Some((_, s)) = tl.get(k) else {
         return vec![DiagramKind::Slice];
     };
-    match s.step {
+    let wanted = match s.step {
+        Step::LightSample { .. } => vec![
+            DiagramKind::AreaLight,
+            DiagramKind::Hemisphere,
+            DiagramKind::Slice,
+        ],
+        Step::BsdfSample { .. } => vec![
+            DiagramKind::Hemisphere,
+            DiagramKind::Raytree,
+            DiagramKind::Slice,
+        ],
+        Step::Emitted { .. } | Step::RussianRoulette { .. } => vec![
+            DiagramKind::Raytree,
+            DiagramKind::Samples,
+            DiagramKind::Slice,
+        ],
+        _ => return whitted_kinds_for_step(&s.step),
+    };
+    // A light sample on a point light has no area-light diagram.
+    let have = available(trace);
+    wanted.into_iter().filter(|k| have.contains(k)).collect()
+}
+
+fn whitted_kinds_for_step(step: &Step) -> Vec<DiagramKind> {
+    match step {
         Step::Sphere { .. } => vec![DiagramKind::Quadratic, DiagramKind::Slice],
         Step::Triangle { .. } => vec![DiagramKind::Barycentric, DiagramKind::Slice],
         Step::Node(_) | Step::SphereNode { .. } => vec![DiagramKind::Bvh, DiagramKind::Slice],
@@ -180,6 +231,9 @@ pub fn draw(trace: &Trace, kind: DiagramKind, opts: &ViewOptions) -> Result<Canv
         DiagramKind::Barycentric => barycentric::draw(trace, opts),
         DiagramKind::Bvh => bvh_tree::draw(trace, opts),
         DiagramKind::Raytree => ray_tree::draw(trace, opts),
+        DiagramKind::Hemisphere => hemisphere::draw(trace, opts),
+        DiagramKind::AreaLight => area_light::draw(trace, opts),
+        DiagramKind::Samples => samples::draw(trace, opts),
     })
 }
 

@@ -20,7 +20,7 @@ use crate::shapes::{RootChoice, SphereCase, SphereMethod, SphereTest};
 
 /// Chooses "nice" tick positions (1, 2, 5 × 10ᵏ) covering [lo, hi]; returns them with the number
 /// of decimals their labels need.
-fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
+pub(crate) fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
     let span = hi - lo;
     if !span.is_finite() || span <= 0.0 {
         return (vec![], 0);
@@ -40,7 +40,7 @@ fn ticks(lo: f64, hi: f64, target: usize) -> (Vec<f64>, usize) {
     (out, decimals.min(9))
 }
 
-fn tick_label(v: f64, decimals: usize) -> String {
+pub(crate) fn tick_label(v: f64, decimals: usize) -> String {
     let v = if v.abs() < 1e-12 { 0.0 } else { v };
     if v != 0.0 && (v.abs() >= 1e6 || v.abs() < 1e-4) {
         fmt64(v, Style::Label)

@@ -423,7 +423,21 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let y = bottom + ts * 0.4;
     let mut x = ts * 0.6;
     let size = ts * 0.8;
-    for k in [RayKind::Primary, RayKind::Reflection, RayKind::Refraction] {
+    // The kinds of colour ray this trace has (Whitted's three always, so the legend is stable).
+    let kinds = [
+        RayKind::Primary,
+        RayKind::Reflection,
+        RayKind::Refraction,
+        RayKind::Diffuse,
+        RayKind::Glossy,
+    ];
+    let present = |k: &RayKind| {
+        matches!(
+            k,
+            RayKind::Primary | RayKind::Reflection | RayKind::Refraction
+        ) || trace.rays().iter().any(|r| r.kind == *k)
+    };
+    for k in kinds.into_iter().filter(present) {
         let col = kind_color(&c, k);
         c.rect(x, y + size * 0.15, size, size, col);
         x += size * 1.3;

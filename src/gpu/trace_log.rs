@@ -615,6 +615,7 @@ pub fn decode(
             objects,
             bvh,
             grid: None,
+            monte_carlo: None,
             color,
         },
         truncated: ran_out,

@@ -20,7 +20,8 @@ use glam::Vec3;
 use std::f32::consts::PI;
 
 /// The shape of a light.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum LightShape {
     /// An emitting triangle.
     Triangle {

@@ -13,4 +13,5 @@ pub mod bsdf;
 pub mod integrator;
 pub mod lights;
 pub mod random;
+mod record;
 pub mod sample;

@@ -8,6 +8,8 @@
 //! - [`observer`]: what the tracer reports to as it works — [`Silent`] (the render: every hook
 //!   compiles away), [`Counter`] (statistics) and [`Recorder`] (builds the [`Trace`]);
 //! - [`validate`]: the checks a loaded trace passes before anything reads it;
+//! - [`samples`]: what a Monte Carlo trace keeps beyond its one sample: the pixel's samples
+//!   summarised, the lights they aimed at, the BSDFs;
 //! - [`words`]: one name per ray kind and one wording per kernel outcome;
 //! - [`number`]: one number formatter with named styles, used by the math panel, the diagrams,
 //!   the command line, the lessons and the exercise feedback;
@@ -37,6 +39,7 @@
 
 pub mod number;
 pub mod observer;
+pub mod samples;
 pub mod steps;
 pub mod tolerance;
 pub mod validate;

@@ -709,6 +709,10 @@ pub struct Trace {
     /// the cells its cutting plane crosses).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub grid: Option<GridOutline>,
+    /// Under a Monte Carlo integrator: the lights, the BSDFs and every sample of the pixel
+    /// summarised (for the hemisphere, area-light and samples diagrams).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub monte_carlo: Option<super::samples::McRecord>,
     /// The sample's final colour (linear RGB), bit-identical to the render's.
     #[serde(with = "crate::jsonf")]
     pub color: [f32; 3],

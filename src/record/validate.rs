@@ -235,7 +235,130 @@ pub fn validate(trace: &Trace) -> Check {
         );
     }
     cx.ray("root", &trace.root)?;
-    cx.tree()
+    cx.tree()?;
+    if let Some(mc) = &trace.monte_carlo {
+        monte_carlo(mc, s.spp)?;
+    }
+    Ok(())
+}
+
+/// The Monte Carlo record: its counts, the lights' shapes, the indices its samples use.
+fn monte_carlo(mc: &crate::record::samples::McRecord, spp: u32) -> Check {
+    use crate::mc::lights::LightShape;
+    use crate::record::samples::MAX_PIXEL_SAMPLES;
+    use crate::scene::Bsdf;
+    if mc.spp != spp {
+        return bad(
+            "monte_carlo.spp",
+            format!("must equal settings.spp = {spp}, got {}", mc.spp),
+        );
+    }
+    let kept = (spp as usize).min(MAX_PIXEL_SAMPLES);
+    if mc.samples.len() != kept {
+        return bad(
+            "monte_carlo.samples",
+            format!(
+                "must hold min(spp, {MAX_PIXEL_SAMPLES}) = {kept} samples, got {}",
+                mc.samples.len()
+            ),
+        );
+    }
+    if mc.lights.len() > MAX_TRACE_STEPS {
+        return bad(
+            "monte_carlo.lights",
+            format!("at most {MAX_TRACE_STEPS}, got {}", mc.lights.len()),
+        );
+    }
+    let mut indices = std::collections::BTreeSet::new();
+    for (i, l) in mc.lights.iter().enumerate() {
+        let at = |f: &str| format!("monte_carlo.lights[{i}].{f}");
+        finite(&at("radiance"), &l.radiance)?;
+        if !indices.insert(l.index) {
+            return bad(at("index"), format!("{} appears twice", l.index));
+        }
+        match l.shape {
+            LightShape::Triangle { p, normal, area } => {
+                for (k, v) in p.iter().enumerate() {
+                    finite(&at(&format!("shape.p[{k}]")), &v.to_array())?;
+                }
+                finite(&at("shape.normal"), &normal.to_array())?;
+                if !(area.is_finite() && area > 0.0) {
+                    return bad(at("shape.area"), format!("must be positive, got {area}"));
+                }
+            }
+            LightShape::Sphere { center, radius } => {
+                finite(&at("shape.center"), &center.to_array())?;
+                if !(radius.is_finite() && radius > 0.0) {
+                    return bad(
+                        at("shape.radius"),
+                        format!("must be positive, got {radius}"),
+                    );
+                }
+            }
+            LightShape::Point { position } => {
+                finite(&at("shape.position"), &position.to_array())?;
+            }
+        }
+    }
+    for (i, b) in mc.bsdfs.iter().enumerate() {
+        let at = format!("monte_carlo.bsdfs[{i}].bsdf");
+        match b.bsdf {
+            Bsdf::Diffuse { albedo: c } | Bsdf::Mirror { tint: c } => finite(&at, &c.to_array())?,
+            Bsdf::Glass { ior } if !(ior.is_finite() && ior > 0.0) => {
+                return bad(at + ".ior", format!("must be positive, got {ior}"));
+            }
+            Bsdf::Glossy { tint, alpha } => {
+                finite(&at, &tint.to_array())?;
+                if !(alpha.is_finite() && alpha > 0.0 && alpha <= 1.0) {
+                    return bad(at + ".alpha", format!("must be in (0, 1], got {alpha}"));
+                }
+            }
+            Bsdf::Glass { .. } => {}
+        }
+    }
+    let mut points = 0usize;
+    for (i, smp) in mc.samples.iter().enumerate() {
+        let at = |f: &str| format!("monte_carlo.samples[{i}].{f}");
+        if smp.sample as usize != i {
+            return bad(
+                at("sample"),
+                format!("must be {i} (in order), got {}", smp.sample),
+            );
+        }
+        for (f, v) in [
+            ("hit", smp.hit),
+            ("normal", smp.normal),
+            ("bounce", smp.bounce),
+        ] {
+            if let Some(v) = v {
+                finite(&at(f), &v)?;
+            }
+        }
+        points += smp.light_samples.len();
+        if points > MAX_TRACE_STEPS {
+            return bad(
+                at("light_samples"),
+                format!("the samples hold more than {MAX_TRACE_STEPS} light points"),
+            );
+        }
+        for (k, l) in smp.light_samples.iter().enumerate() {
+            let at = |f: &str| at(&format!("light_samples[{k}].{f}"));
+            if !indices.contains(&l.light) {
+                return bad(
+                    at("light"),
+                    format!("light {} is not in monte_carlo.lights", l.light),
+                );
+            }
+            finite(&at("point"), &l.point)?;
+            if !(l.pdf.is_finite() && l.pdf >= 0.0) {
+                return bad(
+                    at("pdf"),
+                    format!("must be a finite density, got {}", l.pdf),
+                );
+            }
+        }
+    }
+    Ok(())
 }
 
 /// What the walk over the rays collects.

@@ -179,7 +179,8 @@ pub enum BsdfKind {
 }
 
 /// A material's BSDF as the Monte Carlo integrators use it (see [`Material::bsdf`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Bsdf {
     /// Lambert with this albedo.
     Diffuse {

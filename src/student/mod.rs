@@ -560,6 +560,20 @@ pub fn parse_tracer_sheet(text: &str, path: &Path) -> Result<TracerSheet, String
     Ok(sheet)
 }
 
+/// A student's tracer is graded against Whitted's: a scene set to a Monte Carlo integrator is
+/// refused with a message that says how to grade it.
+pub fn whitted_only(scene: &crate::scene::Scene, path: &Path) -> Result<(), String> {
+    if scene.settings.integrator == crate::scene::Integrator::Whitted {
+        return Ok(());
+    }
+    Err(format!(
+        "{}: grade-tracer grades Whitted tracers, and this scene is set to the {} integrator: set `integrator = \"whitted\"` in its [render] table to grade it",
+        path.display(),
+        clap::ValueEnum::to_possible_value(&scene.settings.integrator)
+            .map_or_else(String::new, |v| v.get_name().to_string())
+    ))
+}
+
 /// The most pixels a sheet's scene draws per student (`random_pixels`).
 pub const MAX_RANDOM_PIXELS: u32 = 1000;
 
@@ -726,6 +740,7 @@ pub fn sheet_jobs(
             variant = Some(drawn);
             scene
         };
+        whitted_only(&scene, &path)?;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let mut pixels = vec![];
         for &[x, y] in &sc.pixels {

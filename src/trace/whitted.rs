@@ -203,6 +203,8 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         let color = self.trace_sample(x, y, sample, &mut rec);
         let root = rec.finish().expect("the primary ray ends");
         let objects = referenced_objects(self.scene, &root);
+        let monte_carlo = (self.scene.settings.integrator != Integrator::Whitted)
+            .then(|| self.mc_record(x, y, &root, &objects));
         Trace {
             version: TRACE_VERSION,
             raystep: env!("CARGO_PKG_VERSION").into(),
@@ -217,6 +219,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             objects,
             bvh: self.accel.outline(BVH_OUTLINE_DEPTH),
             grid: self.accel.grid_outline(),
+            monte_carlo,
             color: color.to_array(),
         }
     }

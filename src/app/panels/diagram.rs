@@ -205,5 +205,8 @@ fn diagram_label(k: DiagramKind) -> &'static str {
         DiagramKind::Barycentric => "Barycentric",
         DiagramKind::Bvh => "BVH",
         DiagramKind::Raytree => "Ray tree",
+        DiagramKind::Hemisphere => "Hemisphere",
+        DiagramKind::AreaLight => "Area light",
+        DiagramKind::Samples => "Samples",
     }
 }
