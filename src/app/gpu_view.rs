@@ -399,6 +399,19 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
     if let Some(line) = gpu.adapter_line() {
         ui.label(RichText::new(line).small());
     }
+    let integrator = prepared.scene().settings.integrator;
+    if integrator != crate::scene::Integrator::Whitted {
+        let name = clap::ValueEnum::to_possible_value(&integrator)
+            .map_or_else(String::new, |v| v.get_name().to_string());
+        ui.colored_label(
+            ui.visuals().warn_fg_color,
+            format!(
+                "The GPU traces Whitted's integrator only. This scene is set to {name}: this tab \
+                 draws Whitted's image of it, and the table compares the primary ray's hit, \
+                 which every integrator shares."
+            ),
+        );
+    }
     let (id, size) = match frame {
         Ok(f) => f,
         Err(e) => {

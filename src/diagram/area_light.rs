@@ -303,14 +303,12 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     x += c.text(x, y, small, "blocked", th.ink, Anchor::TopLeft) + small;
     c.circle([x + r, mid], r, None, Some(th.muted), 1.5);
     x += r * 2.0 + small * 0.4;
-    c.text(
-        x,
-        y,
-        small,
+    let words = c.elide(
         "adds nothing (below the horizon, or the light's back)",
-        th.ink,
-        Anchor::TopLeft,
+        small,
+        (c.width() - x - ts * 0.6).max(0.0),
     );
+    c.text(x, y, small, &words, th.ink, Anchor::TopLeft);
     y += small * 1.35;
     for line in lines {
         let shown = c.elide(&line, small, c.width() - ts * 1.6);
