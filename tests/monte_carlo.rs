@@ -209,6 +209,55 @@ fn irradiance_from_a_sphere_light() {
     assert!(t < 0.06 * expect);
 }
 
+/// The same irradiance by each estimator alone: light sampling alone (every sample in
+/// [0, 2ρL(1 − cos θ_max)]) and BSDF sampling alone (every sample 0 or ρL) are unbiased too,
+/// within the same Hoeffding bound; the traced sample is the rendered one under each.
+#[test]
+fn each_strategy_alone_gives_the_same_irradiance() {
+    let text = "[camera]\nfrom = [0, 3, -3]\nat = [0, 0, 0]\nwidth = 4\nheight = 4\nfov = 0.001\n[render]\nintegrator = \"path\"\nmax_depth = 1\nspp = 65536\nstrategy = \"STRATEGY\"\n[[material]]\nname = \"grey\"\nbsdf = \"diffuse\"\ncolor = [0.5, 0.5, 0.5]\n[[material]]\nname = \"lamp\"\ncolor = [0, 0, 0]\nbsdf = \"diffuse\"\nemission = [10, 10, 10]\n[[plane]]\naxis = \"y\"\nmaterial = \"grey\"\n[[sphere]]\ncenter = [0, 2, 0]\nradius = 0.5\nmaterial = \"lamp\"\n";
+    let (rho, l, r, h) = (0.5f64, 10.0f64, 0.5f64, 2.0f64);
+    let expect = rho * l * r * r / (h * h);
+    let m = rho * l;
+    let n = 16.0 * 65536.0;
+    let t = m * ((2.0f64 / 1e-9).ln() / (2.0 * n)).sqrt();
+    for strategy in ["light", "bsdf"] {
+        let s = scene(&text.replace("STRATEGY", strategy));
+        let prepared = PreparedScene::new(s.clone());
+        for k in 0..64 {
+            let traced = prepared.record(1, 2, k).color;
+            let silent = prepared.tracer().trace_sample(1, 2, k, &mut Silent);
+            assert_eq!(traced, silent.to_array(), "{strategy} sample {k}");
+        }
+        let px = pixels(s);
+        let mean = px.iter().map(|p| p.x as f64).sum::<f64>() / px.len() as f64;
+        assert!(
+            (mean - expect).abs() < t,
+            "{strategy}: mean {mean}, expected {expect} ± {t}"
+        );
+    }
+    // Light sampling alone records no BSDF-found emission; BSDF sampling alone no light sample.
+    let light = PreparedScene::new(scene(&text.replace("STRATEGY", "light"))).record(1, 2, 0);
+    let bsdf = PreparedScene::new(scene(&text.replace("STRATEGY", "bsdf"))).record(1, 2, 0);
+    let has = |t: &raystep::record::Trace, f: &dyn Fn(&Step) -> bool| {
+        t.timeline().iter().any(|(_, s)| f(&s.step))
+    };
+    assert!(has(
+        &light,
+        &|s| matches!(s, Step::LightSample { mis_weight, .. } if *mis_weight == 1.0)
+    ));
+    assert!(!has(&bsdf, &|s| matches!(s, Step::LightSample { .. })));
+    // A strategy belongs to the path integrator.
+    let e = err(&text
+        .replace("STRATEGY", "light")
+        .replace("integrator = \"path\"", "integrator = \"distribution\""));
+    assert!(
+        e.contains("bad.toml:") && e.contains("strategy") && e.contains("path"),
+        "{e}"
+    );
+    let e = err(&text.replace("STRATEGY", "best"));
+    assert!(e.contains("strategy") && e.contains("\"mis\""), "{e}");
+}
+
 /// Records carry the numbers the issue lists: random numbers with their dimensions, densities,
 /// BSDF values, MIS weights, Russian roulette.
 #[test]

@@ -394,3 +394,118 @@ fn converge_writes_tables_and_plots_and_mse_falls_like_one_over_spp() {
     assert_eq!(png_size(&out.join("converge-spp.png")), (900, 600));
     assert_eq!(png_size(&out.join("converge-time.png")), (900, 600));
 }
+
+/// `converge --strategy`: under a small sphere light over a diffuse plane, BSDF sampling alone
+/// finds the light with probability (r/h)² = 1/16 per sample (a Bernoulli estimator of relative
+/// variance 15 per sample), light sampling alone samples the cone the light subtends (its
+/// estimate varies only with cos θ): light sampling and MIS must be far below BSDF sampling,
+/// and each estimator, its samples independent, must fall like 1/spp.
+#[test]
+fn converge_compares_strategies_against_one_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("lamp.toml");
+    std::fs::write(
+        &scene,
+        "[camera]\nfrom = [0, 3, -3]\nat = [0, 0, 0]\nwidth = 32\nheight = 24\nfov = 10\n\
+         [render]\nintegrator = \"path\"\nmax_depth = 1\n\
+         [[material]]\nname = \"grey\"\nbsdf = \"diffuse\"\ncolor = [0.5, 0.5, 0.5]\n\
+         [[material]]\nname = \"lamp\"\ncolor = [0, 0, 0]\nbsdf = \"diffuse\"\nemission = [10, 10, 10]\n\
+         [[plane]]\naxis = \"y\"\nmaterial = \"grey\"\n\
+         [[sphere]]\ncenter = [0, 2, 0]\nradius = 0.5\nmaterial = \"lamp\"\n",
+    )
+    .unwrap();
+    let out = dir.path().join("conv");
+    let run = Command::cargo_bin("raystep")
+        .unwrap()
+        .args(["converge"])
+        .arg(&scene)
+        .args([
+            "--strategy",
+            "light,bsdf,mis",
+            "--max-spp",
+            "16",
+            "--seeds",
+            "3",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let md = String::from_utf8_lossy(&run.stdout);
+    assert!(md.contains("| strategy | relMSE at 16 spp"), "{md}");
+    let csv = std::fs::read_to_string(out.join("converge.csv")).unwrap();
+    assert!(csv.starts_with("strategy,spp,seed,"));
+    // The median relMSE at 16 spp, and the MSE slope, per strategy.
+    let mut top = std::collections::BTreeMap::new();
+    for name in ["light", "bsdf", "mis"] {
+        let rows: Vec<Vec<f64>> = csv
+            .lines()
+            .filter_map(|l| l.strip_prefix(&format!("{name},")))
+            .map(|l| l.split(',').map(|f| f.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len(), 5 * 3, "{name}");
+        let median = |spp: f64, k: usize| {
+            let mut m: Vec<f64> = rows.iter().filter(|r| r[0] == spp).map(|r| r[k]).collect();
+            m.sort_by(f64::total_cmp);
+            m[1]
+        };
+        let pts: Vec<(f64, f64)> = [1.0, 2.0, 4.0, 8.0, 16.0]
+            .iter()
+            .map(|s| (f64::ln(*s), median(*s, 3).ln()))
+            .collect();
+        let slope = raystep::stability::converge::slope(&pts);
+        println!(
+            "{name}: relMSE at 16 spp {}, MSE slope {slope:.2}",
+            median(16.0, 5)
+        );
+        assert!((-1.5..=-0.6).contains(&slope), "{name}: slope {slope}");
+        top.insert(name, median(16.0, 5));
+        assert_eq!(
+            png_size(&out.join(format!("converge-{name}.png"))),
+            (32, 24)
+        );
+    }
+    assert!(top["light"] * 10.0 < top["bsdf"], "{top:?}");
+    assert!(top["mis"] * 10.0 < top["bsdf"], "{top:?}");
+    assert_eq!(png_size(&out.join("converge-spp.png")), (900, 600));
+}
+
+/// The time to a target error, interpolated on the log–log line: levels (1 s, relMSE 0.4) and
+/// (2 s, 0.1) reach 0.2 at √2 s (ln t = ln 2 · ln 2 / ln 4); a target below every level is not
+/// reached; one the first level meets is its time; an early dip below it does not count.
+#[test]
+fn time_to_relmse_interpolates_on_the_log_log_line() {
+    use raystep::stability::converge::{ConvergeReport, Level, time_to_relmse};
+    let level = |spp, seconds, rel| Level {
+        spp,
+        seconds,
+        mse: [rel; 3],
+        rmse: [rel; 3],
+        relmse: [rel; 3],
+        nan: 0,
+        inf: 0,
+    };
+    let r = ConvergeReport {
+        scene: "s".into(),
+        device: "CPU".into(),
+        size: [1, 1],
+        build_seconds: 0.0,
+        reference_spp: 16,
+        reference_seconds: 0.0,
+        samples: vec![],
+        levels: vec![level(1, 1.0, 0.4), level(2, 2.0, 0.1)],
+        mse_slope: -2.0,
+        image: vec![],
+    };
+    let t = time_to_relmse(&r, 0.2).unwrap();
+    assert!((t - 2f64.sqrt()).abs() < 1e-12, "{t}");
+    assert_eq!(time_to_relmse(&r, 0.05), None);
+    assert_eq!(time_to_relmse(&r, 0.5), Some(1.0));
+    // Below the target at 1 spp, above at 2, below at 4: it is reached between 2 and 4 spp.
+    let mut r = r;
+    r.levels = vec![level(1, 1.0, 0.1), level(2, 2.0, 0.4), level(4, 4.0, 0.1)];
+    let t = time_to_relmse(&r, 0.2).unwrap();
+    assert!((t - 2.0 * 2f64.sqrt()).abs() < 1e-12, "{t}");
+}

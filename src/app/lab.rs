@@ -1,13 +1,25 @@
 //! The stability lab in the app: a window that runs the quick suite of [`crate::stability`] on a
 //! background thread and shows its table and its error-against-cost plots (egui_plot), and, for
 //! the selected pixel, every number the tracer recorded beside its exact value and the error in
-//! ulps (click a row to go to its step).
+//! ulps (click a row to go to its step). For a path-traced scene it also compares the path
+//! tracer's estimators (light sampling, BSDF sampling, MIS) as `raystep converge --strategy`
+//! does: the same table, and the error against samples per pixel as a plot.
 
 use super::state::{AppState, Command, StepMove};
+use crate::scene::{Integrator, Scene, Strategy};
+use crate::stability::converge::{
+    ConvergeOptions, StrategyRun, default_target, run_strategies, strategy_name, strategy_table,
+};
 use crate::stability::pixel::{ExactValue, exact_values};
 use crate::stability::{self, CostPoint, Precision, Primitive, Report};
 use egui::{Color32, RichText};
-use egui_plot::{Legend, Plot, PlotPoints, Points};
+use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
+
+/// A finished comparison of strategies, or why it failed.
+pub type Comparison = Result<Vec<StrategyRun>, String>;
+
+/// The strategies the lab compares, in the table's order.
+const ALL_STRATEGIES: [Strategy; 3] = [Strategy::Light, Strategy::Bsdf, Strategy::Mis];
 use std::sync::mpsc::Receiver;
 use std::time::Instant;
 
@@ -24,7 +36,17 @@ pub struct LabView {
     /// The exact values of the selected pixel's trace (for the trace generation they were made
     /// for).
     pixel: Option<(u64, Vec<ExactValue>)>,
+    /// The strategy comparison running in the background, and when it started.
+    comparing: Option<(Receiver<Comparison>, Instant, String)>,
+    /// The last comparison (or why it failed), and the scene it was of.
+    pub comparison: Option<(String, Comparison)>,
 }
+
+/// What the lab's comparison of strategies renders: the levels up to this spp, with this many
+/// seeds (the command line's `--max-spp 16 --seeds 2`).
+pub const COMPARE_MAX_SPP: u32 = 16;
+/// Seeds per level of the lab's comparison.
+pub const COMPARE_SEEDS: u32 = 2;
 
 impl Default for LabView {
     fn default() -> Self {
@@ -38,6 +60,8 @@ impl Default for LabView {
             running: None,
             report: None,
             pixel: None,
+            comparing: None,
+            comparison: None,
         }
     }
 }
@@ -58,13 +82,41 @@ impl LabView {
         self.running = Some((rx, Instant::now()));
     }
 
-    /// Whether the suite is running.
+    /// Whether the suite or a comparison is running.
     pub fn running(&self) -> bool {
-        self.running.is_some()
+        self.running.is_some() || self.comparing.is_some()
+    }
+
+    /// Starts comparing the path tracer's strategies on `scene` in the background.
+    pub fn compare(&mut self, ctx: &egui::Context, scene: Scene) {
+        if self.comparing.is_some() {
+            return;
+        }
+        let (tx, rx) = std::sync::mpsc::channel();
+        let repaint = ctx.clone();
+        let name = scene.name.clone();
+        std::thread::spawn(move || {
+            let opts = ConvergeOptions {
+                max_spp: COMPARE_MAX_SPP,
+                seeds: COMPARE_SEEDS,
+                threads: Some(1),
+                ..ConvergeOptions::default()
+            };
+            let runs = run_strategies(&scene, &opts, &ALL_STRATEGIES, &mut |_| {});
+            let _ = tx.send(runs);
+            repaint.request_repaint();
+        });
+        self.comparing = Some((rx, Instant::now(), name));
     }
 
     /// Takes a finished run.
     fn poll(&mut self) {
+        if let Some((rx, _, name)) = &self.comparing
+            && let Ok(r) = rx.try_recv()
+        {
+            self.comparison = Some((name.clone(), r));
+            self.comparing = None;
+        }
         if let Some((rx, _)) = &self.running
             && let Ok(r) = rx.try_recv()
         {
@@ -87,6 +139,8 @@ pub fn window(ctx: &egui::Context, state: &AppState, lab: &mut LabView, cmds: &m
         .vscroll(true)
         .show(ctx, |ui| {
             pixel_section(ui, state, lab, cmds);
+            ui.separator();
+            strategies_section(ui, state, lab);
             ui.separator();
             suite_section(ui, lab);
         });
@@ -170,6 +224,88 @@ fn precision_ulps(u: f64, p: Precision) -> String {
     } else {
         format!("{u:.2e} {} ulps", p.name())
     }
+}
+
+/// Light sampling, BSDF sampling and MIS on the scene as it is set now, each against one
+/// reference: the command line's table and the error against spp.
+fn strategies_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView) {
+    let scene = state.prepared.as_ref().map(|p| p.scene().clone());
+    let path = scene
+        .as_ref()
+        .is_some_and(|s| s.settings.integrator == Integrator::Path);
+    ui.horizontal_wrapped(|ui| {
+        let button = ui
+            .add_enabled(
+                path && lab.comparing.is_none(),
+                egui::Button::new("Compare light, BSDF and MIS"),
+            )
+            .on_hover_text(format!(
+                "the path tracer's three estimators at 1 … {COMPARE_MAX_SPP} spp, {COMPARE_SEEDS} \
+                 seeds each, against one reference (as `raystep converge SCENE --strategy \
+                 light,bsdf,mis --max-spp {COMPARE_MAX_SPP} --seeds {COMPARE_SEEDS}`)"
+            ));
+        if button.clicked()
+            && let Some(s) = scene.clone()
+        {
+            lab.compare(ui.ctx(), s);
+        }
+        if let Some((_, started, _)) = &lab.comparing {
+            ui.spinner();
+            ui.label(format!(
+                "rendering… {:.0} s",
+                started.elapsed().as_secs_f64()
+            ));
+        } else if !path {
+            ui.label("(for a scene rendered with the path integrator)");
+        }
+    });
+    let Some((name, result)) = &lab.comparison else {
+        return;
+    };
+    let runs = match result {
+        Ok(r) => r,
+        Err(e) => {
+            ui.colored_label(ui.visuals().error_fg_color, e);
+            return;
+        }
+    };
+    let target = default_target(runs);
+    ui.label(format!(
+        "\"{name}\": relMSE against one MIS reference, medians over {COMPARE_SEEDS} seeds \
+         (the errors are the command line's, bit for bit; the times are this machine's, now)"
+    ));
+    let (head, rows) = strategy_table(runs, target);
+    egui::Grid::new("lab-strategies")
+        .striped(true)
+        .show(ui, |ui| {
+            for h in &head {
+                ui.label(RichText::new(h).strong());
+            }
+            ui.end_row();
+            for row in rows {
+                for cell in row {
+                    ui.monospace(cell);
+                }
+                ui.end_row();
+            }
+        });
+    Plot::new("lab-strategies-plot")
+        .height(200.0)
+        .legend(Legend::default())
+        .x_axis_label("log₂ samples per pixel")
+        .y_axis_label("log₁₀ relMSE (median)")
+        .show(ui, |plot| {
+            for r in runs {
+                let pts: Vec<[f64; 2]> = r
+                    .report
+                    .levels
+                    .iter()
+                    .filter(|l| l.relmse[1] > 0.0)
+                    .map(|l| [(l.spp as f64).log2(), l.relmse[1].log10()])
+                    .collect();
+                plot.line(Line::new(strategy_name(r.strategy), PlotPoints::from(pts)));
+            }
+        });
 }
 
 fn suite_section(ui: &mut egui::Ui, lab: &mut LabView) {

@@ -32,6 +32,18 @@ pub struct ConvergeArgs {
     /// With --gpu: how the GPU makes primary rays.
     #[arg(long, value_enum, default_value_t = crate::gpu::GpuPath::Compute, requires = "gpu")]
     pub gpu_path: crate::gpu::GpuPath,
+    /// The light transport to measure (default: the scene's).
+    #[arg(long, value_enum)]
+    pub integrator: Option<crate::scene::Integrator>,
+    /// Compare the path tracer's estimators, each against one reference: a comma-separated list
+    /// of mis, light and bsdf (writes a row per strategy, the plots with a series each, and
+    /// converge-STRATEGY.png, the picture of each at the top spp).
+    #[arg(long, value_enum, value_delimiter = ',', conflicts_with = "gpu")]
+    pub strategy: Vec<crate::scene::Strategy>,
+    /// With --strategy: the relMSE whose time to reach is reported (default: the largest
+    /// top-level relMSE among the strategies, which each of them reaches).
+    #[arg(long, requires = "strategy")]
+    pub target_relmse: Option<f64>,
 }
 
 /// Runs `raystep converge`.
@@ -42,15 +54,27 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
         reference_factor: args.reference_factor,
         threads: args.threads.map(|t| t as usize),
         progress: true,
+        reference: None,
     };
+    if let Some(t) = args.target_relmse
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(format!("--target-relmse {t}: give a positive number"));
+    }
     // Too many samples is refused, with the limit, before anything is loaded or created.
     crate::stability::converge::reference_spp(&opts)?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
     let t0 = Instant::now();
-    let scene = crate::assets::load_scene(&args.scene)?;
+    let mut scene = crate::assets::load_scene(&args.scene)?;
+    if let Some(i) = args.integrator {
+        scene.settings.integrator = i;
+    }
     let load = t0.elapsed().as_secs_f64();
     let mut observe = |p: &Progress| show_progress(p, t0.elapsed());
+    if !args.strategy.is_empty() {
+        return run_strategies_cmd(args, &scene, &opts, load, &mut observe);
+    }
     let rep = if args.gpu {
         use crate::gpu::{GpuContext, GpuTracer, ShaderVariant};
         let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
@@ -90,6 +114,45 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
     crate::io::write_atomic(&args.out.join("converge-time.png"), &b)?;
     super::emit(&format!(
         "{md}\nwrote converge.md, converge.csv, converge-spp.png, converge-time.png in {}\n",
+        super::full_path(&args.out)
+    ))
+}
+
+/// `converge --strategy …`: each strategy against one reference, a summary row each.
+fn run_strategies_cmd(
+    args: &ConvergeArgs,
+    scene: &crate::scene::Scene,
+    opts: &ConvergeOptions,
+    load: f64,
+    observe: &mut dyn FnMut(&Progress),
+) -> Result<(), String> {
+    use crate::stability::converge as cv;
+    let mut strategies = args.strategy.clone();
+    strategies.dedup();
+    let runs = cv::run_strategies(scene, opts, &strategies, observe)?;
+    let target = args
+        .target_relmse
+        .unwrap_or_else(|| cv::default_target(&runs));
+    let md = cv::strategies_markdown(&runs, target, load);
+    crate::io::write_atomic(&args.out.join("converge.md"), md.as_bytes())?;
+    crate::io::write_atomic(
+        &args.out.join("converge.csv"),
+        cv::strategies_csv(&runs).as_bytes(),
+    )?;
+    let (a, b) = cv::strategies_plots(&runs, target);
+    crate::io::write_atomic(&args.out.join("converge-spp.png"), &a)?;
+    crate::io::write_atomic(&args.out.join("converge-time.png"), &b)?;
+    let mut pictures = vec![];
+    for r in &runs {
+        let name = format!("converge-{}.png", cv::strategy_name(r.strategy));
+        let [w, h] = r.report.size;
+        let img = crate::render::image::to_rgb8(w, h, &r.report.image, false);
+        crate::render::image::write_png(&args.out.join(&name), &img)?;
+        pictures.push(name);
+    }
+    super::emit(&format!(
+        "{md}\nwrote converge.md, converge.csv, converge-spp.png, converge-time.png, {} in {}\n",
+        pictures.join(", "),
         super::full_path(&args.out)
     ))
 }

@@ -123,6 +123,10 @@ pub struct SettingsArgs {
     /// Light transport: whitted, distribution (soft shadows, glossy, depth of field) or path.
     #[arg(long, value_enum)]
     pub integrator: Option<crate::scene::Integrator>,
+    /// The path tracer's estimator for direct light: mis (both, power heuristic), light (light
+    /// sampling alone) or bsdf (BSDF sampling alone).
+    #[arg(long, value_enum)]
+    pub strategy: Option<crate::scene::Strategy>,
 }
 
 impl SettingsArgs {
@@ -139,6 +143,7 @@ impl SettingsArgs {
             bvh_quality: self.bvh_quality,
             seed: self.seed,
             integrator: self.integrator,
+            strategy: self.strategy,
             ..Default::default()
         };
         overrides.apply(scene)

@@ -199,7 +199,11 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     let _ = writeln!(
         o,
         "  settings   integrator {}, sphere {}, triangle {}, offset {}, accel {}, BVH quality {}, max depth {}, {} sample{} per pixel",
-        value_name(&s.integrator),
+        if s.integrator == crate::scene::Integrator::Path {
+            format!("path ({} strategy)", value_name(&s.strategy))
+        } else {
+            value_name(&s.integrator)
+        },
         value_name(&s.sphere_method),
         value_name(&s.triangle_method),
         value_name(&s.offset),

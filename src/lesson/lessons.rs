@@ -69,6 +69,8 @@ pub struct LessonSettings {
     pub seed: Option<u32>,
     /// The light transport (`whitted`, `distribution`, `path`).
     pub integrator: Option<crate::scene::Integrator>,
+    /// The path tracer's estimator for direct light (`mis`, `light`, `bsdf`).
+    pub strategy: Option<crate::scene::Strategy>,
 }
 
 #[derive(Deserialize)]
@@ -129,6 +131,16 @@ impl LessonSettings {
         }
         if let Some(v) = self.integrator {
             s.integrator = v;
+        }
+        if let Some(v) = self.strategy {
+            if v != crate::scene::Strategy::Mis && s.integrator != crate::scene::Integrator::Path {
+                return Err(format!(
+                    "settings.strategy = {}: a strategy applies to the path integrator (set integrator to path too)",
+                    clap::ValueEnum::to_possible_value(&v)
+                        .map_or_else(String::new, |p| p.get_name().to_string())
+                ));
+            }
+            s.strategy = v;
         }
         if let Some(v) = self.bvh_quality {
             s.bvh_quality = v;

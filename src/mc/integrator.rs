@@ -11,6 +11,9 @@
 //!   found by a BSDF-sampled ray and the light sample are combined by multiple importance
 //!   sampling with Veach's power heuristic (β = 2); after `rr_depth` bounces Russian roulette
 //!   ends the path with probability 1 − min(1, max channel of the throughput).
+//!   `[render] strategy` keeps one estimator of direct light instead of both: `light` (next-event
+//!   estimation alone; emission a BSDF-sampled ray finds counts only where light sampling has
+//!   no density) or `bsdf` (no next-event estimation; emission counts wherever it is found).
 //!
 //! `max_depth` bounds the bounces (a path has at most `max_depth` scattering events, so
 //! `max_depth + 1` segments; Mitsuba's `max_depth` is this plus one). A ray that escapes returns
@@ -27,7 +30,7 @@ use crate::accel::{Accelerator, Hit};
 use crate::math::Ray;
 use crate::record::observer::Observer;
 use crate::record::{Draw, RayKind, Step};
-use crate::scene::{Bsdf, Integrator};
+use crate::scene::{Bsdf, Integrator, Strategy};
 use crate::trace::interaction::{Interaction, spawn_origin};
 use crate::trace::sampling::sample_offset;
 use crate::trace::whitted::{SHADOW_EPSILON, Tracer, WEIGHT_CUTOFF};
@@ -223,7 +226,14 @@ impl<A: Accelerator> Tracer<'_, A> {
                 let light_pdf = self.lights.of_object(hit.object).map_or(0.0, |i| {
                     self.lights.pick_pdf(i) * self.lights.pdf(i, origin, it.point)
                 });
-                (light_pdf, bsdf_pdf, power_heuristic(bsdf_pdf, light_pdf))
+                let w = match self.scene.settings.strategy {
+                    Strategy::Mis => power_heuristic(bsdf_pdf, light_pdf),
+                    // Light sampling alone counts what it can sample; the rest (an emitting
+                    // plane) only BSDF sampling finds.
+                    Strategy::Light if light_pdf > 0.0 => 0.0,
+                    Strategy::Light | Strategy::Bsdf => 1.0,
+                };
+                (light_pdf, bsdf_pdf, w)
             }
             None => (0.0, 0.0, 1.0),
         };
@@ -276,7 +286,7 @@ impl<A: Accelerator> Tracer<'_, A> {
                 obs.end_ray(|| self.hit_record(blocker), Vec3::ZERO);
             }
         }
-        let w = if delta || !mis {
+        let w = if delta || !mis || self.scene.settings.strategy != Strategy::Mis {
             1.0
         } else {
             power_heuristic(pdf, bsdf_pdf)
@@ -371,8 +381,8 @@ impl<A: Accelerator> Tracer<'_, A> {
         let m = self.scene.material_of(hit.object);
         let b = m.bsdf();
         let dim = |slot| dimension(depth, slot);
-        // Next-event estimation.
-        if !bsdf::is_delta(&b) && !self.lights.is_empty() {
+        // Next-event estimation (not under BSDF sampling alone).
+        if !bsdf::is_delta(&b) && !self.lights.is_empty() && s.strategy != Strategy::Bsdf {
             let pick = sampler.draw(dim(slot::LIGHT_PICK));
             if let Some((index, select_pdf)) = self.lights.pick(pick.value) {
                 let (u0, u1) = (

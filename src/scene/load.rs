@@ -800,6 +800,17 @@ impl<'a> Ctx<'a> {
             ));
         }
         let rr_depth = d.rr_depth;
+        let integrator: Integrator = loc.choice("integrator", &d.integrator)?;
+        let strategy: Strategy = loc.choice("strategy", &d.strategy)?;
+        if strategy != Strategy::Mis && integrator != Integrator::Path {
+            return Err(loc.err(
+                "strategy",
+                format!(
+                    "\"{}\" applies to the path integrator (set integrator = \"path\"); the other integrators have no strategy to choose",
+                    d.strategy
+                ),
+            ));
+        }
         Ok(Settings {
             max_depth: d.max_depth as u32,
             spp: d.spp as u32,
@@ -811,8 +822,9 @@ impl<'a> Ctx<'a> {
             accel: loc.choice("accel", &d.accel)?,
             bvh_quality: loc.choice("bvh_quality", &d.bvh_quality)?,
             seed: d.seed as u32,
-            integrator: loc.choice("integrator", &d.integrator)?,
+            integrator,
             rr_depth: rr_depth as u32,
+            strategy,
         })
     }
 }

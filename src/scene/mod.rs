@@ -142,6 +142,9 @@ pub struct Settings {
     /// The path tracer's Russian roulette starts after this many bounces (`[render] rr_depth`).
     #[serde(default = "default_rr_depth")]
     pub rr_depth: u32,
+    /// Which estimators the path tracer combines for direct light (`[render] strategy`).
+    #[serde(default)]
+    pub strategy: Strategy,
 }
 
 fn default_rr_depth() -> u32 {
@@ -162,6 +165,21 @@ pub enum Integrator {
     /// Kajiya 1986, unidirectional path tracing with next-event estimation, BSDF sampling, multiple
     /// importance sampling (Veach's power heuristic, β = 2) and Russian roulette.
     Path,
+}
+
+/// How the path tracer estimates the light arriving from emitters (`[render] strategy`): the
+/// three estimators of Veach's comparison, all unbiased, with different noise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Strategy {
+    /// Both, combined by multiple importance sampling with the power heuristic (the default).
+    #[default]
+    Mis,
+    /// Light sampling alone: next-event estimation at every hit; an emitter that a BSDF-sampled
+    /// ray finds (and light sampling could have sampled) is not counted.
+    Light,
+    /// BSDF sampling alone: no next-event estimation; emitters count where the path finds them.
+    Bsdf,
 }
 
 /// A material's scattering model for the Monte Carlo integrators (`[[material]] bsdf`).
@@ -221,6 +239,7 @@ impl Default for Settings {
             seed: 0,
             integrator: Integrator::Whitted,
             rr_depth: 3,
+            strategy: Strategy::Mis,
         }
     }
 }

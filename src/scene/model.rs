@@ -87,6 +87,7 @@ pub struct RenderDef {
     pub seed: i64,
     pub integrator: String,
     pub rr_depth: i64,
+    pub strategy: String,
 }
 
 impl Default for RenderDef {
@@ -104,6 +105,7 @@ impl Default for RenderDef {
             seed: 0,
             integrator: "whitted".into(),
             rr_depth: 3,
+            strategy: "mis".into(),
         }
     }
 }

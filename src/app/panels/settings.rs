@@ -4,7 +4,7 @@
 use crate::app::state::{AppState, Command};
 use crate::app::view::RenderView;
 use crate::record::number::num;
-use crate::scene::{AccelChoice, BvhQuality, Integrator, OffsetPolicy, Settings};
+use crate::scene::{AccelChoice, BvhQuality, Integrator, OffsetPolicy, Settings, Strategy};
 use crate::shapes::{SphereMethod, TriangleMethod};
 use egui::RichText;
 
@@ -61,6 +61,17 @@ pub(super) fn settings_panel(
                 "Kajiya 1986: light and BSDF sampling combined by MIS, Russian roulette",
             );
     });
+    if s.integrator == Integrator::Path {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Direct light");
+            ui.radio_value(&mut s.strategy, Strategy::Mis, "MIS")
+                .on_hover_text("light and BSDF sampling, combined by the power heuristic");
+            ui.radio_value(&mut s.strategy, Strategy::Light, "light")
+                .on_hover_text("light sampling alone (next-event estimation)");
+            ui.radio_value(&mut s.strategy, Strategy::Bsdf, "BSDF")
+                .on_hover_text("BSDF sampling alone: emitters count where paths find them");
+        });
+    }
     if f.reflective || f.transparent || s.integrator != Integrator::Whitted {
         ui.horizontal(|ui| {
             let l = ui.label("Recursion depth");
