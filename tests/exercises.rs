@@ -86,6 +86,8 @@ fn read_quantity(trace: &Trace, q: &Question) -> A {
         "Shadow" => RayKind::Shadow,
         "Reflection" => RayKind::Reflection,
         "Refraction" => RayKind::Refraction,
+        "Diffuse" => RayKind::Diffuse,
+        "Glossy" => RayKind::Glossy,
         other => panic!("ray {other}"),
     };
     let timeline = trace.timeline();
@@ -182,6 +184,49 @@ fn read_quantity(trace: &Trace, q: &Question) -> A {
             .rev()
             .find_map(|s| match s {
                 Step::Color { color } => Some(vec(*color)),
+                _ => None,
+            })
+            .unwrap_or(A::None),
+        "light_pdf" | "mis_weight" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::LightSample {
+                    pdf, mis_weight, ..
+                } => Some(A::Num(if q.quantity.name() == "light_pdf" {
+                    *pdf as f64
+                } else {
+                    *mis_weight as f64
+                })),
+                _ => None,
+            })
+            .unwrap_or(A::None),
+        "light_contribution" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::LightSample { contribution, .. } => Some(vec(*contribution)),
+                _ => None,
+            })
+            .unwrap_or(A::None),
+        "bsdf_pdf" | "throughput" | "sample_direction" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::BsdfSample {
+                    pdf,
+                    throughput,
+                    direction,
+                    ..
+                } => Some(match q.quantity.name() {
+                    "bsdf_pdf" => num(*pdf),
+                    "throughput" => vec(*throughput),
+                    _ => vec(*direction),
+                }),
+                _ => None,
+            })
+            .unwrap_or(A::None),
+        "roulette_probability" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::RussianRoulette { probability, .. } => Some(A::Num(*probability as f64)),
                 _ => None,
             })
             .unwrap_or(A::None),

@@ -450,6 +450,74 @@ pub fn tree(trace: &Trace) -> String {
         trace.sample,
         v3(trace.color)
     );
+    if let Some(mc) = &trace.monte_carlo {
+        out.push_str(&pixel_summary(mc));
+    }
     ray(&trace.root, 0, &mut 0, &mut out);
     out
+}
+
+/// A Monte Carlo pixel's samples in numbers: their mean (the pixel), and the spread of their
+/// luminance — the sample standard deviation s and the standard error s/√n of the mean, which
+/// falls as 1/√n.
+pub fn pixel_summary(mc: &crate::record::samples::McRecord) -> String {
+    use crate::record::samples::luminance;
+    let lum: Vec<f64> = mc
+        .samples
+        .iter()
+        .map(|s| luminance(s.color) as f64)
+        .filter(|v| v.is_finite())
+        .collect();
+    let n = lum.len();
+    let mean = lum.iter().sum::<f64>() / n.max(1) as f64;
+    let var = if n > 1 {
+        lum.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64
+    } else {
+        0.0
+    };
+    let sd = var.sqrt();
+    let dark = mc
+        .samples
+        .iter()
+        .filter(|s| s.color.iter().all(|c| *c == 0.0))
+        .count();
+    let kept = if mc.samples.len() < mc.spp as usize {
+        format!("the first {} of its {} samples", mc.samples.len(), mc.spp)
+    } else {
+        format!("{} sample{}", mc.samples.len(), if mc.samples.len() == 1 { "" } else { "s" })
+    };
+    // The light samples at the first hits, per light: how many, how many blocked.
+    let mut per_light: Vec<(String, usize, usize)> = vec![];
+    for s in &mc.samples {
+        for lp in &s.light_samples {
+            let name = mc.light(lp.light).map_or("?", |l| l.name.as_str());
+            match per_light.iter_mut().find(|(n, _, _)| n == name) {
+                Some(e) => {
+                    e.1 += 1;
+                    e.2 += usize::from(lp.blocked);
+                }
+                None => per_light.push((name.to_string(), 1, usize::from(lp.blocked))),
+            }
+        }
+    }
+    let lights = if per_light.is_empty() {
+        String::new()
+    } else {
+        let parts: Vec<String> = per_light
+            .iter()
+            .map(|(n, k, b)| format!("\"{n}\" {k}, {b} blocked"))
+            .collect();
+        format!(
+            "  light samples at the first hit: {}\n",
+            parts.join("; ")
+        )
+    };
+    format!(
+        "the pixel: {kept}, mean {}; luminance mean {}, sample standard deviation s = {}, standard error s/√n = {}; {dark} sample{} added nothing\n{lights}",
+        v3(mc.mean()),
+        num(mean as f32),
+        num(sd as f32),
+        num((sd / (n.max(1) as f64).sqrt()) as f32),
+        if dark == 1 { "" } else { "s" }
+    )
 }

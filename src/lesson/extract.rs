@@ -17,6 +17,8 @@ fn ray(trace: &Trace, sel: RaySel) -> Option<&RayRecord> {
         RaySel::Shadow => RayKind::Shadow,
         RaySel::Reflection => RayKind::Reflection,
         RaySel::Refraction => RayKind::Refraction,
+        RaySel::Diffuse => RayKind::Diffuse,
+        RaySel::Glossy => RayKind::Glossy,
     };
     trace.rays().into_iter().find(|r| r.kind == kind)
 }
@@ -104,6 +106,45 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
             })
             .unwrap_or(Answer::None),
         Quantity::Color => v3(r.color),
+        Quantity::BsdfPdf => steps()
+            .find_map(|s| match s {
+                Step::BsdfSample { pdf, .. } => Some(num(*pdf)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::SampleDirection => steps()
+            .find_map(|s| match s {
+                Step::BsdfSample { direction, .. } => Some(v3(*direction)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::Throughput => steps()
+            .find_map(|s| match s {
+                Step::BsdfSample { throughput, .. } => Some(v3(*throughput)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::LightPdf | Quantity::MisWeight | Quantity::LightContribution => steps()
+            .find_map(|s| match s {
+                Step::LightSample {
+                    pdf,
+                    mis_weight,
+                    contribution,
+                    ..
+                } => Some(match q.quantity {
+                    Quantity::LightPdf => num(Some(*pdf)),
+                    Quantity::MisWeight => num(Some(*mis_weight)),
+                    _ => v3(*contribution),
+                }),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::RouletteProbability => steps()
+            .find_map(|s| match s {
+                Step::RussianRoulette { probability, .. } => Some(num(Some(*probability))),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
     }
 }
 
@@ -133,15 +174,33 @@ pub fn explaining_step(trace: &Trace, q: &Question) -> Option<usize> {
             matches!(s, Step::Refract { .. })
         }
         Quantity::Color => false,
+        Quantity::BsdfPdf | Quantity::SampleDirection | Quantity::Throughput => {
+            matches!(s, Step::BsdfSample { .. })
+        }
+        Quantity::LightPdf | Quantity::MisWeight | Quantity::LightContribution => {
+            matches!(s, Step::LightSample { .. })
+        }
+        Quantity::RouletteProbability => matches!(s, Step::RussianRoulette { .. }),
     };
     // The last matching step (a ray tests each object once; the last node is where the count
     // ends); the ray's last step when nothing matches (its colour, or where it missed).
-    let target = r
-        .steps
-        .iter()
-        .rev()
-        .find(|s| is(&s.step))
-        .or_else(|| r.steps.last())?;
+    // The Monte Carlo quantities are the first sample of their kind (as `extract` reads them).
+    let first = matches!(
+        q.quantity,
+        Quantity::BsdfPdf
+            | Quantity::SampleDirection
+            | Quantity::Throughput
+            | Quantity::LightPdf
+            | Quantity::MisWeight
+            | Quantity::LightContribution
+            | Quantity::RouletteProbability
+    );
+    let found = if first {
+        r.steps.iter().find(|s| is(&s.step))
+    } else {
+        r.steps.iter().rev().find(|s| is(&s.step))
+    };
+    let target = found.or_else(|| r.steps.last())?;
     trace
         .timeline()
         .iter()

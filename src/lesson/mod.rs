@@ -101,6 +101,22 @@ pub enum Quantity {
     TotalInternalReflection,
     /// The ray's colour (linear RGB).
     Color,
+    /// Monte Carlo: the density, per steradian, of the direction the ray's BSDF sampled at its
+    /// hit (none for a mirror or glass: a delta).
+    BsdfPdf,
+    /// Monte Carlo: the direction the ray's BSDF sampled.
+    SampleDirection,
+    /// Monte Carlo: the path's throughput after the BSDF sample at the ray's hit.
+    Throughput,
+    /// Monte Carlo: the density, per steradian with the light's pick, of the first point the
+    /// ray's hit sampled on a light.
+    LightPdf,
+    /// Monte Carlo: that light sample's MIS weight.
+    MisWeight,
+    /// Monte Carlo: what that light sample adds to the pixel.
+    LightContribution,
+    /// Monte Carlo: the probability that Russian roulette lets the path go on at the ray's hit.
+    RouletteProbability,
 }
 
 impl Quantity {
@@ -122,6 +138,13 @@ impl Quantity {
             Quantity::RefractedDirection => "refracted_direction",
             Quantity::TotalInternalReflection => "total_internal_reflection",
             Quantity::Color => "color",
+            Quantity::BsdfPdf => "bsdf_pdf",
+            Quantity::SampleDirection => "sample_direction",
+            Quantity::Throughput => "throughput",
+            Quantity::LightPdf => "light_pdf",
+            Quantity::MisWeight => "mis_weight",
+            Quantity::LightContribution => "light_contribution",
+            Quantity::RouletteProbability => "roulette_probability",
         }
     }
 
@@ -142,7 +165,10 @@ impl Quantity {
             | Quantity::Normal
             | Quantity::ReflectedDirection
             | Quantity::RefractedDirection
-            | Quantity::Color => AnswerKind::Vector,
+            | Quantity::Color
+            | Quantity::SampleDirection
+            | Quantity::Throughput
+            | Quantity::LightContribution => AnswerKind::Vector,
             _ => AnswerKind::Number,
         }
     }
@@ -161,6 +187,11 @@ pub enum RaySel {
     Reflection,
     /// The first refraction ray.
     Refraction,
+    /// The first Monte Carlo bounce off a diffuse surface (the path's second segment, when the
+    /// camera's ray hit a diffuse surface).
+    Diffuse,
+    /// The first Monte Carlo bounce off a glossy surface.
+    Glossy,
 }
 
 /// How close an answer must be unless the question says otherwise: [`Tolerance`]'s
