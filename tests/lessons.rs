@@ -330,8 +330,20 @@ fn the_lessons_cover_their_topics_in_order() {
             "miss",
         ],
         &["acne", "no offset", "watertight", "textbook", "f32"],
-        &["estimator", "expectation", "variance", "1/√n", "standard error"],
-        &["penumbra", "area", "per steradian", "soft shadow", "blocked"],
+        &[
+            "estimator",
+            "expectation",
+            "variance",
+            "1/√n",
+            "standard error",
+        ],
+        &[
+            "penumbra",
+            "area",
+            "per steradian",
+            "soft shadow",
+            "blocked",
+        ],
     ];
     let files = lesson_files();
     assert_eq!(files.len(), LESSONS);

@@ -484,7 +484,11 @@ pub fn pixel_summary(mc: &crate::record::samples::McRecord) -> String {
     let kept = if mc.samples.len() < mc.spp as usize {
         format!("the first {} of its {} samples", mc.samples.len(), mc.spp)
     } else {
-        format!("{} sample{}", mc.samples.len(), if mc.samples.len() == 1 { "" } else { "s" })
+        format!(
+            "{} sample{}",
+            mc.samples.len(),
+            if mc.samples.len() == 1 { "" } else { "s" }
+        )
     };
     // The light samples at the first hits, per light: how many, how many blocked.
     let mut per_light: Vec<(String, usize, usize)> = vec![];
@@ -507,10 +511,7 @@ pub fn pixel_summary(mc: &crate::record::samples::McRecord) -> String {
             .iter()
             .map(|(n, k, b)| format!("\"{n}\" {k}, {b} blocked"))
             .collect();
-        format!(
-            "  light samples at the first hit: {}\n",
-            parts.join("; ")
-        )
+        format!("  light samples at the first hit: {}\n", parts.join("; "))
     };
     format!(
         "the pixel: {kept}, mean {}; luminance mean {}, sample standard deviation s = {}, standard error s/√n = {}; {dark} sample{} added nothing\n{lights}",
