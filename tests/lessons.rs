@@ -9,7 +9,7 @@ use raystep::trace::Tracer;
 use std::path::{Path, PathBuf};
 
 /// The number of lessons the course has.
-const LESSONS: usize = 14;
+const LESSONS: usize = 16;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -98,7 +98,7 @@ fn relative_path(target: &str) -> Option<&str> {
 }
 
 #[test]
-fn lessons_are_numbered_01_to_14_without_gaps() {
+fn lessons_are_numbered_01_to_16_without_gaps() {
     let names: Vec<String> = lesson_files().iter().map(|p| file_name(p)).collect();
     assert_eq!(
         names.len(),
@@ -343,6 +343,20 @@ fn the_lessons_cover_their_topics_in_order() {
             "per steradian",
             "soft shadow",
             "blocked",
+        ],
+        &[
+            "rendering equation",
+            "next-event estimation",
+            "cosine-weighted",
+            "Russian roulette",
+            "divided by q",
+        ],
+        &[
+            "power heuristic",
+            "light sampling",
+            "BSDF sampling",
+            "weight",
+            "relMSE",
         ],
     ];
     let files = lesson_files();
@@ -722,7 +736,10 @@ impl Runner {
                 } else {
                     args.push(self.written.get(&w).cloned().unwrap_or_else(|| w.clone()));
                 }
-                redirect = matches!(w.as_str(), "-o" | "--output" | "--save" | "--heatmap");
+                redirect = matches!(
+                    w.as_str(),
+                    "-o" | "--output" | "--save" | "--heatmap" | "--out"
+                );
             }
             let out = std::process::Command::new(env!("CARGO_BIN_EXE_raystep"))
                 .args(&args)
