@@ -35,6 +35,10 @@ pub struct ConvergeArgs {
     /// The light transport to measure (default: the scene's).
     #[arg(long, value_enum)]
     pub integrator: Option<crate::scene::Integrator>,
+    /// The Monte Carlo integrators' 2D samples: independent or stratified (default: the
+    /// scene's).
+    #[arg(long, value_enum)]
+    pub sampler: Option<crate::scene::SamplerKind>,
     /// Compare the path tracer's estimators, each against one reference: a comma-separated list
     /// of mis, light and bsdf (writes a row per strategy, the plots with a series each, and
     /// converge-STRATEGY.png, the picture of each at the top spp).
@@ -69,6 +73,9 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
     let mut scene = crate::assets::load_scene(&args.scene)?;
     if let Some(i) = args.integrator {
         scene.settings.integrator = i;
+    }
+    if let Some(k) = args.sampler {
+        scene.settings.sampler = k;
     }
     let load = t0.elapsed().as_secs_f64();
     let mut observe = |p: &Progress| show_progress(p, t0.elapsed());

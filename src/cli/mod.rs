@@ -127,6 +127,10 @@ pub struct SettingsArgs {
     /// sampling alone) or bsdf (BSDF sampling alone).
     #[arg(long, value_enum)]
     pub strategy: Option<crate::scene::Strategy>,
+    /// The Monte Carlo integrators' 2D samples: independent, or stratified over the pixel's
+    /// samples.
+    #[arg(long, value_enum)]
+    pub sampler: Option<crate::scene::SamplerKind>,
 }
 
 impl SettingsArgs {
@@ -144,6 +148,7 @@ impl SettingsArgs {
             seed: self.seed,
             integrator: self.integrator,
             strategy: self.strategy,
+            sampler: self.sampler,
             ..Default::default()
         };
         overrides.apply(scene)

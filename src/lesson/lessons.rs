@@ -71,6 +71,8 @@ pub struct LessonSettings {
     pub integrator: Option<crate::scene::Integrator>,
     /// The path tracer's estimator for direct light (`mis`, `light`, `bsdf`).
     pub strategy: Option<crate::scene::Strategy>,
+    /// The Monte Carlo integrators' 2D samples (`independent`, `stratified`).
+    pub sampler: Option<crate::scene::SamplerKind>,
 }
 
 #[derive(Deserialize)]
@@ -141,6 +143,9 @@ impl LessonSettings {
                 ));
             }
             s.strategy = v;
+        }
+        if let Some(v) = self.sampler {
+            s.sampler = v;
         }
         if let Some(v) = self.bvh_quality {
             s.bvh_quality = v;

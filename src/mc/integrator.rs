@@ -30,7 +30,7 @@ use crate::accel::{Accelerator, Hit};
 use crate::math::Ray;
 use crate::record::observer::Observer;
 use crate::record::{Draw, RayKind, Step};
-use crate::scene::{Bsdf, Integrator, Strategy};
+use crate::scene::{Bsdf, Integrator, SamplerKind, Strategy};
 use crate::trace::interaction::{Interaction, spawn_origin};
 use crate::trace::sampling::sample_offset;
 use crate::trace::whitted::{SHADOW_EPSILON, Tracer, WEIGHT_CUTOFF};
@@ -77,6 +77,10 @@ struct Sampler {
     pixel: [u32; 2],
     sample: u32,
     seed: u32,
+    /// The pixel's samples (the strata's count).
+    spp: u32,
+    /// `sampler = "stratified"`.
+    stratified: bool,
 }
 
 impl Sampler {
@@ -86,6 +90,80 @@ impl Sampler {
             value: uniform(self.pixel, self.sample, dimension, self.seed),
         }
     }
+
+    /// A pair of numbers for a 2D sample (a point on a light or the lens, a BSDF direction):
+    /// two independent uniforms, or under `sampler = "stratified"` the pair placed in its own
+    /// cell of a grid over the pixel's samples ([`stratified_pair`]).
+    fn draw_pair(&self, dimension: u32) -> (Draw, Draw) {
+        let (a, b) = (self.draw(dimension), self.draw(dimension + 1));
+        if !self.stratified {
+            return (a, b);
+        }
+        let [u, v] = stratified_pair(
+            self.pixel,
+            self.sample,
+            self.spp,
+            dimension,
+            self.seed,
+            [a.value, b.value],
+        );
+        (
+            Draw {
+                dimension,
+                value: u,
+            },
+            Draw {
+                dimension: dimension + 1,
+                value: v,
+            },
+        )
+    }
+}
+
+/// Stratified 2D samples: the pixel's `spp` samples share a grid of ⌈√spp⌉ columns and
+/// ⌈spp / columns⌉ rows (as the pixel jitter does, see [`sample_offset`]); sample k takes cell
+/// π(k), where π(k) = (a·k + b) mod spp is a permutation hashed from the pixel, the dimension and
+/// the seed (a coprime to spp), so that a sample's cell on the light is not tied to its cell in
+/// the pixel; `jitter` (two uniforms) places the pair inside its cell.
+pub fn stratified_pair(
+    pixel: [u32; 2],
+    sample: u32,
+    spp: u32,
+    dimension: u32,
+    seed: u32,
+    jitter: [f32; 2],
+) -> [f32; 2] {
+    if spp <= 1 {
+        return jitter;
+    }
+    let cols = (spp as f32).sqrt().ceil() as u32;
+    let rows = spp.div_ceil(cols);
+    // The permutation's multiplier and offset, from the same hash as every other number.
+    let h = |salt: u32| {
+        let u = uniform(pixel, u32::MAX - salt, dimension, seed);
+        (u * spp as f32) as u32 % spp
+    };
+    let mut a = h(0).max(1);
+    while gcd(a, spp) != 1 {
+        a = a % spp + 1;
+    }
+    let cell = (u64::from(a) * u64::from(sample % spp) + u64::from(h(1))) % u64::from(spp);
+    let cell = cell as u32;
+    let (cx, cy) = (cell % cols, cell / cols);
+    [
+        ((cx as f32 + jitter[0]) / cols as f32).min(ONE_BELOW),
+        ((cy as f32 + jitter[1]) / rows as f32).min(ONE_BELOW),
+    ]
+}
+
+/// The largest f32 below 1 (a uniform number stays in [0, 1)).
+const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
+
+fn gcd(mut a: u32, mut b: u32) -> u32 {
+    while b != 0 {
+        (a, b) = (b, a % b);
+    }
+    a
 }
 
 /// How the ray being shaded was made: for MIS weights on the emission it finds.
@@ -109,15 +187,15 @@ impl<A: Accelerator> Tracer<'_, A> {
             pixel: [x, y],
             sample,
             seed: s.seed,
+            spp: s.spp,
+            stratified: s.sampler == SamplerKind::Stratified,
         };
         let offset = sample_offset(x, y, sample, s.spp, s.seed);
         let (mut ray, screen) = self.camera.ray(x, y, offset);
         let cam = &self.scene.camera;
         let lens = (cam.aperture > 0.0).then(|| {
-            let u = [
-                sampler.draw(LENS_DIMENSION),
-                sampler.draw(LENS_DIMENSION + 1),
-            ];
+            let (u0, u1) = sampler.draw_pair(LENS_DIMENSION);
+            let u = [u0, u1];
             let disk = super::sample::thin_lens(cam.aperture, [u[0].value, u[1].value]);
             (u, disk)
         });
@@ -385,10 +463,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         if !bsdf::is_delta(&b) && !self.lights.is_empty() && s.strategy != Strategy::Bsdf {
             let pick = sampler.draw(dim(slot::LIGHT_PICK));
             if let Some((index, select_pdf)) = self.lights.pick(pick.value) {
-                let (u0, u1) = (
-                    sampler.draw(dim(slot::LIGHT_POINT)),
-                    sampler.draw(dim(slot::LIGHT_POINT + 1)),
-                );
+                let (u0, u1) = sampler.draw_pair(dim(slot::LIGHT_POINT));
                 l += self.light_sample(
                     it,
                     &b,
@@ -405,10 +480,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         }
         // The next direction.
         let lobe = sampler.draw(dim(slot::LOBE));
-        let (u0, u1) = (
-            sampler.draw(dim(slot::BSDF)),
-            sampler.draw(dim(slot::BSDF + 1)),
-        );
+        let (u0, u1) = sampler.draw_pair(dim(slot::BSDF));
         let Some(bs) = bsdf::sample(
             &b,
             it.eye,
@@ -526,11 +598,8 @@ impl<A: Accelerator> Tracer<'_, A> {
                     continue;
                 }
                 let base = slot::GROUP + 3 * g as u32;
-                let (pick, u0, u1) = (
-                    sampler.draw(dim(base)),
-                    sampler.draw(dim(base + 1)),
-                    sampler.draw(dim(base + 2)),
-                );
+                let pick = sampler.draw(dim(base));
+                let (u0, u1) = sampler.draw_pair(dim(base + 1));
                 let Some((index, p)) = self.lights.pick_in_group(g, pick.value) else {
                     continue;
                 };
@@ -572,10 +641,7 @@ impl<A: Accelerator> Tracer<'_, A> {
                 }
             }
             _ => {
-                let (u0, u1) = (
-                    sampler.draw(dim(slot::BSDF)),
-                    sampler.draw(dim(slot::BSDF + 1)),
-                );
+                let (u0, u1) = sampler.draw_pair(dim(slot::BSDF));
                 let drawn = [u0, u1];
                 let random = if matches!(b, Bsdf::Glossy { .. }) {
                     &drawn[..]

@@ -825,6 +825,7 @@ impl<'a> Ctx<'a> {
             integrator,
             rr_depth: rr_depth as u32,
             strategy,
+            sampler: loc.choice("sampler", &d.sampler)?,
         })
     }
 }

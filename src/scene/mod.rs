@@ -145,6 +145,10 @@ pub struct Settings {
     /// Which estimators the path tracer combines for direct light (`[render] strategy`).
     #[serde(default)]
     pub strategy: Strategy,
+    /// How the Monte Carlo integrators' 2D samples are spread over a pixel's samples
+    /// (`[render] sampler`).
+    #[serde(default)]
+    pub sampler: SamplerKind,
 }
 
 fn default_rr_depth() -> u32 {
@@ -165,6 +169,19 @@ pub enum Integrator {
     /// Kajiya 1986, unidirectional path tracing with next-event estimation, BSDF sampling, multiple
     /// importance sampling (Veach's power heuristic, β = 2) and Russian roulette.
     Path,
+}
+
+/// How the Monte Carlo integrators draw their 2D samples (a point on a light or on the lens, a
+/// BSDF direction) over a pixel's samples (`[render] sampler`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum SamplerKind {
+    /// Every pair independent and uniform (the default).
+    #[default]
+    Independent,
+    /// Stratified: the pixel's samples share a grid, one sample per cell, jittered inside it
+    /// (see [`crate::mc::integrator::stratified_pair`]).
+    Stratified,
 }
 
 /// How the path tracer estimates the light arriving from emitters (`[render] strategy`): the
@@ -240,6 +257,7 @@ impl Default for Settings {
             integrator: Integrator::Whitted,
             rr_depth: 3,
             strategy: Strategy::Mis,
+            sampler: SamplerKind::Independent,
         }
     }
 }

@@ -88,6 +88,7 @@ pub struct RenderDef {
     pub integrator: String,
     pub rr_depth: i64,
     pub strategy: String,
+    pub sampler: String,
 }
 
 impl Default for RenderDef {
@@ -106,6 +107,7 @@ impl Default for RenderDef {
             integrator: "whitted".into(),
             rr_depth: 3,
             strategy: "mis".into(),
+            sampler: "independent".into(),
         }
     }
 }

@@ -4,7 +4,9 @@
 use crate::app::state::{AppState, Command};
 use crate::app::view::RenderView;
 use crate::record::number::num;
-use crate::scene::{AccelChoice, BvhQuality, Integrator, OffsetPolicy, Settings, Strategy};
+use crate::scene::{
+    AccelChoice, BvhQuality, Integrator, OffsetPolicy, SamplerKind, Settings, Strategy,
+};
 use crate::shapes::{SphereMethod, TriangleMethod};
 use egui::RichText;
 
@@ -61,6 +63,17 @@ pub(super) fn settings_panel(
                 "Kajiya 1986: light and BSDF sampling combined by MIS, Russian roulette",
             );
     });
+    if s.integrator != Integrator::Whitted {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("2D samples");
+            ui.radio_value(&mut s.sampler, SamplerKind::Independent, "independent")
+                .on_hover_text("every light point, BSDF direction and lens point drawn alone");
+            ui.radio_value(&mut s.sampler, SamplerKind::Stratified, "stratified")
+                .on_hover_text(
+                    "the pixel's samples share a grid: one per cell, jittered inside it",
+                );
+        });
+    }
     if s.integrator == Integrator::Path {
         ui.horizontal_wrapped(|ui| {
             ui.label("Direct light");
