@@ -439,6 +439,75 @@ fn playback_advances_with_the_clock_and_stops_at_the_end() {
     assert_eq!(st.step, 0);
 }
 
+/// "One sample at a time": the traced sample advances one per 1/speed seconds and stops at the
+/// pixel's last; each step's trace is that sample, its record the same pixel, and the running
+/// estimate over samples 0…k is their plain mean (checked by hand from the recorded values).
+#[test]
+fn samples_play_one_at_a_time_and_the_estimate_follows() {
+    use raystep::app::state::AppState;
+    use raystep::explain::describe::running_estimate;
+    let mut st = AppState::new(
+        Prefs {
+            speed: 10.0,
+            ..Prefs::default()
+        },
+        || {},
+    );
+    st.open(&scene_path("soft-shadows.toml"));
+    let start = Instant::now();
+    while st.prepared.is_none() {
+        assert!(start.elapsed() < Duration::from_secs(60), "no scene");
+        st.tick(Instant::now());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let mut s = st.settings.clone();
+    s.spp = 4;
+    st.apply(Command::SetSettings(s));
+    st.apply(Command::SelectPixel([100, 150]));
+    // The new settings' scene is prepared in the background; then the pixel is traced.
+    while st
+        .stepping
+        .as_ref()
+        .is_none_or(|s| s.trace.settings.spp != 4)
+    {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no trace at 4 spp"
+        );
+        st.tick(Instant::now());
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    st.apply(Command::ToggleSamplePlay);
+    assert!(st.sample_playing);
+    let t0 = Instant::now();
+    st.tick(t0);
+    assert_eq!(st.sample, 0, "the first tick only starts the clock");
+    let mut t = t0;
+    for k in 1..4 {
+        t += Duration::from_millis(100);
+        st.tick(t);
+        assert_eq!(st.sample, k);
+        let trace = &st.stepping.as_ref().unwrap().trace;
+        assert_eq!(trace.sample, k);
+        let mc = trace.monte_carlo.as_ref().unwrap();
+        let e = running_estimate(mc, k as usize + 1);
+        let by_hand: f64 = mc.samples[..=k as usize]
+            .iter()
+            .map(|s| f64::from(s.color[0]))
+            .sum::<f64>()
+            / (k + 1) as f64;
+        assert!((e.mean[0] - by_hand).abs() < 1e-12);
+        assert_eq!(e.n, k as usize + 1);
+    }
+    t += Duration::from_millis(100);
+    st.tick(t);
+    assert_eq!(st.sample, 3, "it stops on the last sample");
+    assert!(!st.sample_playing);
+    // Playing again from the last sample starts over.
+    st.apply(Command::ToggleSamplePlay);
+    assert_eq!(st.sample, 0);
+}
+
 /// Presentation mode: high contrast (black panels, white text) and the presentation scale (in
 /// proportion to the window's height below 1080 points); leaving it (Esc) restores the chosen
 /// theme and scale.

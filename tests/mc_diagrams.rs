@@ -271,7 +271,8 @@ fn each_monte_carlo_step_gets_its_diagram() {
 }
 
 /// The samples plot: one dot per sample, filled with that sample's colour, at the height of its
-/// luminance; the pixel's line at the luminance of the rendered pixel.
+/// luminance; the pixel's line at the luminance of the rendered pixel; the samples after the
+/// traced one faded.
 #[test]
 fn the_samples_plot_puts_each_sample_and_the_pixel_where_their_values_say() {
     let prepared = PreparedScene::new(shipped("soft-shadows.toml", Integrator::Distribution, 16));
@@ -279,7 +280,8 @@ fn the_samples_plot_puts_each_sample_and_the_pixel_where_their_values_say() {
         .unwrap()
         .pixels;
     let (x, y) = (16, 20);
-    let t = prepared.record(x, y, 3);
+    // The last sample traced: every dot is drawn in full (later samples would be faded).
+    let t = prepared.record(x, y, 15);
     let opts = ViewOptions {
         width: 900,
         height: 600,
@@ -306,6 +308,28 @@ fn the_samples_plot_puts_each_sample_and_the_pixel_where_their_values_say() {
             );
         }
     }
+    // Traced at sample 3, the dots of samples 4… are faded towards the background (white).
+    let early = prepared.record(x, y, 3);
+    let c = draw(&early, DiagramKind::Samples, &opts).unwrap();
+    let mc = early.monte_carlo.as_ref().unwrap();
+    let l = samples::layout(&early, &opts).unwrap();
+    let mut checked = 0;
+    for ((s, d), run) in mc.samples.iter().zip(&l.dots).zip(&l.running).skip(4) {
+        let d = d.unwrap();
+        // The running mean's line shows through a faded dot: look only at dots clear of it.
+        if (run[1] - d[1]).abs() < 12.0 || (l.mean_y - d[1]).abs() < 12.0 {
+            continue;
+        }
+        checked += 1;
+        let px = c.pixel(d[0].round() as u32, d[1].round() as u32).unwrap();
+        let full = s.color.map(raystep::render::image::srgb8);
+        assert!(
+            (0..3).all(|ch| px[ch] > full[ch]),
+            "sample {}: {px:?} should be paler than {full:?}",
+            s.sample
+        );
+    }
+    assert!(checked > 0);
 }
 
 /// The 3D view draws a sample's path and its shadow rays: every light sample that reached its

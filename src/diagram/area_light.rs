@@ -177,12 +177,15 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     }
     // Every point the pixel's samples drew on this light's object.
     let ids: Vec<u32> = group.iter().map(|l| l.index).collect();
-    let points: Vec<(Vec2, Mark)> = mc
+    // The samples after the traced one are drawn faded: playing the samples one at a time, the
+    // points build up.
+    let upto = trace.sample;
+    let points: Vec<(Vec2, Mark, bool)> = mc
         .samples
         .iter()
-        .flat_map(|s| s.light_samples.iter())
-        .filter(|lp| ids.contains(&lp.light))
-        .map(|lp| {
+        .flat_map(|s| s.light_samples.iter().map(move |lp| (s.sample <= upto, lp)))
+        .filter(|(_, lp)| ids.contains(&lp.light))
+        .map(|(so_far, lp)| {
             let mark = if lp.blocked {
                 Mark::Blocked
             } else if lp.contribution.iter().all(|c| *c == 0.0) {
@@ -190,7 +193,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             } else {
                 Mark::Reached
             };
-            (plane.project(Vec3::from(lp.point)), mark)
+            (plane.project(Vec3::from(lp.point)), mark, so_far)
         })
         .collect();
     let n_blocked = points.iter().filter(|p| p.1 == Mark::Blocked).count();
@@ -249,15 +252,17 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         c.polygon(&pts, Some(with_alpha(th.light, 50)), Some(th.light), 2.0);
     }
     let r = 3.5 * c.scale;
-    for (p, m) in &points {
+    for (p, m, so_far) in &points {
         let q = to_px(*p);
+        let a = |col: super::canvas::Rgba| if *so_far { col } else { with_alpha(col, 70) };
         match m {
             Mark::Blocked => {
-                c.line([q[0] - r, q[1] - r], [q[0] + r, q[1] + r], th.blocked, 2.0);
-                c.line([q[0] - r, q[1] + r], [q[0] + r, q[1] - r], th.blocked, 2.0);
+                let col = a(th.blocked);
+                c.line([q[0] - r, q[1] - r], [q[0] + r, q[1] + r], col, 2.0);
+                c.line([q[0] - r, q[1] + r], [q[0] + r, q[1] - r], col, 2.0);
             }
-            Mark::Reached => c.circle(q, r, Some(th.shadow), Some(th.ink), 1.0),
-            Mark::Nothing => c.circle(q, r, None, Some(th.muted), 1.5),
+            Mark::Reached => c.circle(q, r, Some(a(th.shadow)), Some(a(th.ink)), 1.0),
+            Mark::Nothing => c.circle(q, r, None, Some(a(th.muted)), 1.5),
         }
     }
     let q = to_px(plane.project(Vec3::from(*point)));

@@ -156,10 +156,17 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     c.polyline(&l.running, th.ray, 2.0, false);
     let r = ((right - left) / n as f32 * 0.35).clamp(1.5 * c.scale, 5.0 * c.scale);
     let bad = l.dots.iter().filter(|d| d.is_none()).count();
+    // Samples after the traced one are faded: playing the samples one at a time, they fill in.
     for (s, d) in mc.samples.iter().zip(&l.dots) {
         let Some(p) = *d else { continue };
-        let fill = [srgb8(s.color[0]), srgb8(s.color[1]), srgb8(s.color[2]), 255];
-        c.circle(p, r, Some(fill), Some(th.muted), 1.0);
+        let alpha = if s.sample <= trace.sample { 255 } else { 60 };
+        let fill = [
+            srgb8(s.color[0]),
+            srgb8(s.color[1]),
+            srgb8(s.color[2]),
+            alpha,
+        ];
+        c.circle(p, r, Some(fill), Some(with_alpha(th.muted, alpha)), 1.0);
     }
     let this = trace.sample as usize;
     let mut legend_note = String::new();

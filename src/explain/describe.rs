@@ -457,25 +457,64 @@ pub fn tree(trace: &Trace) -> String {
     out
 }
 
-/// A Monte Carlo pixel's samples in numbers: their mean (the pixel), and the spread of their
-/// luminance — the sample standard deviation s and the standard error s/√n of the mean, which
-/// falls as 1/√n.
-pub fn pixel_summary(mc: &crate::record::samples::McRecord) -> String {
+/// The estimate of a Monte Carlo pixel from its first `n` samples: what the app's math panel
+/// shows while the samples are added one at a time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunningEstimate {
+    /// Finite samples among the first `n` (a sample that is not finite is left out).
+    pub n: usize,
+    /// Their mean, linear RGB.
+    pub mean: [f64; 3],
+    /// The mean of their luminance (Rec. 709).
+    pub luminance: f64,
+    /// The sample standard deviation of their luminance (0 below 2 samples).
+    pub sd: f64,
+    /// The half-width of the 95 % confidence interval of the luminance mean, 1.96 · sd / √n
+    /// (the normal approximation: with few samples, or a heavy tail, it is optimistic).
+    pub half_width: f64,
+}
+
+/// The estimate from the first `n` kept samples of `mc`.
+pub fn running_estimate(mc: &crate::record::samples::McRecord, n: usize) -> RunningEstimate {
     use crate::record::samples::luminance;
-    let lum: Vec<f64> = mc
+    let kept: Vec<&crate::record::samples::PixelSample> = mc
         .samples
         .iter()
-        .map(|s| luminance(s.color) as f64)
-        .filter(|v| v.is_finite())
+        .take(n)
+        .filter(|s| s.color.iter().all(|c| c.is_finite()))
         .collect();
-    let n = lum.len();
-    let mean = lum.iter().sum::<f64>() / n.max(1) as f64;
-    let var = if n > 1 {
-        lum.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64
+    let k = kept.len();
+    let mut mean = [0.0f64; 3];
+    for s in &kept {
+        for (m, c) in mean.iter_mut().zip(s.color) {
+            *m += f64::from(c);
+        }
+    }
+    let d = k.max(1) as f64;
+    let mean = mean.map(|m| m / d);
+    let lum: Vec<f64> = kept.iter().map(|s| f64::from(luminance(s.color))).collect();
+    let lmean = lum.iter().sum::<f64>() / d;
+    let var = if k > 1 {
+        lum.iter().map(|v| (v - lmean).powi(2)).sum::<f64>() / (k - 1) as f64
     } else {
         0.0
     };
     let sd = var.sqrt();
+    RunningEstimate {
+        n: k,
+        mean,
+        luminance: lmean,
+        sd,
+        half_width: 1.96 * sd / d.sqrt(),
+    }
+}
+
+/// A Monte Carlo pixel's samples in numbers: their mean (the pixel), and the spread of their
+/// luminance — the sample standard deviation s and the standard error s/√n of the mean, which
+/// falls as 1/√n.
+pub fn pixel_summary(mc: &crate::record::samples::McRecord) -> String {
+    let e = running_estimate(mc, mc.samples.len());
+    let (n, mean, sd) = (e.n, e.luminance, e.sd);
     let dark = mc
         .samples
         .iter()
@@ -521,4 +560,47 @@ pub fn pixel_summary(mc: &crate::record::samples::McRecord) -> String {
         num((sd / (n.max(1) as f64).sqrt()) as f32),
         if dark == 1 { "" } else { "s" }
     )
+}
+
+#[cfg(test)]
+mod running_tests {
+    use super::*;
+    use crate::record::samples::{McRecord, PixelSample};
+
+    fn sample(k: u32, c: f32) -> PixelSample {
+        PixelSample {
+            sample: k,
+            color: [c; 3],
+            hit: None,
+            normal: None,
+            object: None,
+            light_samples: vec![],
+            bounce: None,
+        }
+    }
+
+    /// Grey samples 1, 0, 0.5 (luminance = the grey: Rec. 709's weights sum to 1): mean 0.5,
+    /// s² = (0.25 + 0.25 + 0) / 2, so s = 0.5, and the 95 % half-width 1.96 · 0.5 / √3; a NaN
+    /// sample is left out.
+    #[test]
+    fn running_estimate_by_hand() {
+        let mc = McRecord {
+            spp: 4,
+            lights: vec![],
+            bsdfs: vec![],
+            samples: vec![
+                sample(0, 1.0),
+                sample(1, 0.0),
+                sample(2, 0.5),
+                sample(3, f32::NAN),
+            ],
+        };
+        let e = running_estimate(&mc, 4);
+        assert_eq!(e.n, 3);
+        assert!((e.luminance - 0.5).abs() < 1e-7);
+        assert!((e.sd - 0.5).abs() < 1e-7);
+        assert!((e.half_width - 1.96 * 0.5 / 3f64.sqrt()).abs() < 1e-7);
+        let one = running_estimate(&mc, 1);
+        assert_eq!((one.n, one.sd, one.half_width), (1, 0.0, 0.0));
+    }
 }

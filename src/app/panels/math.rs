@@ -4,6 +4,7 @@
 use crate::app::state::AppState;
 use crate::explain::describe;
 use crate::record::Step;
+use crate::record::number::num;
 use egui::RichText;
 
 /// The formula of the current step with the recorded numbers substituted.
@@ -17,6 +18,36 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState) {
     let e = crate::explain::formula::explain(&s.trace, ray, &step.step);
     // On a projector the formulas are what the room reads: larger still than the UI's scale.
     let math_size = if state.prefs.presentation { 1.3 } else { 1.1 };
+    if let Some(mc) = &s.trace.monte_carlo {
+        // The pixel's estimate from its samples so far (0 … the traced one): what playing the
+        // samples one at a time updates.
+        let k = s.trace.sample as usize;
+        let est = describe::running_estimate(mc, k + 1);
+        ui.label(RichText::new(format!("The pixel so far: samples 0–{k}")).strong());
+        let lines = [
+            format!(
+                "estimate = (1/n) Σ sampleᵢ = ({}, {}, {}), n = {}",
+                num(est.mean[0] as f32),
+                num(est.mean[1] as f32),
+                num(est.mean[2] as f32),
+                est.n
+            ),
+            format!(
+                "luminance {} ± {} (95 %: 1.96 · s/√n, s = {})",
+                num(est.luminance as f32),
+                num(est.half_width as f32),
+                num(est.sd as f32)
+            ),
+        ];
+        for line in lines {
+            ui.label(
+                RichText::new(line)
+                    .monospace()
+                    .size(ui.text_style_height(&egui::TextStyle::Body) * math_size),
+            );
+        }
+        ui.separator();
+    }
     ui.heading(&e.title);
     ui.label(
         RichText::new(format!(
@@ -52,6 +83,7 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState) {
     }
     ui.add_space(4.0);
     ui.label(RichText::new(&e.conclusion).strong());
+
     if let Step::Triangle { .. } | Step::Sphere { .. } = step.step {
         ui.add_space(4.0);
         ui.label(RichText::new(describe::describe(&step.step, ray.kind)).weak());

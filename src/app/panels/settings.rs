@@ -219,6 +219,24 @@ pub(super) fn settings_panel(
                 .labelled_by(l.id)
                 .on_hover_text("which of the pixel's samples the trace shows");
         });
+        if state.settings.integrator != Integrator::Whitted && state.pixel.is_some() {
+            let label = if state.sample_playing {
+                "‖ Pause the samples"
+            } else {
+                "▶ One sample at a time"
+            };
+            if ui
+                .button(label)
+                .on_hover_text(
+                    "add the pixel's samples one at a time, at the play speed: the math \
+                     panel's estimate and its 95 % interval update with each",
+                )
+                .clicked()
+            {
+                cmds.push(Command::ToggleSamplePlay);
+            }
+        }
+
         if sample != state.sample {
             cmds.push(Command::SetSample(sample));
         }

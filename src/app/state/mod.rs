@@ -117,6 +117,9 @@ pub enum Command {
     Step(StepMove),
     /// Start or stop playback.
     TogglePlay,
+    /// Start or stop adding the pixel's samples one at a time (from the traced one; from the
+    /// first when the last is traced).
+    ToggleSamplePlay,
     /// Change the preferences.
     SetPrefs(Prefs),
     /// Write a file.
@@ -194,6 +197,8 @@ pub struct AppState {
     pub step: usize,
     /// Playing the steps.
     pub playing: bool,
+    /// Adding the pixel's samples one at a time (the traced sample advances at the play speed).
+    pub sample_playing: bool,
     /// The last load error (file:line:column and what is wrong), shown until a good load.
     pub load_error: Option<String>,
     /// The status line.
@@ -221,6 +226,7 @@ pub struct AppState {
     /// Settings a lesson laid over the file it opened (kept when that file reloads).
     overrides: Option<(PathBuf, LessonSettings)>,
     last_play: Option<Instant>,
+    last_sample_play: Option<Instant>,
     loading: Option<Loading>,
     exports: Vec<std::sync::mpsc::Receiver<Message>>,
     watch: Option<Watch>,
@@ -268,6 +274,8 @@ impl AppState {
             edits: 0,
             overrides: None,
             last_play: None,
+            sample_playing: false,
+            last_sample_play: None,
             loading: None,
             exports: vec![],
             watch: None,
@@ -333,6 +341,7 @@ impl AppState {
             Command::SelectPixel(p) => {
                 self.pixel = Some(p);
                 self.playing = false;
+                self.sample_playing = false;
                 self.retrace(false);
             }
             Command::SetSample(s) => {
@@ -344,6 +353,14 @@ impl AppState {
                 if m != StepMove::Next {
                     self.playing = false;
                 }
+            }
+            Command::ToggleSamplePlay => {
+                self.sample_playing = !self.sample_playing;
+                if self.sample_playing && self.sample + 1 >= self.settings.spp {
+                    self.sample = 0;
+                    self.retrace(true);
+                }
+                self.last_sample_play = None;
             }
             Command::TogglePlay => {
                 self.playing = !self.playing;
@@ -704,6 +721,23 @@ impl AppState {
                 Some(_) => {}
             }
         }
+        if self.sample_playing {
+            let interval =
+                Duration::from_secs_f64(1.0 / f64::from(self.prefs.speed.clamp(0.1, 60.0)));
+            match self.last_sample_play {
+                None => self.last_sample_play = Some(now),
+                Some(t) if now.duration_since(t) >= interval => {
+                    self.last_sample_play = Some(now);
+                    if self.pixel.is_none() || self.sample + 1 >= self.settings.spp {
+                        self.sample_playing = false;
+                    } else {
+                        self.sample += 1;
+                        self.retrace(true);
+                    }
+                }
+                Some(_) => {}
+            }
+        }
         self.exports.retain(|rx| match rx.try_recv() {
             Ok(m) => {
                 self.message = Some(m);
@@ -755,7 +789,7 @@ impl AppState {
 
     /// When the next [`AppState::tick`] has work to do by itself (playback, file watching).
     pub fn next_wakeup(&self) -> Option<Duration> {
-        if self.playing {
+        if self.playing || self.sample_playing {
             Some(Duration::from_secs_f32(
                 1.0 / self.prefs.speed.clamp(0.1, 60.0) / 2.0,
             ))
