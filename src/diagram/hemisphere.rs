@@ -213,7 +213,11 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let panel_lines = panel(&f, mc);
     let small = ts * 0.85;
     let panel_h = small * 1.35 * panel_lines.len() as f32 + ts * 0.6;
-    let avail_h = (c.height() - top - panel_h - ts * 1.2).max(ts * 4.0);
+    // The drawing gets at least 55 % of the height below the title (on a short, wide canvas —
+    // a projector's diagram panel — the panel's last lines give way, not the drawing).
+    let avail_h = (c.height() - top - panel_h - ts * 1.2)
+        .max((c.height() - top) * 0.55)
+        .max(ts * 4.0);
     let r = (avail_h / 1.25).min(c.width() * 0.36);
     let o = [c.width() / 2.0, top + r * 1.18];
     let at = |theta: f32, len: f32| [o[0] + theta.sin() * len, o[1] - theta.cos() * len];
@@ -263,7 +267,15 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     };
     match f.bsdf {
         Some(b) if !bsdf::is_delta(&b) => {
-            let pts = lobe(&b, &fr, 180);
+            // A fine lobe (a nearly smooth GGX surface) is narrower than the curve's 0.25° steps:
+            // its mirror direction, where it peaks, is added to the curve.
+            let mut pts = lobe(&b, &fr, 720);
+            let (mirror, _) = fr.angle(bsdf::mirror(fr.wo, fr.normal));
+            if mirror.abs() < PI / 2.0 {
+                let p = bsdf::pdf(&b, fr.wo, fr.direction(mirror), fr.normal).max(0.0);
+                let k = pts.partition_point(|q| q.0 < mirror);
+                pts.insert(k, (mirror, p));
+            }
             let max = pts.iter().map(|p| p.1).fold(0.0f32, f32::max);
             if max > 0.0 {
                 let mut poly: Vec<[f32; 2]> = pts
@@ -365,6 +377,9 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     // The panel.
     let mut y = o[1] + ts * 0.8;
     for line in panel_lines {
+        if y + small * 1.2 > c.height() {
+            break;
+        }
         let shown = c.elide(&line, small, c.width() - ts * 1.6);
         c.text(ts * 0.8, y, small, &shown, th.ink, Anchor::TopLeft);
         y += small * 1.35;

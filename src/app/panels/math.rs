@@ -32,12 +32,19 @@ pub fn panel(ui: &mut egui::Ui, state: &AppState) {
                 num(est.mean[2] as f32),
                 est.n
             ),
-            format!(
-                "luminance {} ± {} (95 %: 1.96 · s/√n, s = {})",
-                num(est.luminance as f32),
-                num(est.half_width as f32),
-                num(est.sd as f32)
-            ),
+            if est.n < 2 {
+                format!(
+                    "luminance {} (one sample: no spread to measure yet)",
+                    num(est.luminance as f32)
+                )
+            } else {
+                format!(
+                    "luminance {} ± {} (95 %: 1.96 · s/√n, s = {})",
+                    num(est.luminance as f32),
+                    num(est.half_width as f32),
+                    num(est.sd as f32)
+                )
+            },
         ];
         for line in lines {
             ui.label(
