@@ -392,12 +392,7 @@ fn deg(a: f32) -> String {
 }
 
 fn v3(c: [f32; 3]) -> String {
-    format!(
-        "({}, {}, {})",
-        fmt(c[0], Style::Label),
-        fmt(c[1], Style::Label),
-        fmt(c[2], Style::Label)
-    )
+    crate::record::number::v3_in(c, Style::Label)
 }
 
 /// The numbers under the drawing.

@@ -199,12 +199,7 @@ fn box_lines(r: &RayRecord) -> Vec<(String, bool)> {
 }
 
 fn colour_text(c: [f32; 3]) -> String {
-    format!(
-        "({}, {}, {})",
-        fmt(c[0], Style::Decimals(3)),
-        fmt(c[1], Style::Decimals(3)),
-        fmt(c[2], Style::Decimals(3))
-    )
+    crate::record::number::v3_in(c, Style::Decimals(3))
 }
 
 /// The tree's layout on canvas `c` below `top`, above `bottom`: the boxes and the metrics they

@@ -191,22 +191,16 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     );
     lx += small * 1.3;
     lx += c.text(lx, ly, small, "one sample", th.ink, Anchor::TopLeft) + small;
-    c.line(
-        [lx, ly + small * 0.6],
-        [lx + small * 1.5, ly + small * 0.6],
-        th.ray,
-        2.0,
-    );
-    lx += small * 1.9;
-    lx += c.text(lx, ly, small, "running mean", th.ink, Anchor::TopLeft) + small;
-    c.dashed(
-        [lx, ly + small * 0.6],
-        [lx + small * 1.5, ly + small * 0.6],
-        th.ink,
-        1.5,
-    );
-    lx += small * 1.9;
-    c.text(lx, ly, small, "the pixel", th.ink, Anchor::TopLeft);
+    // The two lines' legend entries: a short stroke (solid or dashed), then its words.
+    for (words, colour, width, dashed) in [
+        ("running mean", th.ray, 2.0, false),
+        ("the pixel", th.ink, 1.5, true),
+    ] {
+        let mid = ly + small * 0.6;
+        c.polyline(&[[lx, mid], [lx + small * 1.5, mid]], colour, width, dashed);
+        lx += small * 1.9;
+        lx += c.text(lx, ly, small, words, th.ink, Anchor::TopLeft) + small;
+    }
     let mut note = legend_note;
     if bad > 0 {
         note = format!("{note} · {bad} not finite (left out)");
@@ -226,10 +220,5 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
 }
 
 fn rgb(c: [f32; 3]) -> String {
-    format!(
-        "({}, {}, {})",
-        fmt(c[0], Style::Decimals(3)),
-        fmt(c[1], Style::Decimals(3)),
-        fmt(c[2], Style::Decimals(3))
-    )
+    crate::record::number::v3_in(c, Style::Decimals(3))
 }

@@ -83,7 +83,17 @@ pub fn label(x: f32) -> String {
 
 /// A vector in [`Style::Exact`], e.g. `(0, 1.5, -5)`.
 pub fn v3(v: [f32; 3]) -> String {
-    format!("({}, {}, {})", num(v[0]), num(v[1]), num(v[2]))
+    v3_in(v, Style::Exact)
+}
+
+/// A vector in a named style, e.g. `(0.63, 0.065, 0.05)` in `Style::Decimals(3)`.
+pub fn v3_in(v: [f32; 3], style: Style) -> String {
+    format!(
+        "({}, {}, {})",
+        fmt(v[0], style),
+        fmt(v[1], style),
+        fmt(v[2], style)
+    )
 }
 
 /// An optional number: `—` when the record has none (an older trace, or a step that did not

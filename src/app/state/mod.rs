@@ -701,41 +701,24 @@ impl AppState {
                 }
             }
         }
-        if self.playing {
-            let interval =
-                Duration::from_secs_f64(1.0 / f64::from(self.prefs.speed.clamp(0.1, 60.0)));
-            match self.last_play {
-                None => self.last_play = Some(now),
-                Some(t) if now.duration_since(t) >= interval => {
-                    self.last_play = Some(now);
-                    let at_end = self
-                        .stepping
-                        .as_ref()
-                        .is_none_or(|s| self.step + 1 >= s.len());
-                    if at_end {
-                        self.playing = false;
-                    } else {
-                        self.step += 1;
-                    }
-                }
-                Some(_) => {}
+        let speed = self.prefs.speed;
+        if self.playing && play_due(&mut self.last_play, now, speed) {
+            let at_end = self
+                .stepping
+                .as_ref()
+                .is_none_or(|s| self.step + 1 >= s.len());
+            if at_end {
+                self.playing = false;
+            } else {
+                self.step += 1;
             }
         }
-        if self.sample_playing {
-            let interval =
-                Duration::from_secs_f64(1.0 / f64::from(self.prefs.speed.clamp(0.1, 60.0)));
-            match self.last_sample_play {
-                None => self.last_sample_play = Some(now),
-                Some(t) if now.duration_since(t) >= interval => {
-                    self.last_sample_play = Some(now);
-                    if self.pixel.is_none() || self.sample + 1 >= self.settings.spp {
-                        self.sample_playing = false;
-                    } else {
-                        self.sample += 1;
-                        self.retrace(true);
-                    }
-                }
-                Some(_) => {}
+        if self.sample_playing && play_due(&mut self.last_sample_play, now, speed) {
+            if self.pixel.is_none() || self.sample + 1 >= self.settings.spp {
+                self.sample_playing = false;
+            } else {
+                self.sample += 1;
+                self.retrace(true);
             }
         }
         self.exports.retain(|rx| match rx.try_recv() {
@@ -838,4 +821,21 @@ fn message_life(m: &Message) -> Duration {
 
 fn path_is_none(doc: &Document) -> bool {
     matches!(doc, Document::Scene { path: None, .. })
+}
+
+/// Whether a playback (of steps, or of samples) moves on at `now`: one move per 1/`speed`
+/// seconds of the UI clock; the first call only starts the clock (`last`).
+fn play_due(last: &mut Option<Instant>, now: Instant, speed: f32) -> bool {
+    let interval = Duration::from_secs_f64(1.0 / f64::from(speed.clamp(0.1, 60.0)));
+    match *last {
+        None => {
+            *last = Some(now);
+            false
+        }
+        Some(t) if now.duration_since(t) >= interval => {
+            *last = Some(now);
+            true
+        }
+        Some(_) => false,
+    }
 }
