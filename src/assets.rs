@@ -60,6 +60,10 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/10-antialiasing.md",
     "lessons/11-ray-tracing-on-the-gpu.md",
     "lessons/12-numerical-robustness.md",
+    "lessons/13-monte-carlo-integration.md",
+    "lessons/14-area-lights-and-soft-shadows.md",
+    "lessons/15-path-tracing.md",
+    "lessons/16-multiple-importance-sampling.md",
     "lessons/starter/README.md",
     "lessons/starter/sheet.toml",
     "lessons/starter/tracer.py",
@@ -75,6 +79,10 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/exercises/10-antialiasing.toml",
     "lessons/exercises/11-gpu.toml",
     "lessons/exercises/12-robustness.toml",
+    "lessons/exercises/13-monte-carlo.toml",
+    "lessons/exercises/14-area-lights.toml",
+    "lessons/exercises/15-path-tracing.toml",
+    "lessons/exercises/16-mis.toml",
 );
 
 /// The names of the built-in scenes (`cornell`, `three-spheres`, …), sorted.
@@ -458,7 +466,7 @@ mod tests {
         // A scene is not a sheet, nor is the starter kit's grading sheet.
         assert!(builtin_sheet("cornell").is_none());
         assert!(builtin_sheet("sheet").is_none());
-        assert_eq!(sheet_names().len(), 12);
+        assert_eq!(sheet_names().len(), 16);
         assert_eq!(sheet_names()[0], "01-camera");
         // An existing file of that name wins over the built-in sheet.
         let dir = std::env::temp_dir().join(format!("raystep-sheet-{}", std::process::id()));
