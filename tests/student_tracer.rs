@@ -356,3 +356,58 @@ fn sheets_vary_the_scene_per_student() {
         "{err}"
     );
 }
+
+/// The starter kit's `uniform` (Python, `lessons/starter/tracer.py`) draws raystep's random
+/// numbers bit for bit: 200 inputs, extremes included, against `raystep::mc::random::uniform`.
+#[test]
+fn the_starter_kits_uniform_is_raysteps() {
+    let mut inputs = vec![
+        ([0u32, 0u32], 0u32, 0u32, 0u32),
+        ([u32::MAX, u32::MAX], u32::MAX, u32::MAX, u32::MAX),
+        ([40, 160], 0, 3094, 0),
+    ];
+    let mut h = 12345u32;
+    for _ in 0..197 {
+        let mut next = || {
+            h = raystep::trace::sampling::pcg_hash(h);
+            h
+        };
+        inputs.push((
+            [next() % 4096, next() % 4096],
+            next() % 65536,
+            next() % 8192,
+            next(),
+        ));
+    }
+    let calls: Vec<String> = inputs
+        .iter()
+        .map(|(p, s, d, seed)| {
+            format!(
+                "print(repr(t.uniform(({}, {}), {s}, {d}, {seed})))",
+                p[0], p[1]
+            )
+        })
+        .collect();
+    let script = format!(
+        "import sys\nsys.path.insert(0, 'lessons/starter')\nimport tracer as t\n{}\n",
+        calls.join("\n")
+    );
+    let out = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(&script)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("python3 runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let got: Vec<f64> = text.lines().map(|l| l.parse().unwrap()).collect();
+    assert_eq!(got.len(), inputs.len());
+    for ((p, s, d, seed), g) in inputs.iter().zip(got) {
+        let want = raystep::mc::random::uniform(*p, *s, *d, *seed);
+        assert_eq!(g, f64::from(want), "uniform({p:?}, {s}, {d}, {seed})");
+    }
+}

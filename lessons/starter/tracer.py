@@ -47,6 +47,27 @@ def normalize(a):
     return mul(a, 1.0 / length)
 
 
+# --- raystep's random numbers (Monte Carlo lessons 13-16) -----------------------------------
+
+
+def pcg_hash(x):
+    """The PCG hash (Jarzynski and Olano 2020) of a 32-bit unsigned integer."""
+    state = (x * 747796405 + 2891336453) & 0xFFFFFFFF
+    word = (((state >> ((state >> 28) + 4)) ^ state) * 277803737) & 0xFFFFFFFF
+    return ((word >> 22) ^ word) & 0xFFFFFFFF
+
+
+def uniform(pixel, sample, dimension, seed=0):
+    """raystep's random number `dimension` of sample `sample` of pixel (x, y): in [0, 1), the
+    top 24 bits of a chain of PCG hashes over seed, sample, y, x and dimension. A path tracer
+    that draws its numbers here draws the very numbers raystep's trace records (`u[16] = ...`):
+    the lens takes dimensions 2 and 3, bounce b the block from 16 + 1024 b (slot 0 picks the
+    light, 1-2 the point on it, 3 glass's lobe, 4-5 the BSDF's direction, 6 Russian roulette)."""
+    x, y = pixel
+    h = pcg_hash(dimension ^ pcg_hash(x ^ pcg_hash(y ^ pcg_hash(sample ^ pcg_hash(seed)))))
+    return (h >> 8) / 16777216.0
+
+
 def emit(record):
     """Prints one record of the student trace format."""
     print(json.dumps(record))
