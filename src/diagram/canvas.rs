@@ -579,11 +579,15 @@ impl Canvas {
         })
     }
 
-    /// Draws text on a rounded-ish label box so it stays readable over lines.
+    /// Draws text on a rounded-ish label box so it stays readable over lines, moved in from
+    /// the canvas's edges so that it is whole (a label wider than the canvas starts at its left
+    /// edge).
     pub fn label(&mut self, x: f32, y: f32, size: f32, text: &str, c: Rgba, anchor: Anchor) {
         let w = self.text_width(text, size);
         let h = size * 1.2;
         let (x0, y0) = anchor.top_left(x, y, w, h);
+        let x0 = x0.min(self.width() - w - 3.0).max(3.0);
+        let y0 = y0.min(self.height() - h - 1.0).max(1.0);
         let mut bg = self.theme.background;
         bg[3] = 215;
         self.rect(x0 - 3.0, y0 - 1.0, w + 6.0, h + 2.0, bg);
@@ -819,4 +823,33 @@ pub fn clip_polygon(pts: &[[f64; 2]], r: [f64; 4]) -> Vec<[f64; 2]> {
 /// A colour with its alpha replaced.
 pub fn with_alpha(c: Rgba, a: u8) -> Rgba {
     [c[0], c[1], c[2], a]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The non-background pixels with x in `xs`.
+    fn inked(c: &Canvas, xs: std::ops::Range<u32>) -> usize {
+        let bg = c.pixel(0, 0).unwrap();
+        xs.flat_map(|x| (0..c.pixmap.height()).map(move |y| (x, y)))
+            .filter(|&(x, y)| c.pixel(x, y) != Some(bg))
+            .count()
+    }
+
+    #[test]
+    fn a_label_at_the_edge_is_moved_in_whole() {
+        // Centred 40 pixels left of the canvas, a 10-character label would be drawn entirely
+        // outside it; it is moved in to start 3 pixels from the left edge.
+        let mut c = Canvas::new(240, 60, Theme::LIGHT);
+        let w = c.text_width("ωi sampled", 14.0);
+        c.label(-40.0, 30.0, 14.0, "ωi sampled", c.theme.ink, Anchor::Center);
+        assert!(inked(&c, 3..(3.0 + w) as u32 + 1) > 20);
+        assert_eq!(inked(&c, (4.0 + w) as u32 + 3..240), 0);
+        // Past the right edge and below the bottom: moved in too.
+        let mut c = Canvas::new(240, 60, Theme::LIGHT);
+        c.label(400.0, 90.0, 14.0, "ωi sampled", c.theme.ink, Anchor::Center);
+        assert!(inked(&c, (237.0 - w) as u32..237) > 20);
+        assert_eq!(inked(&c, 0..(236.0 - w) as u32 - 3), 0);
+    }
 }
