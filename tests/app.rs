@@ -508,6 +508,118 @@ fn samples_play_one_at_a_time_and_the_estimate_follows() {
     assert_eq!(st.sample, 0);
 }
 
+/// "Watch it converge": the render starts again and holds each pass (1, 1, 2, 4 samples per
+/// pixel at 8 spp) on screen for `CONVERGE_PACE`, so the run takes at least three holds (none
+/// after the last pass); every pass's samples count is seen on the way, and the finished image
+/// is the unpaced render's, bit for bit.
+#[test]
+fn watch_it_converge_holds_each_pass_and_renders_the_same_image() {
+    use raystep::app::state::{AppState, CONVERGE_PACE};
+    use std::sync::atomic::Ordering;
+    // A small copy of the scene: an unpaced pass takes milliseconds, so the holds are what
+    // the run's length measures.
+    let dir = tempfile::tempdir().unwrap();
+    let small = dir.path().join("soft-shadows-small.toml");
+    let text = std::fs::read_to_string(scene_path("soft-shadows.toml"))
+        .unwrap()
+        .replace("width = 320", "width = 48")
+        .replace("height = 240", "height = 36");
+    std::fs::write(&small, text).unwrap();
+    let mut st = AppState::new(Prefs::default(), || {});
+    st.open(&small);
+    let start = Instant::now();
+    let settle = |st: &mut AppState, what: &str| {
+        while st.busy() || st.rendered.is_none() {
+            assert!(start.elapsed() < Duration::from_secs(120), "{what}");
+            st.tick(Instant::now());
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    };
+    settle(&mut st, "no first render");
+    let mut s = st.settings.clone();
+    s.spp = 8;
+    st.apply(Command::SetSettings(s));
+    settle(&mut st, "no render at 8 spp");
+    let fast = st.rendered.as_ref().unwrap().output.pixels.clone();
+    assert!(
+        st.rendered.as_ref().unwrap().wall < CONVERGE_PACE,
+        "the unpaced render should be quick"
+    );
+    st.apply(Command::WatchConverge);
+    let t0 = Instant::now();
+    assert!(
+        st.job
+            .as_ref()
+            .is_some_and(|j| j.pace == Some(CONVERGE_PACE))
+    );
+    let mut seen = vec![];
+    while st.busy() || st.rendered.is_none() {
+        assert!(
+            t0.elapsed() < Duration::from_secs(120),
+            "the paced render did not end"
+        );
+        if let Some(j) = &st.job {
+            let done = j.live.samples_done.load(Ordering::Relaxed);
+            if seen.last() != Some(&done) {
+                seen.push(done);
+            }
+        }
+        st.tick(Instant::now());
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let took = t0.elapsed();
+    assert!(took >= CONVERGE_PACE * 3, "{took:?}");
+    for k in [1, 2, 4] {
+        assert!(
+            seen.contains(&k),
+            "{k} samples per pixel never shown: {seen:?}"
+        );
+    }
+    assert!(st.rendered.as_ref().unwrap().output.pixels == fast);
+}
+
+/// "Large view": the diagram of the step, drawn over the render and the explain panel at that
+/// size (here the area light of a light-sample step), following the step; "✕ Back to the panel"
+/// puts it back.
+#[test]
+fn the_diagram_shows_large_and_follows_the_step() {
+    let path = scene_path("soft-shadows.toml");
+    let mut h = harness(Some(&path));
+    wait_for(&mut h, "the first render", rendered);
+    click_pixel(&mut h, [160, 120]);
+    wait_for(&mut h, "the pixel's trace", |a| {
+        rendered(a)
+            && a.state
+                .stepping
+                .as_ref()
+                .is_some_and(|s| s.trace.pixel == [160, 120])
+    });
+    h.run_steps(3);
+    // Step 8 samples a point on "small light" (`raystep trace … --pixel 160,120`).
+    h.state_mut().state.apply(Command::Step(StepMove::To(8)));
+    h.step();
+    assert!(h.query_by_label("Area light, large").is_none());
+    h.step(); // the controls' layout settles (the slice's slider row goes)
+    h.get_by_label("Large view").click();
+    h.step();
+    h.step();
+    assert!(h.state().panels.diagram.enlarged);
+    assert!(h.query_by_label("Area light, large").is_some());
+    let big = h.get_by_label("Area light, large").rect();
+    let centre = h.state().panels.centre_rect.unwrap();
+    assert!(big.min.x <= centre.min.x + 20.0, "{big:?} over {centre:?}");
+    // Step 0 (the camera): the diagram there is the scene slice.
+    h.state_mut().state.apply(Command::Step(StepMove::To(0)));
+    h.step();
+    h.step();
+    assert!(h.query_by_label("Slice, large").is_some());
+    h.get_by_label("✕ Back to the panel").click();
+    h.step();
+    h.step();
+    assert!(!h.state().panels.diagram.enlarged);
+    assert!(h.query_by_label("Slice, large").is_none());
+}
+
 /// Presentation mode: high contrast (black panels, white text) and the presentation scale (in
 /// proportion to the window's height below 1080 points); leaving it (Esc) restores the chosen
 /// theme and scale.

@@ -21,6 +21,18 @@ pub enum JobEvent {
     Done(Result<Arc<RenderOutput>, String>),
 }
 
+/// Waits until `until`, or until the render is cancelled (checked every 20 ms, so that a new
+/// render never waits on an old one's pause).
+fn hold(live: &LiveRender, until: Instant) {
+    while !live.cancel.load(Ordering::Relaxed) {
+        let now = Instant::now();
+        if now >= until {
+            return;
+        }
+        std::thread::sleep((until - now).min(Duration::from_millis(20)));
+    }
+}
+
 /// A render running on background threads.
 #[derive(Debug)]
 pub struct RenderJob {
@@ -28,16 +40,22 @@ pub struct RenderJob {
     pub live: Arc<LiveRender>,
     /// When the job started.
     pub started: Instant,
+    /// How long each pass of a progressive render stays on screen at least ("watch it
+    /// converge"); `None` renders as fast as it can.
+    pub pace: Option<Duration>,
     events: Receiver<JobEvent>,
 }
 
 impl RenderJob {
     /// Starts preparing and rendering `base` with `settings`. `repaint` is called whenever
-    /// there is something new to show.
+    /// there is something new to show. With a `pace`, a progressive (Monte Carlo) render holds
+    /// each pass's image on screen that long at least before the next pass starts, so that a
+    /// class can watch 1, 2, 4, … samples per pixel come in (the image is the same).
     pub fn start(
         base: Arc<Scene>,
         settings: Settings,
         previous: Option<Arc<PreparedScene>>,
+        pace: Option<Duration>,
         repaint: impl Fn() + Send + Sync + 'static,
     ) -> RenderJob {
         let live = Arc::new(LiveRender::new(base.camera.width, base.camera.height));
@@ -58,7 +76,19 @@ impl RenderJob {
             repaint();
             let tiles_repaint = Arc::clone(&repaint);
             let pass_repaint = Arc::clone(&repaint);
-            let tiles_now = move || pass_repaint();
+            let held = Arc::clone(&job_live);
+            let mut shown_at = Instant::now();
+            let spp = settings.spp;
+            let mut after_pass = move |done: u32| {
+                pass_repaint();
+                // Held after every pass but the last (the finished image needs no wait).
+                if let Some(pace) = pace
+                    && done < spp
+                {
+                    hold(&held, shown_at + pace);
+                    shown_at = Instant::now();
+                }
+            };
             let watcher = Arc::clone(&job_live);
             // Repaint the UI a few times a second while the tiles come in.
             let ticker = std::thread::spawn(move || {
@@ -78,7 +108,7 @@ impl RenderJob {
             // A Monte Carlo render accumulates: 1, 2, 4, … samples per pixel, the image shown
             // after each pass (the finished image is the same either way).
             let result = if settings.integrator != Integrator::Whitted && settings.spp > 1 {
-                render_progressive(&tracer, &opts, |_, _| tiles_now())
+                render_progressive(&tracer, &opts, |done, _| after_pass(done))
             } else {
                 render(&tracer, &opts)
             }
@@ -91,6 +121,7 @@ impl RenderJob {
         RenderJob {
             live,
             started: Instant::now(),
+            pace,
             events,
         }
     }

@@ -58,6 +58,9 @@ pub struct Layout {
     pub explain: f32,
     /// Math panel height / height of the diagram-and-math panel.
     pub math: f32,
+    /// The same while a Monte Carlo pixel is shown: its diagrams (the hemisphere, the light's
+    /// samples, the samples' plot) are the lesson, so they get more of the height by default.
+    pub sampling_math: f32,
     /// The trace tree is folded to a narrow strip.
     pub tree_collapsed: bool,
 }
@@ -70,6 +73,7 @@ impl Default for Layout {
             tree: 0.16,
             explain: 0.28,
             math: 0.5,
+            sampling_math: 0.35,
             tree_collapsed: false,
         }
     }
@@ -91,6 +95,7 @@ impl Layout {
         Layout {
             explain: 0.46,
             math: 0.45,
+            sampling_math: 0.3,
             tree_collapsed: true,
             ..Layout::default()
         }
@@ -106,6 +111,7 @@ impl Layout {
             tree: sane(self.tree, 0.02, 0.6, d.tree),
             explain: sane(self.explain, 0.02, 0.6, d.explain),
             math: sane(self.math, 0.1, 0.9, d.math),
+            sampling_math: sane(self.sampling_math, 0.1, 0.9, d.sampling_math),
             tree_collapsed: self.tree_collapsed,
         }
     }
@@ -174,24 +180,33 @@ impl Layout {
     }
 
     /// The math panel's height (points) in a diagram-and-math panel `height` points high: its
-    /// fraction, leaving the diagram at least a third.
-    pub fn math_height(&self, height: f32) -> f32 {
+    /// fraction ([`Layout::sampling_math`] when `sampling`, a Monte Carlo pixel, is shown),
+    /// leaving the diagram at least a third.
+    pub fn math_height(&self, height: f32, sampling: bool) -> f32 {
         let height = if height.is_finite() {
             height.max(0.0)
         } else {
             0.0
         };
-        (self.validated().math * height)
+        let v = self.validated();
+        let fraction = if sampling { v.sampling_math } else { v.math };
+        (fraction * height)
             .min(height * 0.67)
             .max((120.0f32).min(height * 0.5))
             .floor()
     }
 
     /// The user dragged the math panel's top edge to make it `wanted` points high in a panel
-    /// `height` points high.
-    pub fn drag_math(&mut self, wanted: f32, height: f32) {
+    /// `height` points high (while a Monte Carlo pixel is shown when `sampling`: that fraction
+    /// is remembered apart).
+    pub fn drag_math(&mut self, wanted: f32, height: f32, sampling: bool) {
         if height.is_finite() && height > 1.0 && wanted.is_finite() {
-            self.math = (wanted / height).clamp(0.15, 0.67);
+            let f = (wanted / height).clamp(0.15, 0.67);
+            if sampling {
+                self.sampling_math = f;
+            } else {
+                self.math = f;
+            }
         }
     }
 }
@@ -236,6 +251,7 @@ mod tests {
             tree: 40.0,
             explain: f32::INFINITY,
             math: 0.0,
+            sampling_math: f32::NAN,
             tree_collapsed: false,
         };
         assert_eq!(bad.validated(), Layout::default());
@@ -274,5 +290,22 @@ mod tests {
         assert_eq!(l.tree, 0.1);
         l.drag(Side::Tree, f32::NAN, 1000.0, 0.0);
         assert_eq!(l.tree, 0.1);
+    }
+
+    #[test]
+    fn a_monte_carlo_pixel_keeps_its_own_math_share() {
+        // Presentation mode: 600 points high, the math 0.45 of it for a Whitted pixel, 0.3 for
+        // a Monte Carlo one (the diagram gets 420 points).
+        let mut l = Layout::presentation();
+        assert_eq!(l.math_height(600.0, false), 270.0);
+        assert_eq!(l.math_height(600.0, true), 180.0);
+        // Dragging while a Monte Carlo pixel is shown moves only that share.
+        l.drag_math(240.0, 600.0, true);
+        assert_eq!((l.math, l.sampling_math), (0.45, 0.4));
+        l.drag_math(120.0, 600.0, false);
+        assert_eq!((l.math, l.sampling_math), (0.2, 0.4));
+        // An old preferences file without the key reads with the default.
+        let old: Layout = serde_json::from_str(r#"{"math": 0.3}"#).unwrap();
+        assert_eq!((old.math, old.sampling_math), (0.3, 0.35));
     }
 }

@@ -7,6 +7,51 @@ use super::state::{AppState, Command};
 use egui::{Color32, ColorImage, Pos2, Rect, Sense, TextureHandle, TextureOptions, Vec2};
 use std::sync::atomic::Ordering;
 
+/// Over a Monte Carlo render: how many samples per pixel the image holds so far (the render
+/// comes in passes of 1, 1, 2, 4, … samples), and a button that renders it again slowly
+/// enough for a class to watch the noise go.
+fn converge_row(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
+    let spp = state.settings.spp;
+    let (text, running) = match &state.job {
+        Some(_) if state.prepared.is_none() => ("preparing the scene…".to_string(), true),
+        Some(job) => {
+            let done = job.live.samples_done.load(Ordering::Relaxed);
+            let watching = if job.pace.is_some() { ", watching" } else { "" };
+            (
+                format!("{done} of {spp} samples per pixel so far{watching}"),
+                true,
+            )
+        }
+        None => (
+            format!("{spp} sample{} per pixel", if spp == 1 { "" } else { "s" }),
+            false,
+        ),
+    };
+    ui.horizontal_wrapped(|ui| {
+        let integrator = match state.settings.integrator {
+            crate::scene::Integrator::Path => "Path tracing",
+            _ => "Distribution ray tracing",
+        };
+        ui.strong(format!("{integrator} · {text}"));
+        let watching = state.job.as_ref().is_some_and(|j| j.pace.is_some());
+        // Greyed out while it is being watched (not hidden: the image does not jump).
+        if spp > 1
+            && ui
+                .add_enabled(
+                    !(running && watching),
+                    egui::Button::new("▶ Watch it converge"),
+                )
+                .on_hover_text(
+                    "render again from one sample per pixel, each pass (1, 2, 4, … samples) \
+                     held on screen for a moment",
+                )
+                .clicked()
+        {
+            cmds.push(Command::WatchConverge);
+        }
+    });
+}
+
 /// The render view's textures, zoom and pan (not persisted).
 #[derive(Default)]
 pub struct RenderView {
@@ -143,6 +188,9 @@ pub fn render_view(
         return;
     };
     let (w, h) = (scene.camera.width as f32, scene.camera.height as f32);
+    if state.settings.integrator != crate::scene::Integrator::Whitted {
+        converge_row(ui, state, cmds);
+    }
     let (rect, resp) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
     if view.zoom <= 0.0 {
         view.zoom = 1.0;

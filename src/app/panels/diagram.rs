@@ -12,6 +12,11 @@ use egui::{ColorImage, TextureHandle, TextureOptions, Vec2};
 #[derive(Default)]
 pub struct DiagramPanel {
     texture: Option<(TextureHandle, DiagramKey)>,
+    /// The large view's texture ([`DiagramPanel::enlarged`]).
+    large_texture: Option<(TextureHandle, DiagramKey)>,
+    /// Show the diagram large, over the render and this panel (for a class: the hemisphere, the
+    /// light's samples).
+    pub enlarged: bool,
     /// Why the last diagram could not be drawn, if it could not.
     pub error: Option<String>,
     /// Show the docked 3D view in place of the diagram.
@@ -34,13 +39,14 @@ struct DiagramKey {
 }
 
 impl DiagramPanel {
-    /// The diagram texture for the current step at `size`, drawn when anything it depends on
-    /// changed.
+    /// The diagram texture for the current step at `size` (the panel's, or the large view's
+    /// when `large`), drawn when anything it depends on changed.
     pub fn diagram(
         &mut self,
         ctx: &egui::Context,
         state: &AppState,
         size: [u32; 2],
+        large: bool,
     ) -> Option<TextureHandle> {
         let s = state.stepping.as_ref()?;
         let kind = state.diagram_kind()?;
@@ -54,7 +60,12 @@ impl DiagramPanel {
             top_down: state.prefs.top_down,
             scale: ctx.pixels_per_point(),
         };
-        if let Some((t, k)) = &self.texture
+        let slot = if large {
+            &mut self.large_texture
+        } else {
+            &mut self.texture
+        };
+        if let Some((t, k)) = slot
             && *k == key
         {
             return Some(t.clone());
@@ -71,14 +82,14 @@ impl DiagramPanel {
                     [c.pixmap.width() as usize, c.pixmap.height() as usize],
                     c.pixmap.data(),
                 );
-                let t = match self.texture.take() {
+                let t = match slot.take() {
                     Some((mut t, _)) => {
                         t.set(img, TextureOptions::LINEAR);
                         t
                     }
                     None => ctx.load_texture("diagram", img, TextureOptions::LINEAR),
                 };
-                self.texture = Some((t.clone(), key));
+                *slot = Some((t.clone(), key));
                 Some(t)
             }
             Err(e) => {
@@ -140,6 +151,7 @@ pub fn panel(
                 .on_hover_text("turn the slice about the primary ray (drag or type)");
                 ui.checkbox(&mut p.top_down, "from above");
             }
+            large_toggle(ui, &mut cache.enlarged);
         });
     } else {
         ui.horizontal_wrapped(|ui| {
@@ -147,6 +159,8 @@ pub fn panel(
             for k in &s.kinds {
                 ui.selectable_value(&mut p.diagram, DiagramChoice::Kind(*k), diagram_label(*k));
             }
+            ui.separator();
+            large_toggle(ui, &mut cache.enlarged);
         });
         if slice {
             ui.horizontal_wrapped(|ui| {
@@ -182,7 +196,7 @@ pub fn panel(
     ];
     // Round to 8 pixels so a panel being resized does not redraw on every frame.
     let size = [size[0] / 8 * 8, size[1] / 8 * 8];
-    match cache.diagram(ui.ctx(), state, size) {
+    match cache.diagram(ui.ctx(), state, size, false) {
         Some(t) => {
             ui.add(
                 egui::Image::new(&t)
@@ -193,6 +207,68 @@ pub fn panel(
             ui.label(cache.error.clone().unwrap_or_default());
         }
     }
+}
+
+/// The toggle that shows the diagram large ([`enlarged_view`]).
+fn large_toggle(ui: &mut egui::Ui, enlarged: &mut bool) {
+    ui.toggle_value(enlarged, "Large view").on_hover_text(
+        "show this diagram large, over the render (click again, or ✕ on it, to put it back); \
+         it follows the step",
+    );
+}
+
+/// The diagram large ([`DiagramPanel::enlarged`]), in `area` (the render's and this panel's
+/// space): a frame with the diagram drawn at that size, its text at the UI's scale, and a button
+/// that puts it back.
+pub fn enlarged_view(
+    ctx: &egui::Context,
+    state: &AppState,
+    cache: &mut DiagramPanel,
+    area: egui::Rect,
+) {
+    if !cache.enlarged || state.stepping.is_none() {
+        return;
+    }
+    let mut keep = true;
+    egui::Area::new(egui::Id::unique("diagram-large"))
+        .fixed_pos(area.min)
+        .order(egui::Order::Middle)
+        .show(ctx, |ui| {
+            egui::Frame::window(ui.style()).show(ui, |ui| {
+                let inner = area.shrink(12.0);
+                ui.set_min_size(inner.size());
+                ui.set_max_size(inner.size());
+                ui.horizontal(|ui| {
+                    let kind = state.diagram_kind().map_or("Diagram", diagram_label);
+                    ui.strong(format!("{kind}, large"));
+                    if ui
+                        .button("✕ Back to the panel")
+                        .on_hover_text("put the diagram back in its panel")
+                        .clicked()
+                    {
+                        keep = false;
+                    }
+                });
+                let avail = ui.available_size();
+                let ppp = ctx.pixels_per_point();
+                let size = [
+                    ((avail.x * ppp) as u32).clamp(64, 4096) / 8 * 8,
+                    ((avail.y * ppp) as u32).clamp(64, 4096) / 8 * 8,
+                ];
+                match cache.diagram(ctx, state, size, true) {
+                    Some(t) => {
+                        ui.add(
+                            egui::Image::new(&t)
+                                .fit_to_exact_size(Vec2::new(size[0] as f32, size[1] as f32) / ppp),
+                        );
+                    }
+                    None => {
+                        ui.label(cache.error.clone().unwrap_or_default());
+                    }
+                }
+            });
+        });
+    cache.enlarged = keep;
 }
 
 /// Below this height (points) the diagram panel puts its controls on one compact row.

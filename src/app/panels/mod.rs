@@ -75,6 +75,16 @@ pub fn show(
     side_panels(ui, window.width(), state, render, panels, cmds);
     panels.centre_rect = Some(ui.available_rect_before_wrap());
     egui::CentralPanel::default().show(ui, |ui| central(ui, state, render, panels, cmds));
+    // The diagram large, over the render and the explain panel.
+    if let Some(centre) = panels.centre_rect {
+        let explain = panels
+            .panel_rects
+            .iter()
+            .find(|(n, _)| *n == "explain")
+            .map(|(_, r)| *r);
+        let area = explain.map_or(centre, |e| centre.union(e));
+        diagram::enlarged_view(ui.ctx(), state, &mut panels.diagram, area);
+    }
     dialogs::show(ui, state, cmds);
     super::lab::window(ui.ctx(), state, &mut panels.lab, cmds);
 }
@@ -144,6 +154,11 @@ fn side_panels(
         });
     }
     let mut math_drag = None;
+    // A Monte Carlo pixel's diagrams get their own share of the height.
+    let sampling = state
+        .stepping
+        .as_ref()
+        .is_some_and(|s| s.trace.monte_carlo.is_some());
     let r = egui::Panel::right("explain")
         .resizable(false)
         .exact_size(width_of(Side::Explain))
@@ -152,7 +167,7 @@ fn side_panels(
                 let height = ui.available_height();
                 let r = egui::Panel::bottom("math")
                     .resizable(false)
-                    .exact_size(layout.math_height(height))
+                    .exact_size(layout.math_height(height, sampling))
                     .show(ui, |ui| {
                         egui::ScrollArea::vertical()
                             .id_salt("math-scroll")
@@ -193,7 +208,7 @@ fn side_panels(
         p.layout.drag(side, wanted, width, others(side));
     }
     if let Some((wanted, height)) = math_drag {
-        p.layout.drag_math(wanted, height);
+        p.layout.drag_math(wanted, height, sampling);
     }
     if p != state.prefs {
         cmds.push(Command::SetPrefs(p));

@@ -98,6 +98,9 @@ pub enum Dialog {
     },
 }
 
+/// How long "watch it converge" holds each pass of a Monte Carlo render on screen.
+pub const CONVERGE_PACE: Duration = Duration::from_millis(800);
+
 /// Everything a panel can ask for.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
@@ -120,6 +123,9 @@ pub enum Command {
     /// Start or stop adding the pixel's samples one at a time (from the traced one; from the
     /// first when the last is traced).
     ToggleSamplePlay,
+    /// Render again, holding each progressive pass on screen for [`CONVERGE_PACE`] ("watch it
+    /// converge"; a Monte Carlo scene's render only).
+    WatchConverge,
     /// Change the preferences.
     SetPrefs(Prefs),
     /// Write a file.
@@ -354,6 +360,7 @@ impl AppState {
                     self.playing = false;
                 }
             }
+            Command::WatchConverge => self.restart_render_paced(Some(CONVERGE_PACE)),
             Command::ToggleSamplePlay => {
                 self.sample_playing = !self.sample_playing;
                 if self.sample_playing && self.sample + 1 >= self.settings.spp {
@@ -602,6 +609,11 @@ impl AppState {
 
     /// Cancels the running render and starts a new one with the live settings.
     fn restart_render(&mut self) {
+        self.restart_render_paced(None);
+    }
+
+    /// [`AppState::restart_render`], a progressive render's passes held on screen for `pace`.
+    fn restart_render_paced(&mut self, pace: Option<Duration>) {
         let Some(scene) = self.scene().cloned() else {
             return;
         };
@@ -612,6 +624,7 @@ impl AppState {
             scene,
             self.settings.clone(),
             previous,
+            pace,
             move || repaint(),
         ));
         self.renders_started += 1;
