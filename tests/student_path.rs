@@ -180,6 +180,7 @@ fn emission_found(e: &PathExpected) -> Option<(usize, usize)> {
     e.pixel.samples.iter().enumerate().find_map(|(k, s)| {
         s.vertices.iter().enumerate().find_map(|(d, v)| {
             (d > 0
+                && d as u32 <= path::MAX_CHECKED_DEPTH
                 && v.emission
                     .as_ref()
                     .is_some_and(|x| x.mis_weight.is_some_and(|w| w > 1e-9 && w < 0.99)))

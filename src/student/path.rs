@@ -26,6 +26,16 @@ pub const PATH_VERSION: u32 = 2;
 /// The most samples of a pixel the checker compares one by one (the pixel's first ones).
 pub const MAX_CHECKED_SAMPLES: u32 = 16;
 
+/// Below this |cos θ| at the light, a light sample's density is rounding noise (it grows as
+/// 1 / cos θ): [`LightSample::grazing`].
+pub const GRAZING: f64 = 0.02;
+
+/// The deepest vertex compared (the camera ray's hit is depth 0): past the second bounce,
+/// float32 rounding — amplified by every curved mirror — has moved raystep's path too far from
+/// an exact tracer's for its numbers to be compared (a sample's value is compared when its path
+/// ends by the third bounce).
+pub const MAX_CHECKED_DEPTH: u32 = 2;
+
 /// One random number and its dimension.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Draw {
@@ -262,6 +272,10 @@ pub struct LightSample {
     /// raystep's only: the same density per unit area of the light (pick included), the value a
     /// tracer that forgets to convert prints.
     pub area_pdf: Option<f64>,
+    /// raystep's only: the light is seen edge-on from the point (|cos θ_light| below
+    /// [`GRAZING`]), where the density d² / (A |cos θ_light|) is decided by rounding: its pdf
+    /// and weight are not compared.
+    pub grazing: bool,
     /// The student's line, or raystep's timeline step.
     pub at: usize,
 }
@@ -488,12 +502,12 @@ fn sample_of(
                     contribution,
                     ..
                 } => {
-                    let area_pdf = light_normal(lights, *light, *point).map(|n| {
-                        let cos_l =
-                            (n[0] * direction[0] + n[1] * direction[1] + n[2] * direction[2]).abs()
-                                as f64;
-                        *pdf as f64 * cos_l / (*distance as f64 * *distance as f64)
+                    let cos_l = light_normal(lights, *light, *point).map(|n| {
+                        (n[0] * direction[0] + n[1] * direction[1] + n[2] * direction[2]).abs()
+                            as f64
                     });
+                    let area_pdf =
+                        cos_l.map(|c| *pdf as f64 * c / (*distance as f64 * *distance as f64));
                     v.lights.push(LightSample {
                         light: Some(name.clone()),
                         random: draws(random),
@@ -504,6 +518,7 @@ fn sample_of(
                         blocked: Some(*blocked),
                         contribution: Some(v64(*contribution)),
                         area_pdf: area_pdf.filter(|p| p.is_finite() && *p > 0.0),
+                        grazing: cos_l.is_some_and(|c| c < GRAZING),
                         at: here,
                     })
                 }
@@ -758,6 +773,7 @@ pub fn parse(text: &str) -> Result<Vec<PathPixel>, FormatError> {
                 blocked,
                 contribution,
                 area_pdf: None,
+                grazing: false,
                 at: line,
             }),
             Record::Sample {
