@@ -246,11 +246,19 @@ fn the_shipped_sheet_grades_the_model_student() {
             .clone();
         serde_json::from_slice(&out.stdout).unwrap()
     };
-    // 3 + 2 pixels of three-spheres and 1 + 1 of first-sphere, four stages each.
+    // 3 + 2 pixels of three-spheres and 1 + 1 of first-sphere, four stages each; 2 + 1 of the
+    // path-traced cornell-area, seven path stages each.
     for student in ["s1001", "s1002"] {
         let v = run("tests/student_tracer/tracer.py", student);
         assert_eq!(failures(&v), Vec::<String>::new(), "{student}");
-        assert_eq!(v["max_score"], 28.0, "{v}");
+        assert_eq!(v["max_score"], 49.0, "{v}");
+        let path_tests = v["tests"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|t| t["name"].as_str().unwrap().starts_with("cornell-area.toml"))
+            .count();
+        assert_eq!(path_tests, 21, "{v}");
     }
     let v = run("lessons/starter/tracer.py", "s1001");
     assert!(v["score"].as_f64().unwrap() < 28.0, "{v}");
@@ -409,5 +417,70 @@ fn the_starter_kits_uniform_is_raysteps() {
     for ((p, s, d, seed), g) in inputs.iter().zip(got) {
         let want = raystep::mc::random::uniform(*p, *s, *d, *seed);
         assert_eq!(g, f64::from(want), "uniform({p:?}, {s}, {d}, {seed})");
+    }
+}
+
+/// Pixels of the path-traced Cornell box, corners and inside.
+const CORNELL_PIXELS: &str = "128,128;60,200;200,40;30,30;10,250;250,10;128,5;90,180;220,130;0,0";
+
+/// The path tracers: the model student's (tests/student_tracer/path_tracer.py, reached through
+/// the model's tracer.py) and the starter kit with its TODOs filled in
+/// (tests/student_tracer/starter_completed.py imports the kit unchanged) get full marks on every
+/// path stage, sample by sample; the kit as shipped runs, prints format version 2 and is told
+/// what is missing.
+#[test]
+fn the_path_tracers_get_full_marks_and_the_starter_kit_is_told_what_is_missing() {
+    let scene = root().join("scenes/cornell-area.toml");
+    for run in [
+        MODEL,
+        "python3 tests/student_tracer/starter_completed.py {scene} {x} {y}",
+    ] {
+        let v = grade(&scene, CORNELL_PIXELS, "estimate", run);
+        assert_eq!(failures(&v), Vec::<String>::new(), "{run}");
+        assert_eq!(v["score"], 70.0, "{run}");
+    }
+    let v = grade(
+        &scene,
+        "128,128",
+        "estimate",
+        "python3 lessons/starter/tracer.py {scene} {x} {y}",
+    );
+    let text = all_output(&v);
+    assert_eq!(v["score"], 0.0, "{text}");
+    assert!(
+        text.contains("sample 0, the camera ray's hit: your ray escapes, raystep's hits"),
+        "{text}"
+    );
+}
+
+/// The model's path tracer with a classic mistake planted loses marks at the stage that judges
+/// it, and the feedback names the mistake.
+#[test]
+fn planted_path_tracing_mistakes_are_named() {
+    let scene = root().join("scenes/cornell-area.toml");
+    for (bug, stage, words) in [
+        ("pdf-no-cosine", "bsdf-sample", "your pdf is missing the cosine"),
+        ("area-pdf", "light-sample", "per unit area of the light"),
+        (
+            "mis-balance-emission",
+            "mis",
+            "MIS weights that do not sum to one",
+        ),
+        ("emission-twice", "mis", "emission counted twice"),
+        (
+            "roulette-no-divide",
+            "bounce",
+            "your roulette does not divide by its probability",
+        ),
+        ("wrong-hemisphere", "bsdf-sample", "points into the surface"),
+    ] {
+        let run = format!("python3 tests/student_tracer/path_tracer.py {{scene}} {{x}} {{y}} --bug {bug}");
+        let v = grade(&scene, "128,128;60,200", "estimate", &run);
+        let hit = v["tests"].as_array().unwrap().iter().any(|t| {
+            t["score"] == 0.0
+                && t["name"].as_str().unwrap().ends_with(&format!(": {stage}"))
+                && t["output"].as_str().unwrap().contains(words)
+        });
+        assert!(hit, "{bug}: {}", all_output(&v));
     }
 }

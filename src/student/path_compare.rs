@@ -65,6 +65,15 @@ fn close3(t: &TracerTolerances, d: u32, yours: [f64; 3], want: [f64; 3], abs: f6
     dist(yours, want) <= abs.max(a) + r * len(want)
 }
 
+/// The tolerance of numbers made from a direction (a cosine, a cosine-weighted pdf): the
+/// absolute part of directions' (10 × abs).
+fn direction_tol(t: &TracerTolerances) -> TracerTolerances {
+    TracerTolerances {
+        abs: t.abs * 10.0,
+        ..*t
+    }
+}
+
 /// Grades one pixel's samples, a check per stage of `stages`.
 pub fn grade(
     e: &PathExpected,
@@ -596,7 +605,8 @@ fn bsdf_samples(es: &PathSample, ss: &PathSample, tol: &TracerTolerances) -> Div
                     eb.at,
                 ));
             }
-            (Some(want), Some(yours)) if !close(tol, d, yours, want) => {
+            // cos θ / π: as close as the directions are.
+            (Some(want), Some(yours)) if !close(&direction_tol(tol), d, yours, want) => {
                 let cos = ev.bounce.as_ref().and_then(|b| b.cos).unwrap_or(0.0);
                 let hint = if cos > 1e-3 && cos < 0.999 && close(tol, d, yours, want / cos) {
                     format!(
@@ -842,7 +852,8 @@ fn bounces(es: &PathSample, ss: &PathSample, tol: &TracerTolerances) -> Divergen
                 None => {
                     return Some((format!("{}: your bounce has no cos", place(k, d)), k, eb.at));
                 }
-                Some(y) if !close(tol, d, y, w) => {
+                // A dot product of unit vectors: as close as the directions are.
+                Some(y) if !close(&direction_tol(tol), d, y, w) => {
                     return Some((
                         format!(
                             "{}: your cosine is {}, raystep's is {} (|cos θ| of the new direction with the normal)",
