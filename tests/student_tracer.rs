@@ -459,7 +459,11 @@ fn the_path_tracers_get_full_marks_and_the_starter_kit_is_told_what_is_missing()
 fn planted_path_tracing_mistakes_are_named() {
     let scene = root().join("scenes/cornell-area.toml");
     for (bug, stage, words) in [
-        ("pdf-no-cosine", "bsdf-sample", "your pdf is missing the cosine"),
+        (
+            "pdf-no-cosine",
+            "bsdf-sample",
+            "your pdf is missing the cosine",
+        ),
         ("area-pdf", "light-sample", "per unit area of the light"),
         (
             "mis-balance-emission",
@@ -474,7 +478,9 @@ fn planted_path_tracing_mistakes_are_named() {
         ),
         ("wrong-hemisphere", "bsdf-sample", "points into the surface"),
     ] {
-        let run = format!("python3 tests/student_tracer/path_tracer.py {{scene}} {{x}} {{y}} --bug {bug}");
+        let run = format!(
+            "python3 tests/student_tracer/path_tracer.py {{scene}} {{x}} {{y}} --bug {bug}"
+        );
         let v = grade(&scene, "128,128;60,200", "estimate", &run);
         let hit = v["tests"].as_array().unwrap().iter().any(|t| {
             t["score"] == 0.0

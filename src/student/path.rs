@@ -30,11 +30,11 @@ pub const MAX_CHECKED_SAMPLES: u32 = 16;
 /// 1 / cos θ): [`LightSample::grazing`].
 pub const GRAZING: f64 = 0.02;
 
-/// The deepest vertex compared (the camera ray's hit is depth 0): past the second bounce,
+/// The deepest vertex compared (the camera ray's hit is depth 0): past the first bounce,
 /// float32 rounding — amplified by every curved mirror — has moved raystep's path too far from
 /// an exact tracer's for its numbers to be compared (a sample's value is compared when its path
-/// ends by the third bounce).
-pub const MAX_CHECKED_DEPTH: u32 = 2;
+/// ends by the second bounce).
+pub const MAX_CHECKED_DEPTH: u32 = 1;
 
 /// One random number and its dimension.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
