@@ -345,7 +345,7 @@ pub fn check_statistical(report: &mut Report, dir: &Path, jobs: &[Job], pattern:
                 .file_name()
                 .map_or("scene".into(), |f| f.to_string_lossy().to_string())
         );
-        let verdict = crate::io::read_text(&file, crate::io::limits::SCENE * 64, "statistics file")
+        let verdict = crate::io::read_text(&file, crate::io::limits::SCENE * 16, "statistics file")
             .map_err(|e| format!("{}: cannot read: {e}", file.display()))
             .and_then(|text| {
                 statistical::parse(&text).map_err(|e| format!("{}: {e}", file.display()))
@@ -915,6 +915,7 @@ pub fn sheet_jobs(
 /// student's submission (the folder's name is the student), run and checked as
 /// [`grade_submission`] does; returns each report, in name order. (A class's typed answers are
 /// [`crate::lesson::grade_answers_csv`]'s.)
+#[allow(clippy::too_many_arguments)]
 pub fn grade_tracer_class(
     class: &Path,
     template: &str,

@@ -1233,7 +1233,7 @@ fn mis(es: &PathSample, ss: &PathSample, tol: &TracerTolerances) -> Divergence {
 /// Each sample's value.
 fn estimate(es: &PathSample, ss: &PathSample, tol: &TracerTolerances) -> Divergence {
     let k = es.sample;
-    let Some(want) = es.value else { return None };
+    let want = es.value?;
     let depth = es.vertices.len().saturating_sub(1) as u32;
     // A path that goes deeper than one past the vertices compared: its value carries the
     // rounding of its deep bounces (only its presence is checked).
