@@ -433,3 +433,61 @@ fn grade_tracer_statistical_end_to_end() {
         "{t}"
     );
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(96))]
+    /// Hostile version 2 output — raystep's own, with lines dropped, repeated, cut short or
+    /// with numbers replaced by extremes — never panics: it is refused with its line, or
+    /// graded with one check per stage.
+    #[test]
+    fn hostile_version_2_output_never_panics(
+        edits in proptest::collection::vec((0usize..400, 0u8..5, proptest::prelude::any::<f64>()), 1..12)
+    ) {
+        use std::sync::OnceLock;
+        static E: OnceLock<PathExpected> = OnceLock::new();
+        let e = E.get_or_init(|| path::expected(&prepared("scenes/cornell-area.toml"), 128, 128));
+        let mut lines: Vec<String> = path::write(&e.pixel).lines().map(str::to_string).collect();
+        for (at, what, x) in edits {
+            if lines.is_empty() {
+                break;
+            }
+            let i = at % lines.len();
+            match what {
+                0 => { lines.remove(i); }
+                1 => { let l = lines[i].clone(); lines.insert(i, l); }
+                2 => {
+                    let l = lines[i].clone();
+                    let cut = (0..=l.len() / 2).rev().find(|c| l.is_char_boundary(*c)).unwrap_or(0);
+                    lines[i] = l[..cut].to_string();
+                }
+                3 => {
+                    // Every number of the line replaced by x (JSON cannot say NaN or ∞: 1e308).
+                    let x = if x.is_finite() { x } else { 1e308 };
+                    let re: String = lines[i]
+                        .split(',')
+                        .map(|part| match part.rsplit_once(':') {
+                            Some((k, v)) if v.trim_end_matches(['}', ']']).parse::<f64>().is_ok() => {
+                                let tail: String = v.chars().filter(|c| *c == '}' || *c == ']').collect();
+                                format!("{k}:{x:e}{tail}")
+                            }
+                            _ => part.to_string(),
+                        })
+                        .collect::<Vec<_>>()
+                        .join(",");
+                    lines[i] = re;
+                }
+                _ => {
+                    let j = (i + 1) % lines.len();
+                    lines.swap(i, j)
+                }
+            }
+        }
+        let text = lines.join("\n");
+        if let Ok(px) = path::parse(&text) {
+            for tol in [TracerTolerances::default(), TracerTolerances { rel: 0.0, abs: 0.0, color: 0.0, offset: 0.0 }] {
+                let checks = grade(e, &px, &Stage::PATH, &tol);
+                proptest::prop_assert_eq!(checks.len(), 7);
+            }
+        }
+    }
+}
