@@ -490,3 +490,51 @@ fn planted_path_tracing_mistakes_are_named() {
         assert!(hit, "{bug}: {}", all_output(&v));
     }
 }
+
+/// The starter kit writes the statistics file of `grade-tracer --statistical`
+/// (`tracer.py SCENE --stats FILE`): completed, on a 12×12 Cornell box, it passes Welch's test
+/// against raystep's render; the file has one pixel record per pixel.
+#[test]
+fn the_completed_kit_writes_statistics_that_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(root().join("scenes/cornell-area.toml"))
+        .unwrap()
+        .replace("width = 256", "width = 12")
+        .replace("height = 256", "height = 12")
+        .replace("spp = 16", "spp = 32");
+    std::fs::write(dir.path().join("tiny.toml"), text).unwrap();
+    let kit = root().join("tests/student_tracer/starter_completed.py");
+    let status = std::process::Command::new("python3")
+        .arg(&kit)
+        .args(["tiny.toml", "--stats", "stats-tiny.jsonl"])
+        .current_dir(dir.path())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let stats = std::fs::read_to_string(dir.path().join("stats-tiny.jsonl")).unwrap();
+    assert_eq!(stats.lines().count(), 2 + 144);
+    let out = Command::cargo_bin("raystep")
+        .unwrap()
+        .current_dir(dir.path())
+        .args([
+            "grade-tracer",
+            "--scene",
+            "tiny.toml",
+            "--pixels",
+            "6,6",
+            "--upto",
+            "random",
+            "--json",
+            "--statistical",
+            "stats-{stem}.jsonl",
+            "--run",
+            &format!("python3 {} {{scene}} {{x}} {{y}}", kit.display()),
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(failures(&v), Vec::<String>::new());
+    assert_eq!(v["tests"][1]["name"], "tiny.toml: statistical");
+}

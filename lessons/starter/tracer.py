@@ -283,7 +283,7 @@ def nearest(scene, objects, origin, direction):
     """The closest hit among your intersection tests (lessons 2 to 5), printing nothing:
     (t, kind, object, name) or None."""
     global QUIET
-    QUIET = True
+    was, QUIET = QUIET, True
     best = None
     try:
         for kind, obj, name in objects:
@@ -293,7 +293,7 @@ def nearest(scene, objects, origin, direction):
             if t is not None and (best is None or t < best[0]):
                 best = (t, kind, obj, name)
     finally:
-        QUIET = False
+        QUIET = was
     return best
 
 
@@ -441,9 +441,40 @@ def path_main(scene, x, y):
     emit({"type": "color", "rgb": mul(total, 1.0 / spp)})
 
 
+def write_stats(scene, out):
+    """Renders the whole image with trace_path (printing nothing) and writes each pixel's sample
+    count, mean and unbiased sample variance, per channel, for `raystep grade-tracer
+    --statistical` (a tracer with its own random numbers is graded this way)."""
+    global QUIET
+    objects = []
+    for kind in ("sphere", "plane", "triangle"):
+        for i, obj in enumerate(scene.get(kind, [])):
+            objects.append((kind, obj, obj.get("name", f"{kind} {i}")))
+    lights = lights_of(scene, objects)
+    camera, spp = scene.get("camera", {}), scene.get("render", {}).get("spp", 1)
+    width, height = camera.get("width", 320), camera.get("height", 240)
+    QUIET = True
+    with open(out, "w", encoding="utf-8") as f:
+        f.write(json.dumps({"type": "format", "version": 2}) + "\n")
+        f.write(json.dumps({"type": "image", "width": width, "height": height}) + "\n")
+        for y in range(height):
+            for x in range(width):
+                values = [trace_path(scene, objects, lights, x, y, k) for k in range(spp)]
+                mean = [sum(v[c] for v in values) / spp for c in range(3)]
+                var = [sum((v[c] - mean[c]) ** 2 for v in values) / (spp - 1) if spp > 1 else 0.0
+                       for c in range(3)]
+                f.write(json.dumps({"type": "pixel", "x": x, "y": y, "samples": spp,
+                                    "mean": mean, "variance": var}) + "\n")
+    QUIET = False
+
+
 def main():
+    if len(sys.argv) == 4 and sys.argv[2] == "--stats":
+        with open(sys.argv[1], "rb") as f:
+            write_stats(tomllib.load(f), sys.argv[3])
+        return
     if len(sys.argv) != 4:
-        sys.exit("usage: tracer.py SCENE.toml X Y")
+        sys.exit("usage: tracer.py SCENE.toml X Y  |  tracer.py SCENE.toml --stats OUT.jsonl")
     with open(sys.argv[1], "rb") as f:
         scene = tomllib.load(f)
     x, y = int(sys.argv[2]), int(sys.argv[3])
