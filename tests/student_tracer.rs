@@ -222,18 +222,19 @@ fn planted_bugs_are_found_at_the_right_ray_and_named() {
     assert!(text.contains("Snell's ratio is inverted"), "{text}");
 }
 
-/// The example sheet shipped with the starter kit grades the model student full marks (its
-/// listed and per-student pixels, up to the closest hit), and the starter kit short of that.
+/// The example sheets shipped with the starter kit grade the model student full marks (their
+/// listed and per-student pixels: up to the closest hit; a path tracer's stages), and the
+/// starter kit short of that.
 #[test]
 fn the_shipped_sheet_grades_the_model_student() {
-    let run = |tracer: &str, student: &str| -> Value {
+    let run = |sheet: &str, tracer: &str, student: &str| -> Value {
         let out = Command::cargo_bin("raystep")
             .unwrap()
             .current_dir(root())
             .args([
                 "grade-tracer",
                 "--sheet",
-                "lessons/starter/sheet.toml",
+                sheet,
                 "--student",
                 student,
                 "--json",
@@ -246,22 +247,40 @@ fn the_shipped_sheet_grades_the_model_student() {
             .clone();
         serde_json::from_slice(&out.stdout).unwrap()
     };
-    // 3 + 2 pixels of three-spheres and 1 + 1 of first-sphere, four stages each; 2 + 1 of the
-    // path-traced cornell-area, seven path stages each.
+    // 3 + 2 pixels of three-spheres and 1 + 1 of first-sphere, four stages each.
     for student in ["s1001", "s1002"] {
-        let v = run("tests/student_tracer/tracer.py", student);
+        let v = run(
+            "lessons/starter/sheet.toml",
+            "tests/student_tracer/tracer.py",
+            student,
+        );
         assert_eq!(failures(&v), Vec::<String>::new(), "{student}");
-        assert_eq!(v["max_score"], 49.0, "{v}");
-        let path_tests = v["tests"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .filter(|t| t["name"].as_str().unwrap().starts_with("cornell-area.toml"))
-            .count();
-        assert_eq!(path_tests, 21, "{v}");
+        assert_eq!(v["max_score"], 28.0, "{v}");
     }
-    let v = run("lessons/starter/tracer.py", "s1001");
+    let v = run(
+        "lessons/starter/sheet.toml",
+        "lessons/starter/tracer.py",
+        "s1001",
+    );
     assert!(v["score"].as_f64().unwrap() < 28.0, "{v}");
+    // The path tracer's sheet: 3 + 2 pixels of the path-traced cornell-area, seven path stages
+    // each; the model's path tracer and the completed kit get them all, the kit as shipped none.
+    for student in ["s1001", "s1002"] {
+        for tracer in [
+            "tests/student_tracer/tracer.py",
+            "tests/student_tracer/starter_completed.py",
+        ] {
+            let v = run("lessons/starter/path-sheet.toml", tracer, student);
+            assert_eq!(failures(&v), Vec::<String>::new(), "{student} {tracer}");
+            assert_eq!(v["max_score"], 35.0, "{v}");
+        }
+    }
+    let v = run(
+        "lessons/starter/path-sheet.toml",
+        "lessons/starter/tracer.py",
+        "s1001",
+    );
+    assert_eq!(v["score"], 0.0, "{v}");
 }
 
 /// A sheet can vary the scene per student: each student's program is given their own variant
