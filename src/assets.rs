@@ -66,6 +66,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/16-multiple-importance-sampling.md",
     "lessons/starter/README.md",
     "lessons/starter/sheet.toml",
+    "lessons/starter/path-sheet.toml",
     "lessons/starter/tracer.py",
     "lessons/exercises/01-camera.toml",
     "lessons/exercises/02-sphere.toml",

@@ -597,16 +597,17 @@ fn an_empty_report_says_no_tests_ran() {
     );
 }
 
-/// A scene set to a Monte Carlo integrator is refused, by name, with what to change: a
-/// student's Whitted tracer would otherwise be marked wrong at every stage.
+/// A scene set to the distribution integrator is refused, by name, with what to change (a path
+/// tracer's scene is graded sample by sample, format version 2); a student's program that prints
+/// version 1 for a path-traced scene is told which version to print.
 #[test]
-fn a_monte_carlo_scene_is_refused_with_what_to_change() {
+fn a_distribution_scene_is_refused_with_what_to_change() {
     let out = raystep()
         .args([
             "grade-tracer",
             "--scene",
             &root()
-                .join("scenes/cornell-area.toml")
+                .join("scenes/soft-shadows.toml")
                 .display()
                 .to_string(),
             "--pixels",
@@ -620,9 +621,37 @@ fn a_monte_carlo_scene_is_refused_with_what_to_change() {
         .clone();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("cornell-area.toml")
-            && err.contains("path integrator")
-            && err.contains("integrator = \"whitted\""),
+        err.contains("soft-shadows.toml")
+            && err.contains("distribution integrator")
+            && err.contains("integrator = \"path\"")
+            && err.contains("--statistical"),
         "{err}"
+    );
+    let out = raystep()
+        .args([
+            "grade-tracer",
+            "--scene",
+            &root()
+                .join("scenes/cornell-area.toml")
+                .display()
+                .to_string(),
+            "--pixels",
+            "10,10",
+            "--json",
+            "--run",
+            "python3 -c \"print('{\\\"type\\\":\\\"format\\\",\\\"version\\\":1}')\"",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let tests = v["tests"].as_array().unwrap();
+    assert_eq!(tests.len(), 7, "{v}");
+    assert_eq!(v["score"], 0.0);
+    let first = tests[0]["output"].as_str().unwrap();
+    assert!(
+        first.contains("format version 1: a path-traced scene is graded in version 2"),
+        "{first}"
     );
 }

@@ -222,18 +222,19 @@ fn planted_bugs_are_found_at_the_right_ray_and_named() {
     assert!(text.contains("Snell's ratio is inverted"), "{text}");
 }
 
-/// The example sheet shipped with the starter kit grades the model student full marks (its
-/// listed and per-student pixels, up to the closest hit), and the starter kit short of that.
+/// The example sheets shipped with the starter kit grade the model student full marks (their
+/// listed and per-student pixels: up to the closest hit; a path tracer's stages), and the
+/// starter kit short of that.
 #[test]
 fn the_shipped_sheet_grades_the_model_student() {
-    let run = |tracer: &str, student: &str| -> Value {
+    let run = |sheet: &str, tracer: &str, student: &str| -> Value {
         let out = Command::cargo_bin("raystep")
             .unwrap()
             .current_dir(root())
             .args([
                 "grade-tracer",
                 "--sheet",
-                "lessons/starter/sheet.toml",
+                sheet,
                 "--student",
                 student,
                 "--json",
@@ -248,12 +249,38 @@ fn the_shipped_sheet_grades_the_model_student() {
     };
     // 3 + 2 pixels of three-spheres and 1 + 1 of first-sphere, four stages each.
     for student in ["s1001", "s1002"] {
-        let v = run("tests/student_tracer/tracer.py", student);
+        let v = run(
+            "lessons/starter/sheet.toml",
+            "tests/student_tracer/tracer.py",
+            student,
+        );
         assert_eq!(failures(&v), Vec::<String>::new(), "{student}");
         assert_eq!(v["max_score"], 28.0, "{v}");
     }
-    let v = run("lessons/starter/tracer.py", "s1001");
+    let v = run(
+        "lessons/starter/sheet.toml",
+        "lessons/starter/tracer.py",
+        "s1001",
+    );
     assert!(v["score"].as_f64().unwrap() < 28.0, "{v}");
+    // The path tracer's sheet: 3 + 2 pixels of the path-traced cornell-area, seven path stages
+    // each; the model's path tracer and the completed kit get them all, the kit as shipped none.
+    for student in ["s1001", "s1002"] {
+        for tracer in [
+            "tests/student_tracer/tracer.py",
+            "tests/student_tracer/starter_completed.py",
+        ] {
+            let v = run("lessons/starter/path-sheet.toml", tracer, student);
+            assert_eq!(failures(&v), Vec::<String>::new(), "{student} {tracer}");
+            assert_eq!(v["max_score"], 35.0, "{v}");
+        }
+    }
+    let v = run(
+        "lessons/starter/path-sheet.toml",
+        "lessons/starter/tracer.py",
+        "s1001",
+    );
+    assert_eq!(v["score"], 0.0, "{v}");
 }
 
 /// A sheet can vary the scene per student: each student's program is given their own variant
@@ -410,4 +437,123 @@ fn the_starter_kits_uniform_is_raysteps() {
         let want = raystep::mc::random::uniform(*p, *s, *d, *seed);
         assert_eq!(g, f64::from(want), "uniform({p:?}, {s}, {d}, {seed})");
     }
+}
+
+/// Pixels of the path-traced Cornell box, corners and inside.
+const CORNELL_PIXELS: &str = "128,128;60,200;200,40;30,30;10,250;250,10;128,5;90,180;220,130;0,0";
+
+/// The path tracers: the model student's (tests/student_tracer/path_tracer.py, reached through
+/// the model's tracer.py) and the starter kit with its TODOs filled in
+/// (tests/student_tracer/starter_completed.py imports the kit unchanged) get full marks on every
+/// path stage, sample by sample; the kit as shipped runs, prints format version 2 and is told
+/// what is missing.
+#[test]
+fn the_path_tracers_get_full_marks_and_the_starter_kit_is_told_what_is_missing() {
+    let scene = root().join("scenes/cornell-area.toml");
+    for run in [
+        MODEL,
+        "python3 tests/student_tracer/starter_completed.py {scene} {x} {y}",
+    ] {
+        let v = grade(&scene, CORNELL_PIXELS, "estimate", run);
+        assert_eq!(failures(&v), Vec::<String>::new(), "{run}");
+        assert_eq!(v["score"], 70.0, "{run}");
+    }
+    let v = grade(
+        &scene,
+        "128,128",
+        "estimate",
+        "python3 lessons/starter/tracer.py {scene} {x} {y}",
+    );
+    let text = all_output(&v);
+    assert_eq!(v["score"], 0.0, "{text}");
+    assert!(
+        text.contains("sample 0, the camera ray's hit: your ray escapes, raystep's hits"),
+        "{text}"
+    );
+}
+
+/// The model's path tracer with a classic mistake planted loses marks at the stage that judges
+/// it, and the feedback names the mistake.
+#[test]
+fn planted_path_tracing_mistakes_are_named() {
+    let scene = root().join("scenes/cornell-area.toml");
+    for (bug, stage, words) in [
+        (
+            "pdf-no-cosine",
+            "bsdf-sample",
+            "your pdf is missing the cosine",
+        ),
+        ("area-pdf", "light-sample", "per unit area of the light"),
+        (
+            "mis-balance-emission",
+            "mis",
+            "MIS weights that do not sum to one",
+        ),
+        ("emission-twice", "mis", "emission counted twice"),
+        (
+            "roulette-no-divide",
+            "bounce",
+            "your roulette does not divide by its probability",
+        ),
+        ("wrong-hemisphere", "bsdf-sample", "points into the surface"),
+    ] {
+        let run = format!(
+            "python3 tests/student_tracer/path_tracer.py {{scene}} {{x}} {{y}} --bug {bug}"
+        );
+        let v = grade(&scene, "128,128;60,200", "estimate", &run);
+        let hit = v["tests"].as_array().unwrap().iter().any(|t| {
+            t["score"] == 0.0
+                && t["name"].as_str().unwrap().ends_with(&format!(": {stage}"))
+                && t["output"].as_str().unwrap().contains(words)
+        });
+        assert!(hit, "{bug}: {}", all_output(&v));
+    }
+}
+
+/// The starter kit writes the statistics file of `grade-tracer --statistical`
+/// (`tracer.py SCENE --stats FILE`): completed, on a 12×12 Cornell box, it passes Welch's test
+/// against raystep's render; the file has one pixel record per pixel.
+#[test]
+fn the_completed_kit_writes_statistics_that_pass() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(root().join("scenes/cornell-area.toml"))
+        .unwrap()
+        .replace("width = 256", "width = 12")
+        .replace("height = 256", "height = 12")
+        .replace("spp = 16", "spp = 32");
+    std::fs::write(dir.path().join("tiny.toml"), text).unwrap();
+    let kit = root().join("tests/student_tracer/starter_completed.py");
+    let status = std::process::Command::new("python3")
+        .arg(&kit)
+        .args(["tiny.toml", "--stats", "stats-tiny.jsonl"])
+        .current_dir(dir.path())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let stats = std::fs::read_to_string(dir.path().join("stats-tiny.jsonl")).unwrap();
+    assert_eq!(stats.lines().count(), 2 + 144);
+    let out = Command::cargo_bin("raystep")
+        .unwrap()
+        .current_dir(dir.path())
+        .args([
+            "grade-tracer",
+            "--scene",
+            "tiny.toml",
+            "--pixels",
+            "6,6",
+            "--upto",
+            "random",
+            "--json",
+            "--statistical",
+            "stats-{stem}.jsonl",
+            "--run",
+            &format!("python3 {} {{scene}} {{x}} {{y}}", kit.display()),
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .clone();
+    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(failures(&v), Vec::<String>::new());
+    assert_eq!(v["tests"][1]["name"], "tiny.toml: statistical");
 }

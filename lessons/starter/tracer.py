@@ -68,9 +68,13 @@ def uniform(pixel, sample, dimension, seed=0):
     return (h >> 8) / 16777216.0
 
 
+QUIET = False  # the path tracer's intersection tests print nothing
+
+
 def emit(record):
     """Prints one record of the student trace format."""
-    print(json.dumps(record))
+    if not QUIET:
+        print(json.dumps(record))
 
 
 # --- lesson 1: the camera ----------------------------------------------------------------------
@@ -152,12 +156,331 @@ def trace(scene, origin, direction, kind, depth):
     return shade(scene, hit, origin, direction, depth)
 
 
+# --- lessons 13 to 16: a path tracer (scenes with [render] integrator = "path") ------------------
+#
+# A path-traced scene is graded sample by sample in format version 2 (README.md next to this
+# file): each sample of the pixel is a `path` record, then per bounce its `ray`, `hit`,
+# `emission`, `light-sample`, `sample`, `bounce` and `roulette` records, then its `value`. The
+# loop in trace_path() is done; the TODOs are the lessons' pieces. It uses your intersection
+# tests of lessons 2 to 4 (printing nothing), raystep's random numbers (uniform() above) and
+# raystep's dimensions, so its samples can be compared with raystep's number for number.
+# Diffuse and mirror materials; lights are the triangles whose material has an `emission`.
+
+def sample_offset(render, x, y, sample):
+    """Where in pixel (x, y) sample `sample` lies: with spp > 1, a jittered point in its own
+    cell of a grid of ceil(sqrt(spp)) columns (raystep's antialiasing, lesson 10)."""
+    spp, seed = render.get("spp", 1), render.get("seed", 0)
+    if spp <= 1:
+        return 0.5, 0.5
+    cols = math.ceil(math.sqrt(spp))
+    rows = -(-spp // cols)
+    h1 = pcg_hash(x ^ pcg_hash(y ^ pcg_hash(sample ^ pcg_hash(seed))))
+    h2 = pcg_hash(h1)
+    return ((sample % cols + (h1 >> 8) / 16777216.0) / cols,
+            (sample // cols + (h2 >> 8) / 16777216.0) / rows)
+
+
+def path_camera_ray(camera, render, x, y, sample):
+    """camera_ray() through sample `sample`'s point of the pixel instead of its centre."""
+    eye, direction = camera_ray(camera, x, y)
+    ox, oy = sample_offset(render, x, y, sample)
+    width, height = camera.get("width", 320), camera.get("height", 240)
+    half_height = math.tan(math.radians(camera.get("fov", 60.0)) / 2.0)
+    half_width = half_height * width / height
+    w = normalize(sub(eye, camera.get("at", [0.0, 0.0, 0.0])))
+    u = normalize(cross(camera.get("up", [0.0, 1.0, 0.0]), w))
+    v = cross(w, u)
+    sx = 2.0 * (x + ox) / width - 1.0
+    sy = 1.0 - 2.0 * (y + oy) / height
+    return eye, normalize(sub(add(mul(u, sx * half_width), mul(v, sy * half_height)), w))
+
+
+def dimension(depth, slot):
+    """raystep's dimension of `slot` at bounce `depth`: 16 + 1024 depth + slot (slot 0 picks the
+    light, 1-2 the point on it, 4-5 the BSDF's direction, 6 Russian roulette)."""
+    return (16 + 1024 * depth + slot) & 0xFFFFFFFF
+
+
+def frame(n):
+    """An orthonormal basis (s, t, n) around the unit normal n (Duff et al. 2017, as raystep)."""
+    sign = math.copysign(1.0, n[2])
+    a = -1.0 / (sign + n[2])
+    b = n[0] * n[1] * a
+    return [1.0 + sign * n[0] * n[0] * a, sign * b, -sign * n[0]], [b, sign + n[1] * n[1] * a, -n[1]], n
+
+
+def concentric_disk(u0, u1):
+    """Shirley and Chiu's concentric map of the square [0,1)^2 onto the unit disk (as raystep)."""
+    a, b = 2.0 * u0 - 1.0, 2.0 * u1 - 1.0
+    if a == 0.0 and b == 0.0:
+        return 0.0, 0.0
+    if abs(a) > abs(b):
+        r, theta = a, math.pi / 4.0 * (b / a)
+    else:
+        r, theta = b, math.pi / 2.0 - math.pi / 4.0 * (a / b)
+    return r * math.cos(theta), r * math.sin(theta)
+
+
+def cosine_hemisphere(u0, u1):
+    """Lesson 15. TODO: a direction about +z with density cos(theta)/pi: the concentric_disk
+    point (x, y), lifted to z = sqrt(1 - x^2 - y^2); return ([x, y, z], pdf)."""
+    return [0.0, 0.0, 1.0], 1.0
+
+
+def lights_of(scene, objects):
+    """The lights a path tracer samples: every triangle whose material emits, with its power
+    (mean of its emission x pi x area: raystep picks a light with probability proportional to it)."""
+    materials = {m.get("name"): m for m in scene.get("material", [])}
+    lights = []
+    for kind, obj, name in objects:
+        emission = materials.get(obj.get("material"), {}).get("emission", [0.0, 0.0, 0.0])
+        if kind != "triangle" or max(emission) <= 0:
+            continue
+        p0, p1, p2 = obj["vertices"]
+        c = cross(sub(p1, p0), sub(p2, p0))
+        area = 0.5 * math.sqrt(dot(c, c))
+        lights.append({"name": name, "vertices": (p0, p1, p2), "normal": normalize(c),
+                       "area": area, "radiance": emission,
+                       "power": sum(emission) / 3.0 * math.pi * area})
+    return lights
+
+
+def pick_light(lights, u):
+    """Lesson 14. TODO: pick a light with probability proportional to its power: the first light
+    whose running sum of powers exceeds u x (the total power). Return (light, probability)."""
+    return lights[0], 1.0
+
+
+def sample_triangle_light(light, p, u0, u1):
+    """Lesson 14. TODO: a point q on the triangle, uniform by area (s = sqrt(u0), barycentric
+    weights b1 = s(1 - u1) of P1 and b2 = s u1 of P2); wi = the unit direction from p to q, at
+    distance d; the density per STERADIAN d^2 / (area |cos theta_light|) (0, with radiance 0, when
+    the light faces away: -wi . normal <= 0). Return (q, wi, d, pdf, radiance)."""
+    q = light["vertices"][0]
+    to_q = sub(q, p)
+    d = math.sqrt(dot(to_q, to_q))
+    return q, mul(to_q, 1.0 / d), d, 1.0, light["radiance"]
+
+
+def light_pdf(light, pick, p, q):
+    """Lesson 16. TODO: the density with which light sampling from p would have chosen the point
+    q of `light` (a BSDF sample's ray found it there): pick x d^2 / (area |cos theta_light|)."""
+    return 0.0
+
+
+def power_heuristic(a, b):
+    """Lesson 16. TODO: Veach's power heuristic, a^2 / (a^2 + b^2) (1 when both are 0 and a > 0)."""
+    return 1.0
+
+
+def roulette(throughput, u):
+    """Lesson 15. TODO: Russian roulette: q = min(1, the throughput's largest channel); the path
+    goes on when u < q, and then its throughput is divided by q. Return (q, survived, throughput)."""
+    return 1.0, True, throughput
+
+
+def nearest(scene, objects, origin, direction):
+    """The closest hit among your intersection tests (lessons 2 to 5), printing nothing:
+    (t, kind, object, name) or None."""
+    global QUIET
+    was, QUIET = QUIET, True
+    best = None
+    try:
+        for kind, obj, name in objects:
+            test = {"sphere": intersect_sphere, "plane": intersect_plane,
+                    "triangle": intersect_triangle}[kind]
+            t = test(obj, origin, direction)
+            if t is not None and (best is None or t < best[0]):
+                best = (t, kind, obj, name)
+    finally:
+        QUIET = was
+    return best
+
+
+def blocked(scene, objects, origin, target):
+    """Whether anything lies between origin and target (a shadow ray, t in (0, 1 - 1e-4))."""
+    hit = nearest(scene, objects, origin, sub(target, origin))
+    return hit is not None and hit[0] < 1.0 - 1e-4
+
+
+def outward_normal(kind, obj, point):
+    """The unit normal of the object at the point (before facing it to the ray)."""
+    if kind == "sphere":
+        return normalize(sub(point, obj.get("center", [0.0, 0.0, 0.0])))
+    if kind == "plane":
+        if "axis" in obj:
+            return {"x": [1.0, 0.0, 0.0], "y": [0.0, 1.0, 0.0], "z": [0.0, 0.0, 1.0]}[obj["axis"]]
+        return normalize(obj.get("normal", [0.0, 1.0, 0.0]))
+    p0, p1, p2 = obj["vertices"]
+    return normalize(cross(sub(p1, p0), sub(p2, p0)))
+
+
+def off(point, normal, direction):
+    """A spawned ray's origin: off the surface, on the side it leaves on."""
+    return add(point, mul(normal, 1e-4 if dot(direction, normal) >= 0 else -1e-4))
+
+
+def times(a, b):
+    return [a[0] * b[0], a[1] * b[1], a[2] * b[2]]
+
+
+def trace_path(scene, objects, lights, x, y, k):
+    """Sample k of pixel (x, y): one path, its records printed; returns its value."""
+    render = scene.get("render", {})
+    seed, max_depth, rr_depth = render.get("seed", 0), render.get("max_depth", 5), render.get("rr_depth", 3)
+    materials = {m.get("name"): m for m in scene.get("material", [])}
+
+    def draw(d):
+        return {"dimension": d, "value": uniform((x, y), k, d, seed)}
+
+    emit({"type": "path", "sample": k})
+    origin, direction = path_camera_ray(scene.get("camera", {}), render, x, y, k)
+    throughput, value = [1.0, 1.0, 1.0], [0.0, 0.0, 0.0]
+    prev_pdf, prev_point = None, None  # the BSDF sample that made this ray (None: camera, mirror)
+    depth = 0
+    while True:
+        emit({"type": "ray", "depth": depth, "origin": origin, "direction": direction})
+        hit = nearest(scene, objects, origin, direction)
+        if hit is None:
+            emit({"type": "hit", "object": None})
+            value = add(value, times(throughput, render.get("background", [0.0, 0.0, 0.0])))
+            break
+        t, kind, obj, name = hit
+        point = add(origin, mul(direction, t))
+        n = outward_normal(kind, obj, point)
+        eye = normalize(mul(direction, -1.0))
+        inside = dot(n, eye) < 0
+        if inside:
+            n = mul(n, -1.0)
+        emit({"type": "hit", "object": name, "point": point, "normal": n})
+        m = materials.get(obj.get("material"), {})
+        emission = m.get("emission", [0.0, 0.0, 0.0])
+        # Emission: counted in full from the camera and after a mirror; after a diffuse bounce,
+        # weighed by MIS against the light sample at the previous hit (lesson 16).
+        if max(emission) > 0 and not inside:
+            lpdf, w = 0.0, 1.0
+            if prev_pdf is not None:
+                light = next((l for l in lights if l["name"] == name), None)
+                if light is not None:
+                    total = sum(l["power"] for l in lights)
+                    lpdf = light_pdf(light, light["power"] / total, prev_point, point)
+                w = power_heuristic(prev_pdf, lpdf)
+            emit({"type": "emission", "radiance": emission, "mis_weight": w,
+                  "light_pdf": lpdf, "bsdf_pdf": prev_pdf or 0.0})
+            value = add(value, mul(times(throughput, emission), w))
+        if depth >= max_depth:
+            break
+        diffuse = m.get("bsdf", "diffuse") == "diffuse"
+        albedo = [min(c, 1.0) for c in m.get("color", [1.0, 1.0, 1.0])]
+        # Next-event estimation (lesson 14), weighed by MIS (lesson 16).
+        if diffuse and lights:
+            pick, u0, u1 = draw(dimension(depth, 0)), draw(dimension(depth, 1)), draw(dimension(depth, 2))
+            light, select = pick_light(lights, pick["value"])
+            q, wi, dist, lpdf, radiance = sample_triangle_light(light, point, u0["value"], u1["value"])
+            cos = max(0.0, dot(wi, n))
+            f = mul(albedo, 1.0 / math.pi) if cos > 0 else [0.0, 0.0, 0.0]
+            bsdf_pdf = cos / math.pi
+            pdf = select * lpdf
+            useful = max(radiance) > 0 and cos > 0 and max(f) > 0
+            hidden = useful and blocked(scene, objects, off(point, n, wi), q)
+            w = power_heuristic(pdf, bsdf_pdf)
+            estimate = [0.0, 0.0, 0.0]
+            if useful and not hidden and pdf > 0:
+                estimate = mul(times(f, radiance), cos * w / pdf)
+            contribution = times(throughput, estimate)
+            emit({"type": "light-sample", "light": light["name"], "random": [pick, u0, u1],
+                  "point": q, "pdf": pdf, "bsdf_pdf": bsdf_pdf, "mis_weight": w,
+                  "blocked": bool(hidden), "contribution": contribution})
+            value = add(value, contribution)
+        # The next direction (lesson 15): cosine-weighted about the normal, or a mirror's.
+        if diffuse:
+            u0, u1 = draw(dimension(depth, 4)), draw(dimension(depth, 5))
+            local, pdf = cosine_hemisphere(u0["value"], u1["value"])
+            s_axis, t_axis, n_axis = frame(n)
+            wi = normalize(add(add(mul(s_axis, local[0]), mul(t_axis, local[1])), mul(n_axis, local[2])))
+            cos = abs(dot(wi, n))
+            f = mul(albedo, 1.0 / math.pi)
+            throughput = times(throughput, mul(f, cos / pdf))
+            emit({"type": "sample", "random": [u0, u1], "direction": wi, "pdf": pdf})
+            emit({"type": "bounce", "bsdf": f, "cos": cos, "throughput": throughput})
+            prev_pdf = pdf
+        else:
+            wi = sub(mul(n, 2.0 * dot(eye, n)), eye)
+            throughput = times(throughput, m.get("color", [1.0, 1.0, 1.0]))
+            emit({"type": "sample", "direction": wi, "pdf": None})
+            emit({"type": "bounce", "cos": dot(eye, n), "throughput": throughput})
+            prev_pdf = None
+        # Russian roulette after rr_depth bounces (lesson 15).
+        if depth + 1 > rr_depth:
+            u = draw(dimension(depth, 6))
+            q, survived, throughput = roulette(throughput, u["value"])
+            emit({"type": "roulette", "random": u, "probability": q, "survived": survived,
+                  "throughput": throughput})
+            if not survived:
+                break
+        prev_point = point
+        origin, direction = off(point, n, wi), wi
+        depth += 1
+    emit({"type": "value", "rgb": value})
+    return value
+
+
+def path_main(scene, x, y):
+    """Prints every sample of pixel (x, y) in format version 2."""
+    objects = []
+    for kind in ("sphere", "plane", "triangle"):
+        for i, obj in enumerate(scene.get(kind, [])):
+            objects.append((kind, obj, obj.get("name", f"{kind} {i}")))
+    lights = lights_of(scene, objects)
+    emit({"type": "format", "version": 2})
+    emit({"type": "pixel", "x": x, "y": y})
+    spp = scene.get("render", {}).get("spp", 1)
+    total = [0.0, 0.0, 0.0]
+    for k in range(spp):
+        total = add(total, trace_path(scene, objects, lights, x, y, k))
+    emit({"type": "color", "rgb": mul(total, 1.0 / spp)})
+
+
+def write_stats(scene, out):
+    """Renders the whole image with trace_path (printing nothing) and writes each pixel's sample
+    count, mean and unbiased sample variance, per channel, for `raystep grade-tracer
+    --statistical` (a tracer with its own random numbers is graded this way)."""
+    global QUIET
+    objects = []
+    for kind in ("sphere", "plane", "triangle"):
+        for i, obj in enumerate(scene.get(kind, [])):
+            objects.append((kind, obj, obj.get("name", f"{kind} {i}")))
+    lights = lights_of(scene, objects)
+    camera, spp = scene.get("camera", {}), scene.get("render", {}).get("spp", 1)
+    width, height = camera.get("width", 320), camera.get("height", 240)
+    QUIET = True
+    with open(out, "w", encoding="utf-8") as f:
+        f.write(json.dumps({"type": "format", "version": 2}) + "\n")
+        f.write(json.dumps({"type": "image", "width": width, "height": height}) + "\n")
+        for y in range(height):
+            for x in range(width):
+                values = [trace_path(scene, objects, lights, x, y, k) for k in range(spp)]
+                mean = [sum(v[c] for v in values) / spp for c in range(3)]
+                var = [sum((v[c] - mean[c]) ** 2 for v in values) / (spp - 1) if spp > 1 else 0.0
+                       for c in range(3)]
+                f.write(json.dumps({"type": "pixel", "x": x, "y": y, "samples": spp,
+                                    "mean": mean, "variance": var}) + "\n")
+    QUIET = False
+
+
 def main():
+    if len(sys.argv) == 4 and sys.argv[2] == "--stats":
+        with open(sys.argv[1], "rb") as f:
+            write_stats(tomllib.load(f), sys.argv[3])
+        return
     if len(sys.argv) != 4:
-        sys.exit("usage: tracer.py SCENE.toml X Y")
+        sys.exit("usage: tracer.py SCENE.toml X Y  |  tracer.py SCENE.toml --stats OUT.jsonl")
     with open(sys.argv[1], "rb") as f:
         scene = tomllib.load(f)
     x, y = int(sys.argv[2]), int(sys.argv[3])
+    if scene.get("render", {}).get("integrator") == "path":
+        path_main(scene, x, y)
+        return
     emit({"type": "format", "version": 1})
     emit({"type": "pixel", "x": x, "y": y})
     origin, direction = camera_ray(scene.get("camera", {}), x, y)

@@ -62,6 +62,13 @@ pub struct GradeTracerArgs {
     /// otherwise a private temporary folder, removed when grading ends.
     #[arg(long)]
     pub variants: Option<PathBuf>,
+    /// Check a Monte Carlo tracer that draws its own random numbers statistically: the
+    /// student's per-pixel sample statistics of each scene (a JSON Lines file named by this
+    /// pattern, `{stem}` the scene file's stem, relative to the submission's folder) against
+    /// raystep's render by Welch's t-test, per pixel and for the whole image; a correct image
+    /// fails with probability at most 1e-3. One test per scene, added to the report.
+    #[arg(long)]
+    pub statistical: Option<String>,
     /// Megabytes of output per run; more stops the program.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub max_output_mb: u32,
@@ -95,7 +102,7 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
             // program is given).
             let path = &crate::assets::resolve_scene(arg)?;
             let scene = crate::scene::load_file(path).map_err(|e| e.to_string())?;
-            student::whitted_only(&scene, path)?;
+            student::gradable(&scene, path)?;
             let (w, h) = (scene.camera.width, scene.camera.height);
             if let Some([x, y]) = pixels.iter().find(|[x, y]| *x >= w || *y >= h) {
                 return Err(format!(
@@ -169,6 +176,7 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
             &tol,
             limits,
             image.as_ref(),
+            args.statistical.as_deref(),
         )?;
         if reports.is_empty() {
             return Err(format!("{}: no submission folders in it", class.display()));
@@ -218,6 +226,9 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
     );
     if let Some(spec) = &image {
         student::check_images(&mut report, Path::new("."), &jobs, spec);
+    }
+    if let Some(pattern) = &args.statistical {
+        student::check_statistical(&mut report, Path::new("."), &jobs, pattern);
     }
     if args.json {
         super::emit(&student::gradescope_json(&report))

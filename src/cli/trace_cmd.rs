@@ -55,10 +55,13 @@ pub enum TraceFormat {
 pub fn run(args: &TraceArgs) -> Result<(), String> {
     let mut scene = load_scene(Some(&args.scene), &args.settings)?;
     if args.format == Some(TraceFormat::Student)
-        && scene.settings.integrator != crate::scene::Integrator::Whitted
+        && !matches!(
+            scene.settings.integrator,
+            crate::scene::Integrator::Whitted | crate::scene::Integrator::Path
+        )
     {
         return Err(format!(
-            "{}: the student trace format records Whitted's tracer, and this scene is set to the {} integrator (add --integrator whitted)",
+            "{}: the student trace format records Whitted's tracer (version 1) and the path tracer (version 2), and this scene is set to the {} integrator (add --integrator path or --integrator whitted)",
             args.scene.display(),
             super::scene_cmd::value_name(&scene.settings.integrator)
         ));
@@ -102,7 +105,12 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
         // On stderr: stdout is the trace (often piped).
         eprintln!("wrote {}", super::full_path(path));
     }
-    if args.format == Some(TraceFormat::Student) {
+    if args.format == Some(TraceFormat::Student) && crate::student::path::applies(prepared.scene())
+    {
+        // The pixel's first samples, each path record by record (format version 2).
+        let ours = crate::student::path::expected(&prepared, x, y);
+        super::emit(&crate::student::path::write(&ours.pixel))
+    } else if args.format == Some(TraceFormat::Student) {
         let ours = crate::student::expected::expected(&trace);
         super::emit(&crate::student::format::write(&ours.pixel))
     } else if args.json {

@@ -171,6 +171,8 @@ pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &TracerTolerances)
                 Stage::Shadows => shadows(e, s, &m, tol),
                 Stage::Secondary => secondary(e, s, &m, tol),
                 Stage::Color => color(e, s, &m, tol),
+                // A path tracer's stages are `path_compare`'s.
+                _ => None,
             });
             match found {
                 None => Check {

@@ -321,5 +321,7 @@ pub(super) fn missing(
             )),
             _ => None,
         },
+        // A path tracer's stages are `path_compare`'s.
+        _ => None,
     }
 }

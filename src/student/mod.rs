@@ -25,8 +25,11 @@ mod coverage;
 pub mod expected;
 pub mod format;
 pub mod image;
+pub mod path;
+pub mod path_compare;
 pub mod run;
 mod stage;
+pub mod statistical;
 
 use crate::record::number::{Style, fmt64};
 use crate::trace::PreparedScene;
@@ -51,6 +54,8 @@ pub struct Job {
     /// The scene file feedback's commands name (None: the student's variant lives in a private
     /// folder removed after grading, so there is no file to name).
     pub open_path: Option<PathBuf>,
+    /// The last stage checked on this scene, when its sheet entry says (else the run's).
+    pub upto: Option<Stage>,
 }
 
 impl Job {
@@ -67,6 +72,7 @@ impl Job {
             pixels,
             reference: Default::default(),
             variant: None,
+            upto: None,
         }
     }
 }
@@ -180,11 +186,16 @@ pub fn grade_submission(
             .path
             .file_name()
             .map_or("scene".into(), |f| f.to_string_lossy().to_string());
+        let upto = job.upto.unwrap_or(upto);
+        if path::applies(job.prepared.scene()) {
+            grade_paths(&mut tests, &file, template, dir, job, upto, tol, limits);
+            continue;
+        }
         for &[x, y] in &job.pixels {
             let trace = job.prepared.record(x, y, 0);
             let exp = expected::with_names(expected::expected(&trace), job.prepared.scene());
             let name = |st: Stage| format!("{file} ({x}, {y}): {}", st.name());
-            let stages: Vec<Stage> = Stage::ALL.iter().copied().filter(|s| *s <= upto).collect();
+            let stages = Stage::graded(upto, false);
             let mut note = None;
             let out = run::run(template, dir, &job.path, x, y, limits)
                 .map_err(|e| e.to_string())
@@ -234,6 +245,123 @@ pub fn grade_submission(
         student: student.to_string(),
         tests,
         seconds: start.elapsed().as_secs_f64(),
+    }
+}
+
+/// Grades a path-traced job's pixels sample by sample (format version 2), as
+/// [`grade_submission`] does a Whitted job's.
+#[allow(clippy::too_many_arguments)]
+fn grade_paths(
+    tests: &mut Vec<TestResult>,
+    file: &str,
+    template: &str,
+    dir: &Path,
+    job: &Job,
+    upto: Stage,
+    tol: &TracerTolerances,
+    limits: run::Limits,
+) {
+    let stages = Stage::graded(upto, true);
+    for &[x, y] in &job.pixels {
+        let exp = path::expected(&job.prepared, x, y);
+        let name = |st: Stage| format!("{file} ({x}, {y}): {}", st.name());
+        let mut note = None;
+        let out = run::run(template, dir, &job.path, x, y, limits)
+            .map_err(|e| e.to_string())
+            .and_then(|o| {
+                note = o.note;
+                path::parse(&o.stdout).map_err(|e| format!("your program's output, {e}"))
+            });
+        match out {
+            Err(why) => {
+                for st in &stages {
+                    tests.push(TestResult {
+                        name: name(*st),
+                        score: 0.0,
+                        max_score: 1.0,
+                        output: why.clone(),
+                        visibility: "visible".into(),
+                    });
+                }
+            }
+            Ok(pixels) => {
+                for c in path_compare::grade(&exp, &pixels, &stages, tol) {
+                    let mut output = c.check.message.clone();
+                    if !c.check.pass {
+                        if let Some(v) = &job.variant {
+                            output += &format!("\n(Your variant of the scene: {v}.)");
+                        }
+                        output += &see_sample(job, x, y, c.sample.unwrap_or(0), c.check.step);
+                    }
+                    if let Some(n) = &note {
+                        output += &format!("\n(Note: {n}.)");
+                    }
+                    tests.push(TestResult {
+                        name: name(c.check.stage),
+                        score: if c.check.pass { 1.0 } else { 0.0 },
+                        max_score: 1.0,
+                        output,
+                        visibility: "visible".into(),
+                    });
+                }
+            }
+        }
+    }
+}
+
+/// The feedback's pointer to raystep's numbers for sample `k` of a path-traced pixel: `trace
+/// --sample k` prints them (step `[K]`); the app opens sample 0 at its step.
+fn see_sample(job: &Job, x: u32, y: u32, k: u32, step: Option<usize>) -> String {
+    let Some(path) = &job.open_path else {
+        return "\n(Your variant lives only while grading runs: grade again with --variants DIR to keep it and see raystep's numbers for it.)".into();
+    };
+    let arg = crate::assets::scene_argument(path);
+    let scene = shlex::try_quote(&arg).map_or_else(|_| arg.clone(), |q| q.into_owned());
+    let at = step.map_or(String::new(), |s| format!(" (step [{s}])"));
+    let mut out =
+        format!("\nSee raystep's numbers: raystep trace {scene} --pixel {x},{y} --sample {k}{at}");
+    if k == 0
+        && let Some(s) = step
+    {
+        out += &format!("\nor in the app: raystep open {scene} --pixel {x},{y} --step {s}");
+    }
+    out
+}
+
+/// The statistical check of each Monte Carlo job (`--statistical`): the student's per-pixel
+/// statistics (a file named by `pattern`, `{stem}` the scene file's stem, relative to `dir`)
+/// against raystep's own render by Welch's t-test ([`statistical::compare`]), one test per
+/// scene.
+pub fn check_statistical(report: &mut Report, dir: &Path, jobs: &[Job], pattern: &str) {
+    for job in jobs {
+        let stem = job
+            .path
+            .file_stem()
+            .map_or("scene".into(), |s| s.to_string_lossy().to_string());
+        let file = dir.join(pattern.replace("{stem}", &stem));
+        let name = format!(
+            "{}: statistical",
+            job.path
+                .file_name()
+                .map_or("scene".into(), |f| f.to_string_lossy().to_string())
+        );
+        let verdict = crate::io::read_text(&file, crate::io::limits::SCENE * 16, "statistics file")
+            .map_err(|e| format!("{}: cannot read: {e}", file.display()))
+            .and_then(|text| {
+                statistical::parse(&text).map_err(|e| format!("{}: {e}", file.display()))
+            })
+            .map(|img| statistical::compare(&img, &statistical::reference(&job.prepared)));
+        let (score, output) = match verdict {
+            Err(e) => (0.0, e),
+            Ok(v) => (v.pass as u8 as f64, v.message),
+        };
+        report.tests.push(TestResult {
+            name,
+            score,
+            max_score: 1.0,
+            output,
+            visibility: "visible".into(),
+        });
     }
 }
 
@@ -363,6 +491,10 @@ pub struct TracerSheetScene {
     /// Scene values drawn per student (each student grades on their own variant of the scene).
     #[serde(default)]
     pub vary: Vec<Vary>,
+    /// The last stage checked on this scene (default: the sheet's `upto`); a path-traced
+    /// scene's stages are `random` … `estimate`.
+    #[serde(default)]
+    pub upto: Option<Stage>,
 }
 
 /// One value of a scene drawn per student: key `key` (element `index` of a vector) of the object,
@@ -560,18 +692,20 @@ pub fn parse_tracer_sheet(text: &str, path: &Path) -> Result<TracerSheet, String
     Ok(sheet)
 }
 
-/// A student's tracer is graded against Whitted's: a scene set to a Monte Carlo integrator is
-/// refused with a message that says how to grade it.
-pub fn whitted_only(scene: &crate::scene::Scene, path: &Path) -> Result<(), String> {
-    if scene.settings.integrator == crate::scene::Integrator::Whitted {
-        return Ok(());
+/// A student's tracer is graded against Whitted's (format version 1) or, on a path-traced
+/// scene, against raystep's path tracer sample by sample (version 2); a scene set to the
+/// distribution integrator is refused with a message that says how to grade it.
+pub fn gradable(scene: &crate::scene::Scene, path: &Path) -> Result<(), String> {
+    use crate::scene::Integrator;
+    match scene.settings.integrator {
+        Integrator::Whitted | Integrator::Path => Ok(()),
+        other => Err(format!(
+            "{}: grade-tracer grades Whitted tracers and path tracers (sample by sample), and this scene is set to the {} integrator: set `integrator = \"path\"` (or \"whitted\") in its [render] table to grade it step by step, or check a rendered image with --statistical",
+            path.display(),
+            clap::ValueEnum::to_possible_value(&other)
+                .map_or_else(String::new, |v| v.get_name().to_string())
+        )),
     }
-    Err(format!(
-        "{}: grade-tracer grades Whitted tracers, and this scene is set to the {} integrator: set `integrator = \"whitted\"` in its [render] table to grade it",
-        path.display(),
-        clap::ValueEnum::to_possible_value(&scene.settings.integrator)
-            .map_or_else(String::new, |v| v.get_name().to_string())
-    ))
 }
 
 /// The most pixels a sheet's scene draws per student (`random_pixels`).
@@ -740,7 +874,7 @@ pub fn sheet_jobs(
             variant = Some(drawn);
             scene
         };
-        whitted_only(&scene, &path)?;
+        gradable(&scene, &path)?;
         let (w, h) = (scene.camera.width, scene.camera.height);
         let mut pixels = vec![];
         for &[x, y] in &sc.pixels {
@@ -771,6 +905,7 @@ pub fn sheet_jobs(
             job.variant = variant;
             job.open_path = open_path;
         }
+        job.upto = sc.upto;
         jobs.push(job);
     }
     Ok(jobs)
@@ -780,6 +915,7 @@ pub fn sheet_jobs(
 /// student's submission (the folder's name is the student), run and checked as
 /// [`grade_submission`] does; returns each report, in name order. (A class's typed answers are
 /// [`crate::lesson::grade_answers_csv`]'s.)
+#[allow(clippy::too_many_arguments)]
 pub fn grade_tracer_class(
     class: &Path,
     template: &str,
@@ -788,6 +924,7 @@ pub fn grade_tracer_class(
     tol: &TracerTolerances,
     limits: run::Limits,
     image: Option<&ImageSpec>,
+    statistical: Option<&str>,
 ) -> Result<Vec<Report>, String> {
     let mut dirs: Vec<PathBuf> = std::fs::read_dir(class)
         .map_err(|e| format!("{}: cannot read: {e}", class.display()))?
@@ -812,6 +949,9 @@ pub fn grade_tracer_class(
         if let Some(spec) = image {
             check_images(&mut r, &d, &jobs, spec);
         }
+        if let Some(pattern) = statistical {
+            check_statistical(&mut r, &d, &jobs, pattern);
+        }
         out.push(r);
     }
     Ok(out)
@@ -822,7 +962,19 @@ pub fn grade_tracer_class(
 pub fn grades_csv(reports: &[Report]) -> String {
     let mut rows = vec![];
     let mut head: Vec<String> = vec!["student".into(), "score".into(), "max_score".into()];
-    head.extend(Stage::ALL.iter().map(|s| s.name().to_string()));
+    // Whitted's stages always; a path tracer's when a report has them.
+    let path_graded = |st: &Stage| {
+        let suffix = format!(": {}", st.name());
+        reports
+            .iter()
+            .any(|r| r.tests.iter().any(|t| t.name.ends_with(&suffix)))
+    };
+    let columns: Vec<Stage> = Stage::ALL
+        .iter()
+        .copied()
+        .chain(Stage::PATH.iter().copied().filter(path_graded))
+        .collect();
+    head.extend(columns.iter().map(|s| s.name().to_string()));
     head.push("notes".into());
     rows.push(head);
     for r in reports {
@@ -831,7 +983,7 @@ pub fn grades_csv(reports: &[Report]) -> String {
             fmt64(r.score(), Style::Exact),
             fmt64(r.max_score(), Style::Exact),
         ];
-        for st in Stage::ALL {
+        for &st in &columns {
             let suffix = format!(": {}", st.name());
             let of: Vec<&TestResult> = r
                 .tests

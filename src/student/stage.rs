@@ -35,10 +35,55 @@ pub enum Stage {
     Secondary,
     /// The pixel's colour.
     Color,
+    /// A path tracer's random numbers: raystep's hash, dimension for dimension (format v2).
+    Random,
+    /// Each sample's path: the camera ray, every ray's hit, the path's length.
+    Path,
+    /// The BSDF's samples: direction (in the right hemisphere) and pdf.
+    BsdfSample,
+    /// Next-event estimation: the light, the point, its pdf per steradian, blocked or not.
+    LightSample,
+    /// Each bounce: the BSDF's value, the cosine, the throughput, Russian roulette.
+    Bounce,
+    /// MIS weights of light samples and of emission found by BSDF samples.
+    Mis,
+    /// Each sample's value and the pixel's.
+    Estimate,
 }
 
 impl Stage {
-    /// Every stage, in order.
+    /// A path tracer's stages (format version 2), in order.
+    pub const PATH: [Stage; 7] = [
+        Stage::Random,
+        Stage::Path,
+        Stage::BsdfSample,
+        Stage::LightSample,
+        Stage::Bounce,
+        Stage::Mis,
+        Stage::Estimate,
+    ];
+
+    /// Whether this is one of a path tracer's stages.
+    pub fn is_path(self) -> bool {
+        self >= Stage::Random
+    }
+
+    /// The stages a pixel is graded on up to `upto`: a Whitted scene's up to `upto`; a
+    /// path-traced scene's up to `upto`, or all of them when `upto` is a Whitted stage (the
+    /// default, `color`, among them).
+    pub fn graded(upto: Stage, path: bool) -> Vec<Stage> {
+        if path {
+            Stage::PATH
+                .iter()
+                .copied()
+                .filter(|s| !upto.is_path() || *s <= upto)
+                .collect()
+        } else {
+            Stage::ALL.iter().copied().filter(|s| *s <= upto).collect()
+        }
+    }
+
+    /// Whitted's stages (format version 1), in order.
     pub const ALL: [Stage; 7] = [
         Stage::Camera,
         Stage::Sphere,
@@ -59,6 +104,13 @@ impl Stage {
             Stage::Shadows => "shadows",
             Stage::Secondary => "secondary",
             Stage::Color => "color",
+            Stage::Random => "random",
+            Stage::Path => "path",
+            Stage::BsdfSample => "bsdf-sample",
+            Stage::LightSample => "light-sample",
+            Stage::Bounce => "bounce",
+            Stage::Mis => "mis",
+            Stage::Estimate => "estimate",
         }
     }
 }

@@ -666,8 +666,21 @@ def trace(scene, ray, throughput=1.0, media=None):
     return color
 
 
+def integrator_of(path):
+    """The scene's `[render] integrator` (a path-traced scene goes to path_tracer.py)."""
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f).get("render", {}).get("integrator", "whitted")
+    except (OSError, tomllib.TOMLDecodeError):
+        return "whitted"
+
+
 def main(argv=None):
     global BUG, EPSILON
+    args_in = sys.argv[1:] if argv is None else argv
+    if args_in and integrator_of(args_in[0]) == "path":
+        import path_tracer
+        return path_tracer.main(args_in)
     ap = argparse.ArgumentParser(description="A model student's Whitted ray tracer: prints the "
                                  "trace of one pixel in raystep's student trace format.")
     ap.add_argument("scene")
