@@ -194,10 +194,15 @@ mod pieces {
     pub const CLOSEST_HIT: &str = include_str!("wgsl/closest_hit.wgsl");
     pub const RAYGEN: &str = include_str!("wgsl/raygen.wgsl");
     pub const DISPLAY: &str = include_str!("wgsl/display.wgsl");
+    pub const PORTABLE: &str = include_str!("wgsl/portable.wgsl");
 }
 
 /// The small shader that encodes the linear image as sRGB into the app's `Rgba8Unorm` texture.
 pub const DISPLAY_WGSL: &str = pieces::DISPLAY;
+
+/// The portable `sin`/`cos`/`exp`/`ln` in WGSL (`p_sin_cos`, `p_exp`, `p_ln`): the twin of
+/// [`crate::mc::portable`], the same f32 steps, so the exact compute path returns its bits.
+pub const PORTABLE_WGSL: &str = pieces::PORTABLE;
 
 /// The tracer shader generated for a scene's features.
 pub fn generated_wgsl(prepared: &PreparedScene) -> String {
