@@ -143,3 +143,132 @@ fn the_wgsl_twin_returns_the_cpus_bits_on_the_exact_path() {
         &wrong[..wrong.len().min(5)]
     );
 }
+
+/// The Monte Carlo sampling routines' WGSL (src/gpu/wgsl/mc_sample.wgsl) against src/mc: for
+/// 2^15 inputs, each routine's outputs are the CPU's bits on the exact compute path.
+#[test]
+fn the_wgsl_samplers_return_the_cpus_bits_on_the_exact_path() {
+    use glam::Vec3;
+    use raystep::gpu::exact::arith_wgsl;
+    use raystep::gpu::shader::{MC_SAMPLE_WGSL, RANDOM_WGSL};
+    use raystep::mc::{bsdf, integrator, random, sample};
+    let _gpu = one_at_a_time();
+    let test = "the_wgsl_samplers_return_the_cpus_bits_on_the_exact_path";
+    let Some(ctx) = context(test) else {
+        return;
+    };
+    let arith = ctx.arithmetic().unwrap();
+    if !ctx.passthrough || !arith.exact() {
+        eprintln!(
+            "SKIPPED {test}: {} has no exact compute path",
+            ctx.adapter_name()
+        );
+        return;
+    }
+    const OUT: usize = 32;
+    let wgsl = format!(
+        "{}{PORTABLE_WGSL}{RANDOM_WGSL}{MC_SAMPLE_WGSL}
+@group(0) @binding(0) var<storage, read> inputs: array<vec4f>;
+@group(0) @binding(1) var<storage, read_write> outputs: array<u32>;
+
+fn put(i: u32, k: u32, v: f32) {{
+    outputs[{OUT}u * i + k] = bitcast<u32>(v);
+}}
+
+fn put4(i: u32, k: u32, v: vec4f) {{
+    put(i, k, v.x); put(i, k + 1u, v.y); put(i, k + 2u, v.z); put(i, k + 3u, v.w);
+}}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3u) {{
+    let i = gid.x;
+    if i >= arrayLength(&inputs) {{
+        return;
+    }}
+    let x = inputs[i];
+    let u = x.xy;
+    let d = concentric_disk(u);
+    put(i, 0u, d.x); put(i, 1u, d.y);
+    put4(i, 2u, cosine_hemisphere(u));
+    let sphere = uniform_sphere(u);
+    put4(i, 6u, sphere);
+    let t = uniform_triangle(u);
+    put(i, 10u, t.x); put(i, 11u, t.y);
+    put4(i, 12u, sphere_cone(x.w, 1.0, u));
+    put4(i, 16u, ggx_normal(x.z, u));
+    let f = frame_new(sphere.xyz);
+    let w = frame_to_world(f, cosine_hemisphere(u.yx).xyz);
+    put(i, 20u, w.x); put(i, 21u, w.y); put(i, 22u, w.z);
+    put(i, 23u, power_heuristic(u.x, u.y));
+    let fr = fresnel_dielectric(u.x, 1.0 + x.z);
+    put(i, 24u, fr.x); put(i, 25u, fr.y);
+    let sp = stratified_pair(vec2u(i, 7u * i), i % 37u, 1u + i % 50u, i % 1000u, 7u, u);
+    put(i, 26u, sp.x); put(i, 27u, sp.y);
+    put(i, 28u, mc_uniform(vec2u(i, 3u), i, 17u, 5u));
+    let l = frame_to_local(f, w);
+    put(i, 29u, l.x); put(i, 30u, l.y); put(i, 31u, l.z);
+}}
+",
+        arith_wgsl(arith.config())
+    );
+    let n = 1u32 << 15;
+    let inputs: Vec<[f32; 4]> = (0..n)
+        .map(|i| {
+            let u0 = random::uniform([i, 1], 0, 0, 9);
+            let u1 = random::uniform([i, 1], 0, 1, 9);
+            let alpha = 0.01 + random::uniform([i, 1], 0, 2, 9);
+            let distance = 0.5 + 4.0 * random::uniform([i, 1], 0, 3, 9);
+            [u0, u1, alpha, distance]
+        })
+        .collect();
+    let bytes: Vec<u8> = inputs
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    let out = ctx
+        .run_kernel(
+            &wgsl,
+            &bytes,
+            inputs.len() * OUT,
+            KernelForm::SpirvNoContraction,
+        )
+        .unwrap();
+    let v4 = |s: sample::Sampled<Vec3>| [s.value.x, s.value.y, s.value.z, s.pdf];
+    let mut wrong = vec![0usize; OUT];
+    let mut first = None;
+    for (i, x) in inputs.iter().enumerate() {
+        let u = [x[0], x[1]];
+        let mut want = [0.0f32; OUT];
+        want[0..2].copy_from_slice(&sample::concentric_disk(u));
+        want[2..6].copy_from_slice(&v4(sample::cosine_hemisphere(u)));
+        let sphere = sample::uniform_sphere(u);
+        want[6..10].copy_from_slice(&v4(sphere));
+        want[10..12].copy_from_slice(&sample::uniform_triangle(u));
+        want[12..16].copy_from_slice(&sample::sphere_cone(x[3], 1.0, u).map_or([0.0; 4], v4));
+        want[16..20].copy_from_slice(&v4(sample::ggx_normal(x[2], u)));
+        let f = sample::Frame::new(sphere.value);
+        let w = f.to_world(sample::cosine_hemisphere([u[1], u[0]]).value);
+        want[20..23].copy_from_slice(&w.to_array());
+        want[23] = integrator::power_heuristic(u[0], u[1]);
+        let (r, t) = bsdf::fresnel_dielectric(u[0], 1.0 + x[2]);
+        want[24] = r;
+        want[25] = t.unwrap_or(-1.0);
+        let i = i as u32;
+        let sp = integrator::stratified_pair([i, 7 * i], i % 37, 1 + i % 50, i % 1000, 7, u);
+        want[26..28].copy_from_slice(&sp);
+        want[28] = random::uniform([i, 3], i, 17, 5);
+        want[29..32].copy_from_slice(&f.to_local(w).to_array());
+        for k in 0..OUT {
+            let got = f32::from_bits(out[i as usize * OUT + k]);
+            if !same(got, want[k]) {
+                wrong[k] += 1;
+                first.get_or_insert((i, k, got, want[k]));
+            }
+        }
+    }
+    assert!(
+        wrong.iter().all(|&w| w == 0),
+        "results that differ, by output: {wrong:?}; first (input, output, GPU, CPU): {first:?}"
+    );
+}

@@ -94,6 +94,10 @@ impl GpuTracer {
             storage("leaf objects", &data.leaf_objects),
             storage("planes", &data.planes),
         ];
+        // The Monte Carlo data: binding 7, or 8 after the ray queries' TLAS (no gap: the
+        // passthrough SPIR-V reads the bindings as numbered, and Vulkan's are packed).
+        let mc_buffer = storage("monte carlo", &data.mc);
+        let mc_binding = if aabbs.is_some() { 8 } else { 7 };
         let both = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let mut entries = vec![wgpu::BindGroupLayoutEntry {
             binding: 0,
@@ -117,6 +121,16 @@ impl GpuTracer {
                 count: None,
             });
         }
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: mc_binding,
+            visibility: both,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        });
         let acceleration = aabbs.map(|a| build_acceleration(device, queue, a, data.n_nodes));
         if acceleration.is_some() {
             entries.push(wgpu::BindGroupLayoutEntry {
@@ -142,6 +156,10 @@ impl GpuTracer {
                 resource: b.as_entire_binding(),
             });
         }
+        group_entries.push(wgpu::BindGroupEntry {
+            binding: mc_binding,
+            resource: mc_buffer.as_entire_binding(),
+        });
         if let Some((_, tlas)) = &acceleration {
             group_entries.push(wgpu::BindGroupEntry {
                 binding: 7,

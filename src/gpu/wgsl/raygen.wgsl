@@ -60,16 +60,7 @@ struct DebugRecord {
 }
 var<private> debug_record: DebugRecord;
 
-// The PCG hash (Jarzynski & Olano 2020), as src/trace/sampling.rs.
-fn pcg_hash(input: u32) -> u32 {
-    let state = input * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
-fn unit_float(h: u32) -> f32 {
-    return f32(h >> 8u) * (1.0 / 16777216.0);
-}
+// pcg_hash and unit_float: src/gpu/wgsl/random.wgsl.
 
 // Where sample `k` lies inside pixel `p`, in [0, 1)² (src/trace/sampling.rs `sample_offset`).
 fn sample_offset(p: vec2u, k: u32) -> vec2f {
@@ -186,11 +177,23 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
     return color;
 }
 
-// The pixel's colour: the mean of its samples.
+// The pixel's colour: the sum of its finite samples over spp.
 fn render_pixel(p: vec2u, centre: vec3f, exact: bool, capture: bool) -> vec3f {
     var sum = vec3f(0.0);
     for (var k = 0u; k < max(params.spp, 1u); k++) {
-        sum += trace(ray_generation(p, k, centre, exact), capture && k == 0u);
+//#if MC
+        if capture && k == 0u {
+            // The debug pixel's record: the primary ray's hit.
+            _ = trace(ray_generation(p, k, centre, exact), true);
+        }
+        let c = mc_sample(p, k, ray_generation(p, k, centre, exact));
+//#else
+        let c = trace(ray_generation(p, k, centre, exact), capture && k == 0u);
+//#endif
+        // As the CPU's accumulate_samples: a sample that is not finite is left out of the sum.
+        if finite(c.x) && finite(c.y) && finite(c.z) {
+            sum += c;
+        }
     }
     return fdiv3(sum, f32(max(params.spp, 1u)));
 }
