@@ -1110,3 +1110,44 @@ fn monte_carlo_scenes_on_the_gpu_are_the_cpus_image() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// `raystep compare` and `render --gpu` on a Monte Carlo scene trace its integrator on the GPU
+/// (no note that Whitted stands in): on the exact compute path no pixel differs.
+#[test]
+fn cli_compare_and_render_gpu_trace_monte_carlo_scenes() {
+    let _gpu = one_at_a_time();
+    let Some(ctx) = context("cli_compare_and_render_gpu_trace_monte_carlo_scenes") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    for integrator in ["distribution", "path"] {
+        let out = raystep_cmd()
+            .arg("compare")
+            .arg(scene_file("soft-shadows.toml"))
+            .args(["--width", "48", "--height", "36", "--spp", "4"])
+            .args(["--integrator", integrator, "--gpu-path", "compute"])
+            .assert()
+            .success();
+        let stdout = String::from_utf8_lossy(&out.get_output().stdout).to_string();
+        let stderr = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+        assert!(!stderr.contains("Whitted"), "{stderr}");
+        assert!(stdout.contains("of 1728 pixels differ"), "{stdout}");
+        if ctx.passthrough && ctx.arithmetic().unwrap().exact() {
+            assert!(
+                stdout.contains("RMSE 0.00e0") && stdout.contains(" 0 of 1728 pixels differ"),
+                "{integrator}: {stdout}"
+            );
+        }
+    }
+    let png = dir.path().join("gpu.png");
+    let out = raystep_cmd()
+        .arg("render")
+        .arg(scene_file("soft-shadows.toml"))
+        .args(["--spp", "2", "--integrator", "path", "--gpu", "-o"])
+        .arg(&png)
+        .assert()
+        .success();
+    let stderr = String::from_utf8_lossy(&out.get_output().stderr).to_string();
+    assert!(!stderr.contains("Whitted"), "{stderr}");
+    assert!(image::open(&png).is_ok());
+}

@@ -57,10 +57,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         }
     }
     let t0 = Instant::now();
-    let mut scene = super::load_scene(Some(&args.scene), &args.settings)?;
-    if args.gpu {
-        super::whitted_for_gpu(&mut scene);
-    }
+    let scene = super::load_scene(Some(&args.scene), &args.settings)?;
     let load = t0.elapsed();
     let prepared = PreparedScene::new(scene);
     if args.gpu {
