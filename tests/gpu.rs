@@ -1092,6 +1092,16 @@ fn monte_carlo_scenes_on_the_gpu_are_the_cpus_image() {
                     "{label}: {differ} compute-path pixels differ from the CPU's"
                 ));
             }
+            // Progressively (passes of 1, 1, 2 samples): the same bits in the end.
+            let mut passes = vec![];
+            let last = gpu
+                .render_progressive(GpuPath::Compute, |done, _| passes.push(done))
+                .unwrap();
+            if passes != [1, 2, 4] || !same_bits(&last.pixels, &frame.pixels) {
+                failures.push(format!(
+                    "{label}: the progressive render (passes ending at {passes:?}) is not the one-shot image"
+                ));
+            }
         }
         let frag = gpu.render(GpuPath::Fragment).unwrap();
         let mean = |v: &[glam::Vec3]| v.iter().copied().sum::<glam::Vec3>() / v.len() as f32;

@@ -33,7 +33,7 @@ impl Bytes {
 }
 
 /// Size of `Params` in bytes.
-pub(crate) const PARAMS_SIZE: u64 = 128;
+pub(crate) const PARAMS_SIZE: u64 = 144;
 /// Size of `DebugRecord` in bytes.
 pub(crate) const DEBUG_SIZE: u64 = 48;
 
@@ -175,6 +175,7 @@ pub(crate) fn params(
     use_bvh: bool,
     debug_pixel: [u32; 2],
     trace_sample: u32,
+    pass: [u32; 2],
 ) -> Vec<u8> {
     let s = &scene.settings;
     let mut b = Bytes::default();
@@ -199,7 +200,11 @@ pub(crate) fn params(
         .u32(debug_pixel[0])
         .u32(debug_pixel[1])
         .f32(f32::INFINITY)
-        .u32(trace_sample);
+        .u32(trace_sample)
+        .u32(pass[0])
+        .u32(pass[1])
+        .u32(0)
+        .u32(0);
     debug_assert_eq!(b.0.len() as u64, PARAMS_SIZE);
     b.0
 }

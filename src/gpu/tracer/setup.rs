@@ -194,6 +194,16 @@ impl GpuTracer {
                     },
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
             ],
         });
         let display_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -331,6 +341,12 @@ impl GpuTracer {
             U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
         );
         let linear_view = linear.create_view(&Default::default());
+        let accum = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("raystep running sums"),
+            size: u64::from(width) * u64::from(height) * 16,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let display_view = display.create_view(&Default::default());
         let output_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("raystep output"),
@@ -343,6 +359,10 @@ impl GpuTracer {
                 wgpu::BindGroupEntry {
                     binding: 1,
                     resource: debug.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: accum.as_entire_binding(),
                 },
             ],
         });
@@ -363,6 +383,7 @@ impl GpuTracer {
             display_view,
             output_group,
             display_group,
+            _accum: accum,
         }
     }
 }
