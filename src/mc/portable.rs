@@ -23,6 +23,10 @@
 //! * [`ln`]: within 1 ulp for normal positive x; 0 and subnormals give −∞, negative x and NaN
 //!   give NaN, +∞ gives +∞.
 
+// The coefficients are Cephes' published decimals, kept verbatim so they can be checked against
+// the source (each rounds to the f32 it names; the WGSL twin writes the same decimals).
+#![allow(clippy::excessive_precision)]
+
 pub use crate::trace::shading::portable_pow as pow;
 
 /// π/2 in three parts: the first two with few enough significant bits (7 and 11) that `k·part`
@@ -86,7 +90,7 @@ pub fn cos(x: f32) -> f32 {
 const LN2_HI: f32 = 0.693_359_375;
 const LN2_LO: f32 = -2.121_944_4e-4;
 /// log₂ e rounded to f32.
-const LOG2_E: f32 = 1.442_695_f32;
+const LOG2_E: f32 = std::f32::consts::LOG2_E;
 
 /// 2ᵏ for −126 ≤ k ≤ 127, built from its bits.
 fn exp2i(k: i32) -> f32 {
