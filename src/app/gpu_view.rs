@@ -399,17 +399,17 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
     if let Some(line) = gpu.adapter_line() {
         ui.label(RichText::new(line).small());
     }
-    let integrator = prepared.scene().settings.integrator;
-    if integrator != crate::scene::Integrator::Whitted {
-        let name = clap::ValueEnum::to_possible_value(&integrator)
+    let settings = &prepared.scene().settings;
+    if settings.integrator != crate::scene::Integrator::Whitted {
+        let name = clap::ValueEnum::to_possible_value(&settings.integrator)
             .map_or_else(String::new, |v| v.get_name().to_string());
-        ui.colored_label(
-            ui.visuals().warn_fg_color,
-            format!(
-                "The GPU traces Whitted's integrator only. This scene is set to {name}: this tab \
-                 draws Whitted's image of it, and the table compares the primary ray's hit, \
-                 which every integrator shares."
-            ),
+        ui.label(
+            RichText::new(format!(
+                "{name} integrator on the GPU: {} samples per pixel, the CPU's random numbers \
+                 (the same image bit for bit where the arithmetic is exact).",
+                settings.spp
+            ))
+            .small(),
         );
     }
     let (id, size) = match frame {

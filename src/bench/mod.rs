@@ -597,10 +597,15 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
         rayon::current_num_threads()
     );
     crate::io::outln!("|---|---|---|---|---|---|---|---|---|");
-    let sizes = scenes
+    // Monte Carlo scenes have their own table ([`gpu_monte_carlo`]).
+    let whitted: Vec<&Scene> = scenes
         .iter()
-        .map(|s| (s, 1280, 720))
-        .chain(scenes.first().map(|s| (s, 3840, 2160)));
+        .filter(|s| s.settings.integrator == crate::scene::Integrator::Whitted)
+        .collect();
+    let sizes = whitted
+        .iter()
+        .map(|s| (*s, 1280, 720))
+        .chain(whitted.first().map(|s| (*s, 3840, 2160)));
     for (scene, width, height) in sizes {
         let mut s = scene.clone();
         s.camera.width = width;
@@ -643,6 +648,70 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
             std::hint::black_box(render(&tracer, &RenderOptions::default()).expect("render"));
         });
         row += &format!(" {:.1} ({}) |", cpu.as_secs_f64() * 1e3, mrays(cpu));
+        crate::io::outln!("{row}");
+    }
+    Ok(())
+}
+
+/// The Monte Carlo integrators on the GPU: for each scene set to `distribution` or `path` (and the
+/// default scene under each, so there is always a row), at 1280×720 with one sample per pixel
+/// per frame, the samples per second of the fragment and compute paths (median frame time of
+/// `reps` after one warm-up, trace pass only) and of the CPU render on all cores. On a CPU
+/// rasterizer (lavapipe) the "GPU" figures are CPU times too, and the table says so.
+pub fn gpu_monte_carlo(scenes: &[Scene], reps: usize) -> Result<(), String> {
+    use crate::gpu::{GpuContext, GpuPath, GpuTracer, ShaderVariant};
+    use crate::scene::Integrator;
+    let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
+    crate::io::outln!(
+        "## Monte Carlo on the GPU (1280×720, 1 sample per pixel per frame; Msamples/s, medians of {reps})"
+    );
+    crate::io::outln!("adapter: {}", ctx.adapter_name());
+    if ctx.info.device_type == eframe::wgpu::DeviceType::Cpu {
+        crate::io::outln!(
+            "note: this adapter is a CPU rasterizer, so the GPU columns are CPU times as well \
+             (its threads against raystep's own)"
+        );
+    }
+    let mut mc: Vec<Scene> = scenes
+        .iter()
+        .filter(|s| s.settings.integrator != Integrator::Whitted)
+        .cloned()
+        .collect();
+    for integrator in [Integrator::Distribution, Integrator::Path] {
+        let mut s = crate::scene::default_scene();
+        s.settings.integrator = integrator;
+        mc.push(s);
+    }
+    crate::io::outln!(
+        "\n| scene | integrator | fragment | compute | CPU, {} threads |",
+        rayon::current_num_threads()
+    );
+    crate::io::outln!("|---|---|---|---|---|");
+    for scene in mc {
+        let mut s = scene;
+        s.camera.width = 1280;
+        s.camera.height = 720;
+        s.settings.spp = 1;
+        let samples = 1280.0 * 720.0;
+        let prepared = PreparedScene::new(s);
+        let msps = |t: Duration| samples / t.as_secs_f64().max(1e-9) / 1e6;
+        let mut row = format!(
+            "| {} | {} |",
+            prepared.scene().name,
+            clap::ValueEnum::to_possible_value(&prepared.scene().settings.integrator)
+                .map_or_else(String::new, |v| v.get_name().to_string())
+        );
+        let mut gpu = GpuTracer::new(ctx.clone(), &prepared, ShaderVariant::Generated)
+            .map_err(|e| e.to_string())?;
+        for path in [GpuPath::Fragment, GpuPath::Compute] {
+            let t = gpu.time_frames(path, 1, reps).map_err(|e| e.to_string())?;
+            row += &format!(" {:.2} ({:.0} ms) |", msps(t), t.as_secs_f64() * 1e3);
+        }
+        let tracer = prepared.tracer();
+        let cpu = median_time(reps.min(3), || {
+            std::hint::black_box(render(&tracer, &RenderOptions::default()).expect("render"));
+        });
+        row += &format!(" {:.2} ({:.0} ms) |", msps(cpu), cpu.as_secs_f64() * 1e3);
         crate::io::outln!("{row}");
     }
     Ok(())

@@ -213,6 +213,8 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
         );
         crate::bench::gpu(&with_flake, reps)?;
         crate::io::outln!();
+        crate::bench::gpu_monte_carlo(&scenes, reps)?;
+        crate::io::outln!();
     }
     if args.section == Section::Path {
         let scene = scenes

@@ -41,7 +41,6 @@ pub fn run(args: &CompareArgs) -> Result<(), String> {
         super::check_png_path(p)?;
     }
     let mut scene = super::load_scene(Some(&args.scene), &args.settings)?;
-    super::whitted_for_gpu(&mut scene);
     if let Some(w) = args.width {
         scene.camera.width = w;
     }

@@ -155,12 +155,13 @@ impl SettingsArgs {
     }
 }
 
-/// The GPU tracer runs Whitted's integrator only: a scene set to another one is traced with
-/// Whitted on both sides of a GPU comparison, and a note on stderr says so.
+/// The GPU's step trace (`raystep trace --gpu`) records Whitted's integrator only: a scene set to
+/// another one is traced with Whitted on both sides, and a note on stderr says so. (Rendering
+/// and `compare` trace the Monte Carlo integrators on the GPU too.)
 pub fn whitted_for_gpu(scene: &mut Scene) {
     if scene.settings.integrator != crate::scene::Integrator::Whitted {
         eprintln!(
-            "note: the GPU traces Whitted's integrator only; \"{}\" is set to {}, so both sides use Whitted here",
+            "note: the GPU's step trace records Whitted's integrator only; \"{}\" is set to {}, so both sides use Whitted here",
             scene.name,
             scene_cmd::value_name(&scene.settings.integrator)
         );

@@ -57,10 +57,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         }
     }
     let t0 = Instant::now();
-    let mut scene = super::load_scene(Some(&args.scene), &args.settings)?;
-    if args.gpu {
-        super::whitted_for_gpu(&mut scene);
-    }
+    let scene = super::load_scene(Some(&args.scene), &args.settings)?;
     let load = t0.elapsed();
     let prepared = PreparedScene::new(scene);
     if args.gpu {
@@ -232,7 +229,22 @@ fn run_gpu(
     let frame_time = gpu
         .time_frames(args.gpu_path, 1, GPU_FRAMES)
         .map_err(|e| e.to_string())?;
-    let frame = gpu.render(args.gpu_path).map_err(|e| e.to_string())?;
+    // A Monte Carlo scene on the compute path: passes of 1, 1, 2, 4, … samples per pixel, as
+    // the CPU's render (the same image), saying on stderr how far it is.
+    let spp = scene.settings.spp;
+    let frame = if scene.settings.integrator != crate::scene::Integrator::Whitted && spp > 1 {
+        let started = Instant::now();
+        gpu.render_progressive(args.gpu_path, |done, _| {
+            eprintln!(
+                "rendering on the GPU {:.0}%: {done} of {spp} samples per pixel, {:.1} s",
+                100.0 * done as f64 / spp as f64,
+                started.elapsed().as_secs_f64()
+            );
+        })
+    } else {
+        gpu.render(args.gpu_path)
+    }
+    .map_err(|e| e.to_string())?;
     let img = image::to_rgb8(frame.width, frame.height, &frame.pixels, args.linear);
     image::write_png(&args.output, &img)?;
     crate::io::outln!(

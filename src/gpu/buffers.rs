@@ -33,7 +33,7 @@ impl Bytes {
 }
 
 /// Size of `Params` in bytes.
-pub(crate) const PARAMS_SIZE: u64 = 128;
+pub(crate) const PARAMS_SIZE: u64 = 144;
 /// Size of `DebugRecord` in bytes.
 pub(crate) const DEBUG_SIZE: u64 = 48;
 
@@ -45,6 +45,8 @@ pub(crate) struct SceneData {
     pub nodes: Vec<u8>,
     pub leaf_objects: Vec<u8>,
     pub planes: Vec<u8>,
+    /// The Monte Carlo integrators' data ([`mc_data`]).
+    pub mc: Vec<u8>,
     pub n_nodes: u32,
     pub n_planes: u32,
 }
@@ -130,6 +132,7 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
         nodes: nodes.non_empty(32),
         leaf_objects: leaf_objects.non_empty(4),
         planes: planes.non_empty(4),
+        mc: mc_data(scene),
         n_nodes,
         n_planes,
     }
@@ -172,6 +175,7 @@ pub(crate) fn params(
     use_bvh: bool,
     debug_pixel: [u32; 2],
     trace_sample: u32,
+    pass: [u32; 2],
 ) -> Vec<u8> {
     let s = &scene.settings;
     let mut b = Bytes::default();
@@ -196,7 +200,131 @@ pub(crate) fn params(
         .u32(debug_pixel[0])
         .u32(debug_pixel[1])
         .f32(f32::INFINITY)
-        .u32(trace_sample);
+        .u32(trace_sample)
+        .u32(pass[0])
+        .u32(pass[1])
+        .u32(0)
+        .u32(0);
     debug_assert_eq!(b.0.len() as u64, PARAMS_SIZE);
+    b.0
+}
+
+/// Words per light in [`mc_data`].
+const MC_LIGHT_WORDS: u32 = 20;
+/// Words per material in [`mc_data`].
+const MC_MATERIAL_WORDS: u32 = 8;
+/// Words in [`mc_data`]'s header.
+const MC_HEADER_WORDS: u32 = 16;
+
+/// The Monte Carlo integrators' data (`wgsl/mc_integrator.wgsl` reads it as `mc`, one array of
+/// 32-bit words): a header (the integrator, the strategy, the sampler, `rr_depth`, the counts and
+/// the sections' offsets, the lens), each material's BSDF and emission, the lights of
+/// [`crate::mc::lights::Lights`], their running sum of powers, which light each object is, and
+/// the light groups (each: its members' offset and count; the members; their running sum of
+/// areas). A Whitted scene gets the header alone.
+pub(crate) fn mc_data(scene: &Scene) -> Vec<u8> {
+    use crate::mc::lights::{LightShape, Lights};
+    use crate::scene::{Bsdf, Integrator, SamplerKind, Strategy};
+    let s = &scene.settings;
+    let lights = if s.integrator == Integrator::Whitted {
+        Lights::default()
+    } else {
+        Lights::new(scene)
+    };
+    let n_lights = lights.lights.len() as u32;
+    let n_materials = scene.materials.len() as u32;
+    let n_objects = scene.objects.len() as u32;
+    let n_groups = lights.groups.len() as u32;
+    let n_members: u32 = lights.groups.iter().map(|g| g.members.len() as u32).sum();
+    let off_materials = MC_HEADER_WORDS;
+    let off_lights = off_materials + MC_MATERIAL_WORDS * n_materials;
+    let off_cdf = off_lights + MC_LIGHT_WORDS * n_lights;
+    let off_by_object = off_cdf + n_lights;
+    let off_groups = off_by_object + n_objects;
+    let off_members = off_groups + 2 * n_groups;
+    let off_group_cdf = off_members + n_members;
+    let mut b = Bytes::default();
+    b.u32(match s.integrator {
+        Integrator::Whitted => 0,
+        Integrator::Distribution => 1,
+        Integrator::Path => 2,
+    })
+    .u32(match s.strategy {
+        Strategy::Mis => 0,
+        Strategy::Light => 1,
+        Strategy::Bsdf => 2,
+    })
+    .u32((s.sampler == SamplerKind::Stratified) as u32)
+    .u32(s.rr_depth)
+    .u32(n_lights)
+    .u32(n_groups)
+    .u32(off_materials)
+    .u32(off_lights)
+    .u32(off_cdf)
+    .u32(off_by_object)
+    .u32(off_groups)
+    .u32(off_members)
+    .u32(off_group_cdf)
+    .f32(scene.camera.aperture)
+    .f32(scene.camera.focus_distance)
+    .u32(0);
+    for m in &scene.materials {
+        let (kind, c, param) = match m.bsdf() {
+            Bsdf::Diffuse { albedo } => (0, albedo, 0.0),
+            Bsdf::Mirror { tint } => (1, tint, 0.0),
+            Bsdf::Glass { ior } => (2, Vec3::ZERO, ior),
+            Bsdf::Glossy { tint, alpha } => (3, tint, alpha),
+        };
+        b.u32(kind).vec3(c).f32(param).vec3(m.emission);
+    }
+    let mut by_object = vec![u32::MAX; scene.objects.len()];
+    for (i, l) in lights.lights.iter().enumerate() {
+        let (kind, a, bb, c, n, area, radius) = match l.shape {
+            LightShape::Triangle { p, normal, area } => (0, p[0], p[1], p[2], normal, area, 0.0),
+            LightShape::Sphere { center, radius } => {
+                (1, center, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, 0.0, radius)
+            }
+            LightShape::Point { position } => {
+                (2, position, Vec3::ZERO, Vec3::ZERO, Vec3::ZERO, 0.0, 0.0)
+            }
+        };
+        let object = l.object.unwrap_or(u32::MAX);
+        if let Some(slot) = by_object.get_mut(object as usize) {
+            *slot = i as u32;
+        }
+        b.u32(kind)
+            .u32(object)
+            .vec3(a)
+            .vec3(bb)
+            .vec3(c)
+            .vec3(n)
+            .f32(area)
+            .f32(radius)
+            .vec3(l.radiance)
+            .f32(l.power);
+    }
+    let mut total = 0.0f32;
+    for l in &lights.lights {
+        total += l.power;
+        b.f32(total);
+    }
+    for o in by_object {
+        b.u32(o);
+    }
+    let mut at = 0;
+    for g in &lights.groups {
+        b.u32(at).u32(g.members.len() as u32);
+        at += g.members.len() as u32;
+    }
+    for g in &lights.groups {
+        for &m in &g.members {
+            b.u32(m);
+        }
+    }
+    for g in &lights.groups {
+        for &c in &g.cdf {
+            b.f32(c);
+        }
+    }
     b.0
 }

@@ -66,6 +66,12 @@
 //!   exact products instead of f64 (WGSL has no f64): same sign, value within about an ulp.
 //! - With spp > 1, both sides place samples identically (the same PCG hash in WGSL); the fragment
 //!   path offsets them from the interpolated centre direction.
+//! - A Monte Carlo scene (`distribution` or `path`) is traced by `wgsl/mc_integrator.wgsl` with the
+//!   CPU's random numbers ([`crate::mc::random::uniform`], the same dimensions) and the portable
+//!   `sin`/`cos` of [`crate::mc::portable`]: on the exact compute path the CPU's image bit for bit,
+//!   also when rendered progressively ([`GpuTracer::render_progressive`]). On the fragment path
+//!   each sample's path leaves the CPU's after its first bounce (the interpolated direction), so
+//!   only the image's statistics agree.
 
 mod buffers;
 pub mod compare;

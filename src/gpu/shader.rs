@@ -58,6 +58,10 @@ pub struct ShaderConfig {
     /// The arithmetic variant (division, square root, fma), decided per device by the probe
     /// ([`super::exact`]); the default (plain operations, emulated fma) until a tracer sets it.
     pub arith: ArithConfig,
+    /// The Monte Carlo integrators (the scene's `[render] integrator` is `distribution` or
+    /// `path`): each sample is traced by `wgsl/mc_integrator.wgsl` with the CPU's random numbers
+    /// ([`super::buffers`] uploads the lights and BSDFs; which integrator is read at run time).
+    pub monte_carlo: bool,
     /// The trace shader: one invocation logs every step it takes (`raystep trace --gpu`,
     /// [`super::trace_log`]). The shaders that render have it off.
     pub trace: bool,
@@ -84,6 +88,7 @@ impl ShaderConfig {
         let f = &scene.features;
         let bvh = tree.is_some();
         let s = &scene.settings;
+        let monte_carlo = s.integrator != crate::scene::Integrator::Whitted;
         ShaderConfig {
             spheres: f.spheres > 0,
             planes: f.planes > 0,
@@ -91,7 +96,8 @@ impl ShaderConfig {
             bvh,
             brute: !bvh,
             ray_query: false,
-            shadows: f.lights > 0,
+            // The Monte Carlo integrators cast shadow rays to area lights too.
+            shadows: f.lights > 0 || monte_carlo,
             reflection: f.reflective,
             refraction: f.transparent,
             full: false,
@@ -101,6 +107,7 @@ impl ShaderConfig {
             max_depth: s.max_depth,
             bvh_stack: tree.map_or(2, |t| t.max_depth as u32 + 2),
             arith: ArithConfig::default(),
+            monte_carlo,
             trace: false,
         }
     }
@@ -160,6 +167,7 @@ impl ShaderConfig {
             "FULL" => self.full,
             "RAY_QUERY" => self.ray_query,
             "TRACE" => self.trace,
+            "MC" => self.monte_carlo,
             _ => return None,
         })
     }
@@ -194,10 +202,27 @@ mod pieces {
     pub const CLOSEST_HIT: &str = include_str!("wgsl/closest_hit.wgsl");
     pub const RAYGEN: &str = include_str!("wgsl/raygen.wgsl");
     pub const DISPLAY: &str = include_str!("wgsl/display.wgsl");
+    pub const PORTABLE: &str = include_str!("wgsl/portable.wgsl");
+    pub const RANDOM: &str = include_str!("wgsl/random.wgsl");
+    pub const MC_SAMPLE: &str = include_str!("wgsl/mc_sample.wgsl");
+    pub const MC_INTEGRATOR: &str = include_str!("wgsl/mc_integrator.wgsl");
 }
 
 /// The small shader that encodes the linear image as sRGB into the app's `Rgba8Unorm` texture.
 pub const DISPLAY_WGSL: &str = pieces::DISPLAY;
+
+/// The portable `sin`/`cos`/`exp`/`ln` in WGSL (`p_sin_cos`, `p_exp`, `p_ln`): the twin of
+/// [`crate::mc::portable`], the same f32 steps, so the exact compute path returns its bits.
+pub const PORTABLE_WGSL: &str = pieces::PORTABLE;
+
+/// The Monte Carlo sampling routines in WGSL (`src/gpu/wgsl/mc_sample.wgsl`, after
+/// [`RANDOM_WGSL`], [`PORTABLE_WGSL`] and [`crate::gpu::exact::arith_wgsl`]): the twins of
+/// [`crate::mc::sample`], [`crate::mc::random::uniform`], the stratified pairs and the power
+/// heuristic of [`crate::mc::integrator`], and the exact Fresnel reflectance, step for step.
+pub const MC_SAMPLE_WGSL: &str = pieces::MC_SAMPLE;
+
+/// `pcg_hash`, `unit_float` and `mc_uniform` (src/mc/random.rs `uniform`) in WGSL.
+pub const RANDOM_WGSL: &str = pieces::RANDOM;
 
 /// The tracer shader generated for a scene's features.
 pub fn generated_wgsl(prepared: &PreparedScene) -> String {
@@ -219,7 +244,7 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     let on = |b: bool| if b { "yes" } else { "no" };
     out += &format!(
         "// raystep GPU tracer, {} shader.\n// spheres: {}, planes: {}, triangles: {}, accelerator: {}, \
-         shadows: {}, reflection: {}, refraction: {}\n// sphere method: {:?}, triangle method: {:?}, offset: {:?}\n\n",
+         shadows: {}, reflection: {}, refraction: {}, monte carlo: {}\n// sphere method: {:?}, triangle method: {:?}, offset: {:?}\n\n",
         if config.full {
             "full (every feature)"
         } else {
@@ -237,6 +262,7 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         on(config.shadows),
         on(config.reflection),
         on(config.refraction),
+        on(config.monte_carlo),
         config.sphere_method,
         config.triangle_method,
         config.offset,
@@ -313,6 +339,12 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         });
     }
     add(pieces::CLOSEST_HIT);
+    add(pieces::RANDOM);
+    if config.monte_carlo {
+        add(pieces::PORTABLE);
+        add(pieces::MC_SAMPLE);
+        add(pieces::MC_INTEGRATOR);
+    }
     add(pieces::RAYGEN);
     out
 }

@@ -147,6 +147,8 @@ struct Target {
     display_view: wgpu::TextureView,
     output_group: wgpu::BindGroup,
     display_group: wgpu::BindGroup,
+    /// The compute path's running sums, one `vec4f` a pixel (a progressive render's).
+    _accum: wgpu::Buffer,
 }
 
 /// The GPU tracer of one scene. See the [module documentation](super) for how the app uses it.
@@ -160,6 +162,8 @@ pub struct GpuTracer {
     camera: Camera,
     debug_pixel: [u32; 2],
     /// The sample the trace shader traces (0 while rendering).
+    /// The compute path's pass: its first sample and its count ([`GpuTracer::render_progressive`]).
+    pass: [u32; 2],
     trace_sample: u32,
     /// The shader's configuration (the trace shader is this with `trace` on).
     config: ShaderConfig,
@@ -264,6 +268,7 @@ impl GpuTracer {
             camera: scene.camera.clone(),
             debug_pixel: [0, 0],
             trace_sample: 0,
+            pass: [0, scene.settings.spp.max(1)],
             config,
             scene_layout: b.scene_layout,
             outline: bvh.and_then(|t| {
@@ -299,6 +304,7 @@ impl GpuTracer {
             self.use_bvh,
             self.debug_pixel,
             self.trace_sample,
+            self.pass,
         );
         self.ctx.queue.write_buffer(&self.params, 0, &bytes);
     }
@@ -512,6 +518,43 @@ impl GpuTracer {
         }
         times.sort();
         Ok(times[times.len() / 2])
+    }
+
+    /// Renders by `path` progressively, as the CPU's `render_progressive` does: on the compute
+    /// path passes of 1, 1, 2, 4, … samples per pixel, each adding its samples to every pixel's
+    /// running sum on the GPU in sample order, so the last pass's image is bit for bit the
+    /// one-shot [`Self::render`]'s; after each pass `after_pass(samples so far, image)` gets the
+    /// running mean (sum / samples so far). The fragment path has no running sums: one pass.
+    pub fn render_progressive(
+        &mut self,
+        path: GpuPath,
+        mut after_pass: impl FnMut(u32, &GpuFrame),
+    ) -> Result<GpuFrame, GpuError> {
+        let spp = self.scene.settings.spp.max(1);
+        let mut ends = vec![];
+        if path == GpuPath::Compute {
+            let mut end = 1u32;
+            while end < spp {
+                ends.push(end);
+                end = end.saturating_mul(2);
+            }
+        }
+        ends.push(spp);
+        let mut start = 0;
+        let mut result = Err(GpuError::Scene("no pass".into()));
+        for end in ends {
+            self.pass = [start, end - start];
+            self.write_params();
+            result = self.render(path);
+            match &result {
+                Ok(frame) => after_pass(end, frame),
+                Err(_) => break,
+            }
+            start = end;
+        }
+        self.pass = [0, spp];
+        self.write_params();
+        result
     }
 
     /// Traces one frame by `path` and reads the linear image back.

@@ -12,6 +12,7 @@
 pub mod bsdf;
 pub mod integrator;
 pub mod lights;
+pub mod portable;
 pub mod random;
 mod record;
 pub mod sample;

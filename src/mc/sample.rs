@@ -4,8 +4,10 @@
 //! to the sphere's centre); [`Frame`] takes them to world space. Each routine returns a
 //! [`Sampled`] value with the density of having made it, in the measure its documentation names.
 //! The formulas follow pbrt-v4 (Pharr, Jakob and Humphreys, *Physically Based Rendering*, 4th ed.,
-//! ch. A.5 and 9.6) and Walter et al. 2007 for GGX; docs/SOURCES.md lists them.
+//! ch. A.5 and 9.6) and Walter et al. 2007 for GGX; docs/SOURCES.md lists them. Sines and cosines
+//! are [`super::portable::sin_cos`], so that the GPU computes the same directions bit for bit.
 
+use super::portable::sin_cos;
 use glam::Vec3;
 use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 
@@ -30,7 +32,8 @@ pub fn concentric_disk(u: [f32; 2]) -> [f32; 2] {
     } else {
         (b, FRAC_PI_2 - FRAC_PI_4 * (a / b))
     };
-    [r * theta.cos(), r * theta.sin()]
+    let (sin, cos) = sin_cos(theta);
+    [r * cos, r * sin]
 }
 
 /// A direction in the hemisphere z ≥ 0 with density cos θ / π per steradian (Malley's method:
@@ -48,9 +51,9 @@ pub fn cosine_hemisphere(u: [f32; 2]) -> Sampled<Vec3> {
 pub fn uniform_sphere(u: [f32; 2]) -> Sampled<Vec3> {
     let z = 1.0 - 2.0 * u[0];
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * PI * u[1];
+    let (sin_phi, cos_phi) = sin_cos(2.0 * PI * u[1]);
     Sampled {
-        value: Vec3::new(r * phi.cos(), r * phi.sin(), z),
+        value: Vec3::new(r * cos_phi, r * sin_phi, z),
         pdf: 1.0 / (4.0 * PI),
     }
 }
@@ -90,13 +93,13 @@ pub fn sphere_cone(distance: f32, radius: f32, u: [f32; 2]) -> Option<Sampled<Ve
     let cos_max = (1.0 - sin2_max).max(0.0).sqrt();
     let cos = 1.0 - u[0] * (1.0 - cos_max);
     let sin = (1.0 - cos * cos).max(0.0).sqrt();
-    let phi = 2.0 * PI * u[1];
+    let (sin_phi, cos_phi) = sin_cos(2.0 * PI * u[1]);
     let solid_angle = 2.0 * PI * (1.0 - cos_max);
     if solid_angle.is_nan() || solid_angle <= 0.0 {
         return None;
     }
     Some(Sampled {
-        value: Vec3::new(sin * phi.cos(), sin * phi.sin(), cos),
+        value: Vec3::new(sin * cos_phi, sin * sin_phi, cos),
         pdf: 1.0 / solid_angle,
     })
 }
@@ -118,9 +121,9 @@ pub fn ggx_normal(alpha: f32, u: [f32; 2]) -> Sampled<Vec3> {
     let tan2 = alpha * alpha * u[0] / (1.0 - u[0]).max(f32::MIN_POSITIVE);
     let cos = 1.0 / (1.0 + tan2).sqrt();
     let sin = (1.0 - cos * cos).max(0.0).sqrt();
-    let phi = 2.0 * PI * u[1];
+    let (sin_phi, cos_phi) = sin_cos(2.0 * PI * u[1]);
     Sampled {
-        value: Vec3::new(sin * phi.cos(), sin * phi.sin(), cos),
+        value: Vec3::new(sin * cos_phi, sin * sin_phi, cos),
         pdf: ggx_d(alpha, cos) * cos,
     }
 }

@@ -94,6 +94,10 @@ impl GpuTracer {
             storage("leaf objects", &data.leaf_objects),
             storage("planes", &data.planes),
         ];
+        // The Monte Carlo data: binding 7, or 8 after the ray queries' TLAS (no gap: the
+        // passthrough SPIR-V reads the bindings as numbered, and Vulkan's are packed).
+        let mc_buffer = storage("monte carlo", &data.mc);
+        let mc_binding = if aabbs.is_some() { 8 } else { 7 };
         let both = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let mut entries = vec![wgpu::BindGroupLayoutEntry {
             binding: 0,
@@ -117,6 +121,16 @@ impl GpuTracer {
                 count: None,
             });
         }
+        entries.push(wgpu::BindGroupLayoutEntry {
+            binding: mc_binding,
+            visibility: both,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only: true },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        });
         let acceleration = aabbs.map(|a| build_acceleration(device, queue, a, data.n_nodes));
         if acceleration.is_some() {
             entries.push(wgpu::BindGroupLayoutEntry {
@@ -142,6 +156,10 @@ impl GpuTracer {
                 resource: b.as_entire_binding(),
             });
         }
+        group_entries.push(wgpu::BindGroupEntry {
+            binding: mc_binding,
+            resource: mc_buffer.as_entire_binding(),
+        });
         if let Some((_, tlas)) = &acceleration {
             group_entries.push(wgpu::BindGroupEntry {
                 binding: 7,
@@ -168,6 +186,16 @@ impl GpuTracer {
                 },
                 wgpu::BindGroupLayoutEntry {
                     binding: 1,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
                     visibility: wgpu::ShaderStages::COMPUTE,
                     ty: wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: false },
@@ -313,6 +341,12 @@ impl GpuTracer {
             U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
         );
         let linear_view = linear.create_view(&Default::default());
+        let accum = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("raystep running sums"),
+            size: u64::from(width) * u64::from(height) * 16,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         let display_view = display.create_view(&Default::default());
         let output_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("raystep output"),
@@ -325,6 +359,10 @@ impl GpuTracer {
                 wgpu::BindGroupEntry {
                     binding: 1,
                     resource: debug.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: accum.as_entire_binding(),
                 },
             ],
         });
@@ -345,6 +383,7 @@ impl GpuTracer {
             display_view,
             output_group,
             display_group,
+            _accum: accum,
         }
     }
 }

@@ -25,6 +25,12 @@ struct Params {
     inf: f32,
     // The sample the trace shader traces (`raystep trace --gpu`); 0 when rendering.
     trace_sample: u32,
+    // The compute path's pass: samples [first_sample, first_sample + pass_samples) are added to
+    // each pixel's running sum (a progressive render); one pass of every sample otherwise.
+    first_sample: u32,
+    pass_samples: u32,
+    pad_p0: u32,
+    pad_p1: u32,
 }
 
 // kind: 0 sphere (a = centre, radius), 1 plane (a = normal, offset), 2 axis plane (axis, a.x =

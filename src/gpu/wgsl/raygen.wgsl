@@ -60,16 +60,7 @@ struct DebugRecord {
 }
 var<private> debug_record: DebugRecord;
 
-// The PCG hash (Jarzynski & Olano 2020), as src/trace/sampling.rs.
-fn pcg_hash(input: u32) -> u32 {
-    let state = input * 747796405u + 2891336453u;
-    let word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
-fn unit_float(h: u32) -> f32 {
-    return f32(h >> 8u) * (1.0 / 16777216.0);
-}
+// pcg_hash and unit_float: src/gpu/wgsl/random.wgsl.
 
 // Where sample `k` lies inside pixel `p`, in [0, 1)² (src/trace/sampling.rs `sample_offset`).
 fn sample_offset(p: vec2u, k: u32) -> vec2f {
@@ -186,13 +177,31 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
     return color;
 }
 
-// The pixel's colour: the mean of its samples.
-fn render_pixel(p: vec2u, centre: vec3f, exact: bool, capture: bool) -> vec3f {
-    var sum = vec3f(0.0);
-    for (var k = 0u; k < max(params.spp, 1u); k++) {
-        sum += trace(ray_generation(p, k, centre, exact), capture && k == 0u);
+// Adds samples [first, first + count) of pixel p, in order, onto `start`: the CPU's
+// accumulate_samples (a sample that is not finite is left out of the sum).
+fn accumulate(p: vec2u, centre: vec3f, exact: bool, capture: bool, first: u32, count: u32, start: vec3f) -> vec3f {
+    var sum = start;
+    for (var k = first; k < first + count; k++) {
+//#if MC
+        if capture && k == 0u {
+            // The debug pixel's record: the primary ray's hit.
+            _ = trace(ray_generation(p, k, centre, exact), true);
+        }
+        let c = mc_sample(p, k, ray_generation(p, k, centre, exact));
+//#else
+        let c = trace(ray_generation(p, k, centre, exact), capture && k == 0u);
+//#endif
+        if finite(c.x) && finite(c.y) && finite(c.z) {
+            sum += c;
+        }
     }
-    return fdiv3(sum, f32(max(params.spp, 1u)));
+    return sum;
+}
+
+// The pixel's colour: the sum of its finite samples over spp.
+fn render_pixel(p: vec2u, centre: vec3f, exact: bool, capture: bool) -> vec3f {
+    let spp = max(params.spp, 1u);
+    return fdiv3(accumulate(p, centre, exact, capture, 0u, spp, vec3f(0.0)), f32(spp));
 }
 
 // ---- fragment path: a full-screen triangle; the rasterizer interpolates the ray direction ----
@@ -253,14 +262,22 @@ fn fs_main(in: VertexOut) -> @location(0) vec4f {
 
 @group(1) @binding(0) var output: texture_storage_2d<rgba32float, write>;
 @group(1) @binding(1) var<storage, read_write> debug_out: DebugRecord;
+// Each pixel's running sum of samples (a progressive render adds a pass at a time).
+@group(1) @binding(2) var<storage, read_write> running: array<vec4f>;
 
 @compute @workgroup_size(8, 8)
 fn cs_main(@builtin(global_invocation_id) gid: vec3u) {
     if gid.x >= params.width || gid.y >= params.height {
         return;
     }
-    let c = render_pixel(gid.xy, vec3f(0.0), true, false);
-    textureStore(output, gid.xy, vec4f(c, 1.0));
+    let i = gid.y * params.width + gid.x;
+    var sum = vec3f(0.0);
+    if params.first_sample > 0u {
+        sum = running[i].xyz;
+    }
+    sum = accumulate(gid.xy, vec3f(0.0), true, false, params.first_sample, params.pass_samples, sum);
+    running[i] = vec4f(sum, 0.0);
+    textureStore(output, gid.xy, vec4f(fdiv3(sum, f32(params.first_sample + params.pass_samples)), 1.0));
 }
 
 // ---- the debug pixel: one invocation traces params.debug_pixel and keeps its primary ray ----
