@@ -895,6 +895,60 @@ fn snapshots_of_the_lesson_and_exercise_panels() {
     );
 }
 
+/// The GPU tab on a Monte Carlo scene, compute path: the image builds up a pass a frame (1, 2,
+/// 4, 8 samples per pixel at 8 spp), as the CPU's render does, and the line above it says how
+/// many samples it holds so far.
+#[test]
+fn the_gpu_tab_renders_a_monte_carlo_scene_a_pass_a_frame() {
+    use raystep::app::gpu_view::CentralTab;
+    let dir = tempfile::tempdir().unwrap();
+    let small = dir.path().join("soft-shadows-small.toml");
+    let text = std::fs::read_to_string(scene_path("soft-shadows.toml"))
+        .unwrap()
+        .replace("width = 320", "width = 48")
+        .replace("height = 240", "height = 36")
+        .replace("spp = 16", "spp = 8");
+    assert!(text.contains("spp = 8"), "the scene's spp changed");
+    std::fs::write(&small, text).unwrap();
+    let Some(mut h) = wgpu_harness(
+        "the_gpu_tab_renders_a_monte_carlo_scene_a_pass_a_frame",
+        Some(small),
+        true,
+    ) else {
+        return;
+    };
+    wait_for(&mut h, "the render", rendered);
+    h.get_by_label("GPU render").click();
+    h.run_steps(2);
+    assert_eq!(h.state().panels.gpu.tab, CentralTab::Gpu);
+    h.get_by_label("compute").click();
+    let mut seen = vec![];
+    for _ in 0..40 {
+        h.step();
+        if let Some((done, spp)) = h.state().panels.gpu.samples_so_far() {
+            assert_eq!(spp, 8);
+            if seen.last() != Some(&done) {
+                seen.push(done);
+            }
+            if done == spp {
+                break;
+            }
+        }
+    }
+    // The fragment path's frame (all 8 at once) may come first, before the click lands.
+    if seen.len() > 1 && seen[0] == 8 {
+        seen.remove(0);
+    }
+    assert_eq!(seen, [1, 2, 4, 8], "samples per pixel seen frame by frame");
+    h.run_steps(2);
+    assert!(
+        labels(&h)
+            .iter()
+            .any(|t| t.contains("integrator on the GPU: 8 samples per pixel")),
+        "the finished line"
+    );
+}
+
 /// The GPU view on the software adapter: the GPU tab shows the adapter line and a frame time,
 /// the selected pixel's GPU debug buffer agrees with the CPU trace (hit object, t and the
 /// discriminant within f32 rounding, the same BVH node count), orbiting re-traces, and the
@@ -915,7 +969,14 @@ fn the_gpu_view_agrees_with_the_cpu() {
     h.run_steps(4);
     let gpu = &h.state().panels.gpu;
     assert_eq!(gpu.tab, CentralTab::Gpu);
-    assert!(gpu.frame_time().is_some(), "a GPU frame was traced");
+    assert!(
+        gpu.frame_time().is_some(),
+        "a GPU frame was traced: {:?}",
+        labels(&h)
+            .iter()
+            .filter(|l| l.contains("GPU view:"))
+            .collect::<Vec<_>>()
+    );
     let line = gpu.adapter_line().expect("the adapter line");
     assert!(line.contains("fragment path"), "{line}");
     assert!(

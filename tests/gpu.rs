@@ -1102,6 +1102,19 @@ fn monte_carlo_scenes_on_the_gpu_are_the_cpus_image() {
                     "{label}: the progressive render (passes ending at {passes:?}) is not the one-shot image"
                 ));
             }
+            // A pass a frame, as the app's GPU tab traces it: the display after the last pass
+            // is the one-shot display, and after the first it is another image (one sample).
+            gpu.trace(GpuPath::Compute).unwrap();
+            let one_shot = gpu.read_display().unwrap();
+            gpu.trace_pass(GpuPath::Compute, 0, 1).unwrap();
+            let first = gpu.read_display().unwrap();
+            gpu.trace_pass(GpuPath::Compute, 1, 1).unwrap();
+            gpu.trace_pass(GpuPath::Compute, 2, 2).unwrap();
+            if gpu.read_display().unwrap() != one_shot || first == one_shot {
+                failures.push(format!(
+                    "{label}: trace_pass 1, 1, 2 does not end on the one-shot display"
+                ));
+            }
         }
         let frag = gpu.render(GpuPath::Fragment).unwrap();
         let mean = |v: &[glam::Vec3]| v.iter().copied().sum::<glam::Vec3>() / v.len() as f32;

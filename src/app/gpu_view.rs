@@ -48,8 +48,10 @@ struct Traced {
     tracer: GpuTracer,
     /// egui's id of the tracer's display texture, and the size it was registered at.
     texture: Option<(egui::TextureId, [u32; 2])>,
-    /// The orbit the last frame was traced with, and how long the trace pass took.
-    frame: Option<(Orbit, GpuPath, Duration)>,
+    /// The orbit the last frame was traced with, how long the trace pass took, and the samples
+    /// per pixel the image holds so far (a Monte Carlo scene on the compute path comes in passes
+    /// of 1, 1, 2, 4, … samples, one a frame).
+    frame: Option<(Orbit, GpuPath, Duration, u32)>,
     /// The debug pixel of (pixel, path), at the scene camera.
     pick: Option<([u32; 2], Result<PixelDebug, String>)>,
     /// The comparison with the CPU render, for (the render it was made against, the GPU path).
@@ -119,7 +121,14 @@ impl GpuView {
     /// The last GPU frame's trace time and path.
     pub fn frame_time(&self) -> Option<(GpuPath, Duration)> {
         let t = self.traced.as_ref()?;
-        t.frame.map(|(_, p, d)| (p, d))
+        t.frame.map(|(_, p, d, _)| (p, d))
+    }
+
+    /// The samples per pixel the GPU image holds so far, and the scene's spp.
+    pub fn samples_so_far(&self) -> Option<(u32, u32)> {
+        let t = self.traced.as_ref()?;
+        let spp = t.tracer.spp();
+        t.frame.map(|(.., done)| (done, spp))
     }
 
     /// The adapter line (adapter, backend, path), once a tracer exists.
@@ -198,12 +207,34 @@ impl GpuView {
             .clone()
             .ok_or("the app has no wgpu device")?;
         let t = self.tracer_for(prepared)?;
-        if t.frame.is_none_or(|(o, p, _)| o != orbit || p != path) {
-            t.tracer
-                .set_camera(&orbit.move_camera(&prepared.scene().camera))
-                .map_err(|e| e.to_string())?;
-            let time = t.tracer.trace(path).map_err(|e| e.to_string())?;
-            t.frame = Some((orbit, path, time));
+        let settings = &prepared.scene().settings;
+        let spp = settings.spp.max(1);
+        // A Monte Carlo image on the compute path builds up a pass a frame, as the CPU's does.
+        let progressive = path == GpuPath::Compute
+            && settings.integrator != crate::scene::Integrator::Whitted
+            && spp > 1;
+        match t.frame {
+            Some((o, p, _, done)) if o == orbit && p == path => {
+                if done < spp {
+                    let time = t
+                        .tracer
+                        .trace_pass(path, done, done)
+                        .map_err(|e| e.to_string())?;
+                    t.frame = Some((orbit, path, time, (done * 2).min(spp)));
+                }
+            }
+            _ => {
+                t.tracer
+                    .set_camera(&orbit.move_camera(&prepared.scene().camera))
+                    .map_err(|e| e.to_string())?;
+                let (time, done) = if progressive {
+                    let time = t.tracer.trace_pass(path, 0, 1);
+                    (time, 1)
+                } else {
+                    (t.tracer.trace(path), spp)
+                };
+                t.frame = Some((orbit, path, time.map_err(|e| e.to_string())?, done));
+            }
         }
         let size = [t.tracer.camera().width, t.tracer.camera().height];
         match t.texture {
@@ -403,11 +434,18 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
     if settings.integrator != crate::scene::Integrator::Whitted {
         let name = clap::ValueEnum::to_possible_value(&settings.integrator)
             .map_or_else(String::new, |v| v.get_name().to_string());
+        let so_far = match gpu.samples_so_far() {
+            Some((done, spp)) if done < spp => {
+                // The next pass is traced on the next frame.
+                ui.ctx().request_repaint();
+                format!("{done} of {spp} samples per pixel so far")
+            }
+            _ => format!("{} samples per pixel", settings.spp),
+        };
         ui.label(
             RichText::new(format!(
-                "{name} integrator on the GPU: {} samples per pixel, the CPU's random numbers \
-                 (the same image bit for bit where the arithmetic is exact).",
-                settings.spp
+                "{name} integrator on the GPU: {so_far}, the CPU's random numbers \
+                 (the same image bit for bit where the arithmetic is exact)."
             ))
             .small(),
         );

@@ -371,26 +371,40 @@ impl eframe::App for RaystepApp {
     }
 }
 
-/// eframe's wgpu set-up, asking also for SPIR-V passthrough where the adapter offers it: the GPU
-/// view's compute path then runs as SPIR-V with every float result decorated `NoContraction`,
-/// the exact arithmetic `raystep compare` uses (see `gpu::exact`). Everything else is eframe's
-/// default (its limits, with 8192² textures for 4K displays).
+/// eframe's wgpu set-up with what the GPU view needs ([`gpu_view_device`]); everything else is
+/// eframe's default (its limits, with 8192² textures for 4K displays).
 pub fn wgpu_options() -> eframe::egui_wgpu::WgpuConfiguration {
-    use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew, wgpu};
-    let default = WgpuSetupCreateNew::without_display_handle();
-    let base = default.device_descriptor.clone();
-    let setup = WgpuSetupCreateNew {
-        device_descriptor: std::sync::Arc::new(move |adapter: &wgpu::Adapter| {
-            let mut d = base(adapter);
-            d.required_features |= adapter.features() & wgpu::Features::PASSTHROUGH_SHADERS;
-            d
-        }),
-        ..default
-    };
+    use eframe::egui_wgpu::{WgpuConfiguration, WgpuSetup, WgpuSetupCreateNew};
     WgpuConfiguration {
-        wgpu_setup: WgpuSetup::CreateNew(setup),
+        wgpu_setup: gpu_view_device(WgpuSetup::CreateNew(
+            WgpuSetupCreateNew::without_display_handle(),
+        )),
         ..Default::default()
     }
+}
+
+/// `setup` (when it creates its own device) asking also for what the GPU view uses where the
+/// adapter offers it: SPIR-V passthrough (the compute path then runs as SPIR-V with every float
+/// result decorated `NoContraction`, the exact arithmetic `raystep compare` uses; see
+/// `gpu::exact`), and as many storage buffers per shader stage as the adapter allows, up to 16
+/// (the Monte Carlo tracer binds 9 or 10: the scene's buffers, its lights and BSDFs, the running
+/// sums; WebGPU's default is 8).
+pub fn gpu_view_device(setup: eframe::egui_wgpu::WgpuSetup) -> eframe::egui_wgpu::WgpuSetup {
+    use eframe::egui_wgpu::{WgpuSetup, wgpu};
+    let WgpuSetup::CreateNew(mut create) = setup else {
+        return setup;
+    };
+    let base = create.device_descriptor.clone();
+    create.device_descriptor = std::sync::Arc::new(move |adapter: &wgpu::Adapter| {
+        let mut d = base(adapter);
+        d.required_features |= adapter.features() & wgpu::Features::PASSTHROUGH_SHADERS;
+        let offered = adapter.limits().max_storage_buffers_per_shader_stage;
+        let l = &mut d.required_limits;
+        l.max_storage_buffers_per_shader_stage =
+            l.max_storage_buffers_per_shader_stage.max(offered.min(16));
+        d
+    });
+    WgpuSetup::CreateNew(create)
 }
 
 /// Opens the app window on `file` (or the last/built-in scene) and runs until it is closed;

@@ -324,6 +324,11 @@ impl GpuTracer {
         &self.ctx
     }
 
+    /// The samples per pixel a frame traces (the scene's spp, at least 1).
+    pub fn spp(&self) -> u32 {
+        self.scene.settings.spp.max(1)
+    }
+
     /// The camera frames are traced with.
     pub fn camera(&self) -> &Camera {
         &self.camera
@@ -555,6 +560,30 @@ impl GpuTracer {
         self.pass = [0, spp];
         self.write_params();
         result
+    }
+
+    /// Traces samples `first .. first + count` of every pixel by the compute path, adding them
+    /// to the running sums the passes before left (`first` = 0 starts afresh), and shows the
+    /// running mean in the display texture: one pass of [`Self::render_progressive`], for a
+    /// caller that shows each pass as it comes (the app's GPU tab, a pass a frame). `count` is
+    /// kept within the scene's spp. The fragment path, which has no running sums, traces all
+    /// the samples ([`Self::trace`]).
+    pub fn trace_pass(
+        &mut self,
+        path: GpuPath,
+        first: u32,
+        count: u32,
+    ) -> Result<Duration, GpuError> {
+        let spp = self.scene.settings.spp.max(1);
+        if path != GpuPath::Compute || first >= spp {
+            return self.trace(path);
+        }
+        self.pass = [first, count.clamp(1, spp - first)];
+        self.write_params();
+        let time = self.trace(path);
+        self.pass = [0, spp];
+        self.write_params();
+        time
     }
 
     /// Traces one frame by `path` and reads the linear image back.

@@ -33,7 +33,9 @@ pub fn wgpu_harness(
     Some(
         Harness::builder()
             .with_size(egui::vec2(1400.0, 860.0))
-            .wgpu()
+            .wgpu_setup(raystep::app::gpu_view_device(
+                egui_kittest::wgpu::default_wgpu_setup(),
+            ))
             .build_eframe(move |cc| {
                 let app = RaystepApp::with_context(&cc.egui_ctx, Prefs::default(), file.clone());
                 if gpu_view {
