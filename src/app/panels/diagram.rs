@@ -249,12 +249,8 @@ pub fn enlarged_view(
                         keep = false;
                     }
                 });
-                let avail = ui.available_size();
+                let size = large_size(ui.available_size(), ctx);
                 let ppp = ctx.pixels_per_point();
-                let size = [
-                    ((avail.x * ppp) as u32).clamp(64, 4096) / 8 * 8,
-                    ((avail.y * ppp) as u32).clamp(64, 4096) / 8 * 8,
-                ];
                 match cache.diagram(ctx, state, size, true) {
                     Some(t) => {
                         ui.add(
@@ -271,6 +267,20 @@ pub fn enlarged_view(
     cache.enlarged = keep;
 }
 
+/// The large view's texture size (pixels) for `avail` points: the space at the UI's scale, made
+/// smaller as a whole (never stretched) where a side would pass what the GPU's textures allow
+/// (2048 on some devices, against 3000 and more of a 4K window), rounded to 8 pixels.
+pub fn large_size(avail: Vec2, ctx: &egui::Context) -> [u32; 2] {
+    let ppp = ctx.pixels_per_point();
+    let max_side = ctx.input(|i| i.max_texture_side).clamp(64, 8192) as f32;
+    let raw = [
+        (avail.x * ppp).clamp(64.0, 1.0e5),
+        (avail.y * ppp).clamp(64.0, 1.0e5),
+    ];
+    let k = (max_side / raw[0].max(raw[1])).min(1.0);
+    raw.map(|v| ((v * k).round() as u32).clamp(64, max_side as u32) / 8 * 8)
+}
+
 /// Below this height (points) the diagram panel puts its controls on one compact row.
 const COMPACT_DIAGRAM_CONTROLS_BELOW: f32 = 420.0;
 
@@ -284,5 +294,23 @@ fn diagram_label(k: DiagramKind) -> &'static str {
         DiagramKind::Hemisphere => "Hemisphere",
         DiagramKind::AreaLight => "Area light",
         DiagramKind::Samples => "Samples",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_large_view_fits_the_gpus_textures_without_stretching() {
+        // A fresh context allows 2048-pixel textures at 1 pixel per point.
+        let ctx = egui::Context::default();
+        assert_eq!(ctx.input(|i| i.max_texture_side), 2048);
+        assert_eq!(large_size(Vec2::new(800.0, 600.0), &ctx), [800, 600]);
+        // 3424 × 2720 (the monkey's 4K window): scaled by 2048/3424 as a whole, 2720 → 1626.9
+        // → 1624 after rounding down to 8.
+        assert_eq!(large_size(Vec2::new(3424.0, 2720.0), &ctx), [2048, 1624]);
+        assert_eq!(large_size(Vec2::new(3064.0, 80.0), &ctx), [2048, 64]);
+        assert_eq!(large_size(Vec2::new(f32::NAN, 0.0), &ctx), [64, 64]);
     }
 }
