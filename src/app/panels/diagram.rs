@@ -235,9 +235,11 @@ pub fn enlarged_view(
         .order(egui::Order::Middle)
         .show(ctx, |ui| {
             egui::Frame::window(ui.style()).show(ui, |ui| {
-                let inner = area.shrink(12.0);
-                ui.set_min_size(inner.size());
-                ui.set_max_size(inner.size());
+                // Never negative, however small the window (a tiny window left less than the
+                // frame's margins).
+                let inner = (area.size() - Vec2::splat(24.0)).max(Vec2::ZERO);
+                ui.set_min_size(inner);
+                ui.set_max_size(inner);
                 ui.horizontal(|ui| {
                     let kind = state.diagram_kind().map_or("Diagram", diagram_label);
                     ui.strong(format!("{kind}, large"));
