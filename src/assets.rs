@@ -148,34 +148,15 @@ fn content_hash() -> String {
         .collect()
 }
 
-/// Where the cache folder goes: `$XDG_CACHE_HOME/raystep`, else `~/.cache/raystep`, else the
-/// system's temporary folder.
-fn cache_base() -> PathBuf {
-    let from_env = |k: &str| {
-        std::env::var_os(k)
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-    };
-    from_env("XDG_CACHE_HOME")
-        .filter(|p| p.is_absolute())
-        .or_else(|| from_env("HOME").map(|h| h.join(".cache")))
-        .unwrap_or_else(std::env::temp_dir)
-        .join("raystep")
-}
-
 /// Writes every built-in file under `root` (keeping its relative path), skipping files whose
 /// contents are already right.
 fn unpack_into(root: &Path) -> Result<(), String> {
     for a in ASSETS {
         let path = root.join(a.path);
-        if std::fs::read(&path).is_ok_and(|b| b == a.bytes) {
+        if crate::platform::files::read(&path).is_ok_and(|b| b == a.bytes) {
             continue;
         }
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| format!("{}: cannot create the folder: {e}", dir.display()))?;
-        }
-        crate::io::write_atomic(&path, a.bytes)?;
+        crate::platform::files::write(&path, a.bytes)?;
     }
     Ok(())
 }
@@ -187,7 +168,7 @@ pub fn unpacked() -> Result<&'static Path, String> {
     static ROOT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
     ROOT.get_or_init(|| {
         let name = format!("builtin-{}-{}", env!("CARGO_PKG_VERSION"), content_hash());
-        let first = cache_base().join(&name);
+        let first = crate::platform::files::cache_base().join(&name);
         match unpack_into(&first) {
             Ok(()) => Ok(first),
             Err(e1) => {

@@ -62,10 +62,13 @@
 pub mod accel;
 pub mod app;
 pub(crate) mod assets;
+#[cfg(not(target_arch = "wasm32"))]
 pub(crate) mod bench;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
 pub mod diagram;
 pub mod explain;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod fuzzing;
 pub mod gpu;
 pub mod io;
@@ -73,11 +76,13 @@ pub(crate) mod jsonf;
 pub mod lesson;
 pub mod math;
 pub mod mc;
+pub mod platform;
 pub mod record;
 pub mod render;
 pub mod scene;
 pub mod shapes;
 pub mod stability;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod student;
 pub mod text;
 pub mod trace;

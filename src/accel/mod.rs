@@ -16,11 +16,11 @@ pub use grid::Grid;
 pub use spheres::SphereTree;
 
 use crate::math::Ray;
+use crate::platform::{Duration, Instant};
 use crate::record::{Observer, Step};
 use crate::scene::{AccelChoice, Scene, Shape};
 use crate::shapes::triangle::TriangleMethod;
 use crate::shapes::{SphereMethod, SphereTest, plane, sphere, triangle};
-use std::time::{Duration, Instant};
 
 /// A hit: which object, where along the ray, and a triangle's barycentrics.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -61,7 +61,10 @@ pub fn state_dir() -> Option<PathBuf> {
     if let Some(h) = std::env::home_dir().filter(|h| h.is_absolute()) {
         return Some(h.join(".local").join("state").join("raystep"));
     }
-    eframe::storage_dir("raystep")
+    #[cfg(not(target_arch = "wasm32"))]
+    return eframe::storage_dir("raystep");
+    #[cfg(target_arch = "wasm32")]
+    None
 }
 
 /// Remembers the place to save if the app panics (called once per frame).

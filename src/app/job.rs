@@ -2,6 +2,7 @@
 //! acceleration structure), then render it tile by tile into a [`LiveRender`] the UI shows as
 //! it builds up. The UI thread never waits on it; a new job cancels the previous one.
 
+use crate::platform::{Duration, Instant};
 use crate::render::{
     CANCELLED, LiveRender, RenderOptions, RenderOutput, render, render_progressive,
 };
@@ -10,7 +11,6 @@ use crate::trace::PreparedScene;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::sync::mpsc::{Receiver, TryRecvError, channel};
-use std::time::{Duration, Instant};
 
 /// What the job reports.
 #[derive(Debug)]
@@ -23,13 +23,17 @@ pub enum JobEvent {
 
 /// Waits until `until`, or until the render is cancelled (checked every 20 ms, so that a new
 /// render never waits on an old one's pause).
+/// In the browser the render runs within a frame: there is nothing to hold it for.
 fn hold(live: &LiveRender, until: Instant) {
+    if crate::platform::IN_BROWSER {
+        return;
+    }
     while !live.cancel.load(Ordering::Relaxed) {
         let now = Instant::now();
         if now >= until {
             return;
         }
-        std::thread::sleep((until - now).min(Duration::from_millis(20)));
+        crate::platform::sleep((until - now).min(Duration::from_millis(20)));
     }
 }
 
@@ -62,7 +66,7 @@ impl RenderJob {
         let (tx, events) = channel();
         let job_live = Arc::clone(&live);
         let repaint = Arc::new(repaint);
-        std::thread::spawn(move || {
+        crate::platform::spawn(move || {
             let prepared = Arc::new(PreparedScene::with_settings(
                 &base,
                 &settings,
@@ -91,12 +95,11 @@ impl RenderJob {
             };
             let watcher = Arc::clone(&job_live);
             // Repaint the UI a few times a second while the tiles come in.
-            let ticker = std::thread::spawn(move || {
-                while watcher.progress() < 1.0 && !watcher.cancel.load(Ordering::Relaxed) {
-                    std::thread::sleep(Duration::from_millis(100));
-                    tiles_repaint();
-                }
-            });
+            let ticker = crate::platform::spawn_ticker(
+                Duration::from_millis(100),
+                move || watcher.progress() < 1.0 && !watcher.cancel.load(Ordering::Relaxed),
+                move || tiles_repaint(),
+            );
             let opts = RenderOptions {
                 threads: None,
                 progress: false,
@@ -114,7 +117,9 @@ impl RenderJob {
             }
             .map(Arc::new);
             job_live.cancel.store(true, Ordering::Relaxed);
-            let _ = ticker.join();
+            if let Some(t) = ticker {
+                t.join();
+            }
             let _ = tx.send(JobEvent::Done(result));
             repaint();
         });

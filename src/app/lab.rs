@@ -20,8 +20,8 @@ pub type Comparison = Result<Vec<StrategyRun>, String>;
 
 /// The strategies the lab compares, in the table's order.
 const ALL_STRATEGIES: [Strategy; 3] = [Strategy::Light, Strategy::Bsdf, Strategy::Mis];
+use crate::platform::Instant;
 use std::sync::mpsc::Receiver;
-use std::time::Instant;
 
 /// The lab window's state (part of [`super::panels::Panels`]).
 pub struct LabView {
@@ -75,7 +75,7 @@ impl LabView {
         let (tx, rx) = std::sync::mpsc::channel();
         let repaint = ctx.clone();
         let opts = self.options.clone();
-        std::thread::spawn(move || {
+        crate::platform::spawn(move || {
             let _ = tx.send(stability::run(&opts));
             repaint.request_repaint();
         });
@@ -95,7 +95,7 @@ impl LabView {
         let (tx, rx) = std::sync::mpsc::channel();
         let repaint = ctx.clone();
         let name = scene.name.clone();
-        std::thread::spawn(move || {
+        crate::platform::spawn(move || {
             let opts = ConvergeOptions {
                 max_spp: COMPARE_MAX_SPP,
                 seeds: COMPARE_SEEDS,

@@ -29,10 +29,11 @@ pub mod view;
 pub use layout::window_height_at_zoom_1;
 pub use state::learn;
 mod watch;
+pub mod web;
 
+use crate::platform::{Duration, Instant};
 use state::{AppState, Command, Prefs, StepMove, ThemeChoice};
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
 
 /// Where `raystep open` starts: a pixel to select and a step to show once the render has
 /// finished (`--pixel`, `--step`: where the grader's feedback points a student), and maybe a
@@ -98,7 +99,13 @@ impl RaystepApp {
         let repaint_ctx = ctx.clone();
         let mut state = AppState::new(prefs, move || repaint_ctx.request_repaint());
         // A file that fails to load shows its error over the built-in scene.
-        match file.or_else(|| state.prefs.last_file.clone().filter(|p| p.is_file())) {
+        match file.or_else(|| {
+            state
+                .prefs
+                .last_file
+                .clone()
+                .filter(|p| crate::platform::files::is_file(p))
+        }) {
             Some(p) => state.open(&p),
             None => state.apply(Command::OpenBuiltin),
         }
@@ -408,7 +415,8 @@ pub fn gpu_view_device(setup: eframe::egui_wgpu::WgpuSetup) -> eframe::egui_wgpu
 }
 
 /// Opens the app window on `file` (or the last/built-in scene) and runs until it is closed;
-/// with a `screenshot` plan, writes it and closes.
+/// with a `screenshot` plan, writes it and closes. (In the browser: [`web::start`].)
+#[cfg(not(target_arch = "wasm32"))]
 pub fn run(file: Option<PathBuf>, screenshot: Option<ScreenshotPlan>) -> Result<(), String> {
     if let Some(p) = &file
         && !p.exists()

@@ -1,8 +1,10 @@
-//! Watching the open file for changes, on a thread of its own.
+//! Watching the open file for changes, on a thread of its own (natively: a page has no files
+//! on disk to watch).
 
+use crate::platform::Duration;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, SystemTime};
+use std::time::SystemTime;
 
 /// How often the open file is checked for changes on disk.
 const WATCH_INTERVAL: Duration = Duration::from_millis(500);
@@ -23,19 +25,23 @@ impl Watch {
         let stopped = Arc::clone(&stop);
         let file = path.to_path_buf();
         let mut stamp = modified(&file);
-        std::thread::spawn(move || {
-            while !stopped.load(Ordering::Relaxed) {
-                std::thread::sleep(WATCH_INTERVAL);
+        let running = Arc::clone(&stop);
+        // Never joined: it ends on its own once the watch is dropped (or the app gone).
+        let _ticker = crate::platform::spawn_ticker(
+            WATCH_INTERVAL,
+            move || !running.load(Ordering::Relaxed),
+            move || {
                 let m = modified(&file);
                 if m != stamp {
                     stamp = m;
                     if stopped.load(Ordering::Relaxed) || tx.send(()).is_err() {
-                        break;
+                        stopped.store(true, Ordering::Relaxed);
+                        return;
                     }
                     repaint();
                 }
-            }
-        });
+            },
+        );
         Watch {
             path: path.to_path_buf(),
             changed: rx,

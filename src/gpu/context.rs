@@ -19,6 +19,11 @@ pub enum KernelForm {
     SpirvPlain,
 }
 
+/// Why the GPU tracer does not run in a browser: it waits for the GPU's answers (a readback, an
+/// error scope), and a page's only thread cannot wait.
+pub const NOT_IN_BROWSER: &str = "raystep's GPU tracer waits for the GPU's results, which a web page cannot do; \
+     the GPU tab, `render --gpu` and `compare` run in the desktop app and on the command line";
+
 /// A device to trace on: raystep's own (headless) or the app's (eframe's).
 #[derive(Debug, Clone)]
 pub struct GpuContext {
@@ -44,30 +49,34 @@ impl GpuContext {
     pub fn headless() -> Result<GpuContext, GpuError> {
         let instance =
             wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            force_fallback_adapter: false,
-            compatible_surface: None,
-            ..Default::default()
-        }))
-        .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
+        let adapter =
+            crate::platform::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                force_fallback_adapter: false,
+                compatible_surface: None,
+                ..Default::default()
+            }))
+            .ok_or_else(|| GpuError::NoAdapter(NOT_IN_BROWSER.into()))?
+            .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let ray_query = adapter
             .features()
             .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
         // Both only where the adapter offers them.
         let wanted = wgpu::Features::EXPERIMENTAL_RAY_QUERY | wgpu::Features::PASSTHROUGH_SHADERS;
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("raystep gpu"),
-            required_features: adapter.features() & wanted,
-            required_limits: adapter.limits(),
-            experimental_features: if ray_query {
-                experimental_features()
-            } else {
-                wgpu::ExperimentalFeatures::disabled()
-            },
-            ..Default::default()
-        }))
-        .map_err(|e| GpuError::Device(e.to_string()))?;
+        let (device, queue) =
+            crate::platform::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+                label: Some("raystep gpu"),
+                required_features: adapter.features() & wanted,
+                required_limits: adapter.limits(),
+                experimental_features: if ray_query {
+                    experimental_features()
+                } else {
+                    wgpu::ExperimentalFeatures::disabled()
+                },
+                ..Default::default()
+            }))
+            .ok_or_else(|| GpuError::Device(NOT_IN_BROWSER.into()))?
+            .map_err(|e| GpuError::Device(e.to_string()))?;
         Ok(GpuContext::from_device(
             device,
             queue,
@@ -320,8 +329,10 @@ impl GpuContext {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f();
-        let v = pollster::block_on(validation.pop());
-        let o = pollster::block_on(oom.pop());
+        // In the browser an error scope's answer comes later (`None` here): the error then
+        // reaches the console as an uncaptured one.
+        let v = crate::platform::block_on(validation.pop()).flatten();
+        let o = crate::platform::block_on(oom.pop()).flatten();
         match v.or(o) {
             Some(e) => Err(GpuError::Device(format!("{what}: {e}"))),
             None => Ok(value),
@@ -385,6 +396,9 @@ impl GpuContext {
     /// Maps a `MAP_READ` buffer whose copy has been submitted, waits for the GPU, and returns
     /// its bytes (the buffer is unmapped again).
     pub(crate) fn read_mapped(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
+        if crate::platform::IN_BROWSER {
+            return Err(GpuError::Device(NOT_IN_BROWSER.into()));
+        }
         let slice = buffer.slice(..);
         let (tx, rx) = std::sync::mpsc::channel();
         slice.map_async(wgpu::MapMode::Read, move |r| {

@@ -5,12 +5,12 @@
 use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
 use super::exact::Arithmetic;
 use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
+use crate::platform::{Duration, Instant};
 use crate::scene::camera::CameraRays;
 use crate::scene::{Camera, Scene, Shape};
 use crate::trace::PreparedScene;
 use eframe::wgpu;
 use glam::Vec3;
-use std::time::{Duration, Instant};
 
 pub use super::context::GpuContext;
 

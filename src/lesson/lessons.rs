@@ -234,10 +234,10 @@ fn without_comments(body: &str) -> String {
 
 /// Every lesson in `dir` (each `*.md` but README.md), sorted by file name.
 pub fn load_lessons(dir: &Path) -> Result<Vec<Lesson>, String> {
-    let entries =
-        std::fs::read_dir(dir).map_err(|e| format!("{}: cannot list: {e}", dir.display()))?;
+    let entries = crate::platform::files::list(dir)
+        .map_err(|e| format!("{}: cannot list: {e}", dir.display()))?;
     let mut files: Vec<PathBuf> = entries
-        .filter_map(|e| e.ok().map(|e| e.path()))
+        .into_iter()
         .filter(|p| p.extension().is_some_and(|e| e == "md"))
         .filter(|p| p.file_name().is_some_and(|n| n != "README.md"))
         .collect();

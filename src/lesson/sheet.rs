@@ -260,7 +260,7 @@ pub fn parse_exercise_sheet(
         let scene = match (q.scene, q.scene_toml) {
             (Some(p), None) => {
                 let path = base.join(p.get_ref());
-                if !path.is_file() {
+                if !crate::platform::files::is_file(&path) {
                     return Err(at(
                         p.span(),
                         "scene",

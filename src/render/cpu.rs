@@ -4,17 +4,16 @@
 
 use crate::accel::Accelerator;
 use crate::math::Ray;
+use crate::platform::{Duration, Instant};
 use crate::record::{Counter, Observer, Silent};
 use crate::record::{HitRecord, NodeVisit, RayKind, Step};
 use crate::trace::Tracer;
 use crossbeam_deque::{Steal, Stealer, Worker};
 use glam::Vec3;
-use std::io::IsTerminal;
 use std::mem::MaybeUninit;
 use std::sync::Arc;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
-use std::time::{Duration, Instant};
 
 const TILE: u32 = 16;
 /// Pixels in a whole tile.
@@ -331,26 +330,17 @@ pub fn render<A: Accelerator>(
     // The calling thread traces tiles too; the other `threads - 1` are helpers from a pool of
     // the renders' own, so that a render in the background never holds up work the app gives
     // rayon's global pool (the BVH build, for one). One thread: no pool at all.
+    // In the browser there is one thread, whatever was asked.
     let threads = match opts.threads {
-        Some(n) if n > 0 => n,
-        _ => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        Some(n) if n > 0 && !crate::platform::IN_BROWSER => n,
+        _ => crate::platform::threads(),
     };
     let pool = (threads > 1)
         .then(|| render_pool(threads - 1))
         .transpose()?;
-    let bar = if opts.progress && std::io::stderr().is_terminal() && work.len() > 64 {
-        let b = indicatif::ProgressBar::new(work.len() as u64);
-        b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{spinner} tracing [{bar:40}] {percent}% {elapsed} (eta {eta})",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
-        Some(b)
-    } else {
-        None
-    };
+    let bar = (opts.progress && work.len() > 64)
+        .then(|| crate::platform::TerminalProgress::new(work.len() as u64, "tracing"))
+        .flatten();
     // A progressive render counts the tiles of all its passes itself.
     if let Some(live) = &opts.live
         && opts.pass.is_none()
@@ -475,7 +465,7 @@ pub fn render<A: Accelerator>(
     };
     let trace = start.elapsed();
     if let Some(b) = bar {
-        b.finish_and_clear();
+        b.finish();
     }
     if cancelled() {
         return Err(CANCELLED.into());
@@ -706,10 +696,10 @@ pub fn count_pixel<A: Accelerator>(tracer: &Tracer<'_, A>, x: u32, y: u32) -> (V
 #[cfg(test)]
 mod tests {
     use super::{AWAKE, TILE, await_helpers, bands, drain, steal, tile_rows};
+    use crate::platform::Instant;
     use crossbeam_deque::Stealer;
     use proptest::prelude::*;
     use std::sync::atomic::AtomicUsize;
-    use std::time::Instant;
 
     /// A helper that never reports: the calling thread's awake wait gives up, no sooner than
     /// `AWAKE`, and leaves the waiting to rayon.

@@ -5,6 +5,7 @@ use super::exact::{self, BoxRef, Dd, PlaneRef, SphereRef, TriangleRef};
 use super::{CostPoint, Method, Options, Precision, Primitive, Row};
 use crate::accel::Hit;
 use crate::math::{Ray, Real, Vector};
+use crate::platform::Instant;
 use crate::scene::{OffsetPolicy, Shape};
 use crate::shapes::{aabb, plane, sphere, triangle};
 use crate::trace::interaction::{interact_shape, spawn_origin};
@@ -13,7 +14,6 @@ use glam::Vec3;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 use std::hint::black_box;
-use std::time::Instant;
 
 /// Every t error (in ulps) per primitive × method × precision, for the plots' percentiles.
 #[derive(Debug, Default)]

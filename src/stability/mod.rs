@@ -33,8 +33,8 @@ pub mod pixel;
 pub mod plot;
 pub mod report;
 
+use crate::platform::Instant;
 use serde::Serialize;
-use std::time::Instant;
 
 /// The four primitives of the lab, plus the spawned-ray offsets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]

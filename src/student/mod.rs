@@ -35,12 +35,12 @@ pub mod statistical;
 pub(crate) use sheet::variant_text;
 pub use sheet::{TracerSheet, TracerSheetScene, Vary, load_tracer_sheet, parse_tracer_sheet};
 
+use crate::platform::{Duration, Instant};
 use crate::record::number::{Style, fmt64};
 use crate::trace::PreparedScene;
 use compare::{Stage, TracerTolerances};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
 
 /// One scene of a grading run and the pixels to check in it.
 #[derive(Debug, Clone)]

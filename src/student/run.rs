@@ -4,13 +4,13 @@
 //! of its own, stopped whole when the run ends (on Unix: process spawning is native-only, and
 //! the grader is a command-line tool).
 
+use crate::platform::{Duration, Instant};
 use std::io::Read;
 use std::path::Path;
 use std::process::{Command, Stdio};
 use std::sync::Arc;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::{Duration, Instant};
 use wait_timeout::ChildExt;
 
 /// Limits on one run.

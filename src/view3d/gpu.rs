@@ -6,10 +6,10 @@
 use super::camera::ViewCamera;
 use super::geometry::{Geometry, Line3, SphereInstance, TriVertex};
 use crate::gpu::{GpuContext, GpuError};
+use crate::platform::{Duration, Instant};
 use eframe::wgpu;
 use eframe::wgpu::util::DeviceExt;
 use glam::{Vec3, Vec4};
-use std::time::{Duration, Instant};
 
 const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;

@@ -5,6 +5,7 @@
 use super::parallel::{PARALLEL_FROM, map_in_order};
 use super::tri4::{self, NO_PACK};
 use super::{Bvh, Node};
+use crate::platform::{Duration, Instant};
 use crate::record::OutlineNode;
 use crate::record::validate::MAX_BVH_DEPTH;
 use crate::scene::{BvhQuality, Scene, Shape};
@@ -13,7 +14,6 @@ use obvhs::aabb::Aabb;
 use obvhs::bvh2::{Bvh2, builder::build_bvh2, node::Bvh2Node};
 use obvhs::{Boundable, BvhBuildParams};
 use rayon::prelude::*;
-use std::time::{Duration, Instant};
 
 /// How many levels of the tree the outline keeps (the ray tree diagram asks for at most this).
 const OUTLINE_DEPTH: u32 = 6;

@@ -123,10 +123,10 @@ impl Learn {
         let mut sheets: Vec<PathBuf> = dir
             .ok()
             .map(|d| d.join("exercises"))
-            .and_then(|d| std::fs::read_dir(d).ok())
+            .and_then(|d| crate::platform::files::list(&d).ok())
             .map(|entries| {
                 entries
-                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .into_iter()
                     .filter(|p| p.extension().is_some_and(|e| e == "toml"))
                     .collect()
             })
@@ -254,7 +254,7 @@ impl AppState {
         let (sheet, q) = (sheet.clone(), q.clone());
         let (tx, rx) = std::sync::mpsc::channel();
         let repaint = self.repaint_handle();
-        std::thread::spawn(move || {
+        crate::platform::spawn(move || {
             let expected = sheet.expected(&q, &sheet.variant(&q, &student));
             // A closed channel means the check was abandoned (another sheet or student).
             if tx.send(expected).is_ok() {

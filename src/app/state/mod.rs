@@ -13,6 +13,7 @@ pub use super::stepping::Stepping;
 use super::watch::{Watch, modified};
 use crate::diagram::{self, DiagramKind, ViewOptions};
 use crate::lesson::LessonSettings;
+use crate::platform::{Duration, Instant};
 use crate::record::Trace;
 use crate::render::RenderOutput;
 use crate::scene::{Scene, Settings};
@@ -20,7 +21,6 @@ use crate::trace::PreparedScene;
 use learn::{Learn, LearnCmd};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
 
 /// What is open.
 #[derive(Debug, Clone)]
@@ -466,7 +466,7 @@ impl AppState {
         let file = path.to_path_buf();
         let repaint = Arc::clone(&self.repaint);
         let laid = overrides;
-        std::thread::spawn(move || {
+        crate::platform::spawn(move || {
             let loaded = crate::scene::load_file(&file)
                 .map_err(|e| e.to_string())
                 .and_then(|mut scene| {

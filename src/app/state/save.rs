@@ -113,7 +113,7 @@ impl AppState {
         let path = path.to_path_buf();
         let (tx, rx) = std::sync::mpsc::channel();
         let repaint = Arc::clone(&self.repaint);
-        std::thread::spawn(move || {
+        crate::platform::spawn(move || {
             let result = diagram::animate(&trace, fixed, &opts, Some(delay_ms), |_, _| Ok(()))
                 .and_then(|(gif, n)| {
                     crate::io::write_atomic(&path, &gif)?;

@@ -1,0 +1,154 @@
+//! The seam between raystep and the machine it runs on: the one place that knows whether it runs
+//! natively or in a browser (`wasm32`). Everything else asks here for a clock, a background job,
+//! a wait, or the number of threads, and never names `std::thread` or `std::time::Instant`.
+//!
+//! | need | native | browser |
+//! |---|---|---|
+//! | a clock ([`Instant`]) | `std::time::Instant` | the page's `performance.now()` (std's panics) |
+//! | a background job ([`spawn`]) | a thread | run at once, on the page's only thread |
+//! | a repaint ticker ([`spawn_ticker`]) | a thread | none: the job has finished when it returns |
+//! | a pause ([`sleep`]) | `std::thread::sleep` | none (the page cannot block) |
+//! | threads for a render ([`threads`]) | the cores | one |
+//! | waiting on a future ([`block_on`]) | `pollster` | polled once: only futures that are ready |
+//!
+//! | files ([`files`]) | the disk | the page's memory: built-in files, files opened or dropped |
+//!
+//! The command line, the benchmarks, the fuzzing entry points and grading student programs are
+//! native-only modules as a whole (`cli`, `bench`, `fuzzing`, `student`).
+
+pub mod files;
+
+pub use web_time::{Duration, Instant};
+
+/// Runs `job` in the background: on its own thread natively, at once in the browser (the caller
+/// then finds its results waiting, as if the thread had been very quick).
+pub fn spawn(job: impl FnOnce() + Send + 'static) {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        std::thread::spawn(job);
+    }
+    #[cfg(target_arch = "wasm32")]
+    job();
+}
+
+/// Calls `tick` every `every` while `running()` holds, on a thread of its own (natively); the
+/// app's repaint while a background job works. In the browser the job has finished before this
+/// is reached, so nothing runs.
+pub fn spawn_ticker(
+    every: Duration,
+    running: impl Fn() -> bool + Send + 'static,
+    mut tick: impl FnMut() + Send + 'static,
+) -> Option<Ticker> {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        Some(Ticker(std::thread::spawn(move || {
+            while running() {
+                std::thread::sleep(every);
+                tick();
+            }
+        })))
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        let _ = (every, running, tick);
+        None
+    }
+}
+
+/// A running [`spawn_ticker`]; [`Ticker::join`] waits for it to stop.
+#[derive(Debug)]
+pub struct Ticker(#[cfg(not(target_arch = "wasm32"))] std::thread::JoinHandle<()>);
+
+impl Ticker {
+    /// Waits until the ticker has stopped.
+    pub fn join(self) {
+        #[cfg(not(target_arch = "wasm32"))]
+        let _ = self.0.join();
+    }
+}
+
+/// Pauses the calling (background) thread; nothing in the browser, where there is one thread.
+pub fn sleep(d: Duration) {
+    #[cfg(not(target_arch = "wasm32"))]
+    std::thread::sleep(d);
+    #[cfg(target_arch = "wasm32")]
+    let _ = d;
+}
+
+/// How many threads a render may use: the machine's cores natively, one in the browser.
+pub fn threads() -> usize {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    }
+    #[cfg(target_arch = "wasm32")]
+    1
+}
+
+/// Whether this build runs in a browser.
+pub const IN_BROWSER: bool = cfg!(target_arch = "wasm32");
+
+/// Waits for `f`: natively by blocking the thread; in the browser (which cannot block) by
+/// polling once, so `None` means the future was not ready.
+pub fn block_on<F: std::future::Future>(f: F) -> Option<F::Output> {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        Some(pollster::block_on(f))
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        let mut f = std::pin::pin!(f);
+        let mut cx = std::task::Context::from_waker(std::task::Waker::noop());
+        match f.as_mut().poll(&mut cx) {
+            std::task::Poll::Ready(v) => Some(v),
+            std::task::Poll::Pending => None,
+        }
+    }
+}
+
+/// A progress bar on stderr while a long command works, shown only when stderr is a terminal
+/// (natively; never in the browser).
+#[derive(Debug)]
+pub struct TerminalProgress {
+    #[cfg(not(target_arch = "wasm32"))]
+    bar: indicatif::ProgressBar,
+}
+
+impl TerminalProgress {
+    /// A bar of `len` steps labelled `what`, or `None` where no terminal would show it.
+    pub fn new(len: u64, what: &str) -> Option<TerminalProgress> {
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            use std::io::IsTerminal;
+            if !std::io::stderr().is_terminal() {
+                return None;
+            }
+            let bar = indicatif::ProgressBar::new(len);
+            let template =
+                format!("{{spinner}} {what} [{{bar:40}}] {{percent}}% {{elapsed}} (eta {{eta}})");
+            if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
+                bar.set_style(style.progress_chars("=> "));
+            }
+            Some(TerminalProgress { bar })
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            let _ = (len, what);
+            None
+        }
+    }
+
+    /// One more step done.
+    pub fn inc(&self, n: u64) {
+        #[cfg(not(target_arch = "wasm32"))]
+        self.bar.inc(n);
+        #[cfg(target_arch = "wasm32")]
+        let _ = n;
+    }
+
+    /// Removes the bar.
+    pub fn finish(self) {
+        #[cfg(not(target_arch = "wasm32"))]
+        self.bar.finish_and_clear();
+    }
+}

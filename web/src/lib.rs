@@ -1,0 +1,32 @@
+//! raystep in a web page: the entry point `web/build.sh` builds for `wasm32-unknown-unknown`.
+//! The app itself is raystep's (`raystep::app`); this crate only finds the page's canvas and
+//! address and starts it. Natively it is empty.
+
+#[cfg(target_arch = "wasm32")]
+use wasm_bindgen::prelude::*;
+
+/// Called by the page once the module is loaded: starts the app on the canvas `raystep`.
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen(start)]
+pub fn main() {
+    wasm_bindgen_futures::spawn_local(async {
+        let window = web_sys::window().expect("a page has a window");
+        let document = window.document().expect("a page has a document");
+        let fragment = window.location().hash().unwrap_or_default();
+        let canvas = document
+            .get_element_by_id("raystep")
+            .and_then(|e| e.dyn_into::<web_sys::HtmlCanvasElement>().ok())
+            .expect("index.html has a canvas with id raystep");
+        if let Err(e) = raystep::app::web::start(canvas, fragment).await {
+            show_error(&document, &format!("raystep could not start: {e:?}"));
+        }
+    });
+}
+
+/// Replaces the loading text with `message` (the app could not start).
+#[cfg(target_arch = "wasm32")]
+fn show_error(document: &web_sys::Document, message: &str) {
+    if let Some(e) = document.get_element_by_id("loading") {
+        e.set_text_content(Some(message));
+    }
+}
