@@ -12,6 +12,10 @@
 //! name. The cache is rewritten from the binary whenever a file there differs, so editing it
 //! changes nothing; `raystep examples --write DIR` writes a copy to edit.
 
+// Finding built-in files by name and writing them out serve the command line, which the browser
+// build leaves out.
+#![cfg_attr(target_arch = "wasm32", allow(dead_code))]
+
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;

@@ -59,6 +59,8 @@ pub enum Action {
 }
 
 /// What an action does.
+// One is made per click or key press and applied at once: its size does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum Effect {
     /// Changes the state: applied by [`AppState::apply`] after the frame.

@@ -405,6 +405,9 @@ pub fn tabs(ui: &mut egui::Ui, gpu: &mut GpuView) {
 
 /// The GPU render view (the central panel's "GPU render" tab).
 pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mut Vec<Command>) {
+    if crate::platform::IN_BROWSER {
+        return not_in_browser(ui);
+    }
     let Some(prepared) = &state.prepared else {
         ui.label("Preparing the scene…");
         return;
@@ -705,6 +708,9 @@ fn trace_switch(
 /// The difference tab: CPU − GPU as an image, with RMSE, max error and the count of differing
 /// pixels.
 pub fn difference_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
+    if crate::platform::IN_BROWSER {
+        return not_in_browser(ui);
+    }
     let Some(prepared) = &state.prepared else {
         ui.label("Preparing the scene…");
         return;
@@ -743,4 +749,19 @@ pub fn difference_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         }
         None => {}
     }
+}
+
+/// The GPU tabs in a web page: what they would show and why they cannot here.
+fn not_in_browser(ui: &mut egui::Ui) {
+    ui.vertical_centered(|ui| {
+        ui.add_space(40.0);
+        ui.heading("The GPU tracer runs in the desktop app");
+        ui.add_space(8.0);
+        ui.label(crate::gpu::NOT_IN_BROWSER);
+        ui.add_space(8.0);
+        ui.label(
+            "The CPU render, the stepper, the diagrams, the 3D view, the lessons and the \
+             exercises all work here.",
+        );
+    });
 }

@@ -3,9 +3,7 @@
 //! it builds up. The UI thread never waits on it; a new job cancels the previous one.
 
 use crate::platform::{Duration, Instant};
-use crate::render::{
-    CANCELLED, LiveRender, RenderOptions, RenderOutput, render, render_progressive,
-};
+use crate::render::{CANCELLED, LiveRender, Progressive, RenderOptions, RenderOutput, render};
 use crate::scene::{Integrator, Scene, Settings};
 use crate::trace::PreparedScene;
 use std::sync::Arc;
@@ -37,6 +35,16 @@ fn hold(live: &LiveRender, until: Instant) {
     }
 }
 
+/// Where a render job is.
+enum Stage {
+    /// The scene is to be prepared.
+    Prepare,
+    /// Rendering the prepared scene: in one go, or a progressive render's next pass.
+    Render(Arc<PreparedScene>, Option<Box<Progressive>>),
+    /// Finished (or given up).
+    Done,
+}
+
 /// A render running on background threads.
 #[derive(Debug)]
 pub struct RenderJob {
@@ -66,62 +74,86 @@ impl RenderJob {
         let (tx, events) = channel();
         let job_live = Arc::clone(&live);
         let repaint = Arc::new(repaint);
-        crate::platform::spawn(move || {
-            let prepared = Arc::new(PreparedScene::with_settings(
-                &base,
-                &settings,
-                previous.as_deref(),
-            ));
-            drop(previous);
-            // A closed channel means the app dropped this job: nobody is watching.
-            if tx.send(JobEvent::Prepared(Arc::clone(&prepared))).is_err() {
-                return;
+        let mut previous = previous;
+        let mut stage = Stage::Prepare;
+        let mut ticker = None;
+        let mut shown_at = Instant::now();
+        let spp = settings.spp;
+        let held = Arc::clone(&job_live);
+        let pass_repaint = Arc::clone(&repaint);
+        let mut after_pass = move |done: u32| {
+            pass_repaint();
+            // Held after every pass but the last (the finished image needs no wait).
+            if let Some(pace) = pace
+                && done < spp
+            {
+                hold(&held, shown_at + pace);
+                shown_at = Instant::now();
             }
-            repaint();
-            let tiles_repaint = Arc::clone(&repaint);
-            let pass_repaint = Arc::clone(&repaint);
-            let held = Arc::clone(&job_live);
-            let mut shown_at = Instant::now();
-            let spp = settings.spp;
-            let mut after_pass = move |done: u32| {
-                pass_repaint();
-                // Held after every pass but the last (the finished image needs no wait).
-                if let Some(pace) = pace
-                    && done < spp
-                {
-                    hold(&held, shown_at + pace);
-                    shown_at = Instant::now();
+        };
+        let opts = RenderOptions {
+            threads: None,
+            progress: false,
+            count: true,
+            live: Some(Arc::clone(&job_live)),
+            pass: None,
+        };
+        // Steps: prepare; then the render, a step per pass of a Monte Carlo render (1, 2, 4, …
+        // samples per pixel, the image shown after each; the finished image is the same).
+        // Natively they follow each other on the job's thread; in the browser a frame is
+        // drawn between steps.
+        crate::platform::spawn_steps(move || {
+            let finished = match std::mem::replace(&mut stage, Stage::Done) {
+                Stage::Done => return false,
+                Stage::Prepare => {
+                    let prepared = Arc::new(PreparedScene::with_settings(
+                        &base,
+                        &settings,
+                        previous.as_deref(),
+                    ));
+                    previous = None;
+                    // A closed channel means the app dropped this job: nobody is watching.
+                    if tx.send(JobEvent::Prepared(Arc::clone(&prepared))).is_err() {
+                        return false;
+                    }
+                    repaint();
+                    let watcher = Arc::clone(&job_live);
+                    let tiles_repaint = Arc::clone(&repaint);
+                    // Repaint the UI a few times a second while the tiles come in.
+                    ticker = crate::platform::spawn_ticker(
+                        Duration::from_millis(100),
+                        move || watcher.progress() < 1.0 && !watcher.cancel.load(Ordering::Relaxed),
+                        move || tiles_repaint(),
+                    );
+                    let progressive = (settings.integrator != Integrator::Whitted
+                        && settings.spp > 1)
+                        .then(|| Box::new(Progressive::new(&prepared.tracer(), &opts)));
+                    stage = Stage::Render(prepared, progressive);
+                    return true;
+                }
+                Stage::Render(_, _) if job_live.cancel.load(Ordering::Relaxed) => {
+                    Err(CANCELLED.to_string())
+                }
+                Stage::Render(prepared, None) => render(&prepared.tracer(), &opts),
+                Stage::Render(prepared, Some(mut p)) => {
+                    let pass = p.next_pass(&prepared.tracer(), |done, _| after_pass(done));
+                    match pass {
+                        Ok(Some(_)) => {
+                            stage = Stage::Render(prepared, Some(p));
+                            return true;
+                        }
+                        Ok(None) => p.finish(),
+                        Err(e) => Err(e),
+                    }
                 }
             };
-            let watcher = Arc::clone(&job_live);
-            // Repaint the UI a few times a second while the tiles come in.
-            let ticker = crate::platform::spawn_ticker(
-                Duration::from_millis(100),
-                move || watcher.progress() < 1.0 && !watcher.cancel.load(Ordering::Relaxed),
-                move || tiles_repaint(),
-            );
-            let opts = RenderOptions {
-                threads: None,
-                progress: false,
-                count: true,
-                live: Some(Arc::clone(&job_live)),
-                pass: None,
-            };
-            let tracer = prepared.tracer();
-            // A Monte Carlo render accumulates: 1, 2, 4, … samples per pixel, the image shown
-            // after each pass (the finished image is the same either way).
-            let result = if settings.integrator != Integrator::Whitted && settings.spp > 1 {
-                render_progressive(&tracer, &opts, |done, _| after_pass(done))
-            } else {
-                render(&tracer, &opts)
-            }
-            .map(Arc::new);
             job_live.cancel.store(true, Ordering::Relaxed);
-            if let Some(t) = ticker {
+            if let Some(t) = ticker.take() {
                 t.join();
             }
-            let _ = tx.send(JobEvent::Done(result));
+            let _ = tx.send(JobEvent::Done(finished.map(Arc::new)));
             repaint();
+            false
         });
         RenderJob {
             live,

@@ -166,6 +166,10 @@ impl RaystepApp {
     pub fn frame(&mut self, ui: &mut egui::Ui) {
         let start = Instant::now();
         let ctx = ui.ctx().clone();
+        // In the browser, long jobs (the render's passes) take their steps between frames.
+        if crate::platform::run_steps(Duration::from_millis(30)) {
+            ctx.request_repaint();
+        }
         self.state.tick(start);
         self.apply_look(&ctx);
         let mut cmds = vec![];
@@ -195,6 +199,8 @@ impl RaystepApp {
             self.state.apply(c);
         }
         crash::remember(&self.state);
+        #[cfg(target_arch = "wasm32")]
+        web::publish(&web::Status::of(&self.state));
         // A way to check the crash recovery end to end in a real window: debug builds only, and
         // only when asked for by the environment.
         #[cfg(debug_assertions)]
@@ -326,6 +332,31 @@ impl RaystepApp {
 
     /// Files dropped on the window open like File → Open.
     fn dropped_files(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
+        // In the browser a dropped file has no path: its bytes are read (later: a browser reads
+        // files asynchronously) into the page's memory, and it opens when it has arrived.
+        #[cfg(target_arch = "wasm32")]
+        for f in ctx.input(|i| i.raw.dropped_files.clone()) {
+            let repaint = ctx.clone();
+            crate::platform::browser::spawn_local(async move {
+                let name = f.path().display().to_string();
+                crate::platform::browser::receive(&name, f.bytes_async().await);
+                repaint.request_repaint();
+            });
+        }
+        // The files the browser's picker or a drop read in: the first scene or trace among them
+        // opens (the others, an OBJ and its MTL, are there for it to read).
+        let arrived = crate::platform::browser::arrived();
+        let mut opened = false;
+        for a in arrived {
+            match a {
+                Ok(p) if !opened && p.extension().is_some_and(|e| e == "toml" || e == "json") => {
+                    opened = true;
+                    cmds.push(Command::Open(p));
+                }
+                Ok(_) => {}
+                Err(e) => cmds.push(Command::ShowError(e)),
+            }
+        }
         let dropped: Vec<PathBuf> = ctx.input(|i| {
             i.raw
                 .dropped_files

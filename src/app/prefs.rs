@@ -4,6 +4,7 @@
 use super::layout::Layout;
 use crate::diagram::{self, DiagramKind};
 use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// The colour scheme.
@@ -89,6 +90,23 @@ pub struct Prefs {
     pub presentation_layout: Layout,
     /// The layout and panels to restore when presentation mode ends.
     pub before_presentation: Option<SavedLayout>,
+    /// The answers typed into exercise sheets, kept between runs (in the browser: the page's
+    /// storage): by [`answers_key`] (sheet and student), then by question id.
+    pub answers: BTreeMap<String, BTreeMap<String, String>>,
+}
+
+/// The most sheet-and-student pairs whose answers are kept, and the longest answer kept.
+pub const MAX_KEPT_SHEETS: usize = 64;
+/// The longest answer kept (characters).
+pub const MAX_KEPT_ANSWER: usize = 200;
+
+/// Where the answers of `student` to the sheet `sheet` are kept in [`Prefs::answers`]: the
+/// sheet's file name and the student id.
+pub fn answers_key(sheet: &std::path::Path, student: &str) -> String {
+    let name = sheet
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    format!("{name}|{student}")
 }
 
 /// The panels shown and their sizes, kept while presentation mode replaces them.
@@ -127,6 +145,7 @@ impl Default for Prefs {
             presentation_theme: ThemeChoice::HighContrast,
             presentation_layout: Layout::presentation(),
             before_presentation: None,
+            answers: BTreeMap::new(),
         }
     }
 }
@@ -180,6 +199,12 @@ impl Prefs {
         self.recent.truncate(8);
         if self.student.chars().count() > 64 {
             self.student = self.student.chars().take(64).collect();
+        }
+        while self.answers.len() > MAX_KEPT_SHEETS {
+            self.answers.pop_first();
+        }
+        for answers in self.answers.values_mut() {
+            answers.retain(|q, a| q.len() <= 100 && a.chars().count() <= MAX_KEPT_ANSWER);
         }
         self
     }

@@ -58,6 +58,154 @@ impl Link {
     }
 }
 
+/// What the page shows now, kept in a hidden `<div id="raystep-status" aria-live="polite">`
+/// ([`publish`]): a screen reader announces the step, and a script (the browser test,
+/// `web/check.py`) reads the app's state from outside through its `data-` attributes.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Status {
+    /// The open scene's name (`data-scene`).
+    pub scene: String,
+    /// The selected pixel, `x,y`, or empty (`data-pixel`).
+    pub pixel: String,
+    /// The current step, or empty (`data-step`).
+    pub step: String,
+    /// How many steps the pixel's trace has (`data-steps`).
+    pub steps: usize,
+    /// Which panel beside the render shows: `render`, `lesson` or `exercise` (`data-view`).
+    pub view: &'static str,
+    /// The open lesson's title, or empty (`data-lesson`).
+    pub lesson: String,
+    /// The shown question's last check: `right`, `wrong: …`, or empty (`data-feedback`).
+    pub feedback: String,
+    /// Whether a render has finished (`data-ready`).
+    pub ready: bool,
+    /// The message shown in the status bar, if any (`data-message`).
+    pub message: String,
+}
+
+impl Status {
+    /// The status of `state`.
+    pub fn of(state: &super::state::AppState) -> Status {
+        use super::learn::LearnTab;
+        use super::state::Document;
+        let learn = &state.learn;
+        let (view, lesson, feedback) = if !state.prefs.show_learn {
+            ("render", String::new(), String::new())
+        } else if learn.tab == LearnTab::Lesson {
+            let title = learn
+                .lessons
+                .get(learn.lesson)
+                .map_or(String::new(), |l| l.title.clone());
+            ("lesson", title, String::new())
+        } else {
+            let feedback = learn
+                .attempts
+                .get(learn.question)
+                .and_then(|a| a.mark.as_ref())
+                .map_or(String::new(), |m| {
+                    if m.right {
+                        "right".to_string()
+                    } else {
+                        format!("wrong: {}", m.note.as_deref().unwrap_or(""))
+                    }
+                });
+            ("exercise", String::new(), feedback)
+        };
+        Status {
+            scene: match &state.doc {
+                Document::Scene { scene, .. } => scene.name.clone(),
+                Document::Trace { path } => format!("trace {}", path.display()),
+                Document::Empty => String::new(),
+            },
+            pixel: state
+                .pixel
+                .map_or(String::new(), |[x, y]| format!("{x},{y}")),
+            step: if state.stepping.is_some() {
+                state.step.to_string()
+            } else {
+                String::new()
+            },
+            steps: state.stepping.as_ref().map_or(0, |s| s.index.len()),
+            view,
+            lesson,
+            feedback,
+            ready: state.rendered.is_some(),
+            message: state
+                .message
+                .as_ref()
+                .map_or(String::new(), |m| m.text.clone()),
+        }
+    }
+
+    /// The sentence a screen reader announces.
+    pub fn sentence(&self) -> String {
+        let mut s = self.scene.clone();
+        if !self.pixel.is_empty() {
+            s += &format!(", pixel {}", self.pixel);
+        }
+        if !self.step.is_empty() {
+            s += &format!(", step {} of {}", self.step, self.steps);
+        }
+        if !self.lesson.is_empty() {
+            s += &format!(", lesson: {}", self.lesson);
+        }
+        if !self.feedback.is_empty() {
+            s += &format!(", answer {}", self.feedback);
+        }
+        s
+    }
+
+    /// The `data-` attributes, by name.
+    pub fn attributes(&self) -> [(&'static str, String); 9] {
+        [
+            ("data-scene", self.scene.clone()),
+            ("data-pixel", self.pixel.clone()),
+            ("data-step", self.step.clone()),
+            ("data-steps", self.steps.to_string()),
+            ("data-view", self.view.to_string()),
+            ("data-lesson", self.lesson.clone()),
+            ("data-feedback", self.feedback.clone()),
+            ("data-ready", if self.ready { "1" } else { "0" }.to_string()),
+            ("data-message", self.message.clone()),
+        ]
+    }
+}
+
+/// Writes `status` into the page's `#raystep-status` (made on first use), touching the page
+/// only when something changed.
+#[cfg(target_arch = "wasm32")]
+pub fn publish(status: &Status) {
+    use std::cell::RefCell;
+    thread_local! {
+        static SHOWN: RefCell<Option<Status>> = const { RefCell::new(None) };
+    }
+    if SHOWN.with(|s| s.borrow().as_ref() == Some(status)) {
+        return;
+    }
+    let Some(document) = web_sys::window().and_then(|w| w.document()) else {
+        return;
+    };
+    let element = document.get_element_by_id("raystep-status").or_else(|| {
+        let e = document.create_element("div").ok()?;
+        e.set_id("raystep-status");
+        let _ = e.set_attribute("aria-live", "polite");
+        // Visually hidden, still read by screen readers.
+        let _ = e.set_attribute(
+            "style",
+            "position:absolute;width:1px;height:1px;overflow:hidden;clip:rect(0 0 0 0)",
+        );
+        document.body()?.append_child(&e).ok()?;
+        Some(e)
+    });
+    if let Some(e) = element {
+        for (k, v) in status.attributes() {
+            let _ = e.set_attribute(k, &v);
+        }
+        e.set_text_content(Some(&status.sentence()));
+    }
+    SHOWN.with(|s| *s.borrow_mut() = Some(status.clone()));
+}
+
 /// Starts the app on `canvas`, opening what `fragment` (the page's address after `#`) names.
 #[cfg(target_arch = "wasm32")]
 pub async fn start(

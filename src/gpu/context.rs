@@ -416,7 +416,12 @@ impl GpuContext {
         Ok(bytes)
     }
 
+    /// Waits until the GPU has done what was submitted. In the browser a page cannot wait: the
+    /// work is done in order anyway (the 3D view draws, then egui shows it), so this returns.
     pub(crate) fn wait(&self) -> Result<(), GpuError> {
+        if crate::platform::IN_BROWSER {
+            return Ok(());
+        }
         self.device
             .poll(wgpu::PollType::Wait {
                 submission_index: None,

@@ -82,7 +82,7 @@ pub mod trace_log;
 mod tracer;
 
 pub use compare::{Difference, difference};
-pub use context::KernelForm;
+pub use context::{KernelForm, NOT_IN_BROWSER};
 pub use shader::{ShaderConfig, ShaderVariant, full_wgsl, generated_wgsl};
 pub use trace_log::GpuTrace;
 pub use tracer::{DISPLAY_FORMAT, GpuContext, GpuError, GpuFrame, GpuPath, GpuTracer, PixelDebug};

@@ -5,6 +5,10 @@
 //! goes through [`out`] (`outln!`), whose failures — a full disk, `/dev/full` — are reported by
 //! [`stdout_result`] instead of panicking or passing unnoticed.
 
+// Printing (`outln!`) and reading from the disk serve the command line and native files: the
+// browser build has neither.
+#![cfg_attr(target_arch = "wasm32", allow(unused_imports, unused_macros))]
+
 use std::io::{Read, Write};
 use std::path::Path;
 use std::sync::Mutex;
@@ -219,13 +223,15 @@ use write::current_umask;
 #[cfg(not(target_arch = "wasm32"))]
 pub use write::write_atomic;
 
-/// In the browser there are no files to write: the app saves with a download instead.
+/// In the browser a file the user saves is kept in the page's memory (so the app can open it
+/// again) and offered as a download named after `path`'s file name.
 #[cfg(target_arch = "wasm32")]
-pub fn write_atomic(path: &Path, _bytes: &[u8]) -> Result<(), String> {
-    Err(format!(
-        "{}: a web page cannot write files; raystep in the browser saves with a download",
-        path.display()
-    ))
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    crate::platform::files::write(path, bytes)?;
+    let name = path
+        .file_name()
+        .map_or_else(|| "raystep".into(), |n| n.to_string_lossy().into_owned());
+    crate::platform::browser::download(&name, bytes)
 }
 
 #[cfg(all(test, unix))]

@@ -98,7 +98,8 @@ pub fn list(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     }
 }
 
-#[cfg(target_arch = "wasm32")]
+/// The page's files (compiled natively too, for its tests).
+#[cfg_attr(not(target_arch = "wasm32"), allow(dead_code))]
 mod web {
     use std::collections::BTreeMap;
     use std::path::{Component, Path, PathBuf};
@@ -125,5 +126,23 @@ mod web {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::web;
+    use std::path::{Path, PathBuf};
+
+    #[test]
+    fn the_pages_files_resolve_dots_by_name() {
+        assert_eq!(
+            web::normal(Path::new(
+                "/raystep/b/lessons/exercises/../../scenes/./c.toml"
+            )),
+            PathBuf::from("/raystep/b/scenes/c.toml")
+        );
+        assert_eq!(web::normal(Path::new("../../x")), PathBuf::from("/x"));
+        assert_eq!(web::normal(Path::new("a.json")), PathBuf::from("/a.json"));
     }
 }

@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | a clock ([`Instant`]) | `std::time::Instant` | the page's `performance.now()` (std's panics) |
 //! | a background job ([`spawn`]) | a thread | run at once, on the page's only thread |
+//! | a long job in steps ([`spawn_steps`]) | a thread | a few steps between frames ([`run_steps`]) |
 //! | a repaint ticker ([`spawn_ticker`]) | a thread | none: the job has finished when it returns |
 //! | a pause ([`sleep`]) | `std::thread::sleep` | none (the page cannot block) |
 //! | threads for a render ([`threads`]) | the cores | one |
@@ -16,6 +17,7 @@
 //! The command line, the benchmarks, the fuzzing entry points and grading student programs are
 //! native-only modules as a whole (`cli`, `bench`, `fuzzing`, `student`).
 
+pub mod browser;
 pub mod files;
 
 pub use web_time::{Duration, Instant};
@@ -31,16 +33,67 @@ pub fn spawn(job: impl FnOnce() + Send + 'static) {
     job();
 }
 
+/// Runs a long job in steps: `step` is called until it returns `false`. Natively on a thread of
+/// its own, one step after the other. In the browser the steps run between frames
+/// ([`run_steps`]), so the page keeps drawing: a render is a step per pass.
+pub fn spawn_steps(mut step: impl FnMut() -> bool + Send + 'static) {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        std::thread::spawn(move || while step() {});
+    }
+    #[cfg(target_arch = "wasm32")]
+    STEPS.with(|s| s.borrow_mut().push(Box::new(move || step())));
+}
+
+#[cfg(target_arch = "wasm32")]
+thread_local! {
+    /// The browser's stepped jobs, oldest first.
+    static STEPS: std::cell::RefCell<Vec<Box<dyn FnMut() -> bool>>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Runs the stepped jobs ([`spawn_steps`]) for about `budget` (each at least one step), and
+/// says whether any is left. Natively they run on their threads: nothing to do here.
+pub fn run_steps(budget: Duration) -> bool {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        let _ = budget;
+        false
+    }
+    #[cfg(target_arch = "wasm32")]
+    {
+        let start = Instant::now();
+        loop {
+            // Taken out while they run: a step may start another job.
+            let mut jobs = STEPS.with(|s| std::mem::take(&mut *s.borrow_mut()));
+            if jobs.is_empty() {
+                return false;
+            }
+            jobs.retain_mut(|step| step());
+            STEPS.with(|s| {
+                let mut s = s.borrow_mut();
+                let started = std::mem::take(&mut *s);
+                *s = jobs;
+                s.extend(started);
+            });
+            if start.elapsed() >= budget {
+                return STEPS.with(|s| !s.borrow().is_empty());
+            }
+        }
+    }
+}
+
 /// Calls `tick` every `every` while `running()` holds, on a thread of its own (natively); the
 /// app's repaint while a background job works. In the browser the job has finished before this
 /// is reached, so nothing runs.
 pub fn spawn_ticker(
     every: Duration,
     running: impl Fn() -> bool + Send + 'static,
-    mut tick: impl FnMut() + Send + 'static,
+    tick: impl FnMut() + Send + 'static,
 ) -> Option<Ticker> {
     #[cfg(not(target_arch = "wasm32"))]
     {
+        let mut tick = tick;
         Some(Ticker(std::thread::spawn(move || {
             while running() {
                 std::thread::sleep(every);

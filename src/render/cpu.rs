@@ -239,39 +239,86 @@ pub fn render_progressive<A: Accelerator>(
     opts: &RenderOptions,
     mut after_pass: impl FnMut(u32, &RenderOutput),
 ) -> Result<RenderOutput, String> {
-    let spp = tracer.scene.settings.spp.max(1);
-    let mut ends = vec![];
-    let mut end = 1u32;
-    while end < spp {
-        ends.push(end);
-        end = end.saturating_mul(2);
+    let mut p = Progressive::new(tracer, opts);
+    while let Some(done) = p.next_pass(tracer, &mut after_pass)? {
+        let _ = done;
     }
-    ends.push(spp);
-    if let Some(live) = &opts.live {
-        let tiles = tracer.camera.width.div_ceil(TILE) as usize
-            * tracer.camera.height.div_ceil(TILE) as usize;
-        // Progress in tile-samples: a pass's tiles count as many times as it has samples.
-        live.tiles_total
-            .store(tiles * spp as usize, Ordering::Relaxed);
-        live.samples_total.store(spp, Ordering::Relaxed);
+    p.finish()
+}
+
+/// [`render_progressive`] a pass at a time: each [`Progressive::next_pass`] traces one pass
+/// (1, 1, 2, 4, … samples per pixel), so a caller that cannot wait for the whole render (the
+/// browser's only thread) draws the image between passes.
+#[derive(Debug)]
+pub struct Progressive {
+    opts: RenderOptions,
+    spp: u32,
+    ends: std::collections::VecDeque<u32>,
+    start: u32,
+    sums: Option<Arc<Vec<Vec3>>>,
+    total: Option<RenderOutput>,
+}
+
+impl Progressive {
+    /// A progressive render of `tracer`'s scene with `opts` (its live view told the totals).
+    pub fn new<A: Accelerator>(tracer: &Tracer<'_, A>, opts: &RenderOptions) -> Progressive {
+        let spp = tracer.scene.settings.spp.max(1);
+        let mut ends = std::collections::VecDeque::new();
+        let mut end = 1u32;
+        while end < spp {
+            ends.push_back(end);
+            // In the browser a pass is one sample more: the page draws between passes, and a
+            // pass of half the samples would hold it for half the render. The image is the same
+            // (each pixel's sum goes on in sample order).
+            end = if crate::platform::IN_BROWSER {
+                end + 1
+            } else {
+                end.saturating_mul(2)
+            };
+        }
+        ends.push_back(spp);
+        if let Some(live) = &opts.live {
+            let tiles = tracer.camera.width.div_ceil(TILE) as usize
+                * tracer.camera.height.div_ceil(TILE) as usize;
+            // Progress in tile-samples: a pass's tiles count as many times as it has samples.
+            live.tiles_total
+                .store(tiles * spp as usize, Ordering::Relaxed);
+            live.samples_total.store(spp, Ordering::Relaxed);
+        }
+        Progressive {
+            opts: opts.clone(),
+            spp,
+            ends,
+            start: 0,
+            sums: None,
+            total: None,
+        }
     }
-    let mut sums: Option<Arc<Vec<Vec3>>> = None;
-    let mut total: Option<RenderOutput> = None;
-    let mut start = 0;
-    for end in ends {
+
+    /// Traces the next pass and calls `after_pass` with the samples per pixel done and the
+    /// pass's output; `None` once every pass is done. `tracer` must be the one given to
+    /// [`Progressive::new`] (or one of the same prepared scene).
+    pub fn next_pass<A: Accelerator>(
+        &mut self,
+        tracer: &Tracer<'_, A>,
+        mut after_pass: impl FnMut(u32, &RenderOutput),
+    ) -> Result<Option<u32>, String> {
+        let Some(end) = self.ends.pop_front() else {
+            return Ok(None);
+        };
         let pass_opts = RenderOptions {
             pass: Some(Pass {
-                samples: start..end,
-                sums: sums.clone(),
+                samples: self.start..end,
+                sums: self.sums.clone(),
             }),
-            ..opts.clone()
+            ..self.opts.clone()
         };
         let out = render(tracer, &pass_opts)?;
-        if let Some(live) = &opts.live {
+        if let Some(live) = &self.opts.live {
             live.samples_done.store(end, Ordering::Relaxed);
         }
         after_pass(end, &out);
-        total = Some(match total {
+        self.total = Some(match self.total.take() {
             None => RenderOutput {
                 width: out.width,
                 height: out.height,
@@ -293,15 +340,24 @@ pub fn render_progressive<A: Accelerator>(
                 t
             }
         });
-        sums = Some(Arc::new(out.pixels));
-        start = end;
+        self.sums = Some(Arc::new(out.pixels));
+        self.start = end;
+        Ok(Some(end))
     }
-    let mut out = total.ok_or("internal error: a progressive render with no pass")?;
-    let sums = sums.ok_or("internal error: a progressive render with no pass")?;
-    // The mean exactly as Tracer::trace_pixel divides it.
-    out.pixels = sums.iter().map(|s| *s / spp as f32).collect();
-    out.stats.nan_pixels = out.pixels.iter().filter(|p| p.is_nan()).count() as u64;
-    Ok(out)
+
+    /// The finished render: the mean of every pass's samples.
+    pub fn finish(self) -> Result<RenderOutput, String> {
+        let mut out = self
+            .total
+            .ok_or("internal error: a progressive render with no pass")?;
+        let sums = self
+            .sums
+            .ok_or("internal error: a progressive render with no pass")?;
+        // The mean exactly as Tracer::trace_pixel divides it.
+        out.pixels = sums.iter().map(|s| *s / self.spp as f32).collect();
+        out.stats.nan_pixels = out.pixels.iter().filter(|p| p.is_nan()).count() as u64;
+        Ok(out)
+    }
 }
 
 /// Renders the tracer's scene.

@@ -19,6 +19,6 @@ pub mod cpu;
 pub mod image;
 
 pub use cpu::{
-    CANCELLED, LiveRender, Pass, RenderOptions, RenderOutput, RenderStats, render,
+    CANCELLED, LiveRender, Pass, Progressive, RenderOptions, RenderOutput, RenderStats, render,
     render_progressive,
 };

@@ -11,12 +11,45 @@ use crate::record::validate::MAX_BVH_DEPTH;
 use crate::scene::{BvhQuality, Scene, Shape};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::bvh2::{Bvh2, builder::build_bvh2, node::Bvh2Node};
+use obvhs::bvh2::{
+    Bvh2, leaf_collapser::collapse, node::Bvh2Node, reinsertion::ReinsertionOptimizer,
+};
+use obvhs::ploc::PlocBuilder;
 use obvhs::{Boundable, BvhBuildParams};
 use rayon::prelude::*;
 
 /// How many levels of the tree the outline keeps (the ray tree diagram asks for at most this).
 const OUTLINE_DEPTH: u32 = 6;
+
+/// obvhs's `builder::build_bvh2` step for step (PLOC, reinsertion, leaf collapse, reinsertion),
+/// with raystep's clock: obvhs times its build with `std::time::Instant`, which panics in a
+/// browser (see `platform`). `core` gains the time the steps took.
+fn build_bvh2<T: Boundable>(primitives: &[T], config: BvhBuildParams, core: &mut Duration) -> Bvh2 {
+    let start = Instant::now();
+    let mut bvh2 = PlocBuilder::with_capacity(primitives.len()).build(
+        config.ploc_search_distance,
+        primitives,
+        (0..primitives.len() as u32).collect::<Vec<_>>(),
+        config.sort_precision,
+        config.search_depth_threshold,
+    );
+    let mut reinsertion = ReinsertionOptimizer::default();
+    reinsertion.run(&mut bvh2, config.reinsertion_batch_ratio, None);
+    collapse(
+        &mut bvh2,
+        config.max_prims_per_leaf.clamp(1, 255),
+        config.collapse_traversal_cost,
+    );
+    reinsertion.run(
+        &mut bvh2,
+        config.reinsertion_batch_ratio * config.post_collapse_reinsertion_batch_ratio_multiplier,
+        None,
+    );
+    *core += start.elapsed();
+    #[cfg(debug_assertions)]
+    bvh2.validate(primitives, false, config.pre_split);
+    bvh2
+}
 
 #[derive(Clone, Copy)]
 struct PrimBox(Aabb);
@@ -597,6 +630,44 @@ fn compute_outline(nodes: &[Node], depth: u32) -> Vec<OutlineNode> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// raystep's copy of obvhs's build helper builds obvhs's tree, node for node.
+    #[test]
+    fn the_build_is_obvhs_own() {
+        let boxes: Vec<PrimBox> = (0..500u32)
+            .map(|i| {
+                let f = i as f32;
+                let c = Vec3A::new((f * 0.37).sin() * 9.0, (f * 0.11).cos() * 5.0, f * 0.02);
+                PrimBox(Aabb::new(
+                    c - 0.3,
+                    c + 0.2 + Vec3A::splat((f * 0.7).sin().abs()),
+                ))
+            })
+            .collect();
+        for q in [BvhQuality::Low, BvhQuality::Medium, BvhQuality::High] {
+            let mut a = Duration::ZERO;
+            let mut b = std::time::Duration::ZERO;
+            let ours = build_bvh2(&boxes, build_params(q), &mut a);
+            let theirs = obvhs::bvh2::builder::build_bvh2(&boxes, build_params(q), &mut b);
+            let bits = |t: &Bvh2| -> Vec<[u32; 8]> { t.nodes.iter().map(node_bits).collect() };
+            assert_eq!(bits(&ours), bits(&theirs), "{q:?}");
+            assert_eq!(ours.primitive_indices, theirs.primitive_indices, "{q:?}");
+        }
+    }
+
+    fn node_bits(n: &Bvh2Node) -> [u32; 8] {
+        let (lo, hi) = (n.aabb().min, n.aabb().max);
+        [
+            lo.x.to_bits(),
+            lo.y.to_bits(),
+            lo.z.to_bits(),
+            hi.x.to_bits(),
+            hi.y.to_bits(),
+            hi.z.to_bits(),
+            n.prim_count,
+            n.first_index,
+        ]
+    }
 
     /// A chain of `n` leaves, each inner node's second child the next inner node: depth n − 1,
     /// leaf k holding primitive k.

@@ -2,6 +2,10 @@
 //! first hit, one primitive at a time through the shared kernels, or four triangles at a time
 //! from the four-lane watertight test's lanes.
 
+// The four-lane triangle test runs on x86-64's AVX2 + FMA only: elsewhere (an ARM Mac, the
+// browser's wasm32) its parts are not called.
+#![cfg_attr(not(target_arch = "x86_64"), allow(dead_code, unused_imports))]
+
 use crate::accel::{
     Hit, PerRay, accept, test_any_shape, test_closest_shape, tie_ray, triangle_step,
 };

@@ -7,6 +7,10 @@
 //! S21), the ray's own t_min honoured (S23), and `<=` so flat boxes are hit (S22). Infinite planes
 //! stay outside the tree: they are tested first and their hit tightens t_max.
 
+// The four-lane triangle test runs on x86-64's AVX2 + FMA only: elsewhere (an ARM Mac, the
+// browser's wasm32) its parts are not called.
+#![cfg_attr(not(target_arch = "x86_64"), allow(dead_code, unused_imports))]
+
 use super::{Accelerator, Hit, PerRay, any_of, closest_of};
 use crate::math::Ray;
 use crate::record::OutlineNode;

@@ -11,6 +11,10 @@
 //! recomputes it in f64) and the comparison with t_max, which changes as the leaf's hits are
 //! taken one by one in leaf order. `tests` compares the two on random and on hard triangles.
 
+// The four-lane triangle test runs on x86-64's AVX2 + FMA only: elsewhere (an ARM Mac, the
+// browser's wasm32) its parts are not called.
+#![cfg_attr(not(target_arch = "x86_64"), allow(dead_code, unused_imports))]
+
 use super::Node;
 use crate::scene::Shape;
 use glam::Vec3;

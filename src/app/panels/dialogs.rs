@@ -13,6 +13,13 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
     };
     let ctx = ui.ctx().clone();
     match d {
+        // A page has no folders to browse: the browser's own file picker opens instead.
+        Dialog::Open { .. } if crate::platform::IN_BROWSER => {
+            if let Err(e) = crate::platform::browser::pick_files() {
+                cmds.push(Command::ShowError(e));
+            }
+            cmds.push(Command::CloseDialog);
+        }
         Dialog::Open { path } => crate::app::files::open_dialog(&ctx, state, path, cmds),
         Dialog::Save { kind, path } => {
             let mut path = path.clone();

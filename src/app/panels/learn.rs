@@ -3,7 +3,7 @@
 //! explains the answer). It reads [`crate::app::state::learn::Learn`] and returns commands.
 
 use crate::app::state::learn::{Attempt, LearnCmd, LearnTab};
-use crate::app::state::{AppState, Command};
+use crate::app::state::{AppState, Command, Dialog, SaveKind};
 use crate::lesson::{self, Answer, Lesson, Mark};
 use egui::{Color32, RichText};
 use std::path::Path;
@@ -292,6 +292,19 @@ fn exercise_tab(
             }
         }
         ui.label(format!("{right} of {} right", sheet.questions.len()));
+        if ui
+            .button("Export answers")
+            .on_hover_text(
+                "Your answers as a CSV file (student, question ids) that your teacher's \
+                 `raystep grade` marks",
+            )
+            .clicked()
+        {
+            cmds.push(Command::ShowDialog(Dialog::Save {
+                kind: SaveKind::Answers,
+                path: state.suggested_name(SaveKind::Answers),
+            }));
+        }
     });
     ui.separator();
     let Some((q, a)) = learn.current_question() else {

@@ -166,6 +166,77 @@ impl Learn {
 }
 
 impl AppState {
+    /// The key the open sheet's answers are kept under for this student, and its questions' ids.
+    fn answers_key(&self) -> Option<(String, Vec<String>)> {
+        let (path, sheet) = self.learn.sheet.as_ref()?;
+        let sheet = sheet.as_ref().ok()?;
+        let student = self.learn.student.trim();
+        (!student.is_empty()).then(|| {
+            (
+                crate::app::prefs::answers_key(path, student),
+                sheet.questions.iter().map(|q| q.id.to_string()).collect(),
+            )
+        })
+    }
+
+    /// Puts back the answers this student typed into the open sheet last time (the marks come
+    /// again with the next Check).
+    fn restore_answers(&mut self) {
+        let Some((key, ids)) = self.answers_key() else {
+            return;
+        };
+        let Some(kept) = self.prefs.answers.get(&key) else {
+            return;
+        };
+        for (a, id) in self.learn.attempts.iter_mut().zip(&ids) {
+            if let Some(answer) = kept.get(id) {
+                a.answer = answer.clone();
+            }
+        }
+    }
+
+    /// Keeps question `i`'s answer `text` in the preferences (saved between runs).
+    fn keep_answer(&mut self, i: usize, text: String) {
+        let Some((key, ids)) = self.answers_key() else {
+            return;
+        };
+        let Some(id) = ids.get(i) else {
+            return;
+        };
+        let kept = self.prefs.answers.entry(key).or_default();
+        if text.trim().is_empty() {
+            kept.remove(id);
+        } else if text.chars().count() <= crate::app::prefs::MAX_KEPT_ANSWER {
+            kept.insert(id.clone(), text);
+        }
+        self.prefs.answers.retain(|_, a| !a.is_empty());
+        while self.prefs.answers.len() > crate::app::prefs::MAX_KEPT_SHEETS {
+            self.prefs.answers.pop_first();
+        }
+    }
+
+    /// The open sheet's answers as a class CSV of one row, as `raystep grade` reads it
+    /// (`student,<question ids…>`).
+    pub fn answers_csv(&self) -> Result<String, String> {
+        let (_, sheet) = self
+            .learn
+            .sheet
+            .as_ref()
+            .ok_or("no exercise sheet is open")?;
+        let sheet = sheet.as_ref().map_err(Clone::clone)?;
+        let student = self.learn.student.trim();
+        if student.is_empty() {
+            return Err("type your student id first: the answers are for your variant".into());
+        }
+        let mut header = vec!["student".to_string()];
+        let mut row = vec![student.to_string()];
+        for (q, a) in sheet.questions.iter().zip(&self.learn.attempts) {
+            header.push(q.id.to_string());
+            row.push(a.answer.trim().to_string());
+        }
+        Ok(crate::text::csv::write_csv(&[header, row]))
+    }
+
     /// Applies a [`LearnCmd`].
     pub(super) fn apply_learn(&mut self, cmd: LearnCmd) {
         match cmd {
@@ -193,12 +264,14 @@ impl AppState {
                 self.learn.question = 0;
                 self.learn.tab = LearnTab::Exercises;
                 self.learn.reset_attempts();
+                self.restore_answers();
             }
             LearnCmd::Student(id) => {
                 if id != self.learn.student {
                     self.learn.student = id.clone();
                     self.prefs.student = id;
                     self.learn.reset_attempts();
+                    self.restore_answers();
                 }
             }
             LearnCmd::Question(i) => {
@@ -208,8 +281,9 @@ impl AppState {
             LearnCmd::Answer(text) => {
                 let i = self.learn.question;
                 if let Some(a) = self.learn.attempts.get_mut(i) {
-                    a.answer = text;
+                    a.answer = text.clone();
                 }
+                self.keep_answer(i, text);
             }
             LearnCmd::Hint => {
                 let i = self.learn.question;

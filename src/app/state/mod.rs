@@ -67,6 +67,8 @@ pub enum SaveKind {
     StepsGif,
     /// The edited scene as TOML ("Save as").
     Scene,
+    /// The open exercise sheet's answers, as a one-row class CSV for `raystep grade`.
+    Answers,
 }
 
 impl SaveKind {
@@ -77,6 +79,7 @@ impl SaveKind {
             SaveKind::DiagramPng => "Export diagram (PNG)",
             SaveKind::StepsGif => "Export all steps (animated GIF)",
             SaveKind::Scene => "Save scene as (TOML)",
+            SaveKind::Answers => "Export answers (CSV for raystep grade)",
         }
     }
 }
@@ -134,6 +137,8 @@ pub enum Command {
     ShowDialog(Dialog),
     /// Close the dialog.
     CloseDialog,
+    /// Show an error in the status bar (a file the browser could not read, …).
+    ShowError(String),
     /// Lessons and exercises.
     Learn(LearnCmd),
     /// Hide the load error banner (until the next error).
@@ -401,6 +406,7 @@ impl AppState {
             Command::Save(kind, path) => self.save(kind, &path),
             Command::ShowDialog(d) => self.dialog = Some(d),
             Command::CloseDialog => self.dialog = None,
+            Command::ShowError(text) => self.message = Some(Message { text, error: true }),
             Command::Learn(c) => self.apply_learn(c),
             Command::Edit(c) => self.apply_edit(c),
         }

@@ -22,6 +22,16 @@ impl AppState {
             SaveKind::DiagramPng => format!("{stem}-{x}-{y}-{kind_name}-step{}.png", self.step),
             SaveKind::StepsGif => format!("{stem}-{x}-{y}-steps.gif"),
             SaveKind::Scene => format!("{stem}-edited.toml"),
+            SaveKind::Answers => {
+                let sheet = self
+                    .learn
+                    .sheet
+                    .as_ref()
+                    .and_then(|(p, _)| p.file_stem())
+                    .map_or_else(|| "answers".into(), |s| s.to_string_lossy().into_owned());
+                let student = slug(self.learn.student.trim());
+                format!("{sheet}-{student}.csv")
+            }
         }
     }
 
@@ -37,6 +47,10 @@ impl AppState {
         }
         let result = self.write(kind, path);
         self.message = Some(match result {
+            Ok(what) if crate::platform::IN_BROWSER => Message {
+                text: format!("saved {} ({what}) as a download", path.display()),
+                error: false,
+            },
             Ok(what) => Message {
                 text: format!("wrote {} ({what})", crate::io::full_path(path)),
                 error: false,
@@ -49,6 +63,26 @@ impl AppState {
     }
 
     fn write(&self, kind: SaveKind, path: &Path) -> Result<String, String> {
+        if kind == SaveKind::Answers {
+            if !path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("csv"))
+            {
+                return Err("the file name must end in .csv".into());
+            }
+            let csv = self.answers_csv()?;
+            crate::io::write_atomic(path, csv.as_bytes())?;
+            let n = self
+                .learn
+                .attempts
+                .iter()
+                .filter(|a| !a.answer.trim().is_empty());
+            return Ok(format!(
+                "{} answers for {}: `raystep grade SHEET FILE` marks them",
+                n.count(),
+                self.learn.student.trim()
+            ));
+        }
         let s = self
             .stepping
             .as_ref()
@@ -58,6 +92,7 @@ impl AppState {
             SaveKind::DiagramPng => "png",
             SaveKind::StepsGif => "gif",
             SaveKind::Scene => "toml",
+            SaveKind::Answers => "csv",
         };
         if !path
             .extension()
@@ -79,6 +114,7 @@ impl AppState {
             }
             SaveKind::StepsGif => Err("GIFs are written in the background".into()),
             SaveKind::Scene => Err("scenes are saved by the editor".into()),
+            SaveKind::Answers => Err("answers are written above".into()),
         }
     }
 
