@@ -77,6 +77,8 @@ pub struct RaystepApp {
     pub frame_times: Vec<Duration>,
     /// A screenshot to take, if asked for.
     pub screenshot: Option<ScreenshotPlan>,
+    /// The page address's `#…` last followed (the browser build; see [`web::follow`]).
+    pub link: String,
 }
 
 impl std::fmt::Debug for RaystepApp {
@@ -117,6 +119,7 @@ impl RaystepApp {
             fullscreen: false,
             frame_times: vec![],
             screenshot: None,
+            link: String::new(),
         }
     }
 
@@ -401,7 +404,20 @@ fn install_fonts(ctx: &egui::Context) {
 
 impl eframe::App for RaystepApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        // A link pasted into the page's address (only its `#…` changed) goes there.
+        #[cfg(target_arch = "wasm32")]
+        web::follow(self, &_frame.info().web_info.location.hash);
         self.frame(ui);
+    }
+
+    /// In the browser the answers and preferences are saved every few seconds: a page can be
+    /// closed at any moment (natively they are saved on quitting too).
+    fn auto_save_interval(&self) -> Duration {
+        if crate::platform::IN_BROWSER {
+            Duration::from_secs(3)
+        } else {
+            Duration::from_secs(30)
+        }
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {

@@ -206,6 +206,34 @@ pub fn publish(status: &Status) {
     SHOWN.with(|s| *s.borrow_mut() = Some(status.clone()));
 }
 
+/// Goes where the link `fragment` (the page address's part after `#`) says, if it changed
+/// since the last call: its scene (a built-in one), pixel and step. What it does not understand
+/// is said in the status bar; nothing else changes then.
+pub fn follow(app: &mut super::RaystepApp, fragment: &str) {
+    if app.link == fragment {
+        return;
+    }
+    app.link = fragment.to_string();
+    let (link, warnings) = Link::parse(fragment);
+    let file = match link.scene.as_deref() {
+        Some(n) => crate::assets::builtin_scene_path(n).ok().flatten(),
+        None => app.state.path().map(std::path::Path::to_path_buf),
+    };
+    if let Some(f) = &file
+        && (link.scene.is_some() || link.pixel.is_some() || link.step.is_some())
+    {
+        let pixel = link.pixel.or(app.state.pixel);
+        app.state
+            .open_prepared(f, None, pixel, link.step.unwrap_or(0));
+    }
+    if !warnings.is_empty() {
+        app.state.message = Some(super::state::Message {
+            text: warnings.join("; "),
+            error: true,
+        });
+    }
+}
+
 /// Starts the app on `canvas`, opening what `fragment` (the page's address after `#`) names.
 #[cfg(target_arch = "wasm32")]
 pub async fn start(
@@ -219,24 +247,13 @@ pub async fn start(
             canvas,
             options,
             Box::new(move |cc| {
-                let (link, warnings) = Link::parse(&fragment);
+                let (link, _) = Link::parse(&fragment);
                 let file = link
                     .scene
                     .as_deref()
                     .and_then(|n| crate::assets::builtin_scene_path(n).ok().flatten());
-                let mut app = super::RaystepApp::new(cc, file.clone());
-                if let Some(f) = &file
-                    && (link.pixel.is_some() || link.step.is_some())
-                {
-                    app.state
-                        .open_prepared(f, None, link.pixel, link.step.unwrap_or(0));
-                }
-                if !warnings.is_empty() {
-                    app.state.message = Some(super::state::Message {
-                        text: warnings.join("; "),
-                        error: true,
-                    });
-                }
+                let mut app = super::RaystepApp::new(cc, file);
+                follow(&mut app, &fragment);
                 Ok(Box::new(app))
             }),
         )

@@ -59,9 +59,12 @@ pub(super) fn menu_bar(
                     Action::SaveAs(kind).perform(to);
                 }
             }
-            ui.separator();
-            if item(ui, state, Action::Quit, true) {
-                Action::Quit.perform(to);
+            // A page is closed with its tab: there is nothing to quit in the browser.
+            if !crate::platform::IN_BROWSER {
+                ui.separator();
+                if item(ui, state, Action::Quit, true) {
+                    Action::Quit.perform(to);
+                }
             }
         });
         ui.menu_button("View", |ui| {
