@@ -230,10 +230,14 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
 fn trace_main() {
     log_at = LOG_HEADER;
     log_on = true;
+//#if MC
+    _ = mc_trace_pixel(params.debug_pixel, vec3f(0.0), true, true);
+//#else
     let c = trace(ray_generation(params.debug_pixel, params.trace_sample, vec3f(0.0), true), false);
     log_open();
     log_v(c);
     log_close(EV_PIXEL);
+//#endif
 }
 
 // The fragment path's trace: the same full-screen triangle, so the rasterizer interpolates the
@@ -245,10 +249,14 @@ fn fs_trace(in: VertexOut) -> @location(0) vec4f {
         log_at = LOG_HEADER;
         log_on = true;
     }
+//#if MC
+    let c = mc_trace_pixel(p, in.dir, false, log_on);
+//#else
     let c = trace(ray_generation(p, params.trace_sample, in.dir, false), false);
     log_open();
     log_v(c);
     log_close(EV_PIXEL);
+//#endif
     return vec4f(c, 1.0);
 }
 //#else
