@@ -138,7 +138,7 @@ fn gpu_trace(args: &TraceArgs, prepared: &PreparedScene) -> Result<crate::record
         .map_err(|e| e.to_string())?;
     if t.summaries_truncated {
         eprintln!(
-            "warning: the GPU's step log ran out while it summarised the pixel's samples ({} MiB): the traced sample's steps are all kept, the summaries of the later samples are not (raise --gpu-log-mib to keep them)",
+            "warning: the GPU's step log ran out while it summarised the pixel's samples ({} MiB): the traced sample's steps are all kept, the pixel's sample summaries are not (raise --gpu-log-mib to keep them)",
             args.gpu_log_mib
         );
     } else if t.truncated {

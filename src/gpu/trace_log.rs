@@ -72,7 +72,8 @@ pub struct GpuTrace {
     /// Steps read from the log.
     pub steps: usize,
     /// Monte Carlo: the log ran out while the pixel's samples were summarised, after the traced
-    /// sample's steps were all kept (the trace's `monte_carlo.samples` is short).
+    /// sample's steps were all kept. A trace whose log ran out has no Monte Carlo record (a
+    /// record holds every sample's summary or none).
     pub summaries_truncated: bool,
 }
 
@@ -646,7 +647,11 @@ pub fn decode(
             summaries.len()
         ));
     }
-    let monte_carlo = mc_scene.map(|m| mc::record(&m, scene, &root, &objects, summaries));
+    // A trace's record holds every sample's summary or none (the loader's rule): a log that ran
+    // out keeps none.
+    let monte_carlo = mc_scene
+        .filter(|_| !ran_out)
+        .map(|m| mc::record(&m, scene, &root, &objects, summaries));
     Ok(GpuTrace {
         trace: Trace {
             version: TRACE_VERSION,

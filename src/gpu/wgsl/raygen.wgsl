@@ -260,10 +260,19 @@ fn fs_trace(in: VertexOut) -> @location(0) vec4f {
     return vec4f(c, 1.0);
 }
 //#else
+// As the compute path's cs_main: the pass's samples added to the pixel's running sum (`running`,
+// bound for the fragment pipeline too), the running mean written.
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4f {
     let p = vec2u(floor(in.position.xy));
-    return vec4f(render_pixel(p, in.dir, false, false), 1.0);
+    let i = p.y * params.width + p.x;
+    var sum = vec3f(0.0);
+    if params.first_sample > 0u {
+        sum = running[i].xyz;
+    }
+    sum = accumulate(p, in.dir, false, false, params.first_sample, params.pass_samples, sum);
+    running[i] = vec4f(sum, 0.0);
+    return vec4f(fdiv3(sum, f32(params.first_sample + params.pass_samples)), 1.0);
 }
 
 // ---- compute path: one invocation per pixel, the primary ray computed as on the CPU ----
