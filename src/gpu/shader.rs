@@ -475,7 +475,12 @@ mod trace_shader_tests {
     #[test]
     fn monte_carlo_trace_shaders_validate() {
         let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-        for name in ["cornell-area", "soft-shadows", "depth-of-field", "veach-mis"] {
+        for name in [
+            "cornell-area",
+            "soft-shadows",
+            "depth-of-field",
+            "veach-mis",
+        ] {
             let scene = crate::assets::load_scene(&dir.join(format!("{name}.toml"))).unwrap();
             let mut c = ShaderConfig::for_scene(&PreparedScene::new(scene));
             assert!(c.monte_carlo, "{name}");

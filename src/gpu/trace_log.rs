@@ -389,7 +389,9 @@ pub fn decode(
             match t {
                 tag::SURFACE => summaries.step(surface_step(&mut p)?),
                 mc::tag::LIGHT_SAMPLE => {
-                    let m = mc_scene.as_ref().ok_or("a light sample in a Whitted trace")?;
+                    let m = mc_scene
+                        .as_ref()
+                        .ok_or("a light sample in a Whitted trace")?;
                     summaries.step(mc::light_sample(m, scene, &mut p)?)
                 }
                 mc::tag::BSDF_SAMPLE => summaries.step(mc::bsdf_sample(&mut p)?),
@@ -484,7 +486,9 @@ pub fn decode(
             mc::tag::LENS => push(&mut rays, mc::lens(&mut p)?)?,
             mc::tag::EMITTED => push(&mut rays, mc::emitted(scene, &mut p)?)?,
             mc::tag::LIGHT_SAMPLE => {
-                let m = mc_scene.as_ref().ok_or("a light sample in a Whitted trace")?;
+                let m = mc_scene
+                    .as_ref()
+                    .ok_or("a light sample in a Whitted trace")?;
                 push(&mut rays, mc::light_sample(m, scene, &mut p)?)?
             }
             mc::tag::BSDF_SAMPLE => push(&mut rays, mc::bsdf_sample(&mut p)?)?,
@@ -636,8 +640,7 @@ pub fn decode(
             }));
         }
     }
-    let root =
-        assemble(scene, &mut rays, 0, monte_carlo)?.ok_or("the log holds no primary ray")?;
+    let root = assemble(scene, &mut rays, 0, monte_carlo)?.ok_or("the log holds no primary ray")?;
     let color = pixel_color.unwrap_or(root.color);
     let objects = referenced_objects(scene, &root);
     let kept = scene.settings.spp.min(MAX_PIXEL_SAMPLES as u32) as usize;

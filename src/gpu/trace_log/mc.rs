@@ -6,9 +6,7 @@
 use super::{NO_OBJECT, Payload};
 use crate::mc::bsdf::Lobe;
 use crate::mc::lights::Lights;
-use crate::record::samples::{
-    LightPointSample, McRecord, ObjectBsdf, PixelSample, TraceLight,
-};
+use crate::record::samples::{LightPointSample, McRecord, ObjectBsdf, PixelSample, TraceLight};
 use crate::record::{Draw, RayRecord, Step, TraceObject};
 use crate::scene::Scene;
 use std::collections::BTreeSet;
@@ -48,7 +46,9 @@ fn draws(p: &mut Payload) -> Result<Vec<Draw>, String> {
     let d = [p.u()?, p.u()?, p.u()?];
     let v = p.v()?;
     if n > 3 {
-        return Err(format!("a step drew {n} numbers, more than raystep's steps draw"));
+        return Err(format!(
+            "a step drew {n} numbers, more than raystep's steps draw"
+        ));
     }
     Ok((0..n)
         .map(|i| Draw {
