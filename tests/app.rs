@@ -8,6 +8,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT as _, Queryable as _};
 use raystep::app::RaystepApp;
 use raystep::app::state::{Command, Document, Prefs, StepMove};
+use raystep::gpu::GpuPath;
 use raystep::record::Step;
 use raystep::record::number::num;
 use std::path::{Path, PathBuf};
@@ -895,9 +896,9 @@ fn snapshots_of_the_lesson_and_exercise_panels() {
     );
 }
 
-/// The GPU tab on a Monte Carlo scene, compute path: the image builds up a pass a frame (1, 2,
-/// 4, 8 samples per pixel at 8 spp), as the CPU's render does, and the line above it says how
-/// many samples it holds so far.
+/// The GPU tab on a Monte Carlo scene, on the compute and the fragment path: the image builds up
+/// a pass a frame (1, 2, 4, 8 samples per pixel at 8 spp), as the CPU's render does, and the
+/// line above it says how many samples it holds so far.
 #[test]
 fn the_gpu_tab_renders_a_monte_carlo_scene_a_pass_a_frame() {
     use raystep::app::gpu_view::CentralTab;
@@ -921,25 +922,38 @@ fn the_gpu_tab_renders_a_monte_carlo_scene_a_pass_a_frame() {
     h.get_by_label("GPU render").click();
     h.run_steps(2);
     assert_eq!(h.state().panels.gpu.tab, CentralTab::Gpu);
-    h.get_by_label("compute").click();
-    let mut seen = vec![];
-    for _ in 0..40 {
-        h.step();
-        if let Some((done, spp)) = h.state().panels.gpu.samples_so_far() {
-            assert_eq!(spp, 8);
-            if seen.last() != Some(&done) {
-                seen.push(done);
+    // Each path in turn (the tab opens on one of them): its frames, once they are that path's.
+    for (label, path) in [
+        ("compute", GpuPath::Compute),
+        ("fragment", GpuPath::Fragment),
+    ] {
+        h.get_by_label(label).click();
+        let mut seen = vec![];
+        for _ in 0..40 {
+            h.step();
+            if h.state().panels.gpu.frame_path() != Some(path) {
+                continue;
             }
-            if done == spp {
-                break;
+            if let Some((done, spp)) = h.state().panels.gpu.samples_so_far() {
+                assert_eq!(spp, 8);
+                if seen.last() != Some(&done) {
+                    seen.push(done);
+                }
+                if done == spp {
+                    break;
+                }
             }
         }
+        // The path's frames from its last fresh start (the tab may have begun on it already).
+        if let Some(k) = seen.iter().rposition(|&d| d == 1) {
+            seen.drain(..k);
+        }
+        assert_eq!(
+            seen,
+            [1, 2, 4, 8],
+            "{label}: samples per pixel seen frame by frame"
+        );
     }
-    // The fragment path's frame (all 8 at once) may come first, before the click lands.
-    if seen.len() > 1 && seen[0] == 8 {
-        seen.remove(0);
-    }
-    assert_eq!(seen, [1, 2, 4, 8], "samples per pixel seen frame by frame");
     h.run_steps(2);
     assert!(
         labels(&h)

@@ -49,8 +49,8 @@ struct Traced {
     /// egui's id of the tracer's display texture, and the size it was registered at.
     texture: Option<(egui::TextureId, [u32; 2])>,
     /// The orbit the last frame was traced with, how long the trace pass took, and the samples
-    /// per pixel the image holds so far (a Monte Carlo scene on the compute path comes in passes
-    /// of 1, 1, 2, 4, … samples, one a frame).
+    /// per pixel the image holds so far (a Monte Carlo scene comes in passes of 1, 1, 2, 4, …
+    /// samples, one a frame, on either path).
     frame: Option<(Orbit, GpuPath, Duration, u32)>,
     /// The debug pixel of (pixel, path), at the scene camera.
     pick: Option<([u32; 2], Result<PixelDebug, String>)>,
@@ -131,6 +131,11 @@ impl GpuView {
         t.frame.map(|(.., done)| (done, spp))
     }
 
+    /// The path the image on screen was traced by, once there is one.
+    pub fn frame_path(&self) -> Option<GpuPath> {
+        self.traced.as_ref()?.frame.map(|(_, path, ..)| path)
+    }
+
     /// The adapter line (adapter, backend, path), once a tracer exists.
     pub fn adapter_line(&self) -> Option<String> {
         Some(self.traced.as_ref()?.tracer.adapter_line(self.path))
@@ -209,10 +214,8 @@ impl GpuView {
         let t = self.tracer_for(prepared)?;
         let settings = &prepared.scene().settings;
         let spp = settings.spp.max(1);
-        // A Monte Carlo image on the compute path builds up a pass a frame, as the CPU's does.
-        let progressive = path == GpuPath::Compute
-            && settings.integrator != crate::scene::Integrator::Whitted
-            && spp > 1;
+        // A Monte Carlo image builds up a pass a frame on either path, as the CPU's does.
+        let progressive = settings.integrator != crate::scene::Integrator::Whitted && spp > 1;
         match t.frame {
             Some((o, p, _, done)) if o == orbit && p == path => {
                 if done < spp {

@@ -155,20 +155,6 @@ impl SettingsArgs {
     }
 }
 
-/// The GPU's step trace (`raystep trace --gpu`) records Whitted's integrator only: a scene set to
-/// another one is traced with Whitted on both sides, and a note on stderr says so. (Rendering
-/// and `compare` trace the Monte Carlo integrators on the GPU too.)
-pub fn whitted_for_gpu(scene: &mut Scene) {
-    if scene.settings.integrator != crate::scene::Integrator::Whitted {
-        eprintln!(
-            "note: the GPU's step trace records Whitted's integrator only; \"{}\" is set to {}, so both sides use Whitted here",
-            scene.name,
-            scene_cmd::value_name(&scene.settings.integrator)
-        );
-        scene.settings.integrator = crate::scene::Integrator::Whitted;
-    }
-}
-
 /// Parses `X,Y,Z` into three finite numbers.
 pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();

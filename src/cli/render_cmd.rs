@@ -229,8 +229,8 @@ fn run_gpu(
     let frame_time = gpu
         .time_frames(args.gpu_path, 1, GPU_FRAMES)
         .map_err(|e| e.to_string())?;
-    // A Monte Carlo scene on the compute path: passes of 1, 1, 2, 4, … samples per pixel, as
-    // the CPU's render (the same image), saying on stderr how far it is.
+    // A Monte Carlo scene, on either path: passes of 1, 1, 2, 4, … samples per pixel, as the
+    // CPU's render, ending on the path's one-shot image, saying on stderr how far it is.
     let spp = scene.settings.spp;
     let frame = if scene.settings.integrator != crate::scene::Integrator::Whitted && spp > 1 {
         let started = Instant::now();

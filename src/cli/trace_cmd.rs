@@ -53,7 +53,7 @@ pub enum TraceFormat {
 
 /// Runs `raystep trace`.
 pub fn run(args: &TraceArgs) -> Result<(), String> {
-    let mut scene = load_scene(Some(&args.scene), &args.settings)?;
+    let scene = load_scene(Some(&args.scene), &args.settings)?;
     if args.format == Some(TraceFormat::Student)
         && !matches!(
             scene.settings.integrator,
@@ -65,9 +65,6 @@ pub fn run(args: &TraceArgs) -> Result<(), String> {
             args.scene.display(),
             super::scene_cmd::value_name(&scene.settings.integrator)
         ));
-    }
-    if args.gpu {
-        super::whitted_for_gpu(&mut scene);
     }
     let [x, y] = args.pixel;
     let c = &scene.camera;
@@ -139,7 +136,12 @@ fn gpu_trace(args: &TraceArgs, prepared: &PreparedScene) -> Result<crate::record
     let t = gpu
         .trace_pixel_on(path, x, y, args.sample, words)
         .map_err(|e| e.to_string())?;
-    if t.truncated {
+    if t.summaries_truncated {
+        eprintln!(
+            "warning: the GPU's step log ran out while it summarised the pixel's samples ({} MiB): the traced sample's steps are all kept, the pixel's sample summaries are not (raise --gpu-log-mib to keep them)",
+            args.gpu_log_mib
+        );
+    } else if t.truncated {
         eprintln!(
             "warning: the GPU's step log ran out after {} steps ({} MiB): the steps after that were not kept (the colours are the GPU's; raise --gpu-log-mib to see them all)",
             t.steps, args.gpu_log_mib

@@ -206,6 +206,7 @@ mod pieces {
     pub const RANDOM: &str = include_str!("wgsl/random.wgsl");
     pub const MC_SAMPLE: &str = include_str!("wgsl/mc_sample.wgsl");
     pub const MC_INTEGRATOR: &str = include_str!("wgsl/mc_integrator.wgsl");
+    pub const MC_TRACE_LOG: &str = include_str!("wgsl/mc_trace_log.wgsl");
 }
 
 /// The small shader that encodes the linear image as sRGB into the app's `Rgba8Unorm` texture.
@@ -344,6 +345,9 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         add(pieces::PORTABLE);
         add(pieces::MC_SAMPLE);
         add(pieces::MC_INTEGRATOR);
+        if config.trace {
+            add(pieces::MC_TRACE_LOG);
+        }
     }
     add(pieces::RAYGEN);
     out
@@ -459,5 +463,31 @@ mod tests {
         c.reflection = true;
         let src = "a\n//#if REFLECTION\nb\n//#if REFRACTION\nc\n//#else\nd\n//#endif\n//#else\ne\n//#endif\nf\n";
         assert_eq!(preprocess(src, &c), "a\nb\nd\nf\n");
+    }
+}
+
+#[cfg(test)]
+mod trace_shader_tests {
+    use super::*;
+
+    /// The trace shader of each shipped Monte Carlo scene (path and distribution, with and
+    /// without BVH) is valid WGSL.
+    #[test]
+    fn monte_carlo_trace_shaders_validate() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        for name in [
+            "cornell-area",
+            "soft-shadows",
+            "depth-of-field",
+            "veach-mis",
+        ] {
+            let scene = crate::assets::load_scene(&dir.join(format!("{name}.toml"))).unwrap();
+            let mut c = ShaderConfig::for_scene(&PreparedScene::new(scene));
+            assert!(c.monte_carlo, "{name}");
+            c.trace = true;
+            let src = wgsl(&c);
+            assert!(src.contains("fn mc_trace_pixel"), "{name}");
+            validate(&src).unwrap_or_else(|e| panic!("{name}: {e}"));
+        }
     }
 }

@@ -14,6 +14,7 @@
 //! Also derived here, by comparisons only: which root a sphere test chose, a sphere's `b` as
 //! 2·(f·d) for the stable test, a refraction's critical angle (for the explanation).
 
+use crate::record::samples::MAX_PIXEL_SAMPLES;
 use crate::record::{
     HitRecord, NodeAction, NodeVisit, RayKind, RayRecord, Stage, Step, StepRecord, TRACE_VERSION,
     Trace, TraceObject,
@@ -27,6 +28,8 @@ use crate::trace::shading::critical_angle_deg;
 use crate::trace::whitted::WEIGHT_CUTOFF;
 use glam::Vec3;
 use std::collections::HashMap;
+
+mod mc;
 
 /// Words of the log before the first record (see `trace_log.wgsl`).
 pub const LOG_HEADER: usize = 4;
@@ -68,6 +71,10 @@ pub struct GpuTrace {
     pub truncated: bool,
     /// Steps read from the log.
     pub steps: usize,
+    /// Monte Carlo: the log ran out while the pixel's samples were summarised, after the traced
+    /// sample's steps were all kept. A trace whose log ran out has no Monte Carlo record (a
+    /// record holds every sample's summary or none).
+    pub summaries_truncated: bool,
 }
 
 /// Reads a payload of f32 bits and u32s.
@@ -112,6 +119,8 @@ fn kind_of(k: u32) -> Result<RayKind, String> {
         1 => RayKind::Shadow,
         2 => RayKind::Reflection,
         3 => RayKind::Refraction,
+        4 => RayKind::Diffuse,
+        5 => RayKind::Glossy,
         _ => return Err(format!("ray kind {k} is not one raystep has")),
     })
 }
@@ -294,6 +303,19 @@ fn test_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
     })
 }
 
+/// A surface record.
+fn surface_step(p: &mut Payload) -> Result<Step, String> {
+    let (point, normal, inside) = (p.v()?, p.v()?, p.b()?);
+    let (error_bound, over_point) = (p.v()?, p.v()?);
+    Ok(Step::Surface {
+        point,
+        normal,
+        inside,
+        error_bound,
+        over_point,
+    })
+}
+
 /// A node record as the CPU's node visit.
 fn node_step(p: &mut Payload) -> Result<Step, String> {
     let node = p.u()?;
@@ -350,6 +372,10 @@ pub fn decode(
     let mut pixel_color = None;
     let mut at = LOG_HEADER.min(used);
     let mut steps = 0usize;
+    let monte_carlo = scene.settings.integrator != crate::scene::Integrator::Whitted;
+    let mc_scene = monte_carlo.then(|| mc::McScene::new(scene));
+    let mut summarising = false;
+    let mut summaries = mc::Summaries::default();
     while at < used {
         let head = words[at];
         let (t, len) = (head >> 16, (head & 0xffff) as usize);
@@ -358,6 +384,22 @@ pub fn decode(
             .ok_or("the log ends inside a record")?;
         at += 1 + len;
         let mut p = Payload { words: body, at: 0 };
+        steps += 1;
+        if summarising {
+            match t {
+                tag::SURFACE => summaries.step(surface_step(&mut p)?),
+                mc::tag::LIGHT_SAMPLE => {
+                    let m = mc_scene
+                        .as_ref()
+                        .ok_or("a light sample in a Whitted trace")?;
+                    summaries.step(mc::light_sample(m, scene, &mut p)?)
+                }
+                mc::tag::BSDF_SAMPLE => summaries.step(mc::bsdf_sample(&mut p)?),
+                mc::tag::SAMPLE => summaries.finish(&mut p)?,
+                other => return Err(format!("record kind {other} in a sample's summary")),
+            }
+            continue;
+        }
         let current = open.last().copied();
         let push = |rays: &mut HashMap<u32, Building>, s: Step| -> Result<(), String> {
             let id = current.ok_or("a step outside any ray")?;
@@ -365,7 +407,6 @@ pub fn decode(
             r.record.steps.push(step(s));
             Ok(())
         };
-        steps += 1;
         match t {
             tag::RAY => {
                 let id = p.u()?;
@@ -441,20 +482,17 @@ pub fn decode(
                 )?;
             }
             tag::MISS => push(&mut rays, Step::Miss { background: p.v()? })?,
-            tag::SURFACE => {
-                let (point, normal, inside) = (p.v()?, p.v()?, p.b()?);
-                let (error_bound, over_point) = (p.v()?, p.v()?);
-                push(
-                    &mut rays,
-                    Step::Surface {
-                        point,
-                        normal,
-                        inside,
-                        error_bound,
-                        over_point,
-                    },
-                )?;
+            tag::SURFACE => push(&mut rays, surface_step(&mut p)?)?,
+            mc::tag::LENS => push(&mut rays, mc::lens(&mut p)?)?,
+            mc::tag::EMITTED => push(&mut rays, mc::emitted(scene, &mut p)?)?,
+            mc::tag::LIGHT_SAMPLE => {
+                let m = mc_scene
+                    .as_ref()
+                    .ok_or("a light sample in a Whitted trace")?;
+                push(&mut rays, mc::light_sample(m, scene, &mut p)?)?
             }
+            mc::tag::BSDF_SAMPLE => push(&mut rays, mc::bsdf_sample(&mut p)?)?,
+            mc::tag::ROULETTE => push(&mut rays, mc::roulette(&mut p)?)?,
             tag::SHADOW_RAY => {
                 let light = p.u()?;
                 push(
@@ -583,12 +621,17 @@ pub fn decode(
                     .then_some([u, v]),
                 });
             }
-            tag::PIXEL => pixel_color = Some(p.v()?),
+            tag::PIXEL => {
+                pixel_color = Some(p.v()?);
+                // Then the summaries of the pixel's samples (Monte Carlo).
+                summarising = mc_scene.is_some();
+            }
             tag::HARDWARE => push(&mut rays, Step::HardwareTraversal { primitives: p.u()? })?,
             other => return Err(format!("record kind {other} is not one raystep writes")),
         }
     }
-    if ran_out {
+    let summaries_truncated = ran_out && pixel_color.is_some();
+    if ran_out && !summaries_truncated {
         // The steps stop here: mark it in the ray the GPU was in.
         let last = open.last().copied().or_else(|| rays.keys().max().copied());
         if let Some(r) = last.and_then(|id| rays.get_mut(&id)) {
@@ -597,9 +640,21 @@ pub fn decode(
             }));
         }
     }
-    let root = assemble(scene, &mut rays, 0)?.ok_or("the log holds no primary ray")?;
+    let root = assemble(scene, &mut rays, 0, monte_carlo)?.ok_or("the log holds no primary ray")?;
     let color = pixel_color.unwrap_or(root.color);
     let objects = referenced_objects(scene, &root);
+    let kept = scene.settings.spp.min(MAX_PIXEL_SAMPLES as u32) as usize;
+    if monte_carlo && !ran_out && summaries.len() != kept {
+        return Err(format!(
+            "the log summarises {} of the pixel's {kept} samples",
+            summaries.len()
+        ));
+    }
+    // A trace's record holds every sample's summary or none (the loader's rule): a log that ran
+    // out keeps none.
+    let monte_carlo = mc_scene
+        .filter(|_| !ran_out)
+        .map(|m| mc::record(&m, scene, &root, &objects, summaries));
     Ok(GpuTrace {
         trace: Trace {
             version: TRACE_VERSION,
@@ -615,11 +670,12 @@ pub fn decode(
             objects,
             bvh,
             grid: None,
-            monte_carlo: None,
+            monte_carlo,
             color,
         },
         truncated: ran_out,
         steps,
+        summaries_truncated,
     })
 }
 
@@ -631,10 +687,12 @@ fn light_name(scene: &Scene, light: u32) -> String {
 }
 
 /// Puts ray `id` together with its children (in the order it spawned them) and its colour.
+/// `monte_carlo`: the GPU logged each ray's colour itself (Whitted's are composed here).
 fn assemble(
     scene: &Scene,
     rays: &mut HashMap<u32, Building>,
     id: u32,
+    monte_carlo: bool,
 ) -> Result<Option<RayRecord>, String> {
     let Some(b) = rays.remove(&id) else {
         return Ok(None);
@@ -646,7 +704,7 @@ fn assemble(
     } = b;
     let mut index = HashMap::new();
     for child in spawned {
-        if let Some(c) = assemble(scene, rays, child)? {
+        if let Some(c) = assemble(scene, rays, child, monte_carlo)? {
             index.insert(child, record.children.len() as u32);
             record.children.push(c);
         }
@@ -663,7 +721,11 @@ fn assemble(
         _ => true,
     });
     if let Some(own) = own {
-        let color = compose(scene, &record, Vec3::from(own)).to_array();
+        let color = if monte_carlo {
+            own
+        } else {
+            compose(scene, &record, Vec3::from(own)).to_array()
+        };
         record.color = color;
         for s in record.steps.iter_mut().rev() {
             if let Step::Color { color: c } = &mut s.step {

@@ -124,6 +124,7 @@ struct Built {
     scene_layout: wgpu::BindGroupLayout,
     scene_group: wgpu::BindGroup,
     output_layout: wgpu::BindGroupLayout,
+    accum_layout: wgpu::BindGroupLayout,
     display_layout: wgpu::BindGroupLayout,
     fragment: wgpu::RenderPipeline,
     compute: wgpu::ComputePipeline,
@@ -146,8 +147,10 @@ struct Target {
     display: wgpu::Texture,
     display_view: wgpu::TextureView,
     output_group: wgpu::BindGroup,
+    /// The running sums bound for the fragment path.
+    accum_group: wgpu::BindGroup,
     display_group: wgpu::BindGroup,
-    /// The compute path's running sums, one `vec4f` a pixel (a progressive render's).
+    /// Each pixel's running sum, one `vec4f` a pixel (a progressive render's, on either path).
     _accum: wgpu::Buffer,
 }
 
@@ -178,6 +181,8 @@ pub struct GpuTracer {
     params: wgpu::Buffer,
     scene_group: wgpu::BindGroup,
     output_layout: wgpu::BindGroupLayout,
+    /// The fragment path's group 1: the running sums.
+    accum_layout: wgpu::BindGroupLayout,
     display_layout: wgpu::BindGroupLayout,
     debug: wgpu::Buffer,
     debug_readback: wgpu::Buffer,
@@ -279,6 +284,7 @@ impl GpuTracer {
             params: b.params,
             scene_group: b.scene_group,
             output_layout: b.output_layout,
+            accum_layout: b.accum_layout,
             display_layout: b.display_layout,
             debug: b.debug,
             debug_readback: b.debug_readback,
@@ -351,6 +357,7 @@ impl GpuTracer {
                 Self::make_target(
                     &device,
                     &self.output_layout,
+                    &self.accum_layout,
                     &self.display_layout,
                     &self.debug,
                     camera.width,
@@ -448,7 +455,7 @@ impl GpuTracer {
                 "raystep trace (fragment)",
                 &t.linear_view,
                 &self.fragment,
-                &self.scene_group,
+                &[&self.scene_group, &t.accum_group],
             ),
             GpuPath::Compute => {
                 let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -470,7 +477,7 @@ impl GpuTracer {
             "raystep display",
             &t.display_view,
             &self.display_pipeline,
-            &t.display_group,
+            &[&t.display_group],
         );
     }
 
@@ -525,11 +532,12 @@ impl GpuTracer {
         Ok(times[times.len() / 2])
     }
 
-    /// Renders by `path` progressively, as the CPU's `render_progressive` does: on the compute
-    /// path passes of 1, 1, 2, 4, … samples per pixel, each adding its samples to every pixel's
-    /// running sum on the GPU in sample order, so the last pass's image is bit for bit the
-    /// one-shot [`Self::render`]'s; after each pass `after_pass(samples so far, image)` gets the
-    /// running mean (sum / samples so far). The fragment path has no running sums: one pass.
+    /// Renders by `path` progressively, as the CPU's `render_progressive` does: passes of 1, 1,
+    /// 2, 4, … samples per pixel, each adding its samples to every pixel's running sum on the
+    /// GPU in sample order (the compute shader, or on the fragment path the fragment shader,
+    /// keeps the sums in a storage buffer), so the last pass's image is the one-shot
+    /// [`Self::render`]'s by the same path, bit for bit; after each pass
+    /// `after_pass(samples so far, image)` gets the running mean (sum / samples so far).
     pub fn render_progressive(
         &mut self,
         path: GpuPath,
@@ -537,12 +545,10 @@ impl GpuTracer {
     ) -> Result<GpuFrame, GpuError> {
         let spp = self.scene.settings.spp.max(1);
         let mut ends = vec![];
-        if path == GpuPath::Compute {
-            let mut end = 1u32;
-            while end < spp {
-                ends.push(end);
-                end = end.saturating_mul(2);
-            }
+        let mut end = 1u32;
+        while end < spp {
+            ends.push(end);
+            end = end.saturating_mul(2);
         }
         ends.push(spp);
         let mut start = 0;
@@ -562,12 +568,11 @@ impl GpuTracer {
         result
     }
 
-    /// Traces samples `first .. first + count` of every pixel by the compute path, adding them
-    /// to the running sums the passes before left (`first` = 0 starts afresh), and shows the
-    /// running mean in the display texture: one pass of [`Self::render_progressive`], for a
-    /// caller that shows each pass as it comes (the app's GPU tab, a pass a frame). `count` is
-    /// kept within the scene's spp. The fragment path, which has no running sums, traces all
-    /// the samples ([`Self::trace`]).
+    /// Traces samples `first .. first + count` of every pixel by `path`, adding them to the
+    /// running sums the passes before left (`first` = 0 starts afresh), and shows the running
+    /// mean in the display texture: one pass of [`Self::render_progressive`], for a caller that
+    /// shows each pass as it comes (the app's GPU tab, a pass a frame). `count` is kept within
+    /// the scene's spp; `first` past it traces all the samples ([`Self::trace`]).
     pub fn trace_pass(
         &mut self,
         path: GpuPath,
@@ -575,7 +580,7 @@ impl GpuTracer {
         count: u32,
     ) -> Result<Duration, GpuError> {
         let spp = self.scene.settings.spp.max(1);
-        if path != GpuPath::Compute || first >= spp {
+        if first >= spp {
             return self.trace(path);
         }
         self.pass = [first, count.clamp(1, spp - first)];

@@ -31,6 +31,7 @@ pub fn context(test: &str) -> Option<GpuContext> {
 
 /// A scene file, set to Whitted's integrator: the Whitted comparisons run every shipped scene
 /// under it (the Monte Carlo integrators on the GPU have their own test in tests/gpu.rs).
+#[allow(dead_code)]
 pub fn load_whitted(path: &std::path::Path) -> raystep::scene::Scene {
     let mut scene = raystep::scene::load_file(path).unwrap();
     scene.settings.integrator = raystep::scene::Integrator::Whitted;

@@ -206,6 +206,20 @@ impl GpuTracer {
                 },
             ],
         });
+        // The fragment path's running sums (binding 2, as the compute path's `running`).
+        let accum_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("raystep running sums (fragment)"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: wgpu::ShaderStages::FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            }],
+        });
         let display_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("raystep display"),
             entries: &[wgpu::BindGroupLayoutEntry {
@@ -234,7 +248,10 @@ impl GpuTracer {
                 immediate_size: 0,
             })
         };
-        let fragment_layout = layout("raystep fragment", &[Some(&scene_layout)]);
+        let fragment_layout = layout(
+            "raystep fragment",
+            &[Some(&scene_layout), Some(&accum_layout)],
+        );
         let compute_layout = layout(
             "raystep compute",
             &[Some(&scene_layout), Some(&output_layout)],
@@ -282,6 +299,7 @@ impl GpuTracer {
         let target = Self::make_target(
             device,
             &output_layout,
+            &accum_layout,
             &display_layout,
             &debug,
             width,
@@ -292,6 +310,7 @@ impl GpuTracer {
             scene_layout,
             scene_group,
             output_layout,
+            accum_layout,
             display_layout,
             fragment,
             compute,
@@ -308,6 +327,7 @@ impl GpuTracer {
     pub(super) fn make_target(
         device: &wgpu::Device,
         output_layout: &wgpu::BindGroupLayout,
+        accum_layout: &wgpu::BindGroupLayout,
         display_layout: &wgpu::BindGroupLayout,
         debug: &wgpu::Buffer,
         width: u32,
@@ -366,6 +386,14 @@ impl GpuTracer {
                 },
             ],
         });
+        let accum_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("raystep running sums (fragment)"),
+            layout: accum_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 2,
+                resource: accum.as_entire_binding(),
+            }],
+        });
         let display_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("raystep display"),
             layout: display_layout,
@@ -382,6 +410,7 @@ impl GpuTracer {
             display,
             display_view,
             output_group,
+            accum_group,
             display_group,
             _accum: accum,
         }
@@ -425,14 +454,14 @@ pub(super) fn full_screen_pipeline(
     })
 }
 
-/// One full-screen triangle drawn into `view` (cleared to black) with `pipeline` and its one
-/// bind group: the fragment trace path, and the sRGB display pass.
+/// One full-screen triangle drawn into `view` (cleared to black) with `pipeline` and its bind
+/// groups (0, 1, …): the fragment trace path, and the sRGB display pass.
 pub(super) fn full_screen_pass(
     encoder: &mut wgpu::CommandEncoder,
     label: &str,
     view: &wgpu::TextureView,
     pipeline: &wgpu::RenderPipeline,
-    group: &wgpu::BindGroup,
+    groups: &[&wgpu::BindGroup],
 ) {
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some(label),
@@ -448,6 +477,8 @@ pub(super) fn full_screen_pass(
         ..Default::default()
     });
     pass.set_pipeline(pipeline);
-    pass.set_bind_group(0, group, &[]);
+    for (i, g) in groups.iter().enumerate() {
+        pass.set_bind_group(i as u32, *g, &[]);
+    }
     pass.draw(0..3, 0..1);
 }

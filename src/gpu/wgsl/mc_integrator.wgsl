@@ -163,16 +163,32 @@ fn bsdf_pdf(m: McMaterial, wo: vec3f, wi: vec3f, n: vec3f) -> f32 {
     return 0.0;
 }
 
+// A sampled direction (src/mc/bsdf.rs BsdfSample): value is f (a delta's weight), cos |wi·n|,
+// lobe 0 reflection, 1 transmission.
 struct BsdfS {
     ok: bool,
     wi: vec3f,
     has_pdf: bool,
     pdf: f32,
     weight: vec3f,
+    value: vec3f,
+    cos: f32,
+    lobe: u32,
 }
 
 fn no_bsdf_sample() -> BsdfS {
-    return BsdfS(false, vec3f(0.0), false, 0.0, vec3f(0.0));
+    return BsdfS(false, vec3f(0.0), false, 0.0, vec3f(0.0), vec3f(0.0), 0.0, 0u);
+}
+
+// The random numbers a step used, for its trace record: n of them, (dimension, value).
+struct Draws {
+    n: u32,
+    d: vec3u,
+    v: vec3f,
+}
+
+fn no_draws() -> Draws {
+    return Draws(0u, vec3u(0u), vec3f(0.0));
 }
 
 // Glass's two lobes: x = the Fresnel reflectance; the reflection; the transmission (ok false under
@@ -190,13 +206,13 @@ fn glass_lobes(ior: f32, wo: vec3f, n: vec3f, inside: bool) -> GlassLobes {
         eta = fdiv(1.0, ior);
     }
     let f = fresnel_dielectric(cos_o, eta);
-    let reflection = BsdfS(true, bsdf_mirror(wo, n), false, 0.0, vec3f(1.0));
+    let reflection = BsdfS(true, bsdf_mirror(wo, n), false, 0.0, vec3f(1.0), vec3f(1.0), cos_o, 0u);
     var transmission = no_bsdf_sample();
     if f.y >= 0.0 {
         let cos_t = f.y;
         let w = vec3f(fdiv(1.0, eta * eta));
         let wi = g_normalize(fdiv3(-wo, eta) + (fdiv(cos_o, eta) - cos_t) * n);
-        transmission = BsdfS(true, wi, false, 0.0, w);
+        transmission = BsdfS(true, wi, false, 0.0, w, w, cos_t, 1u);
     }
     return GlassLobes(f.x, reflection, transmission);
 }
@@ -215,7 +231,7 @@ fn bsdf_sample(m: McMaterial, wo: vec3f, n: vec3f, inside: bool, u_lobe: f32, u:
                 return no_bsdf_sample();
             }
             let f = fdiv3(m.c, MC_PI);
-            return BsdfS(true, wi, true, s.w, fdiv3(f * c, s.w));
+            return BsdfS(true, wi, true, s.w, fdiv3(f * c, s.w), f, c, 0u);
         }
         case 3u: {
             let h = g_normalize(frame_to_world(frame_new(n), ggx_normal(m.param, u).xyz));
@@ -229,10 +245,10 @@ fn bsdf_sample(m: McMaterial, wo: vec3f, n: vec3f, inside: bool, u_lobe: f32, u:
             if p <= 0.0 || !is_finite_f(p) {
                 return no_bsdf_sample();
             }
-            return BsdfS(true, wi, true, p, fdiv3(f * c, p));
+            return BsdfS(true, wi, true, p, fdiv3(f * c, p), f, c, 0u);
         }
         case 1u: {
-            return BsdfS(true, bsdf_mirror(wo, n), false, 0.0, m.c);
+            return BsdfS(true, bsdf_mirror(wo, n), false, 0.0, m.c, m.c, cos_o, 0u);
         }
         default: {
             let g = glass_lobes(m.param, wo, n, inside);
@@ -331,10 +347,11 @@ struct LightPoint {
     wi: vec3f,
     pdf: f32,
     radiance: vec3f,
+    distance: f32,
 }
 
 fn no_light_point() -> LightPoint {
-    return LightPoint(false, vec3f(0.0), vec3f(0.0), 0.0, vec3f(0.0));
+    return LightPoint(false, vec3f(0.0), vec3f(0.0), 0.0, vec3f(0.0), 0.0);
 }
 
 fn light_sample_point(index: u32, p: vec3f, u: vec2f) -> LightPoint {
@@ -362,9 +379,9 @@ fn light_sample_point(index: u32, p: vec3f, u: vec2f) -> LightPoint {
         let wi = fdiv3(d, distance);
         let cos_l = -fdot(wi, normal);
         if cos_l > 0.0 {
-            return LightPoint(true, q, wi, fdiv(distance * distance, light_area * cos_l), radiance);
+            return LightPoint(true, q, wi, fdiv(distance * distance, light_area * cos_l), radiance, distance);
         }
-        return LightPoint(true, q, wi, 0.0, vec3f(0.0));
+        return LightPoint(true, q, wi, 0.0, vec3f(0.0), distance);
     }
     if kind == LIGHT_SPHERE {
         let radius = mcf(i + 15u);
@@ -382,14 +399,14 @@ fn light_sample_point(index: u32, p: vec3f, u: vec2f) -> LightPoint {
         if !(distance > 0.0) {
             return no_light_point();
         }
-        return LightPoint(true, p + wi * distance, wi, s.w, radiance);
+        return LightPoint(true, p + wi * distance, wi, s.w, radiance, distance);
     }
     let d = a - p;
     let distance = flen(d);
     if !(distance > 0.0) {
         return no_light_point();
     }
-    return LightPoint(true, a, fdiv3(d, distance), 0.0, fdiv3(radiance, distance * distance));
+    return LightPoint(true, a, fdiv3(d, distance), 0.0, fdiv3(radiance, distance * distance), distance);
 }
 
 fn light_pdf(index: u32, p: vec3f, q: vec3f) -> f32 {
@@ -427,13 +444,13 @@ fn light_pdf(index: u32, p: vec3f, q: vec3f) -> f32 {
 
 // Emission at the hit with its MIS weight against light sampling from the previous hit
 // (has_prev: the ray was BSDF-sampled with density prev_pdf from prev_origin).
-fn mc_emitted(object: u32, it: Interaction, m: McMaterial, has_prev: bool, prev_pdf: f32, prev_origin: vec3f) -> vec3f {
+fn mc_emitted(object: u32, it: Interaction, m: McMaterial, has_prev: bool, prev_pdf: f32, prev_origin: vec3f, throughput: vec3f) -> vec3f {
     if max3(m.emission) <= 0.0 || it.inside {
         return vec3f(0.0);
     }
     var w = 1.0;
+    var light_pdf_v = 0.0;
     if has_prev {
-        var light_pdf_v = 0.0;
         let index = light_of_object(object);
         if index != 0xffffffffu {
             light_pdf_v = lights_pick_pdf(index) * light_pdf(index, prev_origin, it.point);
@@ -448,11 +465,18 @@ fn mc_emitted(object: u32, it: Interaction, m: McMaterial, has_prev: bool, prev_
             default: {}
         }
     }
+//#if TRACE
+    var b_pdf = 0.0;
+    if has_prev {
+        b_pdf = prev_pdf;
+    }
+    log_emitted(object, m.emission, light_pdf_v, b_pdf, w, throughput * m.emission * w);
+//#endif
     return m.emission * w;
 }
 
 // Samples light `index` from the hit: f · L · cos · w / (pick · pdf).
-fn mc_light_sample(it: Interaction, m: McMaterial, index: u32, select_pdf: f32, mis: bool, u: vec2f) -> vec3f {
+fn mc_light_sample(it: Interaction, m: McMaterial, index: u32, select_pdf: f32, mis: bool, u: vec2f, depth: u32, throughput: vec3f, draws: Draws) -> vec3f {
     let lp = light_sample_point(index, it.point, u);
     if !lp.ok {
         return vec3f(0.0);
@@ -464,27 +488,50 @@ fn mc_light_sample(it: Interaction, m: McMaterial, index: u32, select_pdf: f32, 
     let pdf = select_pdf * lp.pdf;
     let useful = max3(lp.radiance) > 0.0 && max3(f) > 0.0 && c > 0.0;
     var blocked = false;
+//#if TRACE
+    var by = NO_OBJECT;
+//#endif
     if useful {
         let o = spawn_origin(it, lp.wi);
         let d = lp.point - o;
         if ray_ok(o, d) {
+//#if TRACE
+            let parent = current_ray;
+            let sid = next_ray_id;
+            next_ray_id += 1u;
+            log_spawn(sid);
+            log_ray(sid, parent, KIND_SHADOW, depth + 1u, Ray(o, d, 0.0, SHADOW_T_MAX), 0.0);
+            blocker = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
+            current_ray = sid;
+//#endif
             blocked = traversal_any(Ray(o, d, 0.0, SHADOW_T_MAX));
+//#if TRACE
+            log_end(blocker);
+            current_ray = parent;
+            by = blocker.object;
+//#endif
         }
     }
     var w = 1.0;
     if !(delta || !mis || mc_strategy() != 0u) {
         w = power_heuristic(pdf, b_pdf);
     }
+    var estimate = vec3f(0.0);
     if useful && !blocked {
         var density = pdf;
         if delta {
             density = select_pdf;
         }
         if density > 0.0 {
-            return f * lp.radiance * fdiv(c * w, density);
+            estimate = f * lp.radiance * fdiv(c * w, density);
         }
     }
-    return vec3f(0.0);
+//#if TRACE
+    let g = sum_open(depth);
+    log_light_sample(index, draws, lp, select_pdf, pdf, f, c, b_pdf, w, blocked, by, throughput * estimate);
+    sum_close(g);
+//#endif
+    return estimate;
 }
 
 // ---- the path tracer ----
@@ -492,6 +539,12 @@ fn mc_light_sample(it: Interaction, m: McMaterial, index: u32, select_pdf: f32, 
 fn mc_path(primary: Ray) -> vec3f {
     var ls: array<vec3f, RAY_STACK>;
     var ws: array<vec3f, RAY_STACK>;
+//#if TRACE
+    // Each bounce's ray id and hit, for the records written as the radiance is folded back.
+    var ids: array<u32, RAY_STACK>;
+    var hits: array<Hit, RAY_STACK>;
+    ids[0] = current_ray;
+//#endif
     var ray = primary;
     var throughput = vec3f(1.0);
     var has_prev = false;
@@ -501,26 +554,44 @@ fn mc_path(primary: Ray) -> vec3f {
     var tail = vec3f(0.0);
     loop {
         let hit = traversal_closest(ray);
+//#if TRACE
+        hits[depth] = hit;
+//#endif
         if hit.object == NO_OBJECT {
             tail = params.background;
+//#if TRACE
+            log_miss(params.background);
+//#endif
             break;
         }
         let it = interact(hit, ray);
+//#if TRACE
+        log_mc_surface(it, hit, depth);
+//#endif
         let m = mc_material(hit.object);
-        var l = mc_emitted(hit.object, it, m, has_prev, prev_pdf, prev_origin);
+        var l = mc_emitted(hit.object, it, m, has_prev, prev_pdf, prev_origin, throughput);
         if depth >= params.max_depth {
+//#if TRACE
+            log_depth_limit();
+//#endif
             tail = l;
             break;
         }
         if !is_delta(m) && !lights_empty() && mc_strategy() != 2u {
-            let pick = lights_pick(draw(mc_dimension(depth, SLOT_LIGHT_PICK)));
+            let pick_dim = mc_dimension(depth, SLOT_LIGHT_PICK);
+            let u_pick = draw(pick_dim);
+            let pick = lights_pick(u_pick);
             if pick.ok {
-                let u = draw_pair(mc_dimension(depth, SLOT_LIGHT_POINT));
-                l += mc_light_sample(it, m, pick.index, pick.p, true, u);
+                let point_dim = mc_dimension(depth, SLOT_LIGHT_POINT);
+                let u = draw_pair(point_dim);
+                let draws = Draws(3u, vec3u(pick_dim, point_dim, point_dim + 1u), vec3f(u_pick, u.x, u.y));
+                l += mc_light_sample(it, m, pick.index, pick.p, true, u, depth, throughput, draws);
             }
         }
-        let lobe = draw(mc_dimension(depth, SLOT_LOBE));
-        let u = draw_pair(mc_dimension(depth, SLOT_BSDF));
+        let lobe_dim = mc_dimension(depth, SLOT_LOBE);
+        let bsdf_dim = mc_dimension(depth, SLOT_BSDF);
+        let lobe = draw(lobe_dim);
+        let u = draw_pair(bsdf_dim);
         let bs = bsdf_sample(m, it.eye, it.normal, it.inside, lobe, u);
         if !bs.ok {
             tail = l;
@@ -528,18 +599,36 @@ fn mc_path(primary: Ray) -> vec3f {
         }
         var weight = bs.weight;
         var next = throughput * weight;
+//#if TRACE
+        // The numbers the BSDF used: glass its lobe's, a mirror none (it is deterministic).
+        var draws = Draws(2u, vec3u(bsdf_dim, bsdf_dim + 1u, 0u), vec3f(u.x, u.y, 0.0));
+        if m.kind == BSDF_GLASS {
+            draws = Draws(3u, vec3u(lobe_dim, bsdf_dim, bsdf_dim + 1u), vec3f(lobe, u.x, u.y));
+        } else if m.kind == BSDF_MIRROR {
+            draws = no_draws();
+        }
+        let g = sum_open(depth);
+        log_bsdf_sample(m, bs, draws, next);
+        sum_close(g);
+//#endif
         let o = spawn_origin(it, bs.wi);
         if !ray_ok(o, bs.wi) {
             tail = l;
             break;
         }
         if depth + 1u > mc_rr_depth() {
-            let ur = draw(mc_dimension(depth, SLOT_ROULETTE));
+            let rr_dim = mc_dimension(depth, SLOT_ROULETTE);
+            let ur = draw(rr_dim);
             let q = min(max3(next), 1.0);
-            if ur < q {
+            let survived = ur < q;
+            if survived {
                 weight = fdiv3(weight, q);
                 next = fdiv3(next, q);
-            } else {
+            }
+//#if TRACE
+            log_roulette(rr_dim, ur, q, survived, next);
+//#endif
+            if !survived {
                 tail = l;
                 break;
             }
@@ -551,12 +640,24 @@ fn mc_path(primary: Ray) -> vec3f {
         prev_origin = it.point;
         throughput = next;
         ray = Ray(o, bs.wi, 0.0, params.inf);
+//#if TRACE
+        ids[depth + 1u] = log_child(bsdf_ray_kind(m, bs), depth + 1u, ray, weight);
+//#endif
         depth += 1u;
     }
     var li = tail;
+//#if TRACE
+    log_color(li);
+    log_end(hits[depth]);
+//#endif
     while depth > 0u {
         depth -= 1u;
         li = ls[depth] + ws[depth] * li;
+//#if TRACE
+        current_ray = ids[depth];
+        log_color(li);
+        log_end(hits[depth]);
+//#endif
     }
     return li;
 }
@@ -579,10 +680,20 @@ struct DFrame {
 
 var<private> d_stack: array<DFrame, RAY_STACK>;
 
-// A child the frame follows (src/mc/integrator.rs `follow`): a valid ray above the cut-off.
-fn d_add_child(f: ptr<function, DFrame>, it: Interaction, bs: BsdfS, throughput: vec3f) {
+// A child the frame follows (src/mc/integrator.rs `follow`): a valid ray above the cut-off. The
+// trace shader keeps every direction sampled (frame `slot`'s branches) for its records.
+fn d_add_child(f: ptr<function, DFrame>, it: Interaction, m: McMaterial, bs: BsdfS, throughput: vec3f, slot: u32, draws: Draws) {
     let next = throughput * bs.weight;
     let o = spawn_origin(it, bs.wi);
+//#if TRACE
+    var status = D_FOLLOW;
+    if !ray_ok(o, bs.wi) {
+        status = D_NO_RAY;
+    } else if max3(next) < WEIGHT_CUTOFF {
+        status = D_CUT;
+    }
+    d_keep_branch(slot, m, bs, draws, next, status);
+//#endif
     if !ray_ok(o, bs.wi) || max3(next) < WEIGHT_CUTOFF {
         return;
     }
@@ -599,20 +710,29 @@ fn d_add_child(f: ptr<function, DFrame>, it: Interaction, bs: BsdfS, throughput:
     (*f).n += 1u;
 }
 
-// Shades `ray` at `depth`: its local radiance and its children in a frame.
-fn d_shade(ray: Ray, depth: u32, throughput: vec3f) -> DFrame {
+// Shades `ray` at `depth`: its local radiance and its children in a frame (stack slot `slot`).
+fn d_shade(ray: Ray, depth: u32, throughput: vec3f, slot: u32) -> DFrame {
     var f: DFrame;
     f.depth = depth;
     f.cur = 0u;
     f.n = 0u;
     let hit = traversal_closest(ray);
+//#if TRACE
+    d_begin(slot, hit);
+//#endif
     if hit.object == NO_OBJECT {
         f.l = params.background;
+//#if TRACE
+        log_miss(params.background);
+//#endif
         return f;
     }
     let it = interact(hit, ray);
+//#if TRACE
+    log_mc_surface(it, hit, depth);
+//#endif
     let m = mc_material(hit.object);
-    var l = mc_emitted(hit.object, it, m, false, 0.0, vec3f(0.0));
+    var l = mc_emitted(hit.object, it, m, false, 0.0, vec3f(0.0), throughput);
     if !is_delta(m) {
         for (var g = 0u; g < mc_n_groups(); g++) {
             let point = group_is_point(g);
@@ -620,34 +740,49 @@ fn d_shade(ray: Ray, depth: u32, throughput: vec3f) -> DFrame {
                 continue;
             }
             let base = SLOT_GROUP + 3u * g;
-            let pick = draw(mc_dimension(depth, base));
-            let u = draw_pair(mc_dimension(depth, base + 1u));
+            let pick_dim = mc_dimension(depth, base);
+            let pick = draw(pick_dim);
+            let u = draw_pair(pick_dim + 1u);
             let k = pick_in_group(g, pick);
             if !k.ok {
                 continue;
             }
-            l += mc_light_sample(it, m, k.index, k.p, false, u);
+            var draws = Draws(3u, vec3u(pick_dim, pick_dim + 1u, pick_dim + 2u), vec3f(pick, u.x, u.y));
+            if point {
+                draws = no_draws();
+            }
+            l += mc_light_sample(it, m, k.index, k.p, false, u, depth, throughput, draws);
         }
     }
     f.l = l;
     if m.kind == BSDF_DIFFUSE || depth >= params.max_depth {
+//#if TRACE
+        if m.kind != BSDF_DIFFUSE {
+            log_depth_limit();
+        }
+//#endif
         return f;
     }
     if m.kind == BSDF_GLASS {
         let g = glass_lobes(m.param, it.eye, it.normal, it.inside);
         var reflection = g.reflection;
         reflection.weight = reflection.weight * g.fr;
-        d_add_child(&f, it, reflection, throughput);
+        d_add_child(&f, it, m, reflection, throughput, slot, no_draws());
         if g.transmission.ok {
             var t = g.transmission;
             t.weight = t.weight * (1.0 - g.fr);
-            d_add_child(&f, it, t, throughput);
+            d_add_child(&f, it, m, t, throughput, slot, no_draws());
         }
     } else {
-        let u = draw_pair(mc_dimension(depth, SLOT_BSDF));
+        let bsdf_dim = mc_dimension(depth, SLOT_BSDF);
+        let u = draw_pair(bsdf_dim);
         let bs = bsdf_sample(m, it.eye, it.normal, it.inside, 0.0, u);
+        var draws = no_draws();
+        if m.kind == BSDF_GLOSSY {
+            draws = Draws(2u, vec3u(bsdf_dim, bsdf_dim + 1u, 0u), vec3f(u.x, u.y, 0.0));
+        }
         if bs.ok {
-            d_add_child(&f, it, bs, throughput);
+            d_add_child(&f, it, m, bs, throughput, slot, draws);
         }
     }
     return f;
@@ -655,11 +790,20 @@ fn d_shade(ray: Ray, depth: u32, throughput: vec3f) -> DFrame {
 
 fn mc_distribution(primary: Ray) -> vec3f {
     var sp = 1u;
-    d_stack[0] = d_shade(primary, 0u, vec3f(1.0));
+//#if TRACE
+    d_id[0] = current_ray;
+//#endif
+    d_stack[0] = d_shade(primary, 0u, vec3f(1.0), 0u);
     loop {
         let top = sp - 1u;
         let f = d_stack[top];
         if f.cur >= f.n {
+//#if TRACE
+            current_ray = d_id[top];
+            d_log_branches(top, f.depth, false);
+            log_color(f.l);
+            log_end(d_hit[top]);
+//#endif
             // Done: its radiance goes to its parent, weighted as the parent followed it.
             sp -= 1u;
             if sp == 0u {
@@ -685,7 +829,12 @@ fn mc_distribution(primary: Ray) -> vec3f {
             d_stack[top].cur += 1u;
             continue;
         }
-        d_stack[sp] = d_shade(r, f.depth + 1u, t);
+//#if TRACE
+        current_ray = d_id[top];
+        d_log_branches(top, f.depth, true);
+        d_id[sp] = d_log_followed(top, f.depth + 1u, r);
+//#endif
+        d_stack[sp] = d_shade(r, f.depth + 1u, t, sp);
         sp += 1u;
     }
     return vec3f(0.0);
@@ -698,6 +847,11 @@ fn mc_sample(p: vec2u, k: u32, primary: Ray) -> vec3f {
     s_sample = k;
     var ray = primary;
     let aperture = mcf(13u);
+//#if TRACE
+    var lens_used = false;
+    var lens_u = vec2f(0.0);
+    var lens_focus = vec3f(0.0);
+//#endif
     if aperture > 0.0 {
         let u = draw_pair(LENS_DIMENSION);
         let d = concentric_disk(u);
@@ -709,9 +863,32 @@ fn mc_sample(p: vec2u, k: u32, primary: Ray) -> vec3f {
             let dir = g_normalize_or_zero(focus - origin);
             if !all(dir == vec3f(0.0)) && finite(dir.x) && finite(dir.y) && finite(dir.z) {
                 ray = Ray(origin, dir, 0.0, params.inf);
+//#if TRACE
+                lens_used = true;
+                lens_u = u;
+                lens_focus = focus;
+//#endif
             }
         }
     }
+//#if TRACE
+    log_ray(0u, NO_OBJECT, KIND_PRIMARY, 0u, ray, 1.0);
+    log_open();
+    log_u(p.x);
+    log_u(p.y);
+    log_u(k);
+    log_f(camera_offset.x);
+    log_f(camera_offset.y);
+    log_f(camera_screen.x);
+    log_f(camera_screen.y);
+    log_v(ray.dir);
+    log_close(EV_CAMERA);
+    if lens_used {
+        log_lens(lens_u, ray.origin, lens_focus, fdiv(1.0, MC_PI * aperture * aperture), ray.dir);
+    }
+    current_ray = 0u;
+    next_ray_id = 1u;
+//#endif
     if mc_integrator() == MC_INTEGRATOR_PATH {
         return mc_path(ray);
     }

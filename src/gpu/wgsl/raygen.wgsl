@@ -230,10 +230,14 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
 fn trace_main() {
     log_at = LOG_HEADER;
     log_on = true;
+//#if MC
+    _ = mc_trace_pixel(params.debug_pixel, vec3f(0.0), true, true);
+//#else
     let c = trace(ray_generation(params.debug_pixel, params.trace_sample, vec3f(0.0), true), false);
     log_open();
     log_v(c);
     log_close(EV_PIXEL);
+//#endif
 }
 
 // The fragment path's trace: the same full-screen triangle, so the rasterizer interpolates the
@@ -245,17 +249,30 @@ fn fs_trace(in: VertexOut) -> @location(0) vec4f {
         log_at = LOG_HEADER;
         log_on = true;
     }
+//#if MC
+    let c = mc_trace_pixel(p, in.dir, false, log_on);
+//#else
     let c = trace(ray_generation(p, params.trace_sample, in.dir, false), false);
     log_open();
     log_v(c);
     log_close(EV_PIXEL);
+//#endif
     return vec4f(c, 1.0);
 }
 //#else
+// As the compute path's cs_main: the pass's samples added to the pixel's running sum (`running`,
+// bound for the fragment pipeline too), the running mean written.
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4f {
     let p = vec2u(floor(in.position.xy));
-    return vec4f(render_pixel(p, in.dir, false, false), 1.0);
+    let i = p.y * params.width + p.x;
+    var sum = vec3f(0.0);
+    if params.first_sample > 0u {
+        sum = running[i].xyz;
+    }
+    sum = accumulate(p, in.dir, false, false, params.first_sample, params.pass_samples, sum);
+    running[i] = vec4f(sum, 0.0);
+    return vec4f(fdiv3(sum, f32(params.first_sample + params.pass_samples)), 1.0);
 }
 
 // ---- compute path: one invocation per pixel, the primary ray computed as on the CPU ----

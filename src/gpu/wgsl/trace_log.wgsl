@@ -33,14 +33,25 @@ const EV_COLOR: u32 = 16u;
 const EV_END: u32 = 17u;
 const EV_PIXEL: u32 = 18u;
 const EV_HARDWARE: u32 = 19u;
+// Monte Carlo (src/gpu/wgsl/mc_trace_log.wgsl).
+const EV_LENS: u32 = 20u;
+const EV_EMITTED: u32 = 21u;
+const EV_LIGHT_SAMPLE: u32 = 22u;
+const EV_BSDF_SAMPLE: u32 = 23u;
+const EV_ROULETTE: u32 = 24u;
+const EV_SAMPLE: u32 = 25u;
 
 // Ray kinds, as src/record/steps.rs RayKind.
 const KIND_PRIMARY: u32 = 0u;
 const KIND_SHADOW: u32 = 1u;
 const KIND_REFLECTION: u32 = 2u;
 const KIND_REFRACTION: u32 = 3u;
+const KIND_DIFFUSE: u32 = 4u;
+const KIND_GLOSSY: u32 = 5u;
 
 var<private> log_on: bool;
+// The log ran out of room (nothing more is written).
+var<private> log_full: bool;
 var<private> log_at: u32;
 var<private> log_head: u32;
 
@@ -65,6 +76,7 @@ fn log_open() {
     if log_at + LOG_RECORD_MAX > arrayLength(&trace_log) {
         trace_log[1] = 1u;
         log_on = false;
+        log_full = true;
         return;
     }
     log_head = log_at;
