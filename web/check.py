@@ -224,7 +224,8 @@ class App:
         """Fails with message, leaving a screenshot of the moment beside the others."""
         name = "failed-{}x{}.png".format(*self.size)
         self.page.screenshot(path=os.path.join(self.outdir, name))
-        raise Failed(f"{message} (screenshot: {name})")
+        logged = "".join(f"\n  the page logged: {e}" for e in self.errors)
+        raise Failed(f"{message} (screenshot: {name}){logged}")
 
     def click(self, xy, settle=0.6):
         """A click as a hand makes it: move, a frame's pause, press, release."""
@@ -292,6 +293,9 @@ def check_size(browser, url, size, outdir, has_status):
             int((target[1] - top + 0.5) * SCENE_SIZE[1] / ih))
     side = (0, 30, left, h - 130)  # the step list and the math panel beside the render
     if has_status:
+        region = {"x": side[0], "y": side[1], "width": side[2], "height": side[3]}
+        math = {"x": left + iw, "y": 30, "width": w - left - iw, "height": h - 130}
+        before, before_math = page.screenshot(clip=region), page.screenshot(clip=math)
         app.click(target)
         s = app.wait(lambda s: s["pixel"] not in ("", "160,120") and s["steps"] != "0",
                      f"{tag}: a click at {target} on the render (at {left},{top}, {iw}x{ih})"
@@ -300,6 +304,13 @@ def check_size(browser, url, size, outdir, has_status):
         if abs(got[0] - want[0]) > 3 or abs(got[1] - want[1]) > 3:
             app.fail(f"{tag}: a click at {target} selected pixel {s['pixel']}, not one near"
                          f" {want[0]},{want[1]} (render found at {left},{top}, {iw}x{ih})")
+        time.sleep(0.5)
+        if page.screenshot(clip=region) == before:
+            app.fail(f"{tag}: pixel {s['pixel']} selected but the step list beside the render"
+                     " did not change")
+        if page.screenshot(clip=math) == before_math:
+            app.fail(f"{tag}: pixel {s['pixel']} selected but the math panel right of the render"
+                     " did not change")
         print(f"{tag}: a click on the render selected pixel {s['pixel']} ({s['steps']} steps)")
     else:
         app.changed_after(lambda: app.click(target),
