@@ -68,6 +68,12 @@ if [ "$(wasm-bindgen --version 2>/dev/null || true)" != "wasm-bindgen $WBG_VERSI
   # of those versions refuses it, and then it is built with the newest compatible ones.
   cargo install --quiet wasm-bindgen-cli --version "$WBG_VERSION" --locked \
     || cargo install --quiet wasm-bindgen-cli --version "$WBG_VERSION"
+  hash -r
+fi
+if [ "$(wasm-bindgen --version 2>/dev/null || true)" != "wasm-bindgen $WBG_VERSION" ]; then
+  echo "web/build.sh: the wasm-bindgen on the PATH ($(command -v wasm-bindgen || echo none):" \
+       "$(wasm-bindgen --version 2>&1 || true)) is not Cargo.lock's $WBG_VERSION" >&2
+  exit 1
 fi
 wasm-bindgen --version
 
