@@ -1,0 +1,470 @@
+#!/usr/bin/env python3
+"""web/check.py: checks raystep's browser build (dist/, from web/build.sh) from outside, in
+headless Chromium driven by Playwright, at 1024x768 and at 1920x1080:
+
+  - the app draws: the page's first frame, then the first finished render (times printed,
+    counted from the navigation's start); the screenshot has many distinct colours;
+  - a click on the render selects that pixel (the step list and math panel follow it);
+  - the next-step key (ArrowRight, with the canvas focused) advances the step;
+  - a lesson opens (Lessons -> the lesson list -> a lesson);
+  - an exercise answer is checked (Exercises -> a sheet -> a student id -> an answer -> Check);
+  - a link `#scene=cornell&pixel=160,120&step=7` opens that scene, pixel and step;
+  - no uncaught exception or console error (other than those in ALLOWED, with the reason).
+
+The app's state is read from the hidden `<div id="raystep-status">` it keeps up to date (its
+data- attributes: scene, pixel, step, steps, view, lesson, feedback, ready). Clicks go to
+coordinates: the menu bar and the tabs at the top of the left panel sit at the same place in any
+window; the render image and the exercise's answer field are found in screenshots. A build
+without the status element (older than it) is checked by screenshot differences instead.
+
+Usage: web/check.py [--dist DIST] [--url URL] [--chromium PATH] SCREENSHOT_DIR
+Serves DIST (default dist/) on a free loopback port unless --url names a running server.
+Exits 1 with a message naming the failed check. Needs Python 3.9+ and `playwright` (pip); the
+browser is Debian's /usr/bin/chromium where installed, else Playwright's own.
+"""
+
+import argparse
+import functools
+import http.server
+import os
+import re
+import struct
+import sys
+import threading
+import time
+import zlib
+
+# Console errors that are not failures, each with the reason.
+ALLOWED = [
+    # wgpu asks for WebGPU first; a browser without it (headless Chromium on SwiftShader) has no
+    # adapter and eframe falls back to WebGL2. Logged as a warning today; listed in case a
+    # browser logs it as an error.
+    (re.compile(r"No available adapters"), "no WebGPU here: eframe falls back to WebGL2"),
+]
+
+# SwiftShader renders WebGL on the CPU; the flags let headless Chromium use it.
+CHROMIUM_ARGS = ["--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                 "--ignore-gpu-blocklist"]
+PANEL = (248, 248, 248)  # egui's light panel fill
+TEXT_EDIT = (255, 255, 255)  # egui's light text-edit fill
+BUTTON = (230, 230, 230)  # egui's light button fill
+# The built-in scene's image (Three spheres), to turn a click's place into its pixel.
+SCENE_SIZE = (320, 240)
+# Places that do not move with the window's size: the menu bar, the left panel's tabs and the
+# first rows of the exercise tab, and the first rows of a combo box's list below them.
+LESSONS_MENU = (154, 12)
+LESSON_TAB, EXERCISES_TAB = (38, 37), (115, 37)
+LESSON_COMBO = (100, 69)
+SHEET_COMBO = (120, 69)
+STUDENT_ID = (110, 91)
+LIST_ROW = lambda i: (100, 96 + 23 * i)  # noqa: E731 (row i of a combo box's list, from 0)
+
+
+class Failed(Exception):
+    """A check that failed: its message says which and what was seen."""
+
+
+def decode_png(data):
+    """(width, height, channels, bytes) of an 8-bit RGB(A) PNG such as Chromium writes."""
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise ValueError("not a PNG")
+    pos, idat = 8, b""
+    while pos < len(data):
+        n, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + n]
+        pos += 12 + n
+        if kind == b"IHDR":
+            w, h, depth, ctype, _, _, interlace = struct.unpack(">IIBBBBB", body)
+            if depth != 8 or ctype not in (2, 6) or interlace:
+                raise ValueError(f"PNG kind not read here (depth {depth}, colour type {ctype})")
+        elif kind == b"IDAT":
+            idat += body
+    bpp = 3 if ctype == 2 else 4
+    raw, stride = zlib.decompress(idat), w * bpp
+    out, prev, i = bytearray(h * stride), bytearray(stride), 0
+    for y in range(h):
+        f, line = raw[i], bytearray(raw[i + 1:i + 1 + stride])
+        i += 1 + stride
+        if f == 1:
+            for x in range(bpp, stride):
+                line[x] = (line[x] + line[x - bpp]) & 255
+        elif f == 2:
+            for x in range(stride):
+                line[x] = (line[x] + prev[x]) & 255
+        elif f == 3:
+            for x in range(stride):
+                left = line[x - bpp] if x >= bpp else 0
+                line[x] = (line[x] + (left + prev[x]) // 2) & 255
+        elif f == 4:
+            for x in range(stride):
+                a = line[x - bpp] if x >= bpp else 0
+                b, c = prev[x], (prev[x - bpp] if x >= bpp else 0)
+                p = a + b - c
+                pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                line[x] = (line[x] + (a if pa <= pb and pa <= pc else b if pb <= pc else c)) & 255
+        out[y * stride:(y + 1) * stride] = line
+        prev = line
+    return w, h, bpp, bytes(out)
+
+
+class Shot:
+    """A screenshot (or a clip of one), its pixels readable."""
+
+    def __init__(self, png, x0=0, y0=0):
+        self.png, self.x0, self.y0 = png, x0, y0
+        self.w, self.h, self.bpp, self.px = decode_png(png)
+
+    def at(self, x, y):
+        """The colour at page coordinates (x, y)."""
+        i = ((y - self.y0) * self.w + (x - self.x0)) * self.bpp
+        return tuple(self.px[i:i + 3])
+
+    def colours(self):
+        """How many distinct colours it has."""
+        return len({self.px[i:i + 3] for i in range(0, len(self.px), self.bpp)})
+
+
+def shot(page, x=0, y=0, w=None, h=None):
+    """A screenshot of the page, or of the rectangle x, y, w, h."""
+    vp = page.viewport_size
+    w, h = w or vp["width"] - x, h or vp["height"] - y
+    return Shot(page.screenshot(clip={"x": x, "y": y, "width": w, "height": h}), x, y)
+
+
+def longest_run(values, inside):
+    """(start, end) of the longest run of values for which inside(value) holds (end exclusive)."""
+    best, start = (0, 0), None
+    for i, v in enumerate(list(values) + [None]):
+        if v is not None and inside(v):
+            start = i if start is None else start
+        elif start is not None:
+            best = max(best, (start, i), key=lambda r: r[1] - r[0])
+            start = None
+    return best
+
+
+def render_rect(page):
+    """(left, top, width, height) of the render image on the page: the longest run of
+    non-panel pixels across the window's middle row, then down the column through its middle."""
+    vp = page.viewport_size
+    row = shot(page, 0, vp["height"] // 2, vp["width"], 1)
+    x0, x1 = longest_run((row.at(x, row.y0) for x in range(vp["width"])), lambda c: c != PANEL)
+    cx = (x0 + x1) // 2
+    col = shot(page, cx, 0, 1, vp["height"])
+    y0, y1 = longest_run((col.at(cx, y) for y in range(vp["height"])), lambda c: c != PANEL)
+    if x1 - x0 < 100 or y1 - y0 < 75:
+        raise Failed(f"no render image found (widest drawn run {x0}..{x1}, {y0}..{y1})")
+    return x0, y0, x1 - x0, y1 - y0
+
+
+def find_answer_field(page):
+    """(left, right, top) of the exercise's answer field: the first row below the student id
+    with a run of text-edit white at least 100 pixels wide; None if there is none."""
+    vp = page.viewport_size
+    panel = shot(page, 0, 110, min(vp["width"] // 2, 600), vp["height"] - 220)
+    for y in range(panel.y0, panel.y0 + panel.h):
+        x0, x1 = longest_run((panel.at(x, y) for x in range(panel.w)), lambda c: c == TEXT_EDIT)
+        if x1 - x0 >= 100:
+            return x0, x1, y
+    return None
+
+
+def serve(dist):
+    """Serves dist on a free loopback port in a thread; returns (server, url)."""
+    handler = functools.partial(Quiet, directory=dist)
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    return server, f"http://127.0.0.1:{server.server_address[1]}/"
+
+
+class Quiet(http.server.SimpleHTTPRequestHandler):
+    """A static file server that serves .wasm as application/wasm and logs nothing."""
+
+    extensions_map = {**http.server.SimpleHTTPRequestHandler.extensions_map,
+                      ".wasm": "application/wasm", ".js": "text/javascript"}
+
+    def log_message(self, *args):
+        pass
+
+
+class App:
+    """One page of the app in one window size, and what it logged."""
+
+    def __init__(self, browser, url, size, has_status, outdir):
+        self.size, self.has_status, self.errors, self.outdir = size, has_status, [], outdir
+        self.page = browser.new_page(viewport={"width": size[0], "height": size[1]})
+        self.page.on("pageerror", lambda e: self.errors.append(f"uncaught exception: {e}"))
+        self.page.on("console", self._console)
+        self.url = url
+
+    def _console(self, msg):
+        if msg.type == "error":
+            text = f"console error: {msg.text}"
+            if msg.location and msg.location.get("url"):
+                text += f" ({msg.location['url']})"
+            self.errors.append(text)
+
+    def status(self):
+        """The app's status attributes, or None where the build has no status element."""
+        return self.page.evaluate(
+            "() => { const e = document.getElementById('raystep-status');"
+            " return e ? Object.assign({}, e.dataset) : null; }")
+
+    def wait(self, condition, what, timeout=30):
+        """Waits until condition(status) holds; fails naming what was awaited and the status."""
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            s = self.status()
+            if s is not None and condition(s):
+                return s
+            time.sleep(0.1)
+        self.fail(f"{what}: not within {timeout} s (status: {self.status()})")
+
+    def fail(self, message):
+        """Fails with message, leaving a screenshot of the moment beside the others."""
+        name = "failed-{}x{}.png".format(*self.size)
+        self.page.screenshot(path=os.path.join(self.outdir, name))
+        logged = "".join(f"\n  the page logged: {e}" for e in self.errors)
+        raise Failed(f"{message} (screenshot: {name}){logged}")
+
+    def click(self, xy, settle=0.6):
+        """A click as a hand makes it: move, a frame's pause, press, release."""
+        self.page.mouse.move(*xy)
+        time.sleep(0.2)
+        self.page.mouse.down()
+        time.sleep(0.05)
+        self.page.mouse.up()
+        time.sleep(settle)
+
+    def open_list(self, combo, row):
+        """Opens the combo box at combo, waits for its list to show, and picks its row."""
+        region = {"x": 0, "y": combo[1] + 14, "width": 400, "height": 23 * (row + 2)}
+        before = self.page.screenshot(clip=region)
+        self.click(combo, settle=0.2)
+        end = time.monotonic() + 10
+        while self.page.screenshot(clip=region) == before:
+            if time.monotonic() > end:
+                self.fail(f"the combo box at {combo} showed no list")
+            time.sleep(0.2)
+        time.sleep(0.3)
+        self.click(LIST_ROW(row))
+
+    def changed_after(self, action, region, what):
+        """Screenshot check (builds without the status element): region differs after action."""
+        before = self.page.screenshot(clip=region)
+        action()
+        time.sleep(1.5)
+        if self.page.screenshot(clip=region) == before:
+            self.fail(f"{what}: the screen did not change")
+
+
+def check_size(browser, url, size, outdir, has_status):
+    """All the checks in one window size; returns the timings."""
+    w, h = size
+    app = App(browser, url, size, has_status, outdir)
+    page, tag = app.page, f"{w}x{h}"
+    t0 = time.monotonic()
+    page.goto(url)
+    if has_status:
+        app.wait(lambda s: True, "the app's first frame", 60)
+        first = time.monotonic() - t0
+        s = app.wait(lambda s: s.get("ready") == "1", "the first render", 120)
+        ready = time.monotonic() - t0
+    else:
+        page.wait_for_function("() => !document.getElementById('loading')", timeout=60000)
+        first = time.monotonic() - t0
+        while shot(page, w // 4, 0, w // 2, h).colours() < 200:
+            if time.monotonic() - t0 > 120:
+                raise Failed("the first render: not within 120 s")
+            time.sleep(0.5)
+        ready, s = time.monotonic() - t0, None
+    print(f"{tag}: first frame {first:.1f} s, first render finished {ready:.1f} s after navigation"
+          + (f" ({s['scene']}, {s['steps']} steps at pixel {s['pixel']})" if s else ""))
+    full = shot(page)
+    n = full.colours()
+    if n < 200:
+        app.fail(f"{tag}: the app does not draw: its screenshot has {n} distinct colours")
+    page.screenshot(path=os.path.join(outdir, f"{tag}-app.png"))
+
+    # A click on the render selects the pixel under it.
+    left, top, iw, ih = render_rect(page)
+    target = (left + iw // 4, top + (ih * 3) // 4)
+    want = (int((target[0] - left + 0.5) * SCENE_SIZE[0] / iw),
+            int((target[1] - top + 0.5) * SCENE_SIZE[1] / ih))
+    side = (0, 30, left, h - 130)  # the step list and the math panel beside the render
+    if has_status:
+        region = {"x": side[0], "y": side[1], "width": side[2], "height": side[3]}
+        math = {"x": left + iw, "y": 30, "width": w - left - iw, "height": h - 130}
+        before, before_math = page.screenshot(clip=region), page.screenshot(clip=math)
+        app.click(target)
+        s = app.wait(lambda s: s["pixel"] not in ("", "160,120") and s["steps"] != "0",
+                     f"{tag}: a click at {target} on the render (at {left},{top}, {iw}x{ih})"
+                     f" selecting a pixel near {want[0]},{want[1]}", 30)
+        got = tuple(int(v) for v in s["pixel"].split(","))
+        if abs(got[0] - want[0]) > 3 or abs(got[1] - want[1]) > 3:
+            app.fail(f"{tag}: a click at {target} selected pixel {s['pixel']}, not one near"
+                         f" {want[0]},{want[1]} (render found at {left},{top}, {iw}x{ih})")
+        time.sleep(0.5)
+        if page.screenshot(clip=region) == before:
+            app.fail(f"{tag}: pixel {s['pixel']} selected but the step list beside the render"
+                     " did not change")
+        if page.screenshot(clip=math) == before_math:
+            app.fail(f"{tag}: pixel {s['pixel']} selected but the math panel right of the render"
+                     " did not change")
+        print(f"{tag}: a click on the render selected pixel {s['pixel']} ({s['steps']} steps)")
+    else:
+        app.changed_after(lambda: app.click(target),
+                          {"x": side[0], "y": side[1], "width": side[2], "height": side[3]},
+                          f"{tag}: a click on the render")
+        print(f"{tag}: a click on the render changed the step list")
+
+    # ArrowRight, with the canvas focused (the click above focused it), advances the step.
+    if has_status:
+        before = int(s["step"] or 0)
+        page.keyboard.press("ArrowRight")
+        s = app.wait(lambda s: s["step"] == str(before + 1),
+                     f"{tag}: ArrowRight advancing the step from {before}", 10)
+        print(f"{tag}: ArrowRight went from step {before} to step {s['step']}")
+    else:
+        app.changed_after(lambda: page.keyboard.press("ArrowRight"),
+                          {"x": 0, "y": h - 90, "width": w, "height": 60},
+                          f"{tag}: ArrowRight on the step bar")
+        print(f"{tag}: ArrowRight changed the step bar")
+
+    # Lessons -> the lesson list -> its third lesson.
+    region = {"x": 0, "y": 25, "width": 220, "height": h - 130}
+    if has_status:
+        app.click(LESSONS_MENU)
+        s = app.wait(lambda s: s["view"] == "lesson" and s["lesson"],
+                     f"{tag}: the Lessons menu at {LESSONS_MENU} opening the lesson panel", 10)
+        first_lesson = s["lesson"]
+        app.open_list(LESSON_COMBO, 2)
+        s = app.wait(lambda s: s["lesson"] not in ("", first_lesson),
+                     f"{tag}: the third lesson in the list at {LESSON_COMBO} opening", 10)
+        print(f"{tag}: opened the lesson \"{s['lesson']}\" (from \"{first_lesson}\")")
+    else:
+        app.changed_after(lambda: app.click(LESSONS_MENU), region, f"{tag}: the Lessons menu")
+        app.changed_after(lambda: app.open_list(LESSON_COMBO, 2), region,
+                          f"{tag}: choosing a lesson")
+        print(f"{tag}: a lesson opened")
+    page.screenshot(path=os.path.join(outdir, f"{tag}-lesson.png"))
+
+    # Exercises -> the first sheet -> a student id -> an answer -> Check.
+    app.click(EXERCISES_TAB)
+    if has_status:
+        app.wait(lambda s: s["view"] == "exercise", f"{tag}: the Exercises tab at {EXERCISES_TAB}")
+    app.open_list(SHEET_COMBO, 0)
+    # The answer field: the first text-edit-white row of the left panel below the student id
+    # (it sits under the question or beside "Answer:", as the panel's width allows). It shows
+    # once a student id is in; a keystroke that came before the field had the focus is lost,
+    # so the id is typed again while no question shows.
+    answer = None
+    for attempt in range(3):
+        app.click(STUDENT_ID)
+        page.keyboard.type("alice")
+        page.keyboard.press("Enter")
+        end = time.monotonic() + 4
+        while answer is None and time.monotonic() < end:
+            time.sleep(0.5)
+            answer = find_answer_field(page)
+        if answer:
+            break
+    if answer is None:
+        app.fail(f"{tag}: no answer field in the exercise panel (after choosing the sheet"
+                 f" at {SHEET_COMBO} and typing a student id at {STUDENT_ID})")
+    x0, x1, ay = answer
+    panel = shot(page, 0, 110, min(w // 2, 600), h - 220)
+    app.click((x0 + 20, ay + 8))
+    page.keyboard.type("ball")
+    # The Check button: the first button-grey run after the field, beside it or below it.
+    check = None
+    for y in range(ay, min(ay + 60, panel.y0 + panel.h)):
+        xs = range(x1, panel.w) if y < ay + 18 else range(0, panel.w)
+        b0, b1 = longest_run((panel.at(x, y) for x in xs), lambda c: c == BUTTON)
+        if b1 - b0 >= 20:
+            check = (xs[0] + (b0 + b1) // 2, y + 6)
+            break
+    if check is None:
+        app.fail(f"{tag}: no Check button beside or below the answer field at {x0},{ay}")
+    if has_status:
+        app.click(check)
+        s = app.wait(lambda s: s["feedback"] != "",
+                     f"{tag}: Check at {check} marking the answer typed at {x0 + 20},{ay + 8}", 10)
+        print(f"{tag}: the answer \"ball\" was checked: {s['feedback']}")
+    else:
+        app.changed_after(lambda: app.click(check), region, f"{tag}: Check")
+        print(f"{tag}: Check changed the exercise panel")
+    page.screenshot(path=os.path.join(outdir, f"{tag}-exercise.png"))
+    page.close()
+    return app.errors, first, ready
+
+
+def check_link(browser, url, outdir):
+    """A teacher's link opens its scene, pixel and step."""
+    app = App(browser, url + "#scene=cornell&pixel=160,120&step=7", (1024, 768), True, outdir)
+    app.page.goto(app.url)
+    s = app.wait(lambda s: s.get("ready") == "1" and s["step"] == "7",
+                 "the link #scene=cornell&pixel=160,120&step=7", 120)
+    if s["pixel"] != "160,120" or "ornell" not in s["scene"]:
+        app.fail(f"the link #scene=cornell&pixel=160,120&step=7 opened {s}")
+    print(f"a link opened {s['scene']}, pixel {s['pixel']}, step {s['step']}")
+    app.page.screenshot(path=os.path.join(outdir, "1024x768-link.png"))
+    app.page.close()
+    return app.errors
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("screenshots", help="folder for the screenshots (made if missing)")
+    ap.add_argument("--dist", default=os.path.join(os.path.dirname(__file__), "..", "dist"))
+    ap.add_argument("--url", help="a server already serving dist/ (else one is started)")
+    ap.add_argument("--chromium", default="/usr/bin/chromium" if os.path.exists(
+        "/usr/bin/chromium") else None, help="the browser (default: Debian's, else Playwright's)")
+    ap.add_argument("--size", action="append", metavar="WxH",
+                    help="check only this window size (repeatable; default 1024x768, 1920x1080)")
+    ap.add_argument("--no-link", action="store_true", help="skip the link check")
+    args = ap.parse_args()
+    sizes = [tuple(int(v) for v in s.split("x")) for s in args.size or ["1024x768", "1920x1080"]]
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        sys.exit("web/check.py: Playwright is missing (python3 -m pip install playwright)")
+    wasm = os.path.join(args.dist, "raystep_web_bg.wasm")
+    if not os.path.exists(wasm):
+        sys.exit(f"web/check.py: {wasm} is missing: build it with web/build.sh")
+    # A build older than the status element is checked by screenshots only.
+    with open(wasm, "rb") as f:
+        has_status = b"raystep-status" in f.read()
+    if not has_status:
+        print("(this build keeps no #raystep-status: checking by screenshot differences)")
+    os.makedirs(args.screenshots, exist_ok=True)
+    server, url = (None, args.url) if args.url else serve(args.dist)
+    errors = []
+    try:
+        with sync_playwright() as p:
+            browser = p.chromium.launch(executable_path=args.chromium, args=CHROMIUM_ARGS)
+            for size in sizes:
+                e, _, _ = check_size(browser, url, size, args.screenshots, has_status)
+                errors += e
+            if has_status and not args.no_link:
+                errors += check_link(browser, url, args.screenshots)
+            browser.close()
+    except Failed as e:
+        sys.exit(f"web/check.py FAILED: {e}")
+    finally:
+        if server:
+            server.shutdown()
+    bad = []
+    for e in errors:
+        reason = next((r for pat, r in ALLOWED if pat.search(e)), None)
+        if reason:
+            print(f"(allowed: {e}: {reason})")
+        else:
+            bad.append(e)
+    if bad:
+        sys.exit("web/check.py FAILED: the page logged errors:\n  " + "\n  ".join(bad))
+    print(f"web/check.py: all checks passed; screenshots in {args.screenshots}")
+
+
+if __name__ == "__main__":
+    main()
