@@ -81,6 +81,8 @@ fn pixels(s: &Scene) -> Vec<([u32; 2], u32)> {
     ]
 }
 
+/// Also runs, on the tracers it makes, the checks below that need one (each tracer compiles its
+/// shaders on lavapipe: tens of seconds on a CI machine).
 #[test]
 fn gpu_traces_of_monte_carlo_samples_equal_the_cpu_traces() {
     let _gpu = one_at_a_time();
@@ -147,6 +149,16 @@ fn gpu_traces_of_monte_carlo_samples_equal_the_cpu_traces() {
                 ));
             }
         }
+        match name {
+            "cornell-area.toml" => {
+                a_perturbed_gpu_value_is_named_by_diff(&s, &prepared, &mut gpu);
+                a_monte_carlo_trace_that_outgrows_its_log_says_where(&s, &mut gpu);
+            }
+            "soft-shadows.toml" => {
+                the_fragment_path_traces_monte_carlo_samples(&s, &prepared, &mut gpu)
+            }
+            _ => {}
+        }
     }
     eprintln!("{compared} numbers compared; steps seen: {seen:?}");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -172,19 +184,13 @@ fn gpu_traces_of_monte_carlo_samples_equal_the_cpu_traces() {
 
 /// One GPU number changed (a summarised sample's value, a light sample's contribution) is a
 /// difference `raystep diff` names: the comparison is not blind to what the GPU wrote.
-#[test]
-fn a_perturbed_gpu_value_is_named_by_diff() {
-    let _gpu = one_at_a_time();
-    let Some(ctx) = context("a_perturbed_gpu_value_is_named_by_diff") else {
-        return;
-    };
-    let s = scene("cornell-area.toml", None);
-    let prepared = PreparedScene::new(s.clone());
-    let mut gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
-    if !gpu.exact(GpuPath::Compute) || gpu.hardware_ray_queries() {
-        eprintln!("SKIPPED: the adapter's compute path is not exact");
-        return;
-    }
+/// (Part of the first test, which has the scene's tracer made: each tracer compiles its shaders
+/// on lavapipe, seconds to tens of seconds each.)
+fn a_perturbed_gpu_value_is_named_by_diff(
+    s: &Scene,
+    prepared: &PreparedScene,
+    gpu: &mut GpuTracer,
+) {
     let (x, y) = (s.camera.width / 2, s.camera.height * 3 / 4);
     let cpu = prepared.record(x, y, 2);
     let got = gpu.trace_pixel(x, y, 2, DEFAULT_LOG_WORDS).unwrap().trace;
@@ -226,15 +232,8 @@ fn a_perturbed_gpu_value_is_named_by_diff() {
 /// A log too small for the trace ends the trace with a `truncated` step; one that holds the
 /// traced sample but not every summary keeps the steps and says the summaries were cut. Either
 /// trace loads; no panic.
-#[test]
-fn a_monte_carlo_trace_that_outgrows_its_log_says_where() {
-    let _gpu = one_at_a_time();
-    let Some(ctx) = context("a_monte_carlo_trace_that_outgrows_its_log_says_where") else {
-        return;
-    };
-    let s = scene("cornell-area.toml", None);
-    let prepared = PreparedScene::new(s.clone());
-    let mut gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
+/// (Part of the first test, on its Cornell tracer.)
+fn a_monte_carlo_trace_that_outgrows_its_log_says_where(s: &Scene, gpu: &mut GpuTracer) {
     let (x, y) = (s.camera.width / 2, s.camera.height / 2);
     let full = gpu.trace_pixel(x, y, 0, DEFAULT_LOG_WORDS).unwrap();
     assert!(!full.truncated);
@@ -273,15 +272,12 @@ fn a_monte_carlo_trace_that_outgrows_its_log_says_where() {
 
 /// The fragment path traces a Monte Carlo sample too (its primary ray interpolated by the
 /// rasterizer): the same work, the same first hit for a pixel away from edges.
-#[test]
-fn the_fragment_path_traces_monte_carlo_samples() {
-    let _gpu = one_at_a_time();
-    let Some(ctx) = context("the_fragment_path_traces_monte_carlo_samples") else {
-        return;
-    };
-    let s = scene("soft-shadows.toml", None);
-    let prepared = PreparedScene::new(s.clone());
-    let mut gpu = GpuTracer::new(ctx, &prepared, ShaderVariant::Generated).unwrap();
+/// (Part of the first test, on its soft-shadows tracer.)
+fn the_fragment_path_traces_monte_carlo_samples(
+    s: &Scene,
+    prepared: &PreparedScene,
+    gpu: &mut GpuTracer,
+) {
     let (x, y) = (s.camera.width / 2, s.camera.height * 3 / 4);
     let cpu = prepared.record(x, y, 0);
     let got = gpu

@@ -413,6 +413,65 @@ def check_link(browser, url, outdir):
     return app.errors
 
 
+FILE_MENU = (20, 12)
+OPEN_ITEM = (40, 39)  # File → Open…, the menu's first item
+SCENES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")
+
+
+def check_files(browser, url, outdir):
+    """Files the web way: File → Open's file picker opens a scene; a trace is saved as a
+    download; a scene dropped on the page opens."""
+    app = App(browser, url, (1024, 768), True, outdir)
+    page = app.page
+    page.goto(url)
+    app.wait(lambda s: s.get("ready") == "1", "the first render", 120)
+    app.click(FILE_MENU)
+    try:
+        with page.expect_file_chooser(timeout=10000) as chooser:
+            app.click(OPEN_ITEM)
+    except Exception:  # noqa: BLE001 (Playwright's timeout: named in the failure)
+        app.fail(f"File at {FILE_MENU} → Open… at {OPEN_ITEM} opened no file picker")
+    chooser.value.set_files([os.path.join(SCENES, "cornell.toml")])
+    s = app.wait(lambda s: s["scene"] == "Cornell box" and s["ready"] == "1",
+                 "scenes/cornell.toml picked in the file picker opening", 120)
+    print(f"the file picker opened {s['scene']}")
+
+    # Save trace: the File menu's item under Open…, Built-in scene, Recent, Reload and a
+    # separator; its dialog has the name ready, so Enter saves.
+    app.click(FILE_MENU)
+    try:
+        with page.expect_download(timeout=15000) as download:
+            app.click((80, 140))
+            time.sleep(0.8)
+            page.keyboard.press("Enter")
+    except Exception:  # noqa: BLE001
+        app.fail("File → Save trace (JSON)… and Enter gave no download")
+    d = download.value
+    data = open(d.path(), "rb").read()
+    if not (d.suggested_filename.endswith(".json") and b'"version"' in data[:200]
+            and b"Cornell box" in data[:400]):
+        app.fail(f"the download {d.suggested_filename} ({len(data)} bytes) is not the trace:"
+                 f" {data[:120]!r}")
+    print(f"the trace was saved as the download {d.suggested_filename} ({len(data)} bytes)")
+
+    # A scene dropped on the page (as a file from the desktop is: a DataTransfer with a File).
+    text = open(os.path.join(SCENES, "three-spheres.toml"), encoding="utf-8").read()
+    page.evaluate("""(text) => {
+        const dt = new DataTransfer();
+        dt.items.add(new File([text], "three-spheres.toml", { type: "text/plain" }));
+        const c = document.getElementById("raystep");
+        for (const type of ["dragenter", "dragover", "drop"]) {
+            c.dispatchEvent(new DragEvent(type, { dataTransfer: dt, bubbles: true, cancelable: true }));
+        }
+    }""", text)
+    s = app.wait(lambda s: s["scene"] == "Three spheres" and s["ready"] == "1",
+                 "three-spheres.toml dropped on the page opening", 120)
+    print(f"a dropped file opened {s['scene']}")
+    page.screenshot(path=os.path.join(outdir, "1024x768-files.png"))
+    page.close()
+    return app.errors
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("screenshots", help="folder for the screenshots (made if missing)")
@@ -448,6 +507,8 @@ def main():
                 errors += e
             if has_status and not args.no_link:
                 errors += check_link(browser, url, args.screenshots)
+            if has_status:
+                errors += check_files(browser, url, args.screenshots)
             browser.close()
     except Failed as e:
         sys.exit(f"web/check.py FAILED: {e}")

@@ -51,14 +51,18 @@ pub fn download(name: &str, bytes: &[u8]) -> Result<(), String> {
 }
 
 /// Opens the browser's file picker (several files at once: a scene and its OBJ meshes); what
-/// the user picks arrives through [`arrived`].
-pub fn pick_files() -> Result<(), String> {
+/// the user picks arrives through [`arrived`], and `wake` is called as each file arrives (the
+/// app asks for a frame: an idle page draws none).
+pub fn pick_files(wake: impl Fn() + 'static) -> Result<(), String> {
     #[cfg(target_arch = "wasm32")]
     {
-        web::pick_files().map_err(|e| format!("the file picker did not open: {e:?}"))
+        web::pick_files(wake).map_err(|e| format!("the file picker did not open: {e:?}"))
     }
     #[cfg(not(target_arch = "wasm32"))]
-    Ok(())
+    {
+        let _ = wake;
+        Ok(())
+    }
 }
 
 /// Runs `f` to completion on the page's event loop (natively: blocks until it is done).
@@ -101,7 +105,8 @@ mod web {
         Ok(())
     }
 
-    pub(super) fn pick_files() -> Result<(), JsValue> {
+    pub(super) fn pick_files(wake: impl Fn() + 'static) -> Result<(), JsValue> {
+        let wake = std::rc::Rc::new(wake);
         let document = web_sys::window()
             .and_then(|w| w.document())
             .ok_or("no document")?;
@@ -116,12 +121,14 @@ mod web {
             };
             for i in 0..list.length() {
                 if let Some(file) = list.get(i) {
+                    let wake = std::rc::Rc::clone(&wake);
                     wasm_bindgen_futures::spawn_local(async move {
                         let bytes = wasm_bindgen_futures::JsFuture::from(file.array_buffer())
                             .await
                             .map(|b| js_sys::Uint8Array::new(&b).to_vec())
                             .map_err(|e| format!("cannot be read: {e:?}"));
                         super::receive(&file.name(), bytes);
+                        wake();
                     });
                 }
             }

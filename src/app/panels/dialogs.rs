@@ -15,7 +15,9 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
     match d {
         // A page has no folders to browse: the browser's own file picker opens instead.
         Dialog::Open { .. } if crate::platform::IN_BROWSER => {
-            if let Err(e) = crate::platform::browser::pick_files() {
+            let repaint = ctx.clone();
+            if let Err(e) = crate::platform::browser::pick_files(move || repaint.request_repaint())
+            {
                 cmds.push(Command::ShowError(e));
             }
             cmds.push(Command::CloseDialog);
@@ -34,6 +36,11 @@ pub fn show(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
                             .add(egui::TextEdit::singleline(&mut path).desired_width(420.0))
                             .labelled_by(l.id);
                         go |= r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                        // The name is ready to edit, and Enter saves, without a click first
+                        // (asked after reading Enter: focus asked for undoes `lost_focus`).
+                        if !go && ui.memory(|m| m.focused().is_none()) {
+                            r.request_focus();
+                        }
                     });
                     ui.horizontal(|ui| {
                         go |= ui.button("Save").clicked();
