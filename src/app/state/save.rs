@@ -47,12 +47,8 @@ impl AppState {
         }
         let result = self.write(kind, path);
         self.message = Some(match result {
-            Ok(what) if crate::platform::IN_BROWSER => Message {
-                text: format!("saved {} ({what}) as a download", path.display()),
-                error: false,
-            },
             Ok(what) => Message {
-                text: format!("wrote {} ({what})", crate::io::full_path(path)),
+                text: saved(path, &what),
                 error: false,
             },
             Err(e) => Message {
@@ -157,7 +153,7 @@ impl AppState {
                 });
             let _ = tx.send(match result {
                 Ok(n) => Message {
-                    text: format!("wrote {} ({n} frames)", crate::io::full_path(&path)),
+                    text: saved(&path, &format!("{n} frames")),
                     error: false,
                 },
                 Err(e) => Message {
@@ -194,4 +190,14 @@ fn slug(s: &str) -> String {
         .collect();
     let out = out.trim_matches('-').to_string();
     if out.is_empty() { "scene".into() } else { out }
+}
+
+/// What the status line says when `path` was written: where natively, that it was offered as a
+/// download in the browser.
+fn saved(path: &Path, what: &str) -> String {
+    if crate::platform::IN_BROWSER {
+        format!("saved {} ({what}) as a download", path.display())
+    } else {
+        format!("wrote {} ({what})", crate::io::full_path(path))
+    }
 }
