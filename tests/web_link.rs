@@ -54,3 +54,24 @@ fn a_link_it_cannot_use_is_named_in_the_status_bar() {
     );
     assert!(m.text.contains("\"x\" is not a whole number"), "{}", m.text);
 }
+
+/// A pixel outside the image and a huge step (a mistyped or hostile link) never panic: the app
+/// renders the scene and traces no pixel, or the step is clamped.
+#[test]
+fn a_link_past_the_image_or_the_steps_is_harmless() {
+    for link in [
+        "#scene=cornell&pixel=99999,99999&step=99999",
+        "#scene=cornell&pixel=4294967295,0",
+        "#scene=cornell&pixel=10,10&step=18446744073709551615",
+    ] {
+        let mut a = app();
+        follow(&mut a, link);
+        wait(&mut a, |a| a.state.rendered.is_some() && !a.state.busy());
+        for _ in 0..5 {
+            a.state.tick(Instant::now());
+        }
+        if let Some(s) = &a.state.stepping {
+            assert!(a.state.step < s.index.len(), "{link}: step {}", a.state.step);
+        }
+    }
+}
