@@ -71,7 +71,11 @@ fn a_link_past_the_image_or_the_steps_is_harmless() {
             a.state.tick(Instant::now());
         }
         if let Some(s) = &a.state.stepping {
-            assert!(a.state.step < s.index.len(), "{link}: step {}", a.state.step);
+            assert!(
+                a.state.step < s.index.len(),
+                "{link}: step {}",
+                a.state.step
+            );
         }
     }
 }

@@ -14,5 +14,5 @@ pub mod integrator;
 pub mod lights;
 pub mod portable;
 pub mod random;
-mod record;
+pub(crate) mod record;
 pub mod sample;

@@ -78,8 +78,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         root: &RayRecord,
         objects: &[TraceObject],
     ) -> McRecord {
-        let spp = self.scene.settings.spp;
-        let kept = spp.min(MAX_PIXEL_SAMPLES as u32);
+        let kept = self.scene.settings.spp.min(MAX_PIXEL_SAMPLES as u32);
         let samples: Vec<PixelSample> = (0..kept)
             .map(|k| {
                 let mut log = SampleLog::default();
@@ -95,46 +94,59 @@ impl<A: Accelerator> Tracer<'_, A> {
                 }
             })
             .collect();
-        let mut used = BTreeSet::new();
-        fn walk(r: &RayRecord, used: &mut BTreeSet<u32>) {
-            for s in &r.steps {
-                if let Step::LightSample { light, .. } = s.step {
-                    used.insert(light);
-                }
+        assemble(&self.lights, self.scene, root, objects, samples)
+    }
+}
+
+/// A trace's Monte Carlo record around its pixel's `samples` (the CPU's, or the GPU's read back
+/// by `gpu::trace_log`): the lights any light sample aimed at — in the traced sample's steps
+/// under `root` or in the summaries — and the BSDFs of `objects`.
+pub(crate) fn assemble(
+    lights: &crate::mc::lights::Lights,
+    scene: &crate::scene::Scene,
+    root: &RayRecord,
+    objects: &[TraceObject],
+    samples: Vec<PixelSample>,
+) -> McRecord {
+    let mut used = BTreeSet::new();
+    fn walk(r: &RayRecord, used: &mut BTreeSet<u32>) {
+        for s in &r.steps {
+            if let Step::LightSample { light, .. } = s.step {
+                used.insert(light);
             }
-            for c in &r.children {
-                walk(c, used);
-            }
         }
-        walk(root, &mut used);
-        for s in &samples {
-            used.extend(s.light_samples.iter().map(|l| l.light));
+        for c in &r.children {
+            walk(c, used);
         }
-        let lights = used
-            .into_iter()
-            .filter_map(|i| {
-                let l = self.lights.lights.get(i as usize)?;
-                Some(TraceLight {
-                    index: i,
-                    name: l.name.clone(),
-                    object: l.object,
-                    shape: l.shape,
-                    radiance: l.radiance.to_array(),
-                })
+    }
+    walk(root, &mut used);
+    for s in &samples {
+        used.extend(s.light_samples.iter().map(|l| l.light));
+    }
+    let lights = used
+        .into_iter()
+        .filter_map(|i| {
+            let l = lights.lights.get(i as usize)?;
+            Some(TraceLight {
+                index: i,
+                name: l.name.clone(),
+                object: l.object,
+                shape: l.shape,
+                radiance: l.radiance.to_array(),
             })
-            .collect();
-        let bsdfs = objects
-            .iter()
-            .map(|o| ObjectBsdf {
-                object: o.id,
-                bsdf: self.scene.material_of(o.id).bsdf(),
-            })
-            .collect();
-        McRecord {
-            spp,
-            lights,
-            bsdfs,
-            samples,
-        }
+        })
+        .collect();
+    let bsdfs = objects
+        .iter()
+        .map(|o| ObjectBsdf {
+            object: o.id,
+            bsdf: scene.material_of(o.id).bsdf(),
+        })
+        .collect();
+    McRecord {
+        spp: scene.settings.spp,
+        lights,
+        bsdfs,
+        samples,
     }
 }

@@ -6,10 +6,9 @@
 use super::{NO_OBJECT, Payload};
 use crate::mc::bsdf::Lobe;
 use crate::mc::lights::Lights;
-use crate::record::samples::{LightPointSample, McRecord, ObjectBsdf, PixelSample, TraceLight};
+use crate::record::samples::{LightPointSample, McRecord, PixelSample};
 use crate::record::{Draw, RayRecord, Step, TraceObject};
 use crate::scene::Scene;
-use std::collections::BTreeSet;
 
 /// The record kinds (see `trace_log.wgsl`).
 pub(super) mod tag {
@@ -240,45 +239,5 @@ pub(super) fn record(
     objects: &[TraceObject],
     summaries: Summaries,
 ) -> McRecord {
-    let mut used = BTreeSet::new();
-    fn walk(r: &RayRecord, used: &mut BTreeSet<u32>) {
-        for s in &r.steps {
-            if let Step::LightSample { light, .. } = s.step {
-                used.insert(light);
-            }
-        }
-        for c in &r.children {
-            walk(c, used);
-        }
-    }
-    walk(root, &mut used);
-    for s in &summaries.samples {
-        used.extend(s.light_samples.iter().map(|l| l.light));
-    }
-    let lights = used
-        .into_iter()
-        .filter_map(|i| {
-            let l = mc.lights.lights.get(i as usize)?;
-            Some(TraceLight {
-                index: i,
-                name: l.name.clone(),
-                object: l.object,
-                shape: l.shape,
-                radiance: l.radiance.to_array(),
-            })
-        })
-        .collect();
-    let bsdfs = objects
-        .iter()
-        .map(|o| ObjectBsdf {
-            object: o.id,
-            bsdf: scene.material_of(o.id).bsdf(),
-        })
-        .collect();
-    McRecord {
-        spp: scene.settings.spp,
-        lights,
-        bsdfs,
-        samples: summaries.samples,
-    }
+    crate::mc::record::assemble(&mc.lights, scene, root, objects, summaries.samples)
 }
