@@ -203,7 +203,7 @@ impl RaystepApp {
         }
         crash::remember(&self.state);
         #[cfg(target_arch = "wasm32")]
-        web::publish(&web::Status::of(&self.state));
+        web::publish(&web::Status::of(&self.state, &self.panels.gpu));
         // A way to check the crash recovery end to end in a real window: debug builds only, and
         // only when asked for by the environment.
         #[cfg(debug_assertions)]

@@ -81,11 +81,15 @@ pub struct Status {
     pub ready: bool,
     /// The message shown in the status bar, if any (`data-message`).
     pub message: String,
+    /// The GPU view ([`super::gpu_view::GpuView::status`]): `data-gpu` (empty until its tab
+    /// opens, then `waiting`, `ready`, `no-webgpu` or `error: …`), `data-gpu-adapter`,
+    /// `data-gpu-pick` (the debug pixel), `data-gpu-diff` (the CPU − GPU summary).
+    pub gpu: super::gpu_view::GpuStatus,
 }
 
 impl Status {
-    /// The status of `state`.
-    pub fn of(state: &super::state::AppState) -> Status {
+    /// The status of `state` and the GPU view `gpu`.
+    pub fn of(state: &super::state::AppState, gpu: &super::gpu_view::GpuView) -> Status {
         use super::learn::LearnTab;
         use super::state::Document;
         let learn = &state.learn;
@@ -134,6 +138,7 @@ impl Status {
                 .message
                 .as_ref()
                 .map_or(String::new(), |m| m.text.clone()),
+            gpu: gpu.status(),
         }
     }
 
@@ -156,7 +161,7 @@ impl Status {
     }
 
     /// The `data-` attributes, by name.
-    pub fn attributes(&self) -> [(&'static str, String); 9] {
+    pub fn attributes(&self) -> [(&'static str, String); 13] {
         [
             ("data-scene", self.scene.clone()),
             ("data-pixel", self.pixel.clone()),
@@ -167,6 +172,10 @@ impl Status {
             ("data-feedback", self.feedback.clone()),
             ("data-ready", if self.ready { "1" } else { "0" }.to_string()),
             ("data-message", self.message.clone()),
+            ("data-gpu", self.gpu.state.clone()),
+            ("data-gpu-adapter", self.gpu.adapter.clone()),
+            ("data-gpu-pick", self.gpu.pick.clone()),
+            ("data-gpu-diff", self.gpu.diff.clone()),
         ]
     }
 }
@@ -240,7 +249,13 @@ pub async fn start(
     canvas: web_sys::HtmlCanvasElement,
     fragment: String,
 ) -> Result<(), wasm_bindgen::JsValue> {
-    let options = eframe::WebOptions::default();
+    let mut options = eframe::WebOptions::default();
+    // The page draws with WebGL2, which every browser offers (and whose canvas a headless
+    // browser can screenshot). The GPU view traces on a WebGPU device of its own where the
+    // browser has one (`gpu_view`), and shows its image as an egui texture.
+    if let eframe::egui_wgpu::WgpuSetup::CreateNew(create) = &mut options.wgpu_options.wgpu_setup {
+        create.instance_descriptor.backends = eframe::wgpu::Backends::GL;
+    }
     let runner = eframe::WebRunner::new();
     runner
         .start(

@@ -4,7 +4,7 @@ use super::exact::{self, Arithmetic, Probe};
 use super::tracer::GpuError;
 use eframe::wgpu;
 use std::borrow::Cow;
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// How [`GpuContext::run_kernel`] loads a kernel.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -19,10 +19,91 @@ pub enum KernelForm {
     SpirvPlain,
 }
 
-/// Why the GPU tracer does not run in a browser: it waits for the GPU's answers (a readback, an
-/// error scope), and a page's only thread cannot wait.
-pub const NOT_IN_BROWSER: &str = "raystep's GPU tracer waits for the GPU's results, which a web page cannot do; \
-     the GPU tab, `render --gpu` and `compare` run in the desktop app and on the command line";
+/// What a call that waits for the GPU says in a web page, whose only thread cannot wait: there the
+/// app asks for the GPU's answers ([`GpuContext::start_read`]) and takes them on a later frame
+/// ([`Readback::poll`]).
+pub const NOT_IN_BROWSER: &str = "a web page cannot wait for the GPU's answer: the app's GPU tab takes it on a \
+     later frame, and `render --gpu` and `compare` run on the command line";
+
+/// A buffer's bytes on their way back from the GPU: asked for by [`GpuContext::start_read`],
+/// taken by [`Readback::poll`] once the GPU has written them. Natively
+/// [`GpuContext::finish_read`] waits for them; a web page, whose only thread cannot wait, polls
+/// on each frame until they have come (the browser maps the buffer between frames).
+#[derive(Debug)]
+pub struct Readback {
+    buffer: wgpu::Buffer,
+    /// Set by the map callback.
+    mapped: Arc<Mutex<Option<Result<(), wgpu::BufferAsyncError>>>>,
+    /// The answer was taken (the buffer is unmapped again).
+    taken: bool,
+}
+
+impl Drop for Readback {
+    /// A readback dropped before its answer was taken unmaps its buffer (cancelling the map if
+    /// it is still on its way), so that the buffer can be mapped again.
+    fn drop(&mut self) {
+        if !self.taken {
+            self.buffer.unmap();
+        }
+    }
+}
+
+impl Readback {
+    /// The bytes, once the GPU has written them (the buffer is unmapped again); `None` while they
+    /// are still on their way. Returns the answer once: a later call gives `None`.
+    pub fn poll(&mut self) -> Option<Result<Vec<u8>, GpuError>> {
+        if self.taken {
+            return None;
+        }
+        let answer = self.mapped.lock().ok()?.take()?;
+        self.taken = true;
+        Some(match answer {
+            Err(e) => Err(GpuError::Device(format!(
+                "mapping the readback buffer: {e}"
+            ))),
+            Ok(()) => {
+                let bytes = self
+                    .buffer
+                    .slice(..)
+                    .get_mapped_range()
+                    .map_err(|e| GpuError::Device(format!("reading the readback buffer: {e:?}")))
+                    .map(|range| range.to_vec());
+                self.buffer.unmap();
+                bytes
+            }
+        })
+    }
+}
+
+/// A texture's rows on their way back ([`GpuContext::start_read_texture`]).
+#[derive(Debug)]
+pub struct TextureReadback {
+    /// The buffer's bytes, rows padded to wgpu's copy alignment.
+    pub readback: Readback,
+    size: [u32; 2],
+    texel: u32,
+    row: u32,
+}
+
+impl TextureReadback {
+    /// The texture's size in pixels.
+    pub fn size(&self) -> [u32; 2] {
+        self.size
+    }
+
+    /// The rows tightly packed, row-major from the top-left, once they have come.
+    pub fn poll(&mut self) -> Option<Result<Vec<u8>, GpuError>> {
+        let bytes = self.readback.poll()?;
+        let used = (self.size[0] * self.texel) as usize;
+        Some(bytes.map(|b| {
+            b.chunks(self.row as usize)
+                .take(self.size[1] as usize)
+                .flat_map(|r| &r[..used])
+                .copied()
+                .collect()
+        }))
+    }
+}
 
 /// A device to trace on: raystep's own (headless) or the app's (eframe's).
 #[derive(Debug, Clone)]
@@ -42,29 +123,46 @@ pub struct GpuContext {
     pub passthrough: bool,
     /// The probe's answers, computed on first use ([`GpuContext::arithmetic`]).
     arithmetic: Arc<OnceLock<Result<Arithmetic, GpuError>>>,
+    /// The probe on its way back in a web page ([`GpuContext::arithmetic_nowait`]).
+    probe: Arc<Mutex<Option<Readback>>>,
+    /// Errors the browser reported after the call that caused them had returned (a web page
+    /// cannot wait for an error scope: [`GpuContext::checked`] hears of them later).
+    late_errors: Arc<Mutex<Vec<String>>>,
 }
 
 impl GpuContext {
     /// Creates an instance, picks the default adapter and opens a device on it, with no window.
+    /// (In a web page, which cannot wait, an error: there [`GpuContext::open`] is awaited.)
     pub fn headless() -> Result<GpuContext, GpuError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter =
-            crate::platform::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+        crate::platform::block_on(Self::open())
+            .ok_or_else(|| GpuError::NoAdapter(NOT_IN_BROWSER.into()))?
+    }
+
+    /// [`GpuContext::headless`] as a future: natively any backend wgpu finds (the environment
+    /// may choose, `WGPU_BACKEND`); in a web page WebGPU only (the page itself draws with
+    /// WebGL2, and a WebGL context needs a canvas of its own).
+    pub async fn open() -> Result<GpuContext, GpuError> {
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        if crate::platform::IN_BROWSER {
+            descriptor.backends = wgpu::Backends::BROWSER_WEBGPU;
+        }
+        let instance = wgpu::Instance::new(descriptor);
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
                 power_preference: wgpu::PowerPreference::HighPerformance,
                 force_fallback_adapter: false,
                 compatible_surface: None,
                 ..Default::default()
-            }))
-            .ok_or_else(|| GpuError::NoAdapter(NOT_IN_BROWSER.into()))?
+            })
+            .await
             .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let ray_query = adapter
             .features()
             .contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY);
         // Both only where the adapter offers them.
         let wanted = wgpu::Features::EXPERIMENTAL_RAY_QUERY | wgpu::Features::PASSTHROUGH_SHADERS;
-        let (device, queue) =
-            crate::platform::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
                 label: Some("raystep gpu"),
                 required_features: adapter.features() & wanted,
                 required_limits: adapter.limits(),
@@ -74,8 +172,8 @@ impl GpuContext {
                     wgpu::ExperimentalFeatures::disabled()
                 },
                 ..Default::default()
-            }))
-            .ok_or_else(|| GpuError::Device(NOT_IN_BROWSER.into()))?
+            })
+            .await
             .map_err(|e| GpuError::Device(e.to_string()))?;
         Ok(GpuContext::from_device(
             device,
@@ -105,6 +203,8 @@ impl GpuContext {
             ray_query: adapter_features.contains(wgpu::Features::EXPERIMENTAL_RAY_QUERY),
             passthrough,
             arithmetic: Arc::default(),
+            probe: Arc::default(),
+            late_errors: Arc::default(),
         }
     }
 
@@ -115,21 +215,65 @@ impl GpuContext {
         self.arithmetic.get_or_init(|| self.run_probe()).clone()
     }
 
-    fn run_probe(&self) -> Result<Arithmetic, GpuError> {
-        let inputs = exact::probe_inputs();
-        let bytes: Vec<u8> = inputs
-            .iter()
-            .flatten()
-            .flat_map(|v| v.to_le_bytes())
-            .collect();
+    /// The arithmetic without waiting (for a web page): `None` while the probe is on its way
+    /// (it is started by the first call; ask again on a later frame). Natively the same as
+    /// [`GpuContext::arithmetic`].
+    pub fn arithmetic_nowait(&self) -> Option<Result<Arithmetic, GpuError>> {
+        if !crate::platform::IN_BROWSER {
+            return Some(self.arithmetic());
+        }
+        if let Some(known) = self.arithmetic.get() {
+            return Some(known.clone());
+        }
+        let Ok(mut pending) = self.probe.lock() else {
+            return Some(Err(GpuError::Device(
+                "the probe's lock was poisoned".into(),
+            )));
+        };
+        let answer = match pending.as_mut() {
+            None => match self.start_probe() {
+                Ok(r) => {
+                    *pending = Some(r);
+                    return None;
+                }
+                Err(e) => Err(e),
+            },
+            Some(r) => match r.poll()? {
+                Ok(bytes) => Ok(self.probe_answers(&words(&bytes, probe_outputs()))),
+                Err(e) => Err(e),
+            },
+        };
+        *pending = None;
+        Some(self.arithmetic.get_or_init(|| answer).clone())
+    }
+
+    /// The probe kernel on its way, loaded as the tracer will be.
+    fn start_probe(&self) -> Result<Readback, GpuError> {
         let form = if self.passthrough {
             KernelForm::SpirvNoContraction
         } else {
             KernelForm::Wgsl
         };
-        let outputs = inputs.len() * exact::PROBE_OUTPUTS;
-        let out = self.run_kernel(&exact::probe_wgsl(), &bytes, outputs, form)?;
-        let probe = Probe::from_outputs(&inputs, &out);
+        self.start_kernel(&exact::probe_wgsl(), &probe_bytes(), probe_outputs(), form)
+    }
+
+    /// The probe's answers from its output words (loaded as [`Self::start_probe`] loads it).
+    fn probe_answers(&self, out: &[u32]) -> Arithmetic {
+        Arithmetic {
+            spirv: self.passthrough,
+            float_controls: false,
+            probe: Probe::from_outputs(&exact::probe_inputs(), out),
+        }
+    }
+
+    fn run_probe(&self) -> Result<Arithmetic, GpuError> {
+        let inputs = exact::probe_inputs();
+        let bytes = probe_bytes();
+        let outputs = probe_outputs();
+        let first = self.start_probe()?;
+        let probe = self
+            .probe_answers(&words(&self.finish_read(first)?, outputs))
+            .probe;
         // A driver that flushes subnormals may keep them when asked (SPIR-V float controls).
         // Asked only then, and kept only if nothing else came out worse.
         if self.passthrough && !probe.subnormals_kept() {
@@ -152,6 +296,15 @@ impl GpuContext {
         })
     }
 
+    /// Errors the browser reported after the calls that caused them had returned (taken: each is
+    /// given once). Natively always empty: [`Self::checked`] waits for its error scopes.
+    pub fn late_errors(&self) -> Vec<String> {
+        self.late_errors
+            .lock()
+            .map(|mut e| std::mem::take(&mut *e))
+            .unwrap_or_default()
+    }
+
     /// Runs a small compute kernel once and returns its output words: the WGSL's entry point
     /// `main` (`@workgroup_size(64)`, one invocation per 16 input bytes) reads `inputs` at
     /// `@group(0) @binding(0)` (a read-only storage array) and writes `outputs` 32-bit words at
@@ -164,6 +317,18 @@ impl GpuContext {
         outputs: usize,
         form: KernelForm,
     ) -> Result<Vec<u32>, GpuError> {
+        let readback = self.start_kernel(wgsl, inputs, outputs, form)?;
+        Ok(words(&self.finish_read(readback)?, outputs))
+    }
+
+    /// [`Self::run_kernel`] without waiting: the output words' bytes on their way back.
+    fn start_kernel(
+        &self,
+        wgsl: &str,
+        inputs: &[u8],
+        outputs: usize,
+        form: KernelForm,
+    ) -> Result<Readback, GpuError> {
         use wgpu::util::DeviceExt;
         let device = &self.device;
         let out_size = (outputs.max(1) * 4) as u64;
@@ -271,12 +436,7 @@ impl GpuContext {
             self.queue.submit([encoder.finish()]);
             readback
         })?;
-        Ok(self
-            .read_mapped(&readback)?
-            .chunks_exact(4)
-            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-            .take(outputs)
-            .collect())
+        Ok(self.start_read(&readback))
     }
 
     /// A compute shader module from WGSL: compiled to SPIR-V with `NoContraction` on every
@@ -320,7 +480,13 @@ impl GpuContext {
             wgpu::DeviceType::VirtualGpu => "virtual GPU",
             wgpu::DeviceType::Other => "other",
         };
-        format!("{}, {:?}, {kind}", self.info.name, self.info.backend)
+        // A browser may withhold the adapter's name (WebGPU's `description`).
+        let name = if self.info.name.is_empty() {
+            "an adapter whose name the browser withholds"
+        } else {
+            &self.info.name
+        };
+        format!("{name}, {:?}, {kind}", self.info.backend)
     }
 
     /// Runs `f` inside a validation and an out-of-memory error scope; a captured error becomes
@@ -329,10 +495,22 @@ impl GpuContext {
         let oom = self.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
         let validation = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let value = f();
-        // In the browser an error scope's answer comes later (`None` here): the error then
-        // reaches the console as an uncaptured one.
-        let v = crate::platform::block_on(validation.pop()).flatten();
-        let o = crate::platform::block_on(oom.pop()).flatten();
+        // Popped here, innermost first (a pop takes effect at once; its answer comes later).
+        let (v, o) = (validation.pop(), oom.pop());
+        if crate::platform::IN_BROWSER {
+            // A page cannot wait for the scopes' answers: they come on the event loop, and an
+            // error is kept for the GPU view to show ([`Self::late_errors`]).
+            let (late, what) = (Arc::clone(&self.late_errors), what.to_string());
+            crate::platform::browser::spawn_local(async move {
+                let (v, o) = (v.await, o.await);
+                if let (Some(e), Ok(mut late)) = (v.or(o), late.lock()) {
+                    late.push(format!("{what}: {e}"));
+                }
+            });
+            return Ok(value);
+        }
+        let v = crate::platform::block_on(v).flatten();
+        let o = crate::platform::block_on(o).flatten();
         match v.or(o) {
             Some(e) => Err(GpuError::Device(format!("{what}: {e}"))),
             None => Ok(value),
@@ -347,6 +525,18 @@ impl GpuContext {
         size: [u32; 2],
         texel: u32,
     ) -> Result<Vec<u8>, GpuError> {
+        let mut r = self.start_read_texture(texture, size, texel)?;
+        self.wait()?;
+        r.poll().unwrap_or_else(|| Err(not_yet()))
+    }
+
+    /// [`Self::read_texture`] without waiting: the texture's rows on their way back.
+    pub(crate) fn start_read_texture(
+        &self,
+        texture: &wgpu::Texture,
+        size: [u32; 2],
+        texel: u32,
+    ) -> Result<TextureReadback, GpuError> {
         let [w, h] = size;
         let row = (w * texel).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT)
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -383,42 +573,40 @@ impl GpuContext {
             self.queue.submit([encoder.finish()]);
             buffer
         })?;
-        let bytes = self.read_mapped(&buffer)?;
-        let used = (w * texel) as usize;
-        Ok(bytes
-            .chunks(row as usize)
-            .take(h as usize)
-            .flat_map(|r| &r[..used])
-            .copied()
-            .collect())
+        Ok(TextureReadback {
+            readback: self.start_read(&buffer),
+            size,
+            texel,
+            row,
+        })
     }
 
-    /// Maps a `MAP_READ` buffer whose copy has been submitted, waits for the GPU, and returns
-    /// its bytes (the buffer is unmapped again).
-    pub(crate) fn read_mapped(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, GpuError> {
-        if crate::platform::IN_BROWSER {
-            return Err(GpuError::Device(NOT_IN_BROWSER.into()));
-        }
-        let slice = buffer.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
+    /// Asks for a `MAP_READ` buffer's bytes (its copy submitted): [`Readback::poll`] takes them
+    /// once the GPU has written them.
+    pub fn start_read(&self, buffer: &wgpu::Buffer) -> Readback {
+        let mapped = Arc::new(Mutex::new(None));
+        let answer = Arc::clone(&mapped);
+        buffer.slice(..).map_async(wgpu::MapMode::Read, move |r| {
+            if let Ok(mut a) = answer.lock() {
+                *a = Some(r);
+            }
         });
+        Readback {
+            buffer: buffer.clone(),
+            mapped,
+            taken: false,
+        }
+    }
+
+    /// Waits for a readback's bytes (natively; in a web page an error unless they have come).
+    pub fn finish_read(&self, mut readback: Readback) -> Result<Vec<u8>, GpuError> {
         self.wait()?;
-        rx.recv()
-            .map_err(|e| GpuError::Device(e.to_string()))?
-            .map_err(|e| GpuError::Device(format!("mapping the readback buffer: {e}")))?;
-        let bytes = slice
-            .get_mapped_range()
-            .map_err(|e| GpuError::Device(format!("reading the readback buffer: {e:?}")))?
-            .to_vec();
-        buffer.unmap();
-        Ok(bytes)
+        readback.poll().unwrap_or_else(|| Err(not_yet()))
     }
 
     /// Waits until the GPU has done what was submitted. In the browser a page cannot wait: the
     /// work is done in order anyway (the 3D view draws, then egui shows it), so this returns.
-    pub(crate) fn wait(&self) -> Result<(), GpuError> {
+    pub fn wait(&self) -> Result<(), GpuError> {
         if crate::platform::IN_BROWSER {
             return Ok(());
         }
@@ -430,6 +618,34 @@ impl GpuContext {
             .map(|_| ())
             .map_err(|e| GpuError::Device(e.to_string()))
     }
+}
+
+/// What a wait that a web page cannot make says.
+fn not_yet() -> GpuError {
+    GpuError::Device(NOT_IN_BROWSER.into())
+}
+
+/// Little-endian 32-bit words from bytes, the first `n`.
+fn words(bytes: &[u8], n: usize) -> Vec<u32> {
+    bytes
+        .chunks_exact(4)
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .take(n)
+        .collect()
+}
+
+/// The probe's inputs as the kernel reads them.
+fn probe_bytes() -> Vec<u8> {
+    exact::probe_inputs()
+        .iter()
+        .flatten()
+        .flat_map(|v| v.to_le_bytes())
+        .collect()
+}
+
+/// How many words the probe writes.
+fn probe_outputs() -> usize {
+    exact::probe_inputs().len() * exact::PROBE_OUTPUTS
 }
 
 /// Loads SPIR-V words as a shader module without wgpu's translation.

@@ -82,7 +82,10 @@ pub mod trace_log;
 mod tracer;
 
 pub use compare::{Difference, difference};
-pub use context::{KernelForm, NOT_IN_BROWSER};
+pub use context::{KernelForm, NOT_IN_BROWSER, Readback, TextureReadback};
 pub use shader::{ShaderConfig, ShaderVariant, full_wgsl, generated_wgsl};
 pub use trace_log::GpuTrace;
-pub use tracer::{DISPLAY_FORMAT, GpuContext, GpuError, GpuFrame, GpuPath, GpuTracer, PixelDebug};
+pub use tracer::{
+    DISPLAY_FORMAT, GpuContext, GpuError, GpuFrame, GpuPath, GpuTracer, PendingTrace, PixelDebug,
+    linear_from,
+};

@@ -18,6 +18,9 @@ mod gpu_trace;
 mod readback;
 mod setup;
 
+pub use gpu_trace::PendingTrace;
+pub use readback::linear_from;
+
 use setup::{full_screen_pass, full_screen_pipeline};
 
 /// What went wrong on the GPU side. Every variant is a plain message for the user.
@@ -368,6 +371,11 @@ impl GpuTracer {
         }
         self.write_params();
         Ok(())
+    }
+
+    /// The scene it traces.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
     }
 
     /// The device's arithmetic: the probe's answers the shader was generated for.

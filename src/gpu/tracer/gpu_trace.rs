@@ -3,7 +3,18 @@
 //! invocation, its log read back and decoded ([`crate::gpu::trace_log`]).
 
 use super::*;
+use crate::gpu::context::Readback;
 use crate::gpu::trace_log::{self, GpuTrace, LOG_HEADER};
+
+/// A pixel's GPU trace on its way back ([`GpuTracer::start_trace_pixel`]): poll
+/// [`PendingTrace::readback`], then [`GpuTracer::finish_trace`].
+#[derive(Debug)]
+pub struct PendingTrace {
+    /// The log's bytes, on their way.
+    pub readback: Readback,
+    pixel: [u32; 2],
+    sample: u32,
+}
 
 impl GpuTracer {
     /// Traces sample `sample` of pixel (x, y) on the GPU with the trace shader (the compute path:
@@ -32,6 +43,21 @@ impl GpuTracer {
         sample: u32,
         log_words: usize,
     ) -> Result<GpuTrace, GpuError> {
+        let pending = self.start_trace_pixel(path, x, y, sample, log_words)?;
+        let bytes = self.ctx.finish_read(pending.readback)?;
+        self.finish_trace([x, y], sample, &bytes)
+    }
+
+    /// [`Self::trace_pixel_on`] without waiting: the log on its way back (for a caller that
+    /// cannot wait: the app in a web page).
+    pub fn start_trace_pixel(
+        &mut self,
+        path: GpuPath,
+        x: u32,
+        y: u32,
+        sample: u32,
+        log_words: usize,
+    ) -> Result<PendingTrace, GpuError> {
         if x >= self.camera.width || y >= self.camera.height {
             return Err(GpuError::Scene(format!(
                 "pixel ({x}, {y}) is outside the {}×{} image",
@@ -151,7 +177,28 @@ impl GpuTracer {
         self.trace_sample = 0;
         self.write_params();
         run?;
-        let bytes = self.ctx.read_mapped(&readback)?;
+        Ok(PendingTrace {
+            readback: self.ctx.start_read(&readback),
+            pixel: [x, y],
+            sample,
+        })
+    }
+
+    /// The trace from a [`PendingTrace`]'s log bytes.
+    pub fn finish_trace_of(
+        &self,
+        pending: &PendingTrace,
+        bytes: &[u8],
+    ) -> Result<GpuTrace, GpuError> {
+        self.finish_trace(pending.pixel, pending.sample, bytes)
+    }
+
+    fn finish_trace(
+        &self,
+        [x, y]: [u32; 2],
+        sample: u32,
+        bytes: &[u8],
+    ) -> Result<GpuTrace, GpuError> {
         let log: Vec<u32> = bytes
             .chunks_exact(4)
             .map(|w| u32::from_le_bytes([w[0], w[1], w[2], w[3]]))

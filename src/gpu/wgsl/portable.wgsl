@@ -20,12 +20,18 @@ fn p_is_finite(x: f32) -> bool {
     return (bitcast<u32>(x) & 0x7fffffffu) < 0x7f800000u;
 }
 
+// A NaN's and infinity's bits in private variables, not constants: a bitcast of a constant is
+// evaluated when the shader is compiled, and WGSL has no constant NaN or infinity (Chrome's
+// compiler rejects them).
+var<private> P_NAN_BITS: u32 = 0x7fc00000u;
+var<private> P_INF_BITS: u32 = 0x7f800000u;
+
 fn p_nan() -> f32 {
-    return bitcast<f32>(0x7fc00000u);
+    return bitcast<f32>(P_NAN_BITS);
 }
 
 fn p_inf() -> f32 {
-    return bitcast<f32>(0x7f800000u);
+    return bitcast<f32>(P_INF_BITS);
 }
 
 fn p_sin_poly(r: f32) -> f32 {

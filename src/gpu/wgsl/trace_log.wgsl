@@ -11,8 +11,10 @@
 const LOG_HEADER: u32 = 4u;
 // No record is longer than this (the longest, a triangle test, has 44 words).
 const LOG_RECORD_MAX: u32 = 64u;
-// A scratch slot the kernel did not reach (read back as "not computed").
-const NOT_COMPUTED: u32 = 0x7fc0deadu;
+// A scratch slot the kernel did not reach (read back as "not computed"): a NaN's bits. A
+// private variable, not a constant: a bitcast of a constant is evaluated when the shader is
+// compiled, and WGSL has no constant NaN (Chrome's compiler rejects it).
+var<private> NOT_COMPUTED: u32 = 0x7fc0deadu;
 
 const EV_RAY: u32 = 1u;
 const EV_CAMERA: u32 = 2u;
