@@ -3,7 +3,9 @@
 //! it builds up. The UI thread never waits on it; a new job cancels the previous one.
 
 use crate::platform::{Duration, Instant};
-use crate::render::{CANCELLED, LiveRender, Progressive, RenderOptions, RenderOutput, render};
+use crate::render::{
+    BandSize, CANCELLED, LiveRender, Progressive, RenderOptions, RenderOutput, Stepped, render,
+};
 use crate::scene::{Integrator, Scene, Settings};
 use crate::trace::PreparedScene;
 use std::sync::Arc;
@@ -35,11 +37,17 @@ fn hold(live: &LiveRender, until: Instant) {
     }
 }
 
+/// How long a step of a render in the browser traces at most (and one tile more): a band of
+/// tiles, between which the page draws. The page runs steps for 30 ms a frame
+/// (`crate::app`), so a frame holds a few bands.
+const BAND: BandSize = BandSize::Time(Duration::from_millis(8));
+
 /// Where a render job is.
 enum Stage {
     /// The scene is to be prepared.
     Prepare,
-    /// Rendering the prepared scene: in one go, or a progressive render's next pass.
+    /// Rendering the prepared scene: in one go, or a render in steps' next step (a pass of a
+    /// progressive render; in the browser, a band of tiles).
     Render(Arc<PreparedScene>, Option<Box<Progressive>>),
     /// Finished (or given up).
     Done,
@@ -100,8 +108,10 @@ impl RenderJob {
         };
         // Steps: prepare; then the render, a step per pass of a Monte Carlo render (1, 2, 4, …
         // samples per pixel, the image shown after each; the finished image is the same).
-        // Natively they follow each other on the job's thread; in the browser a frame is
-        // drawn between steps.
+        // Natively they follow each other on the job's thread, a Whitted render in one step on
+        // every core. In the browser a frame is drawn between steps, and the render's steps are
+        // bands of tiles of about `BAND` each (Whitted or Monte Carlo), so that no step holds the
+        // page for a whole pass of the image.
         crate::platform::spawn_steps(move || {
             let finished = match std::mem::replace(&mut stage, Stage::Done) {
                 Stage::Done => return false,
@@ -125,9 +135,18 @@ impl RenderJob {
                         move || watcher.progress() < 1.0 && !watcher.cancel.load(Ordering::Relaxed),
                         move || tiles_repaint(),
                     );
-                    let progressive = (settings.integrator != Integrator::Whitted
-                        && settings.spp > 1)
-                        .then(|| Box::new(Progressive::new(&prepared.tracer(), &opts)));
+                    let tracer = prepared.tracer();
+                    let passes = settings.integrator != Integrator::Whitted && settings.spp > 1;
+                    let progressive = if crate::platform::IN_BROWSER {
+                        let steps = if passes {
+                            Progressive::new(&tracer, &opts)
+                        } else {
+                            Progressive::whole(&tracer, &opts)
+                        };
+                        Some(Box::new(steps.in_bands(BAND)))
+                    } else {
+                        passes.then(|| Box::new(Progressive::new(&tracer, &opts)))
+                    };
                     stage = Stage::Render(prepared, progressive);
                     return true;
                 }
@@ -136,9 +155,15 @@ impl RenderJob {
                 }
                 Stage::Render(prepared, None) => render(&prepared.tracer(), &opts),
                 Stage::Render(prepared, Some(mut p)) => {
-                    let pass = p.next_pass(&prepared.tracer(), |done, _| after_pass(done));
-                    match pass {
-                        Ok(Some(_)) => {
+                    let step = p.next_step(&prepared.tracer(), |done, _| after_pass(done));
+                    match step {
+                        Ok(Some(Stepped::Band)) => {
+                            // The page draws the tiles so far before the next band.
+                            repaint();
+                            stage = Stage::Render(prepared, Some(p));
+                            return true;
+                        }
+                        Ok(Some(Stepped::Pass(_))) => {
                             stage = Stage::Render(prepared, Some(p));
                             return true;
                         }

@@ -35,7 +35,7 @@ pub fn spawn(job: impl FnOnce() + Send + 'static) {
 
 /// Runs a long job in steps: `step` is called until it returns `false`. Natively on a thread of
 /// its own, one step after the other. In the browser the steps run between frames
-/// ([`run_steps`]), so the page keeps drawing: a render is a step per pass.
+/// ([`run_steps`]), so the page keeps drawing: a render is a step per band of tiles.
 pub fn spawn_steps(mut step: impl FnMut() -> bool + Send + 'static) {
     #[cfg(not(target_arch = "wasm32"))]
     {

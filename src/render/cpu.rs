@@ -2,6 +2,7 @@
 //! [`Tracer::trace_pixel`] the stepped pixel uses. Every pixel depends only on (scene, pixel,
 //! sample), so the image is identical whatever the thread count.
 
+use super::bands::{BandPass, BandSize};
 use crate::accel::Accelerator;
 use crate::math::Ray;
 use crate::platform::{Duration, Instant};
@@ -15,7 +16,7 @@ use std::sync::Arc;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicUsize, Ordering};
 
-const TILE: u32 = 16;
+pub(super) const TILE: u32 = 16;
 /// Pixels in a whole tile.
 const TILE_PIXELS: usize = (TILE * TILE) as usize;
 
@@ -176,17 +177,35 @@ pub struct RenderOutput {
     pub stats: RenderStats,
 }
 
-/// A tile and its rows of the image (not yet written) and, when counted, of the visit counts
+/// A tile and its rows of the image (not yet written, `S` = `MaybeUninit<Vec3>`, in [`render`];
+/// or written over, `S` = `Vec3`, in a render in bands) and, when counted, of the visit counts
 /// (see [`tile_rows`]).
-type TileWork<'a> = (
-    Tile,
-    Vec<&'a mut [MaybeUninit<Vec3>]>,
-    Option<Vec<&'a mut [u32]>>,
-);
+pub(super) type TileWork<'a, S> = (Tile, Vec<&'a mut [S]>, Option<Vec<&'a mut [u32]>>);
+
+/// A place a traced pixel goes: a slot of [`render`]'s unfilled image, or a pixel of an image
+/// traced in bands.
+pub(super) trait Slot {
+    /// Stores the pixel's value.
+    fn put(&mut self, c: Vec3);
+}
+
+impl Slot for MaybeUninit<Vec3> {
+    #[inline(always)]
+    fn put(&mut self, c: Vec3) {
+        self.write(c);
+    }
+}
+
+impl Slot for Vec3 {
+    #[inline(always)]
+    fn put(&mut self, c: Vec3) {
+        *self = c;
+    }
+}
 
 /// What a tile's tracing leaves beside its pixels.
 #[derive(Default)]
-struct TileDone {
+pub(super) struct TileDone {
     /// Its counts (when counted).
     stats: StatsObserver,
     /// Its pixels with a NaN channel.
@@ -198,10 +217,143 @@ struct TileDone {
     written: usize,
 }
 
+/// The tiles' figures added up, in any order: a render's (or a pass's) [`RenderStats`] but for
+/// the time and the threads.
+#[derive(Debug, Default, Clone)]
+pub(super) struct Tally {
+    counts: Counter,
+    nan_rays: u64,
+    nan_pixels: u64,
+    bad_samples: u64,
+    first_bad_sample: Option<([u32; 2], u32)>,
+    /// Pixels written so far.
+    pub(super) written: usize,
+}
+
+impl Tally {
+    /// Adds a finished tile.
+    pub(super) fn add(&mut self, r: &TileDone) {
+        self.bad_samples += r.bad_samples;
+        // The first in image order (row, then column), whichever tile found it.
+        if let Some(b) = r.first_bad_sample
+            && self
+                .first_bad_sample
+                .is_none_or(|f| (b.0[1], b.0[0]) < (f.0[1], f.0[0]))
+        {
+            self.first_bad_sample = Some(b);
+        }
+        self.counts.merge(&r.stats.counts);
+        self.nan_rays += r.stats.nan_rays;
+        self.nan_pixels += r.nan_pixels;
+        self.written += r.written;
+    }
+
+    /// The statistics of a render that traced these tiles in `trace` on `threads` threads.
+    pub(super) fn stats(self, trace: Duration, threads: usize) -> RenderStats {
+        RenderStats {
+            trace,
+            counts: self.counts,
+            threads,
+            nan_rays: self.nan_rays,
+            nan_pixels: self.nan_pixels,
+            bad_samples: self.bad_samples,
+            first_bad_sample: self.first_bad_sample,
+        }
+    }
+}
+
 /// A tile's top-left pixel (its size is `TILE`, less at the right and bottom edges).
-struct Tile {
-    x0: u32,
-    y0: u32,
+pub(super) struct Tile {
+    pub(super) x0: u32,
+    pub(super) y0: u32,
+}
+
+/// What every tile of one render (or of one pass traced in bands) shares: how to trace a tile
+/// ([`TileJob::trace`]).
+pub(super) struct TileJob<'r, 't, A: Accelerator> {
+    /// The tracer of the scene.
+    pub(super) tracer: &'r Tracer<'t, A>,
+    /// The pass, in a progressive render.
+    pub(super) pass: Option<&'r Pass>,
+    /// The image's width.
+    pub(super) width: u32,
+    /// Whether rays, tests and visits are counted.
+    pub(super) count: bool,
+    /// Where finished tiles are shown and counted, and the cancel flag.
+    pub(super) live: Option<&'r LiveRender>,
+    /// The terminal's progress bar.
+    pub(super) bar: Option<&'r crate::platform::TerminalProgress>,
+}
+
+impl<A: Accelerator> TileJob<'_, '_, A> {
+    /// Whether the watching UI cancelled the render.
+    pub(super) fn cancelled(&self) -> bool {
+        self.live.is_some_and(|l| l.cancel.load(Ordering::Relaxed))
+    }
+
+    /// Traces one tile into its rows (and visit counts), shows it on the live image and counts
+    /// it there; nothing once the render is cancelled.
+    #[inline(always)]
+    pub(super) fn trace<S: Slot>(&self, (t, mut rows, mut visit_rows): TileWork<S>) -> TileDone {
+        let (tracer, pass, width, live) = (self.tracer, self.pass, self.width, self.live);
+        let mut counter = StatsObserver::default();
+        let (mut nan_pixels, mut written) = (0u64, 0usize);
+        let (mut bad_samples, mut first_bad_sample) = (0u64, None);
+        if self.cancelled() {
+            return TileDone::default();
+        }
+        // What a pixel's value is divided by to show it: its samples so far in a pass.
+        let shown_scale = pass.map_or(1.0, |p| 1.0 / p.samples.end.max(1) as f32);
+        // The tile's pixels in sRGB, for a watching UI.
+        let mut shown = Vec::with_capacity(if live.is_some() { TILE_PIXELS } else { 0 });
+        for (dy, row) in rows.iter_mut().enumerate() {
+            let y = t.y0 + dy as u32;
+            let mut visits = visit_rows
+                .as_mut()
+                .and_then(|v| v.get_mut(dy))
+                .map(|r| r.iter_mut());
+            for (dx, slot) in row.iter_mut().enumerate() {
+                let x = t.x0 + dx as u32;
+                let (color, bad, first) = if self.count {
+                    let before = counter.counts.node_visits;
+                    let checked = trace_pixel(tracer, pass, width, x, y, &mut counter);
+                    if let Some(slot) = visits.as_mut().and_then(|v| v.next()) {
+                        *slot = (counter.counts.node_visits - before) as u32;
+                    }
+                    checked
+                } else {
+                    trace_pixel(tracer, pass, width, x, y, &mut Silent)
+                };
+                if bad > 0 {
+                    bad_samples += u64::from(bad);
+                    if let Some(k) = first {
+                        first_bad_sample.get_or_insert(([x, y], k));
+                    }
+                }
+                slot.put(color);
+                written += 1;
+                nan_pixels += u64::from(color.is_nan());
+                if live.is_some() {
+                    shown.push(srgba(color * shown_scale));
+                }
+            }
+        }
+        if let Some(b) = self.bar {
+            b.inc(1);
+        }
+        if let Some(l) = live {
+            let tile_width = rows.first().map_or(1, |r| r.len());
+            let weight = pass.map_or(1, |p| p.samples.len());
+            publish_tile(l, &t, width, tile_width, &shown, weight);
+        }
+        TileDone {
+            stats: counter,
+            nan_pixels,
+            bad_samples,
+            first_bad_sample,
+            written,
+        }
+    }
 }
 
 /// One pixel of a render: all its samples' mean, or in a pass of a progressive render its
@@ -246,9 +398,21 @@ pub fn render_progressive<A: Accelerator>(
     p.finish()
 }
 
-/// [`render_progressive`] a pass at a time: each [`Progressive::next_pass`] traces one pass
-/// (1, 1, 2, 4, … samples per pixel), so a caller that cannot wait for the whole render (the
-/// browser's only thread) draws the image between passes.
+/// What one step of a [`Progressive`] render did ([`Progressive::next_step`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stepped {
+    /// Traced a band of the current pass, which goes on.
+    Band,
+    /// Finished a pass: every pixel has this many samples now.
+    Pass(u32),
+}
+
+/// [`render_progressive`] a step at a time, so that a caller that cannot wait for the whole
+/// render (the browser's only thread) draws the image between steps. A step is a pass (1, 1,
+/// 2, 4, … samples per pixel, on every thread, by [`render`]) or, [`Progressive::in_bands`], a
+/// band of tiles of a pass on the calling thread. [`Progressive::whole`] is [`render`] itself
+/// in steps: one pass of every sample. Whatever the steps, the finished image and its figures
+/// are [`render`]'s, bit for bit.
 #[derive(Debug)]
 pub struct Progressive {
     opts: RenderOptions,
@@ -257,64 +421,147 @@ pub struct Progressive {
     start: u32,
     sums: Option<Arc<Vec<Vec3>>>,
     total: Option<RenderOutput>,
+    /// One pass of every sample, its pixels their means: [`render`] without a pass.
+    whole: bool,
+    /// Steps of a band each (None: of a pass each).
+    bands: Option<BandSize>,
+    /// The pass being traced band by band.
+    current: Option<BandPass>,
 }
 
 impl Progressive {
-    /// A progressive render of `tracer`'s scene with `opts` (its live view told the totals).
+    /// A progressive render of `tracer`'s scene with `opts` (its live view told the totals), a
+    /// pass a step.
     pub fn new<A: Accelerator>(tracer: &Tracer<'_, A>, opts: &RenderOptions) -> Progressive {
         let spp = tracer.scene.settings.spp.max(1);
         let mut ends = std::collections::VecDeque::new();
         let mut end = 1u32;
         while end < spp {
             ends.push_back(end);
-            // In the browser a pass is one sample more: the page draws between passes, and a
-            // pass of half the samples would hold it for half the render. The image is the same
-            // (each pixel's sum goes on in sample order).
-            end = if crate::platform::IN_BROWSER {
-                end + 1
-            } else {
-                end.saturating_mul(2)
-            };
+            end = end.saturating_mul(2);
         }
         ends.push_back(spp);
         if let Some(live) = &opts.live {
-            let tiles = tracer.camera.width.div_ceil(TILE) as usize
-                * tracer.camera.height.div_ceil(TILE) as usize;
             // Progress in tile-samples: a pass's tiles count as many times as it has samples.
             live.tiles_total
-                .store(tiles * spp as usize, Ordering::Relaxed);
+                .store(tiles(tracer) * spp as usize, Ordering::Relaxed);
             live.samples_total.store(spp, Ordering::Relaxed);
         }
+        Progressive::planned(opts, spp, ends, false)
+    }
+
+    /// [`render`] of `tracer`'s scene with `opts` as one pass of every sample (for stepping
+    /// [`Progressive::in_bands`]; its live view counts tiles as [`render`]'s does).
+    pub fn whole<A: Accelerator>(tracer: &Tracer<'_, A>, opts: &RenderOptions) -> Progressive {
+        let spp = tracer.scene.settings.spp.max(1);
+        if let Some(live) = &opts.live {
+            live.tiles_total.store(tiles(tracer), Ordering::Relaxed);
+        }
+        Progressive::planned(opts, spp, [spp].into(), true)
+    }
+
+    /// A render of passes ending at `ends`, nothing traced yet.
+    fn planned(
+        opts: &RenderOptions,
+        spp: u32,
+        ends: std::collections::VecDeque<u32>,
+        whole: bool,
+    ) -> Progressive {
         Progressive {
-            opts: opts.clone(),
+            opts: RenderOptions {
+                pass: None,
+                ..opts.clone()
+            },
             spp,
             ends,
             start: 0,
             sums: None,
             total: None,
+            whole,
+            bands: None,
+            current: None,
         }
     }
 
-    /// Traces the next pass and calls `after_pass` with the samples per pixel done and the
-    /// pass's output; `None` once every pass is done. `tracer` must be the one given to
-    /// [`Progressive::new`] (or one of the same prepared scene).
+    /// The same render in steps of a band of tiles each, traced on the calling thread (one
+    /// thread, `opts.threads` aside, and no terminal progress bar): each step is short, and
+    /// the live view shows each tile as it finishes.
+    pub fn in_bands(mut self, size: BandSize) -> Progressive {
+        self.bands = Some(size);
+        self
+    }
+
+    /// Traces the next step (a pass, or a band of one [`Progressive::in_bands`]) and, when it
+    /// ends a pass, calls `after_pass` with the samples per pixel done and the pass's output;
+    /// `None` once every pass is done. `tracer` must be the one given to [`Progressive::new`]
+    /// (or one of the same prepared scene).
+    pub fn next_step<A: Accelerator>(
+        &mut self,
+        tracer: &Tracer<'_, A>,
+        after_pass: impl FnMut(u32, &RenderOutput),
+    ) -> Result<Option<Stepped>, String> {
+        let Some(&end) = self.ends.front() else {
+            return Ok(None);
+        };
+        let pass = (!self.whole).then(|| Pass {
+            samples: self.start..end,
+            sums: self.sums.clone(),
+        });
+        let out = match self.bands {
+            None => render(
+                tracer,
+                &RenderOptions {
+                    pass,
+                    ..self.opts.clone()
+                },
+            )?,
+            Some(size) => {
+                let (width, height) = (tracer.camera.width, tracer.camera.height);
+                let current = self
+                    .current
+                    .get_or_insert_with(|| BandPass::new(width, height, pass, self.opts.count));
+                if !current.next_band(tracer, &self.opts, size)? {
+                    return Ok(Some(Stepped::Band));
+                }
+                self.current
+                    .take()
+                    .ok_or("internal error: a band with no pass")?
+                    .output()?
+            }
+        };
+        self.ends.pop_front();
+        self.end_pass(end, out, after_pass);
+        Ok(Some(Stepped::Pass(end)))
+    }
+
+    /// Traces the rest of the next pass (all of it but in bands) and calls `after_pass` with the
+    /// samples per pixel done and the pass's output; `None` once every pass is done. `tracer`
+    /// must be the one given to [`Progressive::new`] (or one of the same prepared scene).
     pub fn next_pass<A: Accelerator>(
         &mut self,
         tracer: &Tracer<'_, A>,
         mut after_pass: impl FnMut(u32, &RenderOutput),
     ) -> Result<Option<u32>, String> {
-        let Some(end) = self.ends.pop_front() else {
-            return Ok(None);
-        };
-        let pass_opts = RenderOptions {
-            pass: Some(Pass {
-                samples: self.start..end,
-                sums: self.sums.clone(),
-            }),
-            ..self.opts.clone()
-        };
-        let out = render(tracer, &pass_opts)?;
-        if let Some(live) = &self.opts.live {
+        loop {
+            match self.next_step(tracer, &mut after_pass)? {
+                Some(Stepped::Band) => {}
+                Some(Stepped::Pass(end)) => return Ok(Some(end)),
+                None => return Ok(None),
+            }
+        }
+    }
+
+    /// Takes in a finished pass's output: its figures added to the render's, its pixels the
+    /// running sums (or, [`Progressive::whole`], the means).
+    fn end_pass(
+        &mut self,
+        end: u32,
+        out: RenderOutput,
+        mut after_pass: impl FnMut(u32, &RenderOutput),
+    ) {
+        if let Some(live) = &self.opts.live
+            && !self.whole
+        {
             live.samples_done.store(end, Ordering::Relaxed);
         }
         after_pass(end, &out);
@@ -342,7 +589,6 @@ impl Progressive {
         });
         self.sums = Some(Arc::new(out.pixels));
         self.start = end;
-        Ok(Some(end))
     }
 
     /// The finished render: the mean of every pass's samples.
@@ -353,11 +599,21 @@ impl Progressive {
         let sums = self
             .sums
             .ok_or("internal error: a progressive render with no pass")?;
-        // The mean exactly as Tracer::trace_pixel divides it.
-        out.pixels = sums.iter().map(|s| *s / self.spp as f32).collect();
+        out.pixels = if self.whole {
+            // One pass without a pass: its pixels are the means already.
+            Arc::unwrap_or_clone(sums)
+        } else {
+            // The mean exactly as Tracer::trace_pixel divides it.
+            sums.iter().map(|s| *s / self.spp as f32).collect()
+        };
         out.stats.nan_pixels = out.pixels.iter().filter(|p| p.is_nan()).count() as u64;
         Ok(out)
     }
+}
+
+/// The tiles of `tracer`'s image.
+fn tiles<A: Accelerator>(tracer: &Tracer<'_, A>) -> usize {
+    tracer.camera.width.div_ceil(TILE) as usize * tracer.camera.height.div_ceil(TILE) as usize
 }
 
 /// Renders the tracer's scene.
@@ -379,7 +635,7 @@ pub fn render<A: Accelerator>(
         .as_deref_mut()
         .map(|v| tile_rows(v, width).into_iter().map(|(_, rows)| rows));
     let slots = pixels.spare_capacity_mut().get_mut(..n).unwrap_or_default();
-    let work: Vec<TileWork> = tile_rows(slots, width)
+    let work: Vec<TileWork<MaybeUninit<Vec3>>> = tile_rows(slots, width)
         .into_iter()
         .map(|(t, rows)| (t, rows, visit_rows.as_mut().and_then(|v| v.next())))
         .collect();
@@ -403,70 +659,16 @@ pub fn render<A: Accelerator>(
     {
         live.tiles_total.store(work.len(), Ordering::Relaxed);
     }
-    let pass = opts.pass.as_ref();
-    // What a pixel's value is divided by to show it: its samples so far in a pass.
-    let shown_scale = pass.map_or(1.0, |p| 1.0 / p.samples.end.max(1) as f32);
     let start = Instant::now();
-    let count = opts.count;
-    let live = opts.live.as_deref();
-    let cancelled = || live.is_some_and(|l| l.cancel.load(Ordering::Relaxed));
-    let per_tile = |(t, mut rows, mut visit_rows): TileWork| {
-        let mut counter = StatsObserver::default();
-        let (mut nan_pixels, mut written) = (0u64, 0usize);
-        let (mut bad_samples, mut first_bad_sample) = (0u64, None);
-        if cancelled() {
-            return TileDone::default();
-        }
-        // The tile's pixels in sRGB, for a watching UI.
-        let mut shown = Vec::with_capacity(if live.is_some() { TILE_PIXELS } else { 0 });
-        for (dy, row) in rows.iter_mut().enumerate() {
-            let y = t.y0 + dy as u32;
-            let mut visits = visit_rows
-                .as_mut()
-                .and_then(|v| v.get_mut(dy))
-                .map(|r| r.iter_mut());
-            for (dx, slot) in row.iter_mut().enumerate() {
-                let x = t.x0 + dx as u32;
-                let (color, bad, first) = if count {
-                    let before = counter.counts.node_visits;
-                    let checked = trace_pixel(tracer, pass, width, x, y, &mut counter);
-                    if let Some(slot) = visits.as_mut().and_then(|v| v.next()) {
-                        *slot = (counter.counts.node_visits - before) as u32;
-                    }
-                    checked
-                } else {
-                    trace_pixel(tracer, pass, width, x, y, &mut Silent)
-                };
-                if bad > 0 {
-                    bad_samples += u64::from(bad);
-                    if let Some(k) = first {
-                        first_bad_sample.get_or_insert(([x, y], k));
-                    }
-                }
-                slot.write(color);
-                written += 1;
-                nan_pixels += u64::from(color.is_nan());
-                if live.is_some() {
-                    shown.push(srgba(color * shown_scale));
-                }
-            }
-        }
-        if let Some(b) = &bar {
-            b.inc(1);
-        }
-        if let Some(l) = live {
-            let tile_width = rows.first().map_or(1, |r| r.len());
-            let weight = pass.map_or(1, |p| p.samples.len());
-            publish_tile(l, &t, width, tile_width, &shown, weight);
-        }
-        TileDone {
-            stats: counter,
-            nan_pixels,
-            bad_samples,
-            first_bad_sample,
-            written,
-        }
+    let job = TileJob {
+        tracer,
+        pass: opts.pass.as_ref(),
+        width,
+        count: opts.count,
+        live: opts.live.as_deref(),
+        bar: bar.as_ref(),
     };
+    let per_tile = |work: TileWork<MaybeUninit<Vec3>>| job.trace(work);
     // Each thread starts on its own band of the image (the calling thread on the first) and,
     // when its band is done, takes tiles from the far end of the band with the most left, one
     // at a time, so no thread idles while a tile is left. Two things this replaced cost time:
@@ -483,7 +685,8 @@ pub fn render<A: Accelerator>(
         // No more bands than tiles: a thread with no band of its own would only steal.
         let tiles = work.len();
         let bands = bands(work, threads.min(tiles));
-        let thieves: Vec<Stealer<TileWork>> = bands.iter().map(Worker::stealer).collect();
+        let thieves: Vec<Stealer<TileWork<MaybeUninit<Vec3>>>> =
+            bands.iter().map(Worker::stealer).collect();
         let (per_tile, thieves) = (&per_tile, &thieves[..]);
         let mut bands = bands.into_iter();
         let first = bands.next();
@@ -520,28 +723,16 @@ pub fn render<A: Accelerator>(
         }
     };
     let trace = start.elapsed();
+    let cancelled = job.cancelled();
     if let Some(b) = bar {
         b.finish();
     }
-    if cancelled() {
+    if cancelled {
         return Err(CANCELLED.into());
     }
-    let mut counts = Counter::default();
-    let (mut nan_rays, mut nan_pixels, mut written) = (0, 0, 0);
-    let (mut bad_samples, mut first_bad_sample) = (0, None::<([u32; 2], u32)>);
-    for r in &results {
-        bad_samples += r.bad_samples;
-        // The first in image order (row, then column), whichever tile found it.
-        if let Some(b) = r.first_bad_sample
-            && first_bad_sample.is_none_or(|f| (b.0[1], b.0[0]) < (f.0[1], f.0[0]))
-        {
-            first_bad_sample = Some(b);
-        }
-        counts.merge(&r.stats.counts);
-        nan_rays += r.stats.nan_rays;
-        nan_pixels += r.nan_pixels;
-        written += r.written;
-    }
+    let mut tally = Tally::default();
+    results.iter().for_each(|r| tally.add(r));
+    let written = tally.written;
     if written != n {
         return Err(format!(
             "internal error: the tiles wrote {written} of the image's {n} pixels"
@@ -560,15 +751,7 @@ pub fn render<A: Accelerator>(
         height,
         pixels,
         node_visits,
-        stats: RenderStats {
-            trace,
-            counts,
-            threads,
-            nan_rays,
-            nan_pixels,
-            bad_samples,
-            first_bad_sample,
-        },
+        stats: tally.stats(trace, threads),
     })
 }
 
@@ -729,7 +912,7 @@ fn publish_tile(
 /// The image `buffer` (row-major, `width` wide) cut into tiles: for each tile (bands of `TILE`
 /// rows top to bottom, tiles left to right), its top-left pixel and its rows' pieces. Disjoint mutable slices, so the tiles can be traced in parallel straight into
 /// the image.
-fn tile_rows<T>(buffer: &mut [T], width: u32) -> Vec<(Tile, Vec<&mut [T]>)> {
+pub(super) fn tile_rows<T>(buffer: &mut [T], width: u32) -> Vec<(Tile, Vec<&mut [T]>)> {
     let (width, tile) = ((width as usize).max(1), TILE as usize);
     let mut out = vec![];
     for (band, y0) in buffer.chunks_mut(width * tile).zip((0..).step_by(tile)) {

@@ -15,10 +15,12 @@
 //! assert_eq!(png.dimensions(), (32, 24));
 //! ```
 
+pub mod bands;
 pub mod cpu;
 pub mod image;
 
+pub use bands::BandSize;
 pub use cpu::{
-    CANCELLED, LiveRender, Pass, Progressive, RenderOptions, RenderOutput, RenderStats, render,
-    render_progressive,
+    CANCELLED, LiveRender, Pass, Progressive, RenderOptions, RenderOutput, RenderStats, Stepped,
+    render, render_progressive,
 };
