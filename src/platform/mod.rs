@@ -54,6 +54,10 @@ thread_local! {
 
 /// Runs the stepped jobs ([`spawn_steps`]) for about `budget` (each at least one step), and
 /// says whether any is left. Natively they run on their threads: nothing to do here.
+///
+/// In the browser the budget grows to the time the page spent outside the steps since the last
+/// call (drawing the frame), up to four times `budget`: where a frame is slow to draw (a
+/// software renderer), the jobs still get about half of the page's time.
 pub fn run_steps(budget: Duration) -> bool {
     #[cfg(not(target_arch = "wasm32"))]
     {
@@ -62,7 +66,14 @@ pub fn run_steps(budget: Duration) -> bool {
     }
     #[cfg(target_arch = "wasm32")]
     {
+        thread_local! {
+            static LAST_RETURN: std::cell::Cell<Option<Instant>> = const { std::cell::Cell::new(None) };
+        }
         let start = Instant::now();
+        let outside = LAST_RETURN
+            .with(|l| l.take())
+            .map_or(Duration::ZERO, |t| start.duration_since(t));
+        let budget = outside.clamp(budget, budget * 4);
         loop {
             // Taken out while they run: a step may start another job.
             let mut jobs = STEPS.with(|s| std::mem::take(&mut *s.borrow_mut()));
@@ -77,7 +88,11 @@ pub fn run_steps(budget: Duration) -> bool {
                 s.extend(started);
             });
             if start.elapsed() >= budget {
-                return STEPS.with(|s| !s.borrow().is_empty());
+                let left = STEPS.with(|s| !s.borrow().is_empty());
+                if left {
+                    LAST_RETURN.with(|l| l.set(Some(Instant::now())));
+                }
+                return left;
             }
         }
     }
