@@ -9,6 +9,9 @@ headless Chromium driven by Playwright, at 1024x768 and at 1920x1080:
   - a lesson opens (Lessons -> the lesson list -> a lesson);
   - an exercise answer is checked (Exercises -> a sheet -> a student id -> an answer -> Check);
   - a link `#scene=cornell&pixel=160,120&step=7` opens that scene, pixel and step;
+  - the GPU tab: without WebGPU it says so; in a second browser with WebGPU (Chromium's
+    SwiftShader, `--enable-unsafe-webgpu`) it traces the scene, its debug pixel is the CPU's hit,
+    and its image is the CPU's within one 8-bit step on both paths (the CPU − GPU tab);
   - no uncaught exception or console error (other than those in ALLOWED, with the reason).
 
 The app's state is read from the hidden `<div id="raystep-status">` it keeps up to date (its
@@ -472,6 +475,63 @@ def check_files(browser, url, outdir):
     return app.errors
 
 
+# The central panel's tabs and the path radio at 1024x768 (the side panels at their default
+# widths): GPU render, CPU − GPU, and "compute" below them.
+GPU_TAB, DIFF_TAB, COMPUTE = (504, 43), (600, 43), (455, 66)
+# Pixel (160, 120) of three-spheres.toml on the CPU (`raystep trace scenes/three-spheres.toml
+# --pixel 160,120`): it hits the sphere "middle" at t = 4.6522236.
+PICK_OBJECT, PICK_T = "middle", 4.6522236
+
+
+def check_gpu(p, chromium, browser, url, outdir):
+    """The GPU tab: says what it needs without WebGPU; with it, traces the scene as the CPU."""
+    app = App(browser, url, (1024, 768), True, outdir)
+    app.page.goto(url)
+    app.wait(lambda s: s.get("ready") == "1", "the first render", 120)
+    app.click(GPU_TAB)
+    app.wait(lambda s: s.get("gpu") == "no-webgpu", "the GPU tab saying it needs WebGPU", 30)
+    app.page.screenshot(path=os.path.join(outdir, "1024x768-gpu-no-webgpu.png"))
+    print("without WebGPU the GPU tab says so")
+    app.page.close()
+    errors = app.errors
+
+    webgpu = p.chromium.launch(executable_path=chromium,
+                               args=CHROMIUM_ARGS + ["--enable-unsafe-webgpu"])
+    try:
+        app = App(webgpu, url, (1024, 768), True, outdir)
+        app.page.goto(url)
+        app.wait(lambda s: s.get("ready") == "1", "the first render (WebGPU browser)", 120)
+        start = time.monotonic()
+        app.click(GPU_TAB)
+        s = app.wait(lambda s: s.get("gpu") == "ready" and s.get("gpuPick"),
+                     "the GPU tab's first frame and debug pixel (WebGPU)", 180)
+        print(f"WebGPU: the GPU tab traced its first frame in {time.monotonic() - start:.1f} s:"
+              f" {s['gpuAdapter'][:90]}…")
+        if s.get("gpu", "").startswith("error") or "BrowserWebGpu" not in s["gpuAdapter"]:
+            app.fail(f"the GPU tab is not on WebGPU: {s}")
+        m = re.fullmatch(r"160,120 object=(\S+) t=(\S+)", s["gpuPick"])
+        if not m or m[1] != PICK_OBJECT or abs(float(m[2]) - PICK_T) > 1e-5 * PICK_T:
+            app.fail(f"the GPU's debug pixel {s['gpuPick']!r} is not the CPU's hit"
+                     f" ({PICK_OBJECT} at t = {PICK_T})")
+        app.page.screenshot(path=os.path.join(outdir, "1024x768-gpu.png"))
+        app.click(DIFF_TAB)
+        for path, click in [("fragment", None), ("compute", COMPUTE)]:
+            if click:
+                app.click(click)
+            s = app.wait(lambda s: s.get("gpuDiff", "").startswith(path + " path"),
+                         f"the CPU − GPU comparison on the {path} path (WebGPU)", 180)
+            m = re.search(r"max error (\d+)/255, (\d+) of (\d+) pixels differ", s["gpuDiff"])
+            if not m or int(m[1]) > 1 or int(m[2]) > int(m[3]) // 100:
+                app.fail(f"the GPU image is not the CPU's within one 8-bit step: {s['gpuDiff']}")
+            print(f"WebGPU: {s['gpuDiff']}")
+        app.page.screenshot(path=os.path.join(outdir, "1024x768-gpu-difference.png"))
+        app.page.close()
+        errors += app.errors
+    finally:
+        webgpu.close()
+    return errors
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("screenshots", help="folder for the screenshots (made if missing)")
@@ -482,6 +542,7 @@ def main():
     ap.add_argument("--size", action="append", metavar="WxH",
                     help="check only this window size (repeatable; default 1024x768, 1920x1080)")
     ap.add_argument("--no-link", action="store_true", help="skip the link check")
+    ap.add_argument("--no-gpu", action="store_true", help="skip the GPU tab's checks")
     args = ap.parse_args()
     sizes = [tuple(int(v) for v in s.split("x")) for s in args.size or ["1024x768", "1920x1080"]]
     try:
@@ -509,6 +570,8 @@ def main():
                 errors += check_link(browser, url, args.screenshots)
             if has_status:
                 errors += check_files(browser, url, args.screenshots)
+            if has_status and not args.no_gpu:
+                errors += check_gpu(p, args.chromium, browser, url, args.screenshots)
             browser.close()
     except Failed as e:
         sys.exit(f"web/check.py FAILED: {e}")
