@@ -509,3 +509,42 @@ fn time_to_relmse_interpolates_on_the_log_log_line() {
     let t = time_to_relmse(&r, 0.2).unwrap();
     assert!((t - 2.0 * 2f64.sqrt()).abs() < 1e-12, "{t}");
 }
+
+/// The suite a case a step (the app's Lab in a web page draws between steps): several steps,
+/// each but the last without a report, and the report the one-call run's (the timings apart).
+#[test]
+fn the_suite_in_steps_gives_the_runs_report() {
+    let whole = quick();
+    let mut suite = raystep::stability::Suite::new(&Options::quick());
+    let mut steps = 1;
+    let stepped = loop {
+        match suite.step() {
+            Some(r) => break r,
+            None => steps += 1,
+        }
+    };
+    let cases: std::collections::BTreeSet<_> = whole.rows.iter().map(|r| r.case).collect();
+    // A case a step (some cases share a name in the rows), then the report.
+    assert!(steps > cases.len(), "{steps} steps for {} case names", cases.len());
+    let key = |r: &raystep::stability::Row| {
+        format!(
+            "{} {:?} {:?} {} {} {} {} {} {} {} {}",
+            r.case,
+            r.method,
+            r.precision,
+            r.rays,
+            r.misclassified,
+            r.leaks,
+            r.self_hits,
+            r.nonfinite,
+            r.compared,
+            r.t_max_ulps,
+            r.t_p99_ulps
+        )
+    };
+    assert_eq!(
+        stepped.rows.iter().map(key).collect::<Vec<_>>(),
+        whole.rows.iter().map(key).collect::<Vec<_>>()
+    );
+    assert_eq!(stepped.rays, whole.rays);
+}

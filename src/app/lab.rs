@@ -67,17 +67,22 @@ impl Default for LabView {
 }
 
 impl LabView {
-    /// Starts the quick suite on a background thread (unless it is running).
+    /// Starts the quick suite in the background (unless it is running): a case a step, on a
+    /// thread of its own natively, between frames in a web page (which keeps drawing).
     pub fn start(&mut self, ctx: &egui::Context) {
         if self.running.is_some() {
             return;
         }
         let (tx, rx) = std::sync::mpsc::channel();
         let repaint = ctx.clone();
-        let opts = self.options.clone();
-        crate::platform::spawn(move || {
-            let _ = tx.send(stability::run(&opts));
-            repaint.request_repaint();
+        let mut suite = stability::Suite::new(&self.options);
+        crate::platform::spawn_steps(move || match suite.step() {
+            None => true,
+            Some(report) => {
+                let _ = tx.send(report);
+                repaint.request_repaint();
+                false
+            }
         });
         self.running = Some((rx, Instant::now()));
     }

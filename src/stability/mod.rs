@@ -317,30 +317,66 @@ impl Report {
 /// Runs the lab: generates every case, computes the exact references, runs every applicable
 /// method in f32 and f64, and times each on the same inputs. Never panics on its own inputs.
 pub fn run(opts: &Options) -> Report {
-    let start = Instant::now();
-    let catalogue = cases::catalogue(opts);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.unwrap_or(0))
-        .build()
-        .ok();
-    let mut rows = vec![];
-    let mut samples = measure::Samples::default();
-    let mut rays = 0;
-    for case in &catalogue {
-        rays += case.len();
-        let mut work = || measure::run_case(case, opts, &mut samples);
-        let mut out = match &pool {
+    let mut suite = Suite::new(opts);
+    loop {
+        if let Some(report) = suite.step() {
+            return report;
+        }
+    }
+}
+
+/// [`run`] a case at a time, for a caller that cannot wait for the whole suite (the app in a web
+/// page draws between cases): [`Suite::step`] until it gives the report, which is [`run`]'s.
+pub struct Suite {
+    opts: Options,
+    start: Instant,
+    catalogue: std::vec::IntoIter<cases::Case>,
+    pool: Option<rayon::ThreadPool>,
+    rows: Vec<Row>,
+    samples: measure::Samples,
+    rays: usize,
+}
+
+impl Suite {
+    /// The suite of `opts`, its cases generated, none run yet.
+    pub fn new(opts: &Options) -> Suite {
+        let start = Instant::now();
+        let catalogue = cases::catalogue(opts).into_iter();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(opts.threads.unwrap_or(0))
+            .build()
+            .ok();
+        Suite {
+            opts: opts.clone(),
+            start,
+            catalogue,
+            pool,
+            rows: vec![],
+            samples: measure::Samples::default(),
+            rays: 0,
+        }
+    }
+
+    /// Runs the next case; the report once every case has run.
+    pub fn step(&mut self) -> Option<Report> {
+        let Some(case) = self.catalogue.next() else {
+            let points = measure::points(&self.rows, &self.samples);
+            return Some(Report {
+                rows: std::mem::take(&mut self.rows),
+                points,
+                rays: self.rays,
+                seconds: self.start.elapsed().as_secs_f64(),
+                quick: self.opts.quick,
+            });
+        };
+        self.rays += case.len();
+        let (opts, samples) = (&self.opts, &mut self.samples);
+        let mut work = || measure::run_case(&case, opts, samples);
+        let mut out = match &self.pool {
             Some(p) => p.install(work),
             None => work(),
         };
-        rows.append(&mut out);
-    }
-    let points = measure::points(&rows, &samples);
-    Report {
-        rows,
-        points,
-        rays,
-        seconds: start.elapsed().as_secs_f64(),
-        quick: opts.quick,
+        self.rows.append(&mut out);
+        None
     }
 }

@@ -3,13 +3,25 @@
 
 use raystep::gpu::{GpuContext, GpuError};
 
-/// Holds the GPU for one test at a time. NVIDIA's Vulkan driver (580, on an H200) hangs when
-/// several tests of one binary create devices, or start `raystep --gpu`, at the same time; one
-/// at a time tests/gpu.rs runs in about 26 s there.
-pub fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
+/// Holds the GPU for one test at a time where that is needed: NVIDIA's Vulkan driver (580, on
+/// an H200) hangs when several tests of one binary create devices, or start `raystep --gpu`, at
+/// the same time (one at a time tests/gpu.rs runs in about 26 s there). Elsewhere (lavapipe, a
+/// CPU adapter whose shader compiles take one core each) the tests run side by side: `None`.
+/// `RAYSTEP_GPU_TESTS_SERIAL=1` asks for one at a time anyway.
+pub fn one_at_a_time() -> Option<std::sync::MutexGuard<'static, ()>> {
     static GPU: std::sync::Mutex<()> = std::sync::Mutex::new(());
+    static SERIAL: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    let serial = *SERIAL.get_or_init(|| {
+        use eframe::wgpu;
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()));
+        const NVIDIA: u32 = 0x10de;
+        std::env::var_os("RAYSTEP_GPU_TESTS_SERIAL").is_some()
+            || adapters.iter().any(|a| a.get_info().vendor == NVIDIA)
+    });
     // A test that failed while holding it leaves it poisoned; the next still runs.
-    GPU.lock().unwrap_or_else(|e| e.into_inner())
+    serial.then(|| GPU.lock().unwrap_or_else(|e| e.into_inner()))
 }
 
 /// The headless context, or None (after printing why) where wgpu finds no adapter. Under CI
