@@ -525,7 +525,11 @@ fn the_suite_in_steps_gives_the_runs_report() {
     };
     let cases: std::collections::BTreeSet<_> = whole.rows.iter().map(|r| r.case).collect();
     // A case a step (some cases share a name in the rows), then the report.
-    assert!(steps > cases.len(), "{steps} steps for {} case names", cases.len());
+    assert!(
+        steps > cases.len(),
+        "{steps} steps for {} case names",
+        cases.len()
+    );
     let key = |r: &raystep::stability::Row| {
         format!(
             "{} {:?} {:?} {} {} {} {} {} {} {} {}",

@@ -40,9 +40,14 @@ pub(super) fn menu_bar(
                     a.perform(to);
                 }
             }
-            if !state.prefs.recent.is_empty() {
+            // In a web page a file opened there lives in the page's memory, gone after a
+            // reload: the list keeps those still there (and the built-in files).
+            let recent: Vec<_> = (state.prefs.recent.iter())
+                .filter(|p| !crate::platform::IN_BROWSER || crate::platform::files::is_file(p))
+                .collect();
+            if !recent.is_empty() {
                 ui.menu_button("Recent", |ui| {
-                    for p in &state.prefs.recent {
+                    for p in recent {
                         if ui.button(p.display().to_string()).clicked() {
                             to.cmds.push(Command::Open(p.clone()));
                         }
