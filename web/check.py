@@ -8,6 +8,8 @@ headless Chromium driven by Playwright, at 1024x768 and at 1920x1080:
   - the next-step key (ArrowRight, with the canvas focused) advances the step;
   - a lesson opens (Lessons -> the lesson list -> a lesson);
   - an exercise answer is checked (Exercises -> a sheet -> a student id -> an answer -> Check);
+  - the answers are exported (Export answers -> a download of the class CSV); with --raystep,
+    the teacher's `raystep grade` marks that file as the page marked the answer;
   - a link `#scene=cornell&pixel=160,120&step=7` opens that scene, pixel and step;
   - the GPU tab: without WebGPU it says so; in a second browser with WebGPU (Chromium's
     SwiftShader, `--enable-unsafe-webgpu`) it traces the scene, its debug pixel is the CPU's hit,
@@ -20,21 +22,27 @@ coordinates: the menu bar and the tabs at the top of the left panel sit at the s
 window; the render image and the exercise's answer field are found in screenshots. A build
 without the status element (older than it) is checked by screenshot differences instead.
 
-Usage: web/check.py [--dist DIST] [--url URL] [--chromium PATH] SCREENSHOT_DIR
+Usage: web/check.py [--dist DIST] [--url URL] [--chromium PATH] [--raystep BIN] SCREENSHOT_DIR
 Serves DIST (default dist/) on a free loopback port unless --url names a running server.
-Exits 1 with a message naming the failed check. Needs Python 3.9+ and `playwright` (pip); the
+Exits 1 with a message naming the failed check. Needs Python 3.11+ (tomllib) and `playwright` (pip); the
 browser is Debian's /usr/bin/chromium where installed, else Playwright's own.
 """
 
 import argparse
+import csv
 import functools
+import glob
+import io
 import http.server
 import os
 import re
 import struct
+import subprocess
 import sys
+import tempfile
 import threading
 import time
+import tomllib
 import zlib
 
 # Console errors that are not failures, each with the reason.
@@ -261,8 +269,9 @@ class App:
             self.fail(f"{what}: the screen did not change")
 
 
-def check_size(browser, url, size, outdir, has_status):
-    """All the checks in one window size; returns the timings."""
+def check_size(browser, url, size, outdir, has_status, raystep=None):
+    """All the checks in one window size; returns the timings. raystep: the native binary that
+    grades the exported answers (None: the download is checked, not graded)."""
     w, h = size
     app = App(browser, url, size, has_status, outdir)
     page, tag = app.page, f"{w}x{h}"
@@ -398,8 +407,74 @@ def check_size(browser, url, size, outdir, has_status):
         app.changed_after(lambda: app.click(check), region, f"{tag}: Check")
         print(f"{tag}: Check changed the exercise panel")
     page.screenshot(path=os.path.join(outdir, f"{tag}-exercise.png"))
+    if has_status:
+        export_answers(app, tag, ay, s["feedback"], raystep)
     page.close()
     return app.errors, first, ready
+
+
+EXERCISES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lessons", "exercises")
+
+
+def export_answers(app, tag, answer_top, feedback, raystep):
+    """Export answers (the button in the row of question numbers, above the answer field at
+    answer_top; its dialog has the name ready, so Enter saves) gives a download: one row, the
+    student "alice" and the answer "ball" to the sheet's first question. With raystep (the
+    native binary), `raystep grade` marks it as the page's feedback did."""
+    page = app.page
+    top = STUDENT_ID[1] + 12
+    panel = shot(page, 0, top, min(page.viewport_size["width"] // 2, 600), answer_top - top)
+    button = None
+    for y in range(panel.y0, panel.y0 + panel.h):
+        x0, x1 = longest_run((panel.at(x, y) for x in range(panel.w)), lambda c: c == BUTTON)
+        if x1 - x0 >= 60:
+            button = ((x0 + x1) // 2, y + 6)
+            break
+    if button is None:
+        app.fail(f"{tag}: no Export answers button between the student id and the answer field")
+    try:
+        with page.expect_download(timeout=15000) as download:
+            app.click(button)
+            time.sleep(0.8)
+            page.keyboard.press("Enter")
+    except Exception:  # noqa: BLE001 (Playwright's timeout: named in the failure)
+        app.fail(f"{tag}: Export answers at {button} and Enter gave no download")
+    d = download.value
+    text = open(d.path(), encoding="utf-8").read()
+    rows = list(csv.reader(io.StringIO(text)))
+    if (not d.suggested_filename.endswith(".csv") or len(rows) != 2 or rows[0][0] != "student"
+            or rows[1][:2] != ["alice", "ball"]):
+        app.fail(f"{tag}: the download {d.suggested_filename} is not alice's answers: {text!r}")
+    print(f"{tag}: the answers were exported as the download {d.suggested_filename}: {rows}")
+    if not raystep:
+        return
+    # The sheet: the built-in one whose question ids the file's header names.
+    sheet = None
+    for path in sorted(glob.glob(os.path.join(EXERCISES, "*.toml"))):
+        with open(path, "rb") as f:
+            ids = [q["id"] for q in tomllib.load(f).get("question", [])]
+        if ids == rows[0][1:]:
+            sheet = path
+    if sheet is None:
+        app.fail(f"{tag}: no sheet in {EXERCISES} has the questions {rows[0][1:]}")
+    with tempfile.TemporaryDirectory() as tmp:
+        answers, grades = os.path.join(tmp, "answers.csv"), os.path.join(tmp, "grades.csv")
+        with open(answers, "w", encoding="utf-8") as f:
+            f.write(text)
+        run = subprocess.run([raystep, "grade", sheet, answers, "-o", grades],
+                             capture_output=True, text=True, timeout=300)
+        if run.returncode != 0:
+            app.fail(f"{tag}: raystep grade {sheet} on the exported answers failed:"
+                     f" {run.stderr.strip()}")
+        with open(grades, encoding="utf-8") as f:
+            marks = list(csv.DictReader(f))
+    want = "1" if feedback == "right" else "0"
+    qid = rows[0][1]
+    if len(marks) != 1 or marks[0]["student"] != "alice" or marks[0][qid] != want:
+        app.fail(f"{tag}: raystep grade marked {marks}, the page's feedback was {feedback!r}"
+                 f" ({qid} should be {want})")
+    print(f"{tag}: raystep grade {os.path.basename(sheet)} marked it as the page did:"
+          f" {qid} = {want} ({feedback})")
 
 
 def check_link(browser, url, outdir):
@@ -543,6 +618,8 @@ def main():
                     help="check only this window size (repeatable; default 1024x768, 1920x1080)")
     ap.add_argument("--no-link", action="store_true", help="skip the link check")
     ap.add_argument("--no-gpu", action="store_true", help="skip the GPU tab's checks")
+    ap.add_argument("--raystep", help="the native raystep binary: `raystep grade` marks the"
+                    " answers the page exported (else the download is checked, not graded)")
     args = ap.parse_args()
     sizes = [tuple(int(v) for v in s.split("x")) for s in args.size or ["1024x768", "1920x1080"]]
     try:
@@ -564,7 +641,8 @@ def main():
         with sync_playwright() as p:
             browser = p.chromium.launch(executable_path=args.chromium, args=CHROMIUM_ARGS)
             for size in sizes:
-                e, _, _ = check_size(browser, url, size, args.screenshots, has_status)
+                e, _, _ = check_size(browser, url, size, args.screenshots, has_status,
+                                     args.raystep)
                 errors += e
             if has_status and not args.no_link:
                 errors += check_link(browser, url, args.screenshots)
