@@ -3,13 +3,14 @@
 //! sample), so the image is identical whatever the thread count.
 
 use super::bands::{BandPass, BandSize};
+use super::pool::{await_helpers, bands, drain, linger, render_pool};
 use crate::accel::Accelerator;
 use crate::math::Ray;
 use crate::platform::{Duration, Instant};
 use crate::record::{Counter, Observer, Silent};
 use crate::record::{HitRecord, NodeVisit, RayKind, Step};
 use crate::trace::Tracer;
-use crossbeam_deque::{Steal, Stealer, Worker};
+use crossbeam_deque::{Stealer, Worker};
 use glam::Vec3;
 use std::mem::MaybeUninit;
 use std::sync::Arc;
@@ -755,129 +756,6 @@ pub fn render<A: Accelerator>(
     })
 }
 
-/// How long a helper stays awake after a render, for the next one (see [`linger`]).
-const LINGER: Duration = Duration::from_micros(200);
-
-/// Keeps the pool's helpers awake for `LINGER` after a render, so that a render that follows at
-/// once finds them awake: each of `helpers` empty-handed jobs looks for work in the pool (and
-/// runs what it finds: the next render's share of tiles) until `LINGER` has passed, then lets its
-/// helper sleep.
-///
-/// A helper with nothing to do sleeps after a few dozen yields (rayon's own idle loop), and
-/// waking it costs more than a small render can spare: on the 2-core virtual machine raystep is
-/// measured on, back-to-back two-thread renders of the 64×64 far sphere (a fifth of a
-/// millisecond each) had the helper start its first tile 20 µs (median) after the tiles were
-/// handed out; lingering, 1.5 µs, and the render went from 1.65× to 1.72× one thread's speed.
-/// That is the way the app renders when a scene is edited, and the way `raystep bench` times
-/// renders. The price is at most `LINGER` of a core after each render, spent yielding to any
-/// thread that wants the core (crossbeam's `Backoff`).
-fn linger(pool: &rayon::ThreadPool, helpers: usize) {
-    for _ in 0..helpers {
-        pool.spawn(|| {
-            let until = Instant::now() + LINGER;
-            let backoff = crossbeam_utils::Backoff::new();
-            while Instant::now() < until {
-                match rayon::yield_now() {
-                    // Not on one of the pool's threads (cannot happen: a job the pool runs).
-                    None => return,
-                    Some(rayon::Yield::Executed) => backoff.reset(),
-                    Some(rayon::Yield::Idle) => backoff.snooze(),
-                }
-            }
-        });
-    }
-}
-
-/// How long the calling thread stays awake for the helpers' last tiles (see [`await_helpers`]).
-const AWAKE: Duration = Duration::from_micros(250);
-
-/// Waits, awake, for the helpers still tracing their last tiles (`running` counts them down),
-/// for at most `AWAKE`; after that the scope's own wait takes over.
-///
-/// Rayon's scope, entered from a thread outside its pool, waits on a condition variable: the
-/// calling thread sleeps, and the helper that finishes last must wake it. On the 2-core virtual
-/// machine raystep is measured on, that wake-up takes 15–24 µs (an empty `install` round trip),
-/// paid by every render whose last tile ends on a helper — four in ten of the 64×64 far
-/// sphere's two-thread renders, each a fifth of a millisecond. When the calling thread's own
-/// drain ends every band is empty, so each helper has at most the tile it is tracing left and
-/// the wait is short; past `AWAKE` the wake-up is under a tenth of the wait, not worth keeping
-/// a core busy for. crossbeam's `Backoff` spins, then yields the core to any thread that wants
-/// it.
-fn await_helpers(running: &AtomicUsize) {
-    let until = Instant::now() + AWAKE;
-    let backoff = crossbeam_utils::Backoff::new();
-    while running.load(Ordering::Acquire) > 0 && Instant::now() < until {
-        backoff.snooze();
-    }
-}
-
-/// The renders' pool of `threads` helpers (the calling thread is each render's other thread),
-/// started by the first render that asks for that many and kept for the next. A new pool per
-/// render (new threads, cold stacks and caches) cost small scenes up to a third of their
-/// two-thread speed: the 240×180 acne scene went from 1.2–1.5× to 1.8–2.0× one thread's speed
-/// with this. Renders that overlap (the app cancelling one and starting the next) share it; a
-/// cancelled render's remaining tiles return at once.
-fn render_pool(threads: usize) -> Result<Arc<rayon::ThreadPool>, String> {
-    static POOL: Mutex<Option<(usize, Arc<rayon::ThreadPool>)>> = Mutex::new(None);
-    // A poisoned lock only means a render panicked while holding it; the pool is still usable.
-    let mut cached = POOL.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some((n, pool)) = cached.as_ref()
-        && *n == threads
-    {
-        return Ok(pool.clone());
-    }
-    let pool = Arc::new(
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .thread_name(|i| format!("raystep-render-{i}"))
-            .build()
-            .map_err(|e| format!("cannot start the worker threads: {e}"))?,
-    );
-    *cached = Some((threads, pool.clone()));
-    Ok(pool)
-}
-
-/// `work` cut into `threads` bands of consecutive items (at least one band; the last ones
-/// shorter or empty), one deque each. A deque is last in, first out and filled back to front:
-/// its owner pops the band in order and thieves take from the band's far end.
-fn bands<T>(work: Vec<T>, threads: usize) -> Vec<Worker<T>> {
-    let threads = threads.max(1);
-    let band = work.len().div_ceil(threads).max(1);
-    let mut items = work.into_iter();
-    (0..threads)
-        .map(|_| {
-            let own = Worker::new_lifo();
-            let mine: Vec<T> = items.by_ref().take(band).collect();
-            mine.into_iter().rev().for_each(|t| own.push(t));
-            own
-        })
-        .collect()
-}
-
-/// Works through a thread's own band of tiles (`own`), then takes tiles from the other bands
-/// (`thieves`) until none is left: `work` on each tile, the results in the order done.
-fn drain<T, R>(own: Worker<T>, thieves: &[Stealer<T>], work: impl Fn(T) -> R) -> Vec<R> {
-    let mut done = vec![];
-    while let Some(tile) = own.pop().or_else(|| steal(thieves)) {
-        done.push(work(tile));
-    }
-    done
-}
-
-/// A tile from the far end of the band with the most left; `None` once every band is empty
-/// (tiles are never added, so empty stays empty).
-fn steal<T>(thieves: &[Stealer<T>]) -> Option<T> {
-    loop {
-        let most = thieves.iter().max_by_key(|s| s.len())?;
-        match most.steal() {
-            Steal::Success(t) => return Some(t),
-            Steal::Empty if thieves.iter().all(Stealer::is_empty) => return None,
-            // Another thread took it first, or the band with the most changed: look again.
-            Steal::Empty | Steal::Retry => continue,
-        }
-    }
-}
-
 /// A linear colour as the live image shows it (sRGB, opaque).
 fn srgba(p: Vec3) -> [u8; 4] {
     let [r, g, b] = super::image::srgb8_rgb(p);
@@ -933,97 +811,4 @@ pub fn count_pixel<A: Accelerator>(tracer: &Tracer<'_, A>, x: u32, y: u32) -> (V
 }
 
 #[cfg(test)]
-mod tests {
-    use super::{AWAKE, TILE, await_helpers, bands, drain, steal, tile_rows};
-    use crate::platform::Instant;
-    use crossbeam_deque::Stealer;
-    use proptest::prelude::*;
-    use std::sync::atomic::AtomicUsize;
-
-    /// A helper that never reports: the calling thread's awake wait gives up, no sooner than
-    /// `AWAKE`, and leaves the waiting to rayon.
-    #[test]
-    fn the_calling_thread_gives_up_waiting_awake_after_awake() {
-        let t = Instant::now();
-        await_helpers(&AtomicUsize::new(1));
-        assert!(t.elapsed() >= AWAKE);
-    }
-
-    /// Once its own band is done, a thread takes from the far end of the band with the most
-    /// left (the later band on a tie), one item at a time: two bands of 0–4 and 5–9 give
-    /// 9, 4, 8, 3, … (worked out by hand), then nothing.
-    #[test]
-    fn thieves_take_from_the_far_end_of_the_longest_band() {
-        let bands = bands((0..10).collect(), 2);
-        let thieves: Vec<Stealer<i32>> = bands.iter().map(|b| b.stealer()).collect();
-        let taken: Vec<i32> = std::iter::from_fn(|| steal(&thieves)).collect();
-        assert_eq!(taken, [9, 4, 8, 3, 7, 2, 6, 1, 5, 0]);
-        assert_eq!(steal(&thieves), None);
-    }
-
-    proptest! {
-        /// Every tile gets exactly its own pixels, row by row: the pieces hold the indices a
-        /// tile at (x0, y0) covers, min(TILE, edge) wide and high, the tiles in row-major order,
-        /// and together they cover the image once.
-        #[test]
-        fn tiles_get_exactly_their_own_pixels(width in 1u32..70, height in 1u32..70) {
-            let mut image: Vec<usize> = (0..(width * height) as usize).collect();
-            let tiles = tile_rows(&mut image, width);
-            let mut expected = vec![];
-            for y0 in (0..height).step_by(TILE as usize) {
-                for x0 in (0..width).step_by(TILE as usize) {
-                    let rows: Vec<Vec<usize>> = (y0..(y0 + TILE).min(height))
-                        .map(|y| ((x0..(x0 + TILE).min(width)).map(|x| (y * width + x) as usize)).collect())
-                        .collect();
-                    expected.push(((x0, y0), rows));
-                }
-            }
-            let got: Vec<_> = tiles
-                .iter()
-                .map(|(t, rows)| ((t.x0, t.y0), rows.iter().map(|r| r.to_vec()).collect()))
-                .collect();
-            prop_assert_eq!(got, expected);
-        }
-
-        /// The bands are the items in order, cut into `threads` runs of at most
-        /// ⌈n ÷ threads⌉, each popped front first by its owner.
-        #[test]
-        fn bands_are_consecutive_runs_in_order(n in 0usize..300, threads in 0usize..6) {
-            let bands = bands((0..n).collect(), threads);
-            prop_assert_eq!(bands.len(), threads.max(1));
-            let popped: Vec<Vec<usize>> =
-                bands.iter().map(|b| std::iter::from_fn(|| b.pop()).collect()).collect();
-            let most = n.div_ceil(threads.max(1));
-            for run in &popped {
-                prop_assert!(run.len() <= most);
-                prop_assert!(run.windows(2).all(|w| w[1] == w[0] + 1));
-            }
-            prop_assert_eq!(popped.concat(), (0..n).collect::<Vec<_>>());
-        }
-
-        /// Threads draining their bands and stealing from each other's do every item exactly
-        /// once, however the work is shared out.
-        #[test]
-        fn every_item_is_done_exactly_once(n in 0usize..400, threads in 1usize..5) {
-            let bands = bands((0..n).collect::<Vec<usize>>(), threads);
-            let thieves: Vec<Stealer<usize>> = bands.iter().map(|b| b.stealer()).collect();
-            let thieves = &thieves[..];
-            // Uneven work (item i spins i % 7 × 50 times), so that the threads get out of step.
-            let work = |i: usize| {
-                (0..(i % 7) * 50).for_each(|k| {
-                    std::hint::black_box(k);
-                });
-                i
-            };
-            let mut done: Vec<usize> = std::thread::scope(|s| {
-                let handles: Vec<_> = bands
-                    .into_iter()
-                    .map(|own| s.spawn(move || drain(own, thieves, work)))
-                    .collect();
-                handles.into_iter().flat_map(|h| h.join().unwrap_or_default()).collect()
-            });
-            done.sort_unstable();
-            prop_assert_eq!(done, (0..n).collect::<Vec<_>>());
-        }
-    }
-}
+mod tests;

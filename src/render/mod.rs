@@ -18,6 +18,7 @@
 pub mod bands;
 pub mod cpu;
 pub mod image;
+mod pool;
 
 pub use bands::BandSize;
 pub use cpu::{
