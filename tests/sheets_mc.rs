@@ -180,7 +180,7 @@ fn every_variant_of_the_monte_carlo_sheets_is_true_and_keyed_right() {
             for k in 0..CLASS {
                 csv += &student(k);
                 for (qi, q) in &qs {
-                    let a = &by_question[*qi][k];
+                    let a = by_question[*qi].get(k).unwrap();
                     let v = if wrong {
                         &a["mistakes"][q.mistakes[0].id()]
                     } else {
