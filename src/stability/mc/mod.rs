@@ -239,7 +239,8 @@ fn reference(data: &McData, i: usize) -> [Option<Dd>; 4] {
     }
 }
 
-/// Runs a case: its exact references, then every method × precision, one row per quantity.
+/// Runs a case: its exact references, then every method × precision, one row per quantity (in
+/// the report per quantity and precision, the textbook row above the stable one).
 pub(super) fn run_case(case: &McCase, opts: &Options) -> Vec<McRow> {
     let refs: Vec<[Option<Dd>; 4]> = (0..case.len())
         .into_par_iter()
@@ -252,6 +253,12 @@ pub(super) fn run_case(case: &McCase, opts: &Options) -> Vec<McRow> {
             rows.extend(rows_in::<f64>(case, &refs, m, Precision::F64, opts));
         }
     }
+    // Side by side: per quantity, per precision, textbook then stable.
+    let quantities = case.data.quantities();
+    rows.sort_by_key(|r| {
+        let k = quantities.iter().position(|q| *q == r.quantity);
+        (k, r.precision, r.method)
+    });
     rows
 }
 
