@@ -588,3 +588,82 @@ fn stratified_light_samples_cover_the_grid_and_lower_the_error() {
         "mean {mean}, expected {expect} ± {t}"
     );
 }
+
+/// The irradiance at `p` (normal `n`) from a polygon of uniform radiance `l` (Lambert's formula,
+/// in f64): E = (l / 2) |Σ θᵢ n · ĝᵢ|, θᵢ the angle each edge subtends at `p` and ĝᵢ the unit
+/// normal of the plane through `p` and that edge.
+fn polygon_irradiance(p: [f64; 3], n: [f64; 3], poly: &[[f64; 3]], l: f64) -> f64 {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let unit = |a: [f64; 3]| {
+        let l = dot(a, a).sqrt();
+        [a[0] / l, a[1] / l, a[2] / l]
+    };
+    let mut sum = 0.0;
+    for i in 0..poly.len() {
+        let a = unit(sub(poly[i], p));
+        let b = unit(sub(poly[(i + 1) % poly.len()], p));
+        let theta = dot(a, b).clamp(-1.0, 1.0).acos();
+        sum += theta * dot(n, unit(cross(a, b)));
+    }
+    0.5 * l * sum.abs()
+}
+
+/// An emitting triangle with vertices near ±1e10 (inside the scene loader's bounds, though its
+/// f32 cross product overflows) stays a light: light sampling from a point 1e9 below it
+/// estimates the irradiance Lambert's formula gives, and its hit's normal is a unit vector.
+#[test]
+fn a_huge_emitting_triangle_is_sampled_like_any_other() {
+    let s = scene(
+        "[camera]\nfrom = [0, 1, -5]\nat = [0, 0, 0]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"distribution\"\n[[material]]\nname = \"lamp\"\nemission = [2, 2, 2]\n[[material]]\nname = \"floor\"\ncolor = [0.5, 0.5, 0.5]\n[[triangle]]\nname = \"sky\"\nvertices = [[-1e10, 1e9, -1e10], [1e10, 1e9, -1e10], [0, 1e9, 1e10]]\nmaterial = \"lamp\"\n[[plane]]\naxis = \"y\"\noffset = 0\nmaterial = \"floor\"\n",
+    );
+    let lights = raystep::mc::lights::Lights::new(&s);
+    assert_eq!(lights.lights.len(), 1, "the lamp is in the light list");
+    let tri = [[-1e10, 1e9, -1e10], [1e10, 1e9, -1e10], [0.0, 1e9, 1e10]];
+    let exact = polygon_irradiance([0.0; 3], [0.0, 1.0, 0.0], &tri, 2.0);
+    // A 300 × 300 grid of uniform numbers (deterministic): the estimate's error is the grid's.
+    let (k, mut sum) = (300, 0.0f64);
+    for i in 0..k {
+        for j in 0..k {
+            let u = [(i as f32 + 0.5) / k as f32, (j as f32 + 0.5) / k as f32];
+            let lp = lights
+                .sample(0, Vec3::ZERO, u)
+                .expect("a point on the lamp");
+            let cos = lp.wi.y.max(0.0) as f64;
+            if lp.pdf > 0.0 {
+                sum += lp.radiance.x as f64 * cos / lp.pdf as f64;
+            }
+        }
+    }
+    let estimate = sum / (k * k) as f64;
+    assert!(
+        (estimate - exact).abs() <= 0.01 * exact,
+        "{estimate} against Lambert's {exact}"
+    );
+    // The lamp seen from below: a unit normal, facing the camera ray.
+    let up = load_str(
+        "[camera]\nfrom = [0, 0, 0]\nat = [0, 1, 0]\nup = [0, 0, 1]\nwidth = 4\nheight = 4\n[[triangle]]\nvertices = [[-1e10, 1e9, -1e10], [1e10, 1e9, -1e10], [0, 1e9, 1e10]]\n",
+        "up.toml",
+        None,
+    )
+    .unwrap();
+    let trace = PreparedScene::new(up).record(2, 2, 0);
+    let normal = trace
+        .root
+        .steps
+        .iter()
+        .find_map(|s| match &s.step {
+            Step::Surface { normal, .. } => Some(*normal),
+            _ => None,
+        })
+        .expect("the ray hits the lamp");
+    let len = normal.iter().map(|c| c * c).sum::<f32>().sqrt();
+    assert!((len - 1.0).abs() < 1e-6 && normal[1] < -0.999, "{normal:?}");
+}

@@ -187,9 +187,10 @@ pub fn run_check(args: &CheckArgs) -> Result<(), String> {
     let width = ids.iter().map(|s| s.chars().count()).max().unwrap_or(0);
     for q in &sheet.questions {
         let v = sheet.variant(q, student);
-        let expected = sheet.expected(q, &v)?;
+        let (expected, found) = sheet.expected_and_mistakes(q, &v)?;
         let given = answers.get(&q.id).map(String::as_str);
-        let m = lesson::mark(&expected, q.quantity.kind(), given, q.tolerance);
+        let mut m = lesson::mark(&expected, q.quantity.kind(), given, q.tolerance);
+        lesson::mistakes::annotate(&mut m, q, given, &found);
         out_of += q.points;
         if m.right {
             score += q.points;
@@ -209,6 +210,7 @@ pub fn run_check(args: &CheckArgs) -> Result<(), String> {
             "abs_error": if distance { m.abs_error } else { None },
             "rel_error": if distance { m.rel_error } else { None },
             "note": m.note,
+            "mistake": m.mistake.map(|k| k.id()),
             "feedback": how,
             "points": if m.right { q.points } else { 0.0 },
         }));

@@ -93,6 +93,8 @@ pub struct Mark {
     /// The answer is missing or cannot be read as the kind asked for (a problem with the
     /// submission, which `grade` reports, rather than a wrong answer).
     pub unreadable: bool,
+    /// The classic mistake the wrong answer matches (see [`super::mistakes::annotate`]).
+    pub mistake: Option<super::Mistake>,
 }
 
 impl Mark {
@@ -104,6 +106,7 @@ impl Mark {
             difference: None,
             note: Some(note.into()),
             unreadable: false,
+            mistake: None,
         }
     }
     fn unreadable(note: impl Into<String>) -> Mark {
@@ -120,6 +123,7 @@ impl Mark {
             difference: None,
             note: None,
             unreadable: false,
+            mistake: None,
         }
     }
 }
@@ -279,8 +283,13 @@ fn number(s: &str) -> Option<f64> {
         .filter(|x| x.is_finite())
 }
 
+/// Three numbers; or a lone 0, the zero vector (as a sheet's "0 if the shadow ray is blocked"
+/// invites).
 fn vector(s: &str) -> Option<[f64; 3]> {
     let s = s.trim();
+    if number(s) == Some(0.0) {
+        return Some([0.0; 3]);
+    }
     let s = s
         .strip_prefix('(')
         .and_then(|s| s.strip_suffix(')'))
@@ -314,13 +323,18 @@ fn by_distance(d: f64, scale: f64, difference: Vec<f64>, tol: Tolerance) -> Mark
         rel_error: rel,
         difference: Some(difference),
         unreadable: false,
-        note: (!right).then(|| {
-            format!(
-                "not within the tolerance (± {} or {}%)",
-                short(tol.abs),
-                short(tol.rel * 100.0)
-            )
-        }),
+        mistake: None,
+        note: (!right).then(|| format!("not within the tolerance ({})", describe_tolerance(tol))),
+    }
+}
+
+/// A tolerance in words: "± 0.001 or 0.1%", or only the part that is set.
+pub fn describe_tolerance(tol: Tolerance) -> String {
+    match (tol.abs > 0.0, tol.rel > 0.0) {
+        (true, true) => format!("± {} or {}%", short(tol.abs), short(tol.rel * 100.0)),
+        (true, false) => format!("± {}", short(tol.abs)),
+        (false, true) => format!("{}%", short(tol.rel * 100.0)),
+        (false, false) => "exactly".into(),
     }
 }
 

@@ -11,7 +11,8 @@ fn num(x: Option<f32>) -> Answer {
     x.map_or(Answer::None, |x| Answer::Number(x as f64))
 }
 
-fn ray(trace: &Trace, sel: RaySel) -> Option<&RayRecord> {
+/// The ray of the trace a question is about (the first of its kind).
+pub(super) fn ray(trace: &Trace, sel: RaySel) -> Option<&RayRecord> {
     let kind = match sel {
         RaySel::Primary => return Some(&trace.root),
         RaySel::Shadow => RayKind::Shadow,

@@ -162,8 +162,9 @@ pub fn grade_answers_csv(
             let col = columns.iter().position(|&c| c == Some(qi));
             let given = col.and_then(|c| row.get(c)).map(|s| s.as_str());
             let v = sheet.variant(q, student);
-            let expected = sheet.expected(q, &v)?;
-            let m = mark(&expected, q.quantity.kind(), given, q.tolerance);
+            let (expected, found) = sheet.expected_and_mistakes(q, &v)?;
+            let mut m = mark(&expected, q.quantity.kind(), given, q.tolerance);
+            super::mistakes::annotate(&mut m, q, given, &found);
             if m.right {
                 score += q.points;
                 line.push(format!("{}", q.points));

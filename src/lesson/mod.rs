@@ -51,12 +51,16 @@ mod answer;
 mod extract;
 mod grade;
 mod lessons;
+pub mod mistakes;
+mod premise;
 mod sheet;
 
 pub use answer::{Answer, AnswerKind, Feedback, Mark, mark, parse_answers, short, show};
 pub use extract::{explaining_step, extract};
 pub use grade::{GradeReport, grade_answers_csv};
 pub use lessons::{Lesson, LessonSettings, lessons_dir, load_lessons, parse_lesson};
+pub use mistakes::Mistake;
+pub use premise::{PathVertex, Premise};
 pub use sheet::{
     Coord, ExerciseSheet, Param, ParamValue, Question, SceneSource, SheetError,
     load_exercise_sheet, parse_exercise_sheet,
@@ -240,9 +244,285 @@ pub fn fill(template: &str, values: &[(String, String)]) -> String {
     out + rest
 }
 
+/// The pixels drawn so far for questions with premises, by (question, student): drawing one
+/// traces candidate pixels, and the app asks for a variant at every frame. Shared by a sheet's
+/// clones; never part of a sheet's equality.
+#[derive(Clone, Default)]
+pub struct DrawnPixels(std::sync::Arc<std::sync::Mutex<PixelsByStudent>>);
+
+/// (question id, student) → pixel.
+type PixelsByStudent = std::collections::HashMap<(String, String), Option<[u32; 2]>>;
+
+impl std::fmt::Debug for DrawnPixels {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("DrawnPixels")
+    }
+}
+
+impl PartialEq for DrawnPixels {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+/// How many pixels [`ExerciseSheet::variant`] draws for a question with premises before it
+/// scans the pixel range in order.
+const PREMISE_DRAWS: u32 = 96;
+
+/// How many pixels of its range, in order, a question with premises tries after its draws.
+const PREMISE_SCAN: u64 = 16384;
+
+/// How many pixels a sheet's load draws to check a question's premises, and how many of them
+/// must satisfy them (a range where fewer do is refused: too few variants, and a sign that the
+/// range and the premise disagree).
+const PREMISE_CHECKS: u32 = 48;
+const PREMISE_MIN: u32 = 6;
+
+impl Question {
+    /// Whether drawing the question's pixel checks it (a `require` or listed `mistakes`).
+    pub fn has_premises(&self) -> bool {
+        self.require.is_some() || !self.mistakes.is_empty()
+    }
+
+    /// Whether `trace` (of a candidate pixel) satisfies the question's premises, and every listed
+    /// mistake's answer is at least [`mistakes::MIN_APART`] from the right one; why not, if not.
+    pub fn premises_hold(&self, trace: &crate::record::Trace) -> Result<(), String> {
+        if let Some(p) = &self.require {
+            p.check(trace, self)?;
+        }
+        if self.mistakes.is_empty() {
+            return Ok(());
+        }
+        let right = extract(trace, self);
+        if right == Answer::None {
+            return Err(format!("the tracer computes no {}", self.quantity.name()));
+        }
+        for m in &self.mistakes {
+            if let Some(a) = m.answer(trace, self) {
+                let d = mistakes::relative_distance(&right, &a).unwrap_or(f64::INFINITY);
+                if d < mistakes::MIN_APART
+                    || mark(
+                        &right,
+                        self.quantity.kind(),
+                        Some(&a.to_string()),
+                        self.tolerance,
+                    )
+                    .right
+                {
+                    return Err(format!(
+                        "the mistake \"{}\" is only {:.2} % away from the right answer",
+                        m.id(),
+                        d * 100.0
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 impl ExerciseSheet {
-    /// The variant of question `q` for `student` (deterministic).
+    /// The variant of question `q` for `student` (deterministic). For a question with premises
+    /// (`require`, `mistakes`) the pixel is the first of the student's draws whose trace
+    /// satisfies them (the scene is traced; the result is kept), and where none of
+    /// [`PREMISE_DRAWS`] does, the first pixel of the range that does, counted from the first
+    /// draw.
     pub fn variant(&self, q: &Question, student: &str) -> Variant {
+        let base = self.base_variant(q, student);
+        if !q.has_premises() {
+            return base;
+        }
+        let student = student.trim();
+        let pixel = self
+            .premise_pixel_cached(q, student, &base)
+            .unwrap_or(base.pixel);
+        if pixel == base.pixel {
+            return base;
+        }
+        self.with_pixel(q, base.values, pixel)
+    }
+
+    /// The k-th pixel draw of a student (k = 0: the draw of a question without premises).
+    fn draw_pixel(&self, q: &Question, student: &str, k: u32) -> [u32; 2] {
+        let salt = q.group.as_deref().unwrap_or(&q.id);
+        let coord = |c: Coord, name: &str| match c {
+            Coord::Fixed(v) => v,
+            Coord::Range(lo, hi) => {
+                let name = if k == 0 {
+                    name.to_string()
+                } else {
+                    format!("{name} #{k}")
+                };
+                pick_int(draw(&self.id, salt, student, &name), lo as i64, hi as i64) as u32
+            }
+        };
+        [coord(q.pixel[0], "pixel x"), coord(q.pixel[1], "pixel y")]
+    }
+
+    /// The pixel of a question with premises (see [`ExerciseSheet::variant`]); None when the
+    /// scene does not load or no pixel of the range satisfies them.
+    fn premise_pixel(&self, q: &Question, student: &str, base: &Variant) -> Option<[u32; 2]> {
+        let scene = self.scene_of(q, base).ok()?;
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let prepared = PreparedScene::new(scene);
+        // The questions of a group share their pixel: it must satisfy all of their premises.
+        let group: Vec<&Question> = match &q.group {
+            Some(g) => self
+                .questions
+                .iter()
+                .filter(|o| o.group.as_ref() == Some(g) && o.pixel == q.pixel)
+                .collect(),
+            None => vec![q],
+        };
+        let holds = |[x, y]: [u32; 2]| {
+            if x >= w || y >= h {
+                return false;
+            }
+            let trace = prepared.record(x, y, 0);
+            group.iter().all(|o| o.premises_hold(&trace).is_ok())
+        };
+        for k in 0..PREMISE_DRAWS {
+            let p = self.draw_pixel(q, student, k);
+            if holds(p) {
+                return Some(p);
+            }
+        }
+        // The range (inside the image) in order from the first draw, at most PREMISE_SCAN pixels.
+        let range = |c: Coord, size: u32| match c {
+            Coord::Fixed(v) => (v, v),
+            Coord::Range(lo, hi) => (lo, hi.min(size.saturating_sub(1))),
+        };
+        let ((x0, x1), (y0, y1)) = (range(q.pixel[0], w), range(q.pixel[1], h));
+        if x1 < x0 || y1 < y0 {
+            return None;
+        }
+        let (nx, ny) = ((x1 - x0) as u64 + 1, (y1 - y0) as u64 + 1);
+        let start = (base.pixel[1].saturating_sub(y0) as u64) * nx
+            + base.pixel[0].saturating_sub(x0) as u64;
+        (0..(nx * ny).min(PREMISE_SCAN))
+            .map(|i| {
+                let j = (start + i) % (nx * ny);
+                [x0 + (j % nx) as u32, y0 + (j / nx) as u32]
+            })
+            .find(|p| holds(*p))
+    }
+
+    /// The pixel of a question with premises for `student`, drawn once and kept; None when no
+    /// pixel of the range satisfies them (a sheet error, which [`ExerciseSheet::expected`]
+    /// reports).
+    fn premise_pixel_cached(
+        &self,
+        q: &Question,
+        student: &str,
+        base: &Variant,
+    ) -> Option<[u32; 2]> {
+        let key = (q.id.clone(), student.to_string());
+        if let Some(p) = self.drawn.0.lock().ok().and_then(|m| m.get(&key).copied()) {
+            return p;
+        }
+        let p = self.premise_pixel(q, student, base);
+        if let Ok(mut m) = self.drawn.0.lock() {
+            m.insert(key, p);
+        }
+        p
+    }
+
+    /// Checks, when a sheet is loaded, that a question's premises hold at enough of its pixels:
+    /// [`PREMISE_MIN`] of [`PREMISE_CHECKS`] draws; the error names the premise and the most
+    /// common reason it fails.
+    pub(crate) fn check_premises(
+        &self,
+        q: &Question,
+        scene: &crate::scene::Scene,
+    ) -> Result<(), String> {
+        let prepared = PreparedScene::new(scene.clone());
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        let mut good = 0;
+        let mut reasons: std::collections::BTreeMap<String, u32> = Default::default();
+        for k in 0..PREMISE_CHECKS {
+            let [x, y] = self.draw_pixel(q, &format!("premise check {k}"), 0);
+            if x >= w || y >= h {
+                *reasons
+                    .entry(format!("pixel {x},{y} is outside the image"))
+                    .or_default() += 1;
+                continue;
+            }
+            match q.premises_hold(&prepared.record(x, y, 0)) {
+                Ok(()) => good += 1,
+                Err(why) => *reasons.entry(why).or_default() += 1,
+            }
+        }
+        if good >= PREMISE_MIN {
+            return Ok(());
+        }
+        let common = reasons
+            .iter()
+            .max_by_key(|(_, n)| **n)
+            .map(|(r, n)| format!("; most often: {r} ({n} pixels)"))
+            .unwrap_or_default();
+        Err(format!(
+            "only {good} of {PREMISE_CHECKS} pixels drawn from the question's range satisfy its premises ({}{}){common}: widen or move `pixel`, or change `require`",
+            q.require
+                .as_ref()
+                .map_or("the quantity is computed".into(), |p| p.describe()),
+            if q.mistakes.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    ", and it tells {} apart by at least {} %",
+                    q.mistakes
+                        .iter()
+                        .map(|m| m.id())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    mistakes::MIN_APART * 100.0
+                )
+            }
+        ))
+    }
+
+    /// The expected answer and the classic mistakes' answers for the variant's pixel (see
+    /// [`mistakes`]): what a wrong answer is compared with, to name its mistake.
+    pub fn expected_and_mistakes(
+        &self,
+        q: &Question,
+        v: &Variant,
+    ) -> Result<mistakes::Key, String> {
+        let trace = self.trace_of(q, v)?;
+        let found = mistakes::ALL
+            .iter()
+            .filter_map(|m| Some((*m, m.answer(&trace, q)?)))
+            .collect();
+        Ok((extract(&trace, q), found))
+    }
+
+    /// The variant of a student with the parameters drawn and the pixel given (the texts filled
+    /// anew).
+    fn with_pixel(
+        &self,
+        q: &Question,
+        values: Vec<(String, ParamValue)>,
+        pixel: [u32; 2],
+    ) -> Variant {
+        let mut texts: Vec<(String, String)> = values
+            .iter()
+            .map(|(n, v)| (n.clone(), v.to_string()))
+            .collect();
+        texts.push(("x".into(), pixel[0].to_string()));
+        texts.push(("y".into(), pixel[1].to_string()));
+        Variant {
+            text: fill(&q.text, &texts),
+            scene_toml: match &q.scene {
+                SceneSource::Inline(t) => Some(fill(t, &texts)),
+                SceneSource::File(_) => None,
+            },
+            values,
+            pixel,
+        }
+    }
+
+    /// The variant as drawn without looking at the scene (the pixel of draw 0).
+    fn base_variant(&self, q: &Question, student: &str) -> Variant {
         let student = student.trim();
         let salt = q.group.as_deref().unwrap_or(&q.id);
         let values: Vec<(String, ParamValue)> = q
@@ -263,34 +543,20 @@ impl ExerciseSheet {
                 (name.clone(), v)
             })
             .collect();
-        let coord = |c: Coord, name: &str| match c {
-            Coord::Fixed(v) => v,
-            Coord::Range(lo, hi) => {
-                pick_int(draw(&self.id, salt, student, name), lo as i64, hi as i64) as u32
-            }
-        };
-        let pixel = [coord(q.pixel[0], "pixel x"), coord(q.pixel[1], "pixel y")];
-        let mut texts: Vec<(String, String)> = values
-            .iter()
-            .map(|(n, v)| (n.clone(), v.to_string()))
-            .collect();
-        texts.push(("x".into(), pixel[0].to_string()));
-        texts.push(("y".into(), pixel[1].to_string()));
-        Variant {
-            text: fill(&q.text, &texts),
-            scene_toml: match &q.scene {
-                SceneSource::Inline(t) => Some(fill(t, &texts)),
-                SceneSource::File(_) => None,
-            },
-            values,
-            pixel,
-        }
+        let pixel = self.draw_pixel(q, student, 0);
+        self.with_pixel(q, values, pixel)
     }
 
     /// The answer raystep's tracer gives for a variant: loads the scene, builds the accelerator
     /// the renderer would use, records sample 0 of the pixel and reads the quantity. An error
     /// means the sheet (not the student) is wrong: a scene that doesn't load, a pixel outside it.
     pub fn expected(&self, q: &Question, v: &Variant) -> Result<Answer, String> {
+        Ok(extract(&self.trace_of(q, v)?, q))
+    }
+
+    /// Sample 0 of the variant's pixel, recorded (see [`ExerciseSheet::expected`]). An error
+    /// too when the question has premises that no pixel of its range satisfies for this variant.
+    fn trace_of(&self, q: &Question, v: &Variant) -> Result<crate::record::Trace, String> {
         let scene = self.scene_of(q, v)?;
         let [x, y] = v.pixel;
         let c = &scene.camera;
@@ -305,13 +571,24 @@ impl ExerciseSheet {
             ));
         }
         let trace = PreparedScene::new(scene).record(x, y, 0);
-        Ok(extract(&trace, q))
+        if q.has_premises()
+            && let Err(why) = q.premises_hold(&trace)
+        {
+            return Err(self.question_err(
+                q,
+                "require",
+                &format!(
+                    "no pixel of the question's range satisfies its premises for this variant (pixel {x},{y}: {why})"
+                ),
+            ));
+        }
+        Ok(trace)
     }
 
     /// The scene of question `q` as one student's variant has it, without locating an error
     /// (what [`parse_exercise_sheet`] checks a question's `object` and `light` against).
     pub(crate) fn first_scene(&self, q: &Question) -> Result<crate::scene::Scene, String> {
-        let v = self.variant(q, "");
+        let v = self.base_variant(q, "");
         match (&q.scene, &v.scene_toml) {
             (SceneSource::File(p), _) => crate::scene::load_file(p).map_err(|e| e.to_string()),
             (SceneSource::Inline(template), filled) => {

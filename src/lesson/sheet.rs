@@ -103,6 +103,12 @@ pub struct Question {
     /// Questions of one group share their variant: the same parameter names and pixel ranges
     /// draw the same values (the group name salts the draw instead of the question id).
     pub group: Option<String>,
+    /// What the question's pixel must show (`require`): the variant generator draws only pixels
+    /// whose trace satisfies it.
+    pub require: Option<super::Premise>,
+    /// Classic mistakes the question must tell apart from the right answer (`mistakes`): only
+    /// pixels where each one's answer is at least [`super::mistakes::MIN_APART`] away are drawn.
+    pub mistakes: Vec<super::Mistake>,
     /// 1-based line of the question's `[[question]]` header.
     pub line: usize,
 }
@@ -126,6 +132,8 @@ pub struct ExerciseSheet {
     /// shows its numbers (the `trace_command` key, default true; false for a graded quiz, where
     /// that command would print the answer).
     pub trace_command: bool,
+    /// The pixels already drawn for questions with premises (drawing one traces the scene).
+    pub(crate) drawn: super::DrawnPixels,
 }
 
 #[derive(Deserialize)]
@@ -159,6 +167,17 @@ struct QuestionDef {
     hints: Vec<String>,
     points: Option<Spanned<f64>>,
     group: Option<String>,
+    require: Option<Spanned<RequireDef>>,
+    #[serde(default)]
+    mistakes: Vec<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RequireDef {
+    #[serde(default)]
+    path: Vec<String>,
+    sampled_light: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -371,6 +390,50 @@ pub fn parse_exercise_sheet(
                 ));
             }
         };
+        let require = match &q.require {
+            None => None,
+            Some(r) => {
+                let mut path = vec![];
+                for v in &r.get_ref().path {
+                    path.push(
+                        super::PathVertex::parse(v)
+                            .map_err(|m| at(r.span(), "require → path", m))?,
+                    );
+                }
+                Some(super::Premise {
+                    path,
+                    sampled_light: r.get_ref().sampled_light.clone(),
+                })
+            }
+        };
+        let mut mistakes = vec![];
+        for m in &q.mistakes {
+            let Some(found) = super::Mistake::from_id(m.get_ref()) else {
+                let names: Vec<&str> = super::mistakes::ALL.iter().map(|m| m.id()).collect();
+                return Err(at(
+                    m.span(),
+                    "mistakes",
+                    format!(
+                        "unknown mistake \"{}\"; expected one of {}",
+                        m.get_ref(),
+                        names.join(", ")
+                    ),
+                ));
+            };
+            if !found.applies_to(quantity) {
+                return Err(at(
+                    m.span(),
+                    "mistakes",
+                    format!(
+                        "\"{}\" is not a mistake of `{}`",
+                        found.id(),
+                        quantity.name()
+                    ),
+                ));
+            }
+            mistakes.push(found);
+        }
+        let require_span = q.require.as_ref().map(|r| r.span());
         let object_span = q.object.as_ref().map(|o| o.span());
         let light_span = q.light.as_ref().map(|l| l.span());
         let question = Question {
@@ -387,10 +450,12 @@ pub fn parse_exercise_sheet(
             hints: q.hints,
             points,
             group: q.group,
+            require,
+            mistakes,
             line: ctx.line_col(header.start).0,
         };
         questions.push(question);
-        spans.push((header, object_span, light_span));
+        spans.push((header, object_span, light_span, require_span));
     }
     let sheet = ExerciseSheet {
         file: file.into(),
@@ -399,8 +464,9 @@ pub fn parse_exercise_sheet(
         questions,
         feedback,
         trace_command: parsed.trace_command.unwrap_or(true),
+        drawn: Default::default(),
     };
-    for (q, (header, object_span, light_span)) in sheet.questions.iter().zip(spans) {
+    for (q, (header, object_span, light_span, require_span)) in sheet.questions.iter().zip(spans) {
         let what = format!("question \"{}\"", q.id);
         let at = |span: Range<usize>, field: &str, msg: String| {
             ctx.err(Some(span), Some(format!("{what} → {field}")), msg)
@@ -441,6 +507,19 @@ pub fn parse_exercise_sheet(
                     q.light
                 ),
             ));
+        }
+        if q.has_premises() {
+            sheet.check_premises(q, &scene).map_err(|m| {
+                at(
+                    require_span.clone().unwrap_or(header.clone()),
+                    if q.require.is_some() {
+                        "require"
+                    } else {
+                        "mistakes"
+                    },
+                    m,
+                )
+            })?;
         }
     }
     Ok(sheet)

@@ -8,7 +8,7 @@
 //! reflection with Smith's separable shadowing (Walter et al. 2007), tinted by the material's
 //! colour as its (constant) Fresnel term.
 
-use super::sample::{Frame, cosine_hemisphere, ggx_d, ggx_normal};
+use super::sample::{Frame, cosine_hemisphere, ggx_d, ggx_normal, sin2_between};
 use crate::scene::Bsdf;
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -148,7 +148,7 @@ pub fn eval(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> Vec3 {
             if h == Vec3::ZERO {
                 return Vec3::ZERO;
             }
-            let d = ggx_d(alpha, h.dot(n));
+            let d = ggx_d(alpha, h.dot(n), sin2_between(h, n));
             let g = smith_g1(alpha, cos_o) * smith_g1(alpha, cos_i);
             tint * (d * g / (4.0 * cos_o * cos_i))
         }
@@ -171,7 +171,7 @@ pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> f32 {
                 return 0.0;
             }
             let cos_h = h.dot(n);
-            ggx_d(alpha, cos_h) * cos_h / (4.0 * wo_h)
+            ggx_d(alpha, cos_h, sin2_between(h, n)) * cos_h / (4.0 * wo_h)
         }
         Bsdf::Mirror { .. } | Bsdf::Glass { .. } => 0.0,
     }

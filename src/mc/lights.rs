@@ -14,7 +14,7 @@
 //! distribution ray tracer samples every light group once (an object: one sphere, one triangle,
 //! one mesh, picking a mesh's triangle by area).
 
-use super::sample::{Frame, sphere_cone, triangle_point};
+use super::sample::{Frame, cone_one_minus_cos, sphere_cone, triangle_area, uniform_triangle};
 use crate::scene::{Scene, Shape};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -116,14 +116,16 @@ impl Lights {
             }
             let shape = match o.shape {
                 Shape::Triangle { p } => {
-                    let c = (p[1] - p[0]).cross(p[2] - p[0]);
-                    let area = 0.5 * c.length();
+                    // Area and normal in f64 (see `triangle_area`): the f32 cross product of a
+                    // triangle near ±1e10 overflows, and such a lamp left the light list.
+                    let area = triangle_area(p);
                     if !(area > 0.0 && area.is_finite()) {
                         continue;
                     }
+                    let [a, b, c] = p.map(|v| v.as_dvec3());
                     LightShape::Triangle {
                         p,
-                        normal: c / c.length(),
+                        normal: (b - a).cross(c - a).normalize().as_vec3(),
                         area,
                     }
                 }
@@ -227,7 +229,10 @@ impl Lights {
         let l = self.lights.get(index as usize)?;
         match l.shape {
             LightShape::Triangle { p: v, normal, area } => {
-                let q = triangle_point(v, u)?.value;
+                // The point of sample::triangle_point, with the light's own area (computed in
+                // f64 once: see `Lights::new`).
+                let [b1, b2] = uniform_triangle(u);
+                let q = v[0] * (1.0 - b1 - b2) + v[1] * b1 + v[2] * b2;
                 let d = q - p;
                 let distance = d.length();
                 if distance.is_nan() || distance <= 0.0 {
@@ -308,9 +313,8 @@ impl Lights {
                 if dc <= radius {
                     return 0.0;
                 }
-                let sin2 = (radius / dc) * (radius / dc);
-                let cos_max = (1.0 - sin2).max(0.0).sqrt();
-                1.0 / (2.0 * PI * (1.0 - cos_max))
+                let (one_minus_cos_max, _) = cone_one_minus_cos(dc, radius);
+                1.0 / (2.0 * PI * one_minus_cos_max)
             }
             LightShape::Point { .. } => 0.0,
         }

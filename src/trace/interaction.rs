@@ -70,8 +70,7 @@ pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
             let point = p[0] * b0 + p[1] * hit.u + p[2] * hit.v;
             let e =
                 gamma::<f32>(7) * ((p[0] * b0).abs() + (p[1] * hit.u).abs() + (p[2] * hit.v).abs());
-            let n = (p[1] - p[0]).cross(p[2] - p[0]);
-            (point, n / n.length(), e)
+            (point, unit_normal(p[1] - p[0], p[2] - p[0]), e)
         }
     };
     let eye = -ray.dir / ray.dir.length();
@@ -83,6 +82,27 @@ pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
         inside,
         error,
     }
+}
+
+/// The unit normal E1 × E2 / |E1 × E2| of a triangle's edges. For a triangle of vertices near
+/// ±1e10 (inside the scene loader's bounds) |E1 × E2|² passes f32::MAX and the quotient is 0 or
+/// NaN (and for a tiny one it underflows); then the edges are first scaled by the power of two that brings their largest component
+/// to [1, 2) — exact, so the direction is the one E1 × E2 has. Every other triangle takes the
+/// first branch, bit for bit as before (and as the GPU's `unit_normal`).
+pub fn unit_normal(e1: Vec3, e2: Vec3) -> Vec3 {
+    let n = e1.cross(e2);
+    let len = n.length();
+    if len.is_normal() {
+        return n / len;
+    }
+    let m = e1.abs().max(e2.abs()).max_element();
+    let exponent = ((m.to_bits() >> 23) & 0xff) as i32 - 127;
+    if !(-126..=127).contains(&exponent) {
+        return n / len;
+    }
+    let k = f32::from_bits(((127 - exponent) as u32) << 23);
+    let n = (e1 * k).cross(e2 * k);
+    n / n.length()
 }
 
 /// The origin and t_min of a ray leaving `it` in direction `w`, by the scene's offset policy.

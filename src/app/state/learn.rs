@@ -36,6 +36,9 @@ pub struct Attempt {
     pub checked: String,
     /// What the tracer says (computed at the first check).
     pub expected: Option<Answer>,
+    /// The classic mistakes' answers for this pixel (computed with `expected`): a wrong answer
+    /// that matches one is told which.
+    pub mistakes: Vec<(lesson::Mistake, Answer)>,
     /// How many hints are shown.
     pub hints: usize,
     /// How many times the student checked.
@@ -80,7 +83,7 @@ pub struct Checking {
     pub student: String,
     /// The answer as it was when the student pressed Check.
     pub answer: String,
-    result: Receiver<Result<Answer, String>>,
+    result: Receiver<Result<lesson::mistakes::Key, String>>,
 }
 
 /// What the learn panel can ask for.
@@ -319,7 +322,7 @@ impl AppState {
         }
         let answer = self.learn.attempts[i].answer.clone();
         if let Some(e) = &self.learn.attempts[i].expected {
-            let e = Ok(e.clone());
+            let e = Ok((e.clone(), self.learn.attempts[i].mistakes.clone()));
             self.finish_check(i, &answer, e);
             return;
         }
@@ -329,7 +332,7 @@ impl AppState {
         let (tx, rx) = std::sync::mpsc::channel();
         let repaint = self.repaint_handle();
         crate::platform::spawn(move || {
-            let expected = sheet.expected(&q, &sheet.variant(&q, &student));
+            let expected = sheet.expected_and_mistakes(&q, &sheet.variant(&q, &student));
             // A closed channel means the check was abandoned (another sheet or student).
             if tx.send(expected).is_ok() {
                 repaint();
@@ -363,8 +366,13 @@ impl AppState {
 
     /// Marks `answer` to question `i` against the expected answer (or reports the sheet's
     /// error).
-    fn finish_check(&mut self, i: usize, answer: &str, expected: Result<Answer, String>) {
-        let expected = match expected {
+    fn finish_check(
+        &mut self,
+        i: usize,
+        answer: &str,
+        expected: Result<lesson::mistakes::Key, String>,
+    ) {
+        let (expected, found) = match expected {
             Ok(e) => e,
             Err(e) => {
                 // The sheet (not the student) is wrong: say so, mark nothing.
@@ -378,12 +386,13 @@ impl AppState {
         let Some(q) = self.learn.current_sheet().and_then(|s| s.questions.get(i)) else {
             return;
         };
-        let (kind, tolerance) = (q.quantity.kind(), q.tolerance);
+        let mut m = lesson::mark(&expected, q.quantity.kind(), Some(answer), q.tolerance);
+        lesson::mistakes::annotate(&mut m, q, Some(answer), &found);
         let Some(a) = self.learn.attempts.get_mut(i) else {
             return;
         };
-        let m = lesson::mark(&expected, kind, Some(answer), tolerance);
         a.expected = Some(expected);
+        a.mistakes = found;
         a.checked = answer.to_string();
         a.tries += 1;
         a.mark = Some(m);

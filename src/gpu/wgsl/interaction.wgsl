@@ -10,6 +10,26 @@ struct Interaction {
     error: vec3f,
 }
 
+//#if TRIANGLES
+// src/trace/interaction.rs unit_normal: E1 × E2 normalized, the edges first scaled by a power of
+// two (exact) where |E1 × E2| overflows or underflows.
+fn unit_normal(e1: vec3f, e2: vec3f) -> vec3f {
+    let n = fcross(e1, e2);
+    let len = flen(n);
+    if is_finite_f(len) && len >= 1.17549435e-38 {
+        return fdiv3(n, len);
+    }
+    let m = max(max(max(abs(e1.x), abs(e2.x)), max(abs(e1.y), abs(e2.y))), max(abs(e1.z), abs(e2.z)));
+    let exponent = i32((bitcast<u32>(m) >> 23u) & 0xffu) - 127;
+    if exponent < -126 || exponent > 127 {
+        return fdiv3(n, len);
+    }
+    let k = bitcast<f32>(u32(127 - exponent) << 23u);
+    let nk = fcross(e1 * k, e2 * k);
+    return fdiv3(nk, flen(nk));
+}
+//#endif
+
 fn interact(hit: Hit, r: Ray) -> Interaction {
     let raw = r.origin + r.dir * hit.t;
     let o = objects[hit.object];
@@ -58,8 +78,7 @@ fn interact(hit: Hit, r: Ray) -> Interaction {
             let b0 = 1.0 - hit.u - hit.v;
             point = p0 * b0 + p1 * hit.u + p2 * hit.v;
             error = GAMMA7 * (abs(p0 * b0) + abs(p1 * hit.u) + abs(p2 * hit.v));
-            let n = fcross(p1 - p0, p2 - p0);
-            outward = fdiv3(n, flen(n));
+            outward = unit_normal(p1 - p0, p2 - p0);
         }
 //#endif
         default: {}

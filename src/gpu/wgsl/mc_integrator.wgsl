@@ -135,7 +135,7 @@ fn bsdf_eval(m: McMaterial, wo: vec3f, wi: vec3f, n: vec3f) -> vec3f {
         if all(h == vec3f(0.0)) {
             return vec3f(0.0);
         }
-        let d = ggx_d(m.param, fdot(h, n));
+        let d = ggx_d(m.param, fdot(h, n), sin2_between(h, n));
         let g = smith_g1(m.param, cos_o) * smith_g1(m.param, cos_i);
         return m.c * fdiv(d * g, 4.0 * cos_o * cos_i);
     }
@@ -158,7 +158,7 @@ fn bsdf_pdf(m: McMaterial, wo: vec3f, wi: vec3f, n: vec3f) -> f32 {
             return 0.0;
         }
         let cos_h = fdot(h, n);
-        return fdiv(ggx_d(m.param, cos_h) * cos_h, 4.0 * wo_h);
+        return fdiv(ggx_d(m.param, cos_h, sin2_between(h, n)) * cos_h, 4.0 * wo_h);
     }
     return 0.0;
 }
@@ -364,11 +364,7 @@ fn light_sample_point(index: u32, p: vec3f, u: vec2f) -> LightPoint {
         let c = mcv(i + 8u);
         let normal = mcv(i + 11u);
         let light_area = mcf(i + 14u);
-        // sample::triangle_point
-        let area = 0.5 * flen(fcross(b - a, c - a));
-        if !(area > 0.0) || !is_finite_f(area) {
-            return no_light_point();
-        }
+        // Lights::sample: sample::triangle_point's point, with the light's area (f64 on the CPU)
         let bb = uniform_triangle(u);
         let q = a * (1.0 - bb.x - bb.y) + b * bb.x + c * bb.y;
         let d = q - p;
@@ -432,10 +428,7 @@ fn light_pdf(index: u32, p: vec3f, q: vec3f) -> f32 {
         if dc <= radius {
             return 0.0;
         }
-        let q1 = fdiv(radius, dc);
-        let sin2 = q1 * q1;
-        let cos_max = fsqrt(max(1.0 - sin2, 0.0));
-        return fdiv(1.0, 2.0 * MC_PI * (1.0 - cos_max));
+        return fdiv(1.0, 2.0 * MC_PI * cone_one_minus_cos(dc, radius).x);
     }
     return 0.0;
 }

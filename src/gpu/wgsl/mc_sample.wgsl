@@ -35,7 +35,9 @@ fn concentric_disk(u: vec2f) -> vec2f {
 // Malley's cosine-weighted hemisphere: (direction, pdf).
 fn cosine_hemisphere(u: vec2f) -> vec4f {
     let d = concentric_disk(u);
-    let z = fsqrt(max(1.0 - d.x * d.x - d.y * d.y, 0.0));
+    // src/mc/sample.rs: z² = (1 − r)(1 + r) with r the disk point's radius.
+    let r = max(abs(2.0 * u.x - 1.0), abs(2.0 * u.y - 1.0));
+    let z = fsqrt(max((1.0 - r) * (1.0 + r), 0.0));
     return vec4f(d.x, d.y, z, fdiv(z, MC_PI));
 }
 
@@ -53,42 +55,55 @@ fn uniform_triangle(u: vec2f) -> vec2f {
     return vec2f(s * (1.0 - u.y), s * u.y);
 }
 
+// src/mc/sample.rs cone_one_minus_cos: (1 − cos θ_max, cos θ_max) without the cancellation.
+fn cone_one_minus_cos(distance: f32, radius: f32) -> vec2f {
+    let q = fdiv(radius, distance);
+    let sin2_max = q * q;
+    let cos_max = fsqrt(max(1.0 - sin2_max, 0.0));
+    return vec2f(fdiv(sin2_max, 1.0 + cos_max), cos_max);
+}
+
 // Uniform in the cone a sphere (radius, at `distance`) subtends: (direction, pdf); pdf 0 where
 // the CPU returns None.
 fn sphere_cone(distance: f32, radius: f32, u: vec2f) -> vec4f {
     if !(distance > radius && radius > 0.0) {
         return vec4f(0.0);
     }
-    let q = fdiv(radius, distance);
-    let sin2_max = q * q;
-    let cos_max = fsqrt(max(1.0 - sin2_max, 0.0));
-    let cos_t = 1.0 - u.x * (1.0 - cos_max);
-    let sin_t = fsqrt(max(1.0 - cos_t * cos_t, 0.0));
+    let one_minus_cos_max = cone_one_minus_cos(distance, radius).x;
+    let x = u.x * one_minus_cos_max;
+    let cos_t = 1.0 - x;
+    let sin_t = fsqrt(max(x * (2.0 - x), 0.0));
     let sc = p_sin_cos(2.0 * MC_PI * u.y);
-    let solid_angle = 2.0 * MC_PI * (1.0 - cos_max);
+    let solid_angle = 2.0 * MC_PI * one_minus_cos_max;
     if !(solid_angle > 0.0) {
         return vec4f(0.0);
     }
     return vec4f(sin_t * sc.y, sin_t * sc.x, cos_t, fdiv(1.0, solid_angle));
 }
 
-// GGX's D(h).
-fn ggx_d(alpha: f32, cos_h: f32) -> f32 {
+// GGX's D(h) from cos θ_h and sin²θ_h (src/mc/sample.rs ggx_d: the stable denominator).
+fn ggx_d(alpha: f32, cos_h: f32, sin2_h: f32) -> f32 {
     if cos_h <= 0.0 {
         return 0.0;
     }
     let a2 = alpha * alpha;
-    let t = (a2 - 1.0) * cos_h * cos_h + 1.0;
+    let t = a2 * (cos_h * cos_h) + sin2_h;
     return fdiv(a2, MC_PI * t * t);
 }
 
-// A GGX microfacet normal: (h, D(h) cos θ_h).
+// sin²θ between unit vectors as |a × b|² (src/mc/sample.rs sin2_between).
+fn sin2_between(a: vec3f, b: vec3f) -> f32 {
+    let c = fcross(a, b);
+    return fdot(c, c);
+}
+
+// A GGX microfacet normal: (h, D(h) cos θ_h); sin θ_h = √tan²θ_h · cos θ_h.
 fn ggx_normal(alpha: f32, u: vec2f) -> vec4f {
     let tan2 = fdiv(alpha * alpha * u.x, max(1.0 - u.x, F32_MIN_POSITIVE));
     let cos_t = fdiv(1.0, fsqrt(1.0 + tan2));
-    let sin_t = fsqrt(max(1.0 - cos_t * cos_t, 0.0));
+    let sin_t = fsqrt(tan2) * cos_t;
     let sc = p_sin_cos(2.0 * MC_PI * u.y);
-    return vec4f(sin_t * sc.y, sin_t * sc.x, cos_t, ggx_d(alpha, cos_t) * cos_t);
+    return vec4f(sin_t * sc.y, sin_t * sc.x, cos_t, ggx_d(alpha, cos_t, sin_t * sin_t) * cos_t);
 }
 
 // Duff et al.'s orthonormal frame around unit n: columns s, t, n.
