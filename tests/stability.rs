@@ -344,7 +344,7 @@ fn stability_quick_writes_markdown_csv_and_plots() {
     let md = std::fs::read_to_string(out.join("stability.md")).unwrap();
     assert!(md.contains("| primitive | method | precision |"));
     // The Monte Carlo cases: their own CSV (a header, then 2 methods × f32/f64 × 10 quantities
-    // of S26–S28 and S29's area in f32), and a section of the Markdown.
+    // of S26–S28, and S29's area in f32), and a section of the Markdown.
     assert!(md.contains("## Monte Carlo sampling (S26–S29)"));
     let mc = std::fs::read_to_string(out.join("stability-mc.csv")).unwrap();
     let mut lines = mc.lines();
@@ -353,7 +353,7 @@ fn stability_quick_writes_markdown_csv_and_plots() {
         raystep::stability::report::MC_CSV_COLUMNS.join(",")
     );
     let rows: Vec<&str> = lines.collect();
-    assert_eq!(rows.len(), 2 * 2 * 9 + 2, "{mc}");
+    assert_eq!(rows.len(), 2 * 2 * 10 + 2, "{mc}");
     for line in rows {
         let f = csv_fields(line);
         assert_eq!(
@@ -629,8 +629,15 @@ fn monte_carlo_references_match_an_independent_computation() {
     // Grazing: w = (0.8, −0.6, 3e-7), n = (0.6, 0.8, 1e-3), all in f32: w·n = 3.0000002486e-10.
     let f = |v: [f32; 3]| v.map(|x| x as f64);
     let n = f([0.6, 0.8, 1e-3]);
-    let [cos_pdf, light] =
-        mc::exact::grazing(f([0.8, -0.6, 3e-7]), n, f([-8.0, 6.0, -2e-6]), 2.0).map(|v| v.unwrap());
+    // u = (2⁻²⁴, 1/2): the concentric disk's point at radius r = 1 − 2⁻²³, so the sampled
+    // cos θ = √(1 − r²) = 4.8828123544808455e-4.
+    let (w, d, u) = (
+        f([0.8, -0.6, 3e-7]),
+        f([-8.0, 6.0, -2e-6]),
+        [2f64.powi(-24), 0.5],
+    );
+    let [cos_pdf, light, z] = mc::exact::grazing(w, n, d, 2.0, u).map(|v| v.unwrap());
+    assert!(rel(z.hi, 4.882_812_354_480_845_5e-4) < 1e-15, "{z:?}");
     assert!(
         rel(cos_pdf.hi, 9.549_297_376_847_773e-11) < 1e-15,
         "{cos_pdf:?}"
@@ -725,7 +732,7 @@ fn monte_carlo_cases_show_textbook_failures_and_stable_fixes() {
     for (case, quantities) in [
         ("S26", &["1 − cos θmax", "cone pdf", "cos θ", "sin θ"][..]),
         ("S27", &["sin θh", "D(h)", "pdf"][..]),
-        ("S28", &["cosine pdf", "light pdf"][..]),
+        ("S28", &["cosine pdf", "light pdf", "sampled cos θ"][..]),
         ("S29", &["area"][..]),
     ] {
         for q in quantities {
@@ -766,6 +773,8 @@ fn monte_carlo_cases_show_textbook_failures_and_stable_fixes() {
     // S28: at cos θ = 1e-7 the plain f32 dot product's rounding (a few 1e-8) is tens of per cent.
     assert!(f32_row("S28", "cosine pdf").max_rel > 0.1);
     assert!(f32_row("S28", "light pdf").max_rel > 0.1);
+    // The sampled cos θ near the horizon: 1 − x² − y² keeps few digits of cos²θ.
+    assert!(f32_row("S28", "sampled cos θ").max_rel > 0.01);
     // S29: every triangle at ±1e10 overflows and every one with edges 1e-13 underflows to 0:
     // two of the quick suite's three scales are dropped.
     let s29 = f32_row("S29", "area");

@@ -88,7 +88,8 @@ fn grazing_dir(rng: &mut Rng, n: [f64; 3], cos: f64, sign: f64, scale_to: f64) -
 }
 
 /// S28: directions at cos θ = 1e-4 … 1e-7 to the normal: the cosine-hemisphere pdf of one, and a
-/// light point on a triangle seen as nearly edge-on (cos θl alike), 1 … 100 away.
+/// light point on a triangle seen as nearly edge-on (cos θl alike), 1 … 100 away; and
+/// cosine-weighted directions sampled as near the horizon as an f32 u allows.
 pub(super) fn grazing(opts: &Options, rng: &mut Rng, n: usize) -> McCase {
     let mut v = vec![];
     for cos in pick(opts, &[1e-4, 1e-5, 1e-6, 1e-7]) {
@@ -97,11 +98,24 @@ pub(super) fn grazing(opts: &Options, rng: &mut Rng, n: usize) -> McCase {
             let w = grazing_dir(rng, nrm, cos, 1.0, 1.0);
             let dist = rng.range(1.0, 100.0);
             let d = grazing_dir(rng, nrm, cos, -1.0, dist);
+            // A disk point k·2⁻²³ from the rim, k = 1 … 1023 (log-uniform): the sampled
+            // cos θ is about √(k·2⁻²²) = 2⁻¹¹√k, 4.9e-4 … 1.6e-2. An f32 u reaches hardly
+            // closer to the horizon: 3.5e-4 at u = 2⁻²⁵, then 0.
+            let k = 2f64.powf(rng.range(0.0, 10.0)).floor();
+            let rim = k * 2f64.powi(-24);
+            let rim = if rng.f() < 0.5 { rim } else { 1.0 - rim };
+            let other = r32(rng.range(0.25, 0.75));
+            let u = if rng.f() < 0.5 {
+                [rim, other]
+            } else {
+                [other, rim]
+            };
             v.push(GrazingInput {
                 w,
                 n: nrm,
                 d,
                 area: r32(rng.range(0.1, 10.0)),
+                u,
             });
         }
     }

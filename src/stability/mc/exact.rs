@@ -65,16 +65,21 @@ pub fn ggx(alpha: f64, u: f64, cphi: f64, sphi: f64, wo: [f64; 3]) -> [Option<Dd
     [dd(&sin), dd(&d), pdf.as_ref().and_then(dd)]
 }
 
-/// S28: [(w·n)/π, |d|³/(area·(−d·n))] — the cosine-hemisphere pdf of the direction `w` at the
-/// normal `n`, and the pdf per steradian of a point on an emitting triangle (normal `n`, area
-/// `area`) at offset `d`: |d|²/(area·cos θl) with cos θl = −(d·n)/|d|.
-pub fn grazing(w: [f64; 3], n: [f64; 3], d: [f64; 3], area: f64) -> [Option<Dd>; 2] {
+/// S28: [(w·n)/π, |d|³/(area·(−d·n)), √(1 − r²)] — the cosine-hemisphere pdf of the direction
+/// `w` at the normal `n`; the pdf per steradian of a point on an emitting triangle (normal `n`,
+/// area `area`) at offset `d`, |d|²/(area·cos θl) with cos θl = −(d·n)/|d|; and the cos θ of the
+/// cosine-weighted direction the uniform numbers `u` make, whose concentric-disk point has radius
+/// r = max(|2u₀ − 1|, |2u₁ − 1|).
+pub fn grazing(w: [f64; 3], n: [f64; 3], d: [f64; 3], area: f64, u: [f64; 2]) -> [Option<Dd>; 3] {
     let (w, n, d) = (q3(w), q3(n), q3(d));
     let cos = dot(&w, &n) / pi();
     let dd2 = dot(&d, &d);
     let dn = -dot(&d, &n);
     let light = (!dn.is_zero()).then(|| &dd2 * sqrt(&dd2) / (q(area) * dn));
-    [dd(&cos), light.as_ref().and_then(dd)]
+    let [a, b] = u.map(|x| (int(2) * q(x) - int(1)).abs());
+    let r = if a > b { a } else { b };
+    let z = sqrt(&(int(1) - &r * &r));
+    [dd(&cos), light.as_ref().and_then(dd), dd(&z)]
 }
 
 /// S29: the area ½|(P1 − P0) × (P2 − P0)|.

@@ -101,22 +101,89 @@ pub fn dot2<T: Real>(a: [T; 3], b: [T; 3]) -> T {
 
 /// S28: grazing directions. `w` is a unit direction nearly perpendicular to the unit normal `n`;
 /// `d` is the offset from a shading point to a point on an emitting triangle of area `area`
-/// whose normal is `n`, seen nearly edge-on: [the cosine-hemisphere pdf (w·n)/π, the light's pdf
-/// per steradian |d|²/(area · cos θl)].
+/// whose normal is `n`, seen nearly edge-on; `u` makes a cosine-weighted direction near the
+/// horizon: [the cosine-hemisphere pdf (w·n)/π, the light's pdf per steradian
+/// |d|²/(area · cos θl), the sampled direction's cos θ].
 ///
-/// - Textbook (raystep's code): cos θ = w·n; cos θl = −(d/|d|)·n.
-/// - Stable: the same dot products compensated ([`dot2`]); cos θl = −(d·n)/|d|.
+/// - Textbook: cos θ = w·n; cos θl = −(d/|d|)·n; the sampled cos θ = √(1 − x² − y²) from the
+///   concentric disk's point (x, y).
+/// - Stable: the same dot products compensated ([`dot2`]); cos θl = −(d·n)/|d|; the sampled
+///   cos θ = √((1 − r)(1 + r)) from the disk point's radius r = max(|2u₀ − 1|, |2u₁ − 1|).
 #[inline(always)]
-pub fn grazing<T: Real>(m: McMethod, w: [T; 3], n: [T; 3], d: [T; 3], area: T) -> [T; 2] {
+pub fn grazing<T: Real>(
+    m: McMethod,
+    w: [T; 3],
+    n: [T; 3],
+    d: [T; 3],
+    area: T,
+    u: [T; 2],
+) -> [T; 3] {
     let dist = dot(d, d).sqrt();
-    let (cos, cos_l) = match m {
+    let one = T::one();
+    let (a, b) = (lit::<T>(2.0) * u[0] - one, lit::<T>(2.0) * u[1] - one);
+    let (cos, cos_l, z) = match m {
         McMethod::Textbook => {
             let wi = [d[0] / dist, d[1] / dist, d[2] / dist];
-            (dot(w, n), -dot(wi, n))
+            // Shirley and Chiu's concentric map, as sample::concentric_disk.
+            let quarter = pi::<T>() / lit::<T>(4.0);
+            let (r, theta) = if a.abs() > b.abs() {
+                (a, quarter * (b / a))
+            } else {
+                (b, lit::<T>(2.0) * quarter - quarter * (a / b))
+            };
+            let (x, y) = (r * theta.cos(), r * theta.sin());
+            let z = (one - x * x - y * y).max(T::zero()).sqrt();
+            (dot(w, n), -dot(wi, n), z)
         }
-        McMethod::Stable => (dot2(w, n), -dot2(d, n) / dist),
+        McMethod::Stable => {
+            let r = a.abs().max(b.abs());
+            let z = ((one - r) * (one + r)).max(T::zero()).sqrt();
+            (dot2(w, n), -dot2(d, n) / dist, z)
+        }
     };
-    [cos / pi::<T>(), dist * dist / (area * cos_l)]
+    [cos / pi::<T>(), dist * dist / (area * cos_l), z]
+}
+
+/// The stable rows in f32 through raystep's own kernels where their signatures allow
+/// ([`crate::mc::sample`]): the same outputs as the generic kernels, from the f64 inputs (exact in
+/// f32). S26: `cone_one_minus_cos` and `sphere_cone` (azimuth 0: the direction is
+/// (sin θ, 0, cos θ)); S27: `ggx_normal` (azimuth 0) for sin θh and cos θh, `ggx_d` for D, ωo·h
+/// as the generic kernel forms it; S28's sampled cos θ: `cosine_hemisphere`, the two pdfs the
+/// lab's (raystep's `bsdf::pdf` and `Lights::pdf` take cos θ as a plain dot product); S29:
+/// `triangle_area`.
+pub mod raystep {
+    use crate::mc::sample::{
+        cone_one_minus_cos, cosine_hemisphere, ggx_d, ggx_normal, sphere_cone, triangle_area,
+    };
+    use glam::Vec3;
+
+    /// S26: [1 − cos θmax, pdf, cos θ, sin θ] (NaN where `sphere_cone` gives nothing).
+    pub fn cone(d: f32, r: f32, u: f32) -> [f32; 4] {
+        let (x, _) = cone_one_minus_cos(d, r);
+        match sphere_cone(d, r, [u, 0.0]) {
+            Some(s) => [x, s.pdf, s.value.z, s.value.x],
+            None => [x, f32::NAN, f32::NAN, f32::NAN],
+        }
+    }
+
+    /// S27: [sin θh, D(h), D(h)·cos θh/(4 ωo·h)].
+    pub fn ggx(alpha: f32, u: f32, cphi: f32, sphi: f32, wo: [f32; 3]) -> [f32; 3] {
+        let h = ggx_normal(alpha, [u, 0.0]).value;
+        let (sin, cos) = (h.x, h.z);
+        let d = ggx_d(alpha, cos, sin * sin);
+        let wo_h = wo[0] * (sin * cphi) + wo[1] * (sin * sphi) + wo[2] * cos;
+        [sin, d, d * cos / (4.0 * wo_h)]
+    }
+
+    /// S28's sampled cos θ.
+    pub fn cosine_z(u: [f32; 2]) -> f32 {
+        cosine_hemisphere(u).value.z
+    }
+
+    /// S29.
+    pub fn area(p: [[f32; 3]; 3]) -> f32 {
+        triangle_area(p.map(Vec3::from))
+    }
 }
 
 /// S29: the area ½|(P1 − P0) × (P2 − P0)| of an emitting triangle.

@@ -31,7 +31,8 @@ use std::hint::black_box;
 pub enum McMethod {
     /// As courses write it (and as raystep wrote it before issue 48).
     Textbook,
-    /// Rewritten not to cancel (docs/NUMERICS.md derives each).
+    /// Rewritten not to cancel (docs/NUMERICS.md derives each). In f32, raystep's own kernels
+    /// where their signatures allow ([`kernels::raystep`]); in f64, the lab's code.
     Stable,
 }
 
@@ -74,6 +75,8 @@ pub struct GrazingInput {
     pub d: [f64; 3],
     /// The triangle's area.
     pub area: f64,
+    /// Uniform numbers for a cosine-weighted direction near the horizon.
+    pub u: [f64; 2],
 }
 
 /// The inputs of a case (every number exact in f32: both precisions see the same inputs).
@@ -103,7 +106,7 @@ impl McData {
         match self {
             McData::Cone(_) => &["1 − cos θmax", "cone pdf", "cos θ", "sin θ"],
             McData::Ggx(_) => &["sin θh", "D(h)", "pdf"],
-            McData::Grazing(_) => &["cosine pdf", "light pdf"],
+            McData::Grazing(_) => &["cosine pdf", "light pdf", "sampled cos θ"],
             McData::Area(_) => &["area"],
         }
     }
@@ -166,8 +169,8 @@ pub struct McRow {
     pub ns_per_sample: f64,
 }
 
-/// A grazing sample in precision T: (w, n, d, area).
-type Grazing<T> = ([T; 3], [T; 3], [T; 3], T);
+/// A grazing sample in precision T: (w, n, d, area, u).
+type Grazing<T> = ([T; 3], [T; 3], [T; 3], T, [T; 2]);
 
 /// A case's inputs in precision T.
 enum Prepared<T: Real> {
@@ -194,7 +197,7 @@ fn prepare<T: Real>(data: &McData) -> Prepared<T> {
         ),
         McData::Grazing(v) => Prepared::Grazing(
             v.iter()
-                .map(|g| (t3(g.w), t3(g.n), t3(g.d), t(g.area)))
+                .map(|g| (t3(g.w), t3(g.n), t3(g.d), t(g.area), g.u.map(t::<T>)))
                 .collect(),
         ),
         McData::Area(v) => Prepared::Area(v.iter().map(|p| p.map(t3)).collect()),
@@ -213,12 +216,49 @@ fn eval<T: Real>(p: &Prepared<T>, i: usize, m: McMethod) -> [f64; 4] {
             [x, y, z, f64::NAN]
         }
         Prepared::Grazing(v) => {
-            let (wi, n, d, a) = v[i];
-            let [x, y] = kernels::grazing(m, wi, n, d, a).map(w);
-            [x, y, f64::NAN, f64::NAN]
+            let (wi, n, d, a, u) = v[i];
+            let [x, y, z] = kernels::grazing(m, wi, n, d, a, u).map(w);
+            [x, y, z, f64::NAN]
         }
         Prepared::Area(v) => [w(kernels::area(m, v[i])), f64::NAN, f64::NAN, f64::NAN],
     }
+}
+
+/// Sample `i` by the stable formulation in f32 through raystep's own kernels
+/// ([`kernels::raystep`]), widened to f64.
+#[inline(always)]
+fn eval_raystep(p: &Prepared<f32>, i: usize) -> [f64; 4] {
+    let w = |x: f32| x as f64;
+    match p {
+        Prepared::Cone(v) => kernels::raystep::cone(v[i][0], v[i][1], v[i][2]).map(w),
+        Prepared::Ggx(v) => {
+            let (a, u, c, s, wo) = v[i];
+            let [x, y, z] = kernels::raystep::ggx(a, u, c, s, wo).map(w);
+            [x, y, z, f64::NAN]
+        }
+        Prepared::Grazing(v) => {
+            let (wi, n, d, a, u) = v[i];
+            let [x, y, _] = kernels::grazing(McMethod::Stable, wi, n, d, a, u).map(w);
+            [x, y, w(kernels::raystep::cosine_z(u)), f64::NAN]
+        }
+        Prepared::Area(v) => [
+            w(kernels::raystep::area(v[i])),
+            f64::NAN,
+            f64::NAN,
+            f64::NAN,
+        ],
+    }
+}
+
+/// Every sample's outputs by `f`, and its cost in ns per sample.
+fn outputs(n: usize, opts: &Options, f: impl Fn(usize) -> [f64; 4]) -> (Vec<[f64; 4]>, f64) {
+    let outs = (0..n).map(&f).collect();
+    let ns = time_per_item(n, opts.min_timing_s, || {
+        for i in 0..n {
+            black_box(f(black_box(i)));
+        }
+    });
+    (outs, ns)
 }
 
 /// The exact values of one sample (unused slots None).
@@ -232,8 +272,8 @@ fn reference(data: &McData, i: usize) -> [Option<Dd>; 4] {
         }
         McData::Grazing(v) => {
             let g = v[i];
-            let [a, b] = exact::grazing(g.w, g.n, g.d, g.area);
-            [a, b, None, None]
+            let [a, b, c] = exact::grazing(g.w, g.n, g.d, g.area, g.u);
+            [a, b, c, None]
         }
         McData::Area(v) => [exact::area(v[i]), None, None, None],
     }
@@ -269,14 +309,15 @@ fn rows_in<T: Real>(
     p: Precision,
     opts: &Options,
 ) -> Vec<McRow> {
-    let prep = prepare::<T>(&case.data);
     let n = case.len();
-    let outs: Vec<[f64; 4]> = (0..n).map(|i| eval(&prep, i, m)).collect();
-    let ns = time_per_item(n, opts.min_timing_s, || {
-        for i in 0..n {
-            black_box(eval(black_box(&prep), i, m));
-        }
-    });
+    // The stable rows in f32 are raystep's own kernels, where their signatures allow.
+    let (outs, ns) = if p == Precision::F32 && m == McMethod::Stable {
+        let prep = prepare::<f32>(&case.data);
+        outputs(n, opts, |i| eval_raystep(&prep, i))
+    } else {
+        let prep = prepare::<T>(&case.data);
+        outputs(n, opts, |i| eval(&prep, i, m))
+    };
     let limit = T::max_value().to_f64();
     let sort = |v: &mut Vec<f64>| v.sort_by(|a, b| a.total_cmp(b));
     let mut rows = vec![];
