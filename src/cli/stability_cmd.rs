@@ -1,6 +1,6 @@
 //! `raystep stability`: the numerical stability lab (every method × precision × stiff case).
 
-use crate::stability::{Options, Primitive, plot, report, run};
+use crate::stability::{Options, Precision, Primitive, plot, report, run};
 use std::path::PathBuf;
 
 /// Arguments of `raystep stability`.
@@ -9,8 +9,8 @@ pub struct StabilityArgs {
     /// The CI suite: every case at fewer scales and rays (seconds instead of minutes).
     #[arg(long)]
     pub quick: bool,
-    /// Directory for stability.md, stability.csv and one error-vs-time PNG per primitive
-    /// (created if missing).
+    /// Directory for stability.md, stability.csv, stability-mc.csv (the Monte Carlo cases) and
+    /// one error-vs-time PNG per primitive (created if missing).
     #[arg(long, default_value = "stability")]
     pub out: PathBuf,
     /// Rays per case and scale (default: 200 quick, 4000 full).
@@ -41,7 +41,15 @@ pub fn run_cmd(args: &StabilityArgs) -> Result<(), String> {
         &args.out.join("stability.csv"),
         report::csv(&rep).as_bytes(),
     )?;
-    let mut written = vec!["stability.md".to_string(), "stability.csv".to_string()];
+    crate::io::write_atomic(
+        &args.out.join("stability-mc.csv"),
+        report::mc_csv(&rep).as_bytes(),
+    )?;
+    let mut written = vec![
+        "stability.md".to_string(),
+        "stability.csv".to_string(),
+        "stability-mc.csv".to_string(),
+    ];
     for prim in Primitive::ALL {
         if let Some(png) = plot::cost_plot(&rep.points, prim, rep.quick) {
             let name = format!("stability-{}.png", prim.name());
@@ -64,9 +72,22 @@ pub fn run_cmd(args: &StabilityArgs) -> Result<(), String> {
             p.nonfinite
         );
     }
+    summary += "\nMonte Carlo (f32): quantity, method, max and p99 relative error, misclassified\n";
+    for r in rep.mc.iter().filter(|r| r.precision == Precision::F32) {
+        summary += &format!(
+            "{:4} {:13} {:9} max {:>9}  p99 {:>9}  misclassified {:>5}\n",
+            r.case,
+            r.quantity,
+            r.method.name(),
+            report::num(r.max_rel),
+            report::num(r.p99_rel),
+            r.misclassified
+        );
+    }
     summary += &format!(
-        "\n{} rays in {:.1} s; wrote {} in {}\n",
+        "\n{} rays and {} Monte Carlo samples in {:.1} s; wrote {} in {}\n",
         rep.rays,
+        rep.mc_samples,
         rep.seconds,
         written.join(", "),
         super::full_path(&args.out)

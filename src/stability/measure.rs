@@ -174,7 +174,7 @@ fn eval<T: Real>(p: &Prepared<T>, m: Method) -> Outcome {
 }
 
 /// The spacing of precision-p floats at |x|.
-fn ulp(x: f64, p: Precision) -> f64 {
+pub(super) fn ulp(x: f64, p: Precision) -> f64 {
     let x = x.abs();
     match p {
         Precision::F32 => {
@@ -188,7 +188,7 @@ fn ulp(x: f64, p: Precision) -> f64 {
     }
 }
 
-fn percentile(sorted: &[f64], q: f64) -> f64 {
+pub(super) fn percentile(sorted: &[f64], q: f64) -> f64 {
     if sorted.is_empty() {
         return 0.0;
     }
@@ -243,7 +243,7 @@ const SHORT_WINDOW_S: f64 = 2e-5;
 /// machine, by anything) can only read slower — with long windows one preemption made whole rows
 /// 10–40× too slow in the app — while windows shorter than a time slice are mostly clean. The
 /// minimum is the kernel's own cost, the same on a busy machine as on an idle one.
-fn time_per_item(n: usize, min_s: f64, mut f: impl FnMut()) -> f64 {
+pub(super) fn time_per_item(n: usize, min_s: f64, mut f: impl FnMut()) -> f64 {
     if n == 0 {
         return 0.0;
     }

@@ -1,6 +1,8 @@
 //! The numerical stability lab: every intersection method in both precisions, run on
 //! the stiff cases S1–S25 of docs/NUMERICS.md, each answer measured against an *exact* reference, and
-//! each method's cost measured on the same inputs.
+//! each method's cost measured on the same inputs; and the Monte Carlo sampling numerics (a sphere
+//! light's cone, near-mirror GGX, grazing directions, huge and tiny emitting triangles) in a
+//! textbook and a stable formulation, on the stiff cases S26–S29 ([`mc`]).
 //!
 //! One call does it all: [`run`] takes [`Options`] and returns a [`Report`] — plain data the
 //! command line prints as Markdown and CSV ([`report`]) and draws as error-vs-time plots
@@ -22,12 +24,14 @@
 //!
 //! The image-level half of the lab — error of a whole render against run time — is [`converge`].
 //!
-//! Modules: [`exact`] (rational references and the rounding bands), [`cases`] (the S1–S25
-//! generators), [`report`] (Markdown and CSV), [`plot`] (log–log PNG plots), [`converge`].
+//! Modules: [`exact`] (rational references and the rounding bands), [`cases`] (the S1–S29
+//! generators), [`mc`] (the Monte Carlo formulations and their references), [`report`] (Markdown
+//! and CSV), [`plot`] (log–log PNG plots), [`converge`].
 
 pub mod cases;
 pub mod converge;
 pub mod exact;
+pub mod mc;
 mod measure;
 pub mod pixel;
 pub mod plot;
@@ -299,6 +303,10 @@ pub struct Report {
     pub points: Vec<CostPoint>,
     /// Rays generated (each tested by every applicable method in both precisions).
     pub rays: usize,
+    /// The Monte Carlo cases S26–S29: one row per case × quantity × method × precision.
+    pub mc: Vec<mc::McRow>,
+    /// Monte Carlo samples generated (each evaluated by both methods).
+    pub mc_samples: usize,
     /// Wall time of the whole run, in seconds.
     pub seconds: f64,
     /// Whether this was the quick suite.
@@ -312,10 +320,27 @@ impl Report {
             .iter()
             .find(|r| r.case == case && r.method == method && r.precision == precision)
     }
+
+    /// The Monte Carlo row of one case, quantity, method and precision.
+    pub fn mc_row(
+        &self,
+        case: &str,
+        quantity: &str,
+        method: mc::McMethod,
+        precision: Precision,
+    ) -> Option<&mc::McRow> {
+        self.mc.iter().find(|r| {
+            r.case == case
+                && r.quantity == quantity
+                && r.method == method
+                && r.precision == precision
+        })
+    }
 }
 
 /// Runs the lab: generates every case, computes the exact references, runs every applicable
-/// method in f32 and f64, and times each on the same inputs. Never panics on its own inputs.
+/// method in f32 and f64, and times each on the same inputs; then the Monte Carlo cases S26–S29.
+/// Never panics on its own inputs.
 pub fn run(opts: &Options) -> Report {
     let mut suite = Suite::new(opts);
     loop {
@@ -331,8 +356,11 @@ pub struct Suite {
     opts: Options,
     start: Instant,
     catalogue: std::vec::IntoIter<cases::Case>,
+    mc_catalogue: std::vec::IntoIter<mc::McCase>,
     pool: Option<rayon::ThreadPool>,
     rows: Vec<Row>,
+    mc_rows: Vec<mc::McRow>,
+    mc_samples: usize,
     samples: measure::Samples,
     rays: usize,
 }
@@ -342,6 +370,7 @@ impl Suite {
     pub fn new(opts: &Options) -> Suite {
         let start = Instant::now();
         let catalogue = cases::catalogue(opts).into_iter();
+        let mc_catalogue = cases::mc_catalogue(opts).into_iter();
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(opts.threads.unwrap_or(0))
             .build()
@@ -350,8 +379,11 @@ impl Suite {
             opts: opts.clone(),
             start,
             catalogue,
+            mc_catalogue,
             pool,
             rows: vec![],
+            mc_rows: vec![],
+            mc_samples: 0,
             samples: measure::Samples::default(),
             rays: 0,
         }
@@ -360,11 +392,24 @@ impl Suite {
     /// Runs the next case; the report once every case has run.
     pub fn step(&mut self) -> Option<Report> {
         let Some(case) = self.catalogue.next() else {
+            if let Some(case) = self.mc_catalogue.next() {
+                self.mc_samples += case.len();
+                let opts = &self.opts;
+                let work = || mc::run_case(&case, opts);
+                let mut out = match &self.pool {
+                    Some(p) => p.install(work),
+                    None => work(),
+                };
+                self.mc_rows.append(&mut out);
+                return None;
+            }
             let points = measure::points(&self.rows, &self.samples);
             return Some(Report {
                 rows: std::mem::take(&mut self.rows),
                 points,
                 rays: self.rays,
+                mc: std::mem::take(&mut self.mc_rows),
+                mc_samples: self.mc_samples,
                 seconds: self.start.elapsed().as_secs_f64(),
                 quick: self.opts.quick,
             });

@@ -1,5 +1,5 @@
-//! The lab's report as text: a Markdown summary and table, and a CSV with one row per
-//! method × precision × case.
+//! The lab's report as text: a Markdown summary and table, a CSV with one row per
+//! method × precision × case, and a CSV of the Monte Carlo cases ([`mc_csv`]).
 
 use super::{Primitive, Report};
 use std::fmt::Write as _;
@@ -27,6 +27,24 @@ pub const CSV_COLUMNS: [&str; 21] = [
     "uv_max_ulps",
     "uv_p99_ulps",
     "ns_per_test",
+];
+
+/// The Monte Carlo CSV's header (`stability-mc.csv`), in column order.
+pub const MC_CSV_COLUMNS: [&str; 14] = [
+    "case",
+    "title",
+    "quantity",
+    "method",
+    "precision",
+    "samples",
+    "misclassified",
+    "nonfinite",
+    "compared",
+    "max_rel",
+    "p99_rel",
+    "max_ulps",
+    "p99_ulps",
+    "ns_per_sample",
 ];
 
 /// A number in at most 4 significant digits, switching to exponent form when very large or small.
@@ -91,6 +109,34 @@ pub fn csv(report: &Report) -> String {
             opt(r.uv_max_ulps),
             opt(r.uv_p99_ulps),
             format!("{}", r.ns_per_test),
+        ];
+        out.push_str(&fields.join(","));
+        out.push('\n');
+    }
+    out
+}
+
+/// The Monte Carlo CSV: a header line ([`MC_CSV_COLUMNS`]) and one line per row of
+/// [`Report::mc`], floats in full.
+pub fn mc_csv(report: &Report) -> String {
+    let mut out = MC_CSV_COLUMNS.join(",");
+    out.push('\n');
+    for r in &report.mc {
+        let fields = [
+            r.case.to_string(),
+            csv_field(r.title),
+            csv_field(r.quantity),
+            r.method.name().into(),
+            r.precision.name().into(),
+            r.samples.to_string(),
+            r.misclassified.to_string(),
+            r.nonfinite.to_string(),
+            r.compared.to_string(),
+            format!("{}", r.max_rel),
+            format!("{}", r.p99_rel),
+            format!("{}", r.max_ulps),
+            format!("{}", r.p99_ulps),
+            format!("{}", r.ns_per_sample),
         ];
         out.push_str(&fields.join(","));
         out.push('\n');
@@ -186,5 +232,56 @@ pub fn markdown(report: &Report) -> String {
             );
         }
     }
+    if !report.mc.is_empty() {
+        mc_markdown(&mut s, report);
+    }
     s
+}
+
+/// The Monte Carlo section of the Markdown report.
+fn mc_markdown(s: &mut String, report: &Report) {
+    let _ = writeln!(s, "\n## Monte Carlo sampling (S26–S29)\n");
+    let _ = writeln!(
+        s,
+        "{} samples, each quantity in its textbook and stable formulation, against an exact \
+         reference (rationals, 200-bit square roots). *Misclassified*: zero, negative, ∞ or NaN \
+         where the exact value is a positive number the precision holds (a dropped light, a \
+         density that is none, a direction collapsed onto its axis); those are left out of the \
+         error columns. Relative error |y − exact|/exact; ulps of the exact value in the row's \
+         precision. Cost in ns per sample (all of the case's quantities).\n",
+        report.mc_samples
+    );
+    let _ = writeln!(
+        s,
+        "| case | quantity | method | prec | samples | misclassified | NaN/∞ | max rel | p99 rel | max ulps | p99 ulps | ns/sample |"
+    );
+    let _ = writeln!(
+        s,
+        "|---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+    );
+    let mut last_case = "";
+    for r in &report.mc {
+        let case = if r.case != last_case {
+            last_case = r.case;
+            format!("{} {}", r.case, r.title)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            case,
+            r.quantity,
+            r.method.name(),
+            r.precision.name(),
+            r.samples,
+            r.misclassified,
+            r.nonfinite,
+            num(r.max_rel),
+            num(r.p99_rel),
+            num(r.max_ulps),
+            num(r.p99_ulps),
+            num(r.ns_per_sample)
+        );
+    }
 }

@@ -1,4 +1,5 @@
-//! Generators for the stiff-case catalogue S1–S25 of docs/NUMERICS.md.
+//! Generators for the stiff-case catalogue S1–S29 of docs/NUMERICS.md: the intersection cases
+//! S1–S25 ([`catalogue`]) and the Monte Carlo sampling cases S26–S29 ([`mc_catalogue`]).
 //!
 //! Every generated number is rounded to f32 (unless the case is *about* f64-only inputs), so the
 //! f32 and f64 kernels see exactly the same inputs and share one exact reference. Where an input
@@ -11,12 +12,14 @@ use super::{Options, Primitive};
 use crate::scene::Shape;
 use glam::Vec3;
 
+mod mc;
 mod plane;
 mod rays;
 mod slab;
 mod sphere;
 mod triangle;
 
+use mc::*;
 use plane::*;
 use rays::*;
 use slab::*;
@@ -381,4 +384,17 @@ pub fn catalogue(opts: &Options) -> Vec<Case> {
     out.push(spawn_s7(&mut rng, n));
     out.push(spawn_s19(opts, &mut rng, n));
     out
+}
+
+/// The Monte Carlo cases S26–S29, generated for `opts` (deterministic in `opts.seed`, from a
+/// generator of their own: adding them left S1–S25's rays as they were).
+pub fn mc_catalogue(opts: &Options) -> Vec<crate::stability::mc::McCase> {
+    let n = opts.rays.max(1);
+    let mut rng = Rng::new(opts.seed ^ 0x4D43_5F53_3236);
+    vec![
+        sphere_lights(opts, &mut rng, n),
+        ggx_near_mirror(opts, &mut rng, n),
+        grazing(opts, &mut rng, n),
+        emitter_areas(opts, &mut rng, n),
+    ]
 }
