@@ -78,3 +78,29 @@ fn answers_are_not_exported_without_a_student_id() {
     let e = s.answers_csv().unwrap_err();
     assert!(e.contains("student id"), "{e}");
 }
+
+/// A wrong answer that is a classic mistake is named in the app, as `raystep check` names it:
+/// on sheet 16's MIS question (whose pixels are drawn where the power heuristic, the balance
+/// heuristic and a bare 1 differ), the answer 1 is "no MIS".
+#[test]
+fn the_app_names_a_classic_mistake() {
+    let mut s = AppState::new(Prefs::default(), || {});
+    s.apply(Command::Learn(LearnCmd::OpenSheet(
+        Path::new("lessons/exercises/16-mis.toml").into(),
+    )));
+    s.apply(Command::Learn(LearnCmd::Student("alice".into())));
+    s.apply(Command::Learn(LearnCmd::Answer("1".into())));
+    s.apply(Command::Learn(LearnCmd::Check));
+    let start = std::time::Instant::now();
+    while s.learn.attempts[0].mark.is_none() && start.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        s.tick(raystep::platform::Instant::now());
+    }
+    let m = s.learn.attempts[0]
+        .mark
+        .as_ref()
+        .expect("the check finishes");
+    assert!(!m.right);
+    assert_eq!(m.mistake.map(|k| k.id()), Some("no-mis"), "{m:?}");
+    assert!(m.note.as_deref().unwrap().contains("no MIS"), "{m:?}");
+}
