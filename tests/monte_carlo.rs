@@ -616,14 +616,21 @@ fn polygon_irradiance(p: [f64; 3], n: [f64; 3], poly: &[[f64; 3]], l: f64) -> f6
     0.5 * l * sum.abs()
 }
 
-/// An emitting triangle with vertices near ±1e10 (inside the scene loader's bounds, though its
-/// f32 cross product overflows) stays a light: light sampling from a point 1e9 below it
-/// estimates the irradiance Lambert's formula gives, and its hit's normal is a unit vector.
+/// An emitting triangle with vertices near ±1e10 (past the scene loader's ±1e8, set here as a
+/// scene in memory would be: its f32 cross product overflows) stays a light: light sampling from
+/// a point 1e9 below it estimates the irradiance Lambert's formula gives, and its hit's normal is
+/// a unit vector; the loader refuses it, naming the limit.
 #[test]
 fn a_huge_emitting_triangle_is_sampled_like_any_other() {
-    let s = scene(
-        "[camera]\nfrom = [0, 1, -5]\nat = [0, 0, 0]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"distribution\"\n[[material]]\nname = \"lamp\"\nemission = [2, 2, 2]\n[[material]]\nname = \"floor\"\ncolor = [0.5, 0.5, 0.5]\n[[triangle]]\nname = \"sky\"\nvertices = [[-1e10, 1e9, -1e10], [1e10, 1e9, -1e10], [0, 1e9, 1e10]]\nmaterial = \"lamp\"\n[[plane]]\naxis = \"y\"\noffset = 0\nmaterial = \"floor\"\n",
-    );
+    let text = "[camera]\nfrom = [0, 1, -5]\nat = [0, 0, 0]\nwidth = 8\nheight = 8\n[render]\nintegrator = \"distribution\"\n[[material]]\nname = \"lamp\"\nemission = [2, 2, 2]\n[[material]]\nname = \"floor\"\ncolor = [0.5, 0.5, 0.5]\n[[triangle]]\nname = \"sky\"\nvertices = [[-1e8, 1e7, -1e8], [1e8, 1e7, -1e8], [0, 1e7, 1e8]]\nmaterial = \"lamp\"\n[[plane]]\naxis = \"y\"\noffset = 0\nmaterial = \"floor\"\n";
+    let mut s = scene(text);
+    for o in &mut s.objects {
+        if let raystep::scene::Shape::Triangle { p } = &mut o.shape {
+            *p = p.map(|v| v * 100.0);
+        }
+    }
+    let e = err(&text.replace("1e8", "1e10"));
+    assert!(e.contains("too large") && e.contains("1e8"), "{e}");
     let lights = raystep::mc::lights::Lights::new(&s);
     assert_eq!(lights.lights.len(), 1, "the lamp is in the light list");
     let tri = [[-1e10, 1e9, -1e10], [1e10, 1e9, -1e10], [0.0, 1e9, 1e10]];
@@ -648,12 +655,15 @@ fn a_huge_emitting_triangle_is_sampled_like_any_other() {
         "{estimate} against Lambert's {exact}"
     );
     // The lamp seen from below: a unit normal, facing the camera ray.
-    let up = load_str(
-        "[camera]\nfrom = [0, 0, 0]\nat = [0, 1, 0]\nup = [0, 0, 1]\nwidth = 4\nheight = 4\n[[triangle]]\nvertices = [[-1e10, 1e9, -1e10], [1e10, 1e9, -1e10], [0, 1e9, 1e10]]\n",
+    let mut up = load_str(
+        "[camera]\nfrom = [0, 0, 0]\nat = [0, 1, 0]\nup = [0, 0, 1]\nwidth = 4\nheight = 4\n[[triangle]]\nvertices = [[-1e8, 1e7, -1e8], [1e8, 1e7, -1e8], [0, 1e7, 1e8]]\n",
         "up.toml",
         None,
     )
     .unwrap();
+    if let raystep::scene::Shape::Triangle { p } = &mut up.objects[0].shape {
+        *p = p.map(|v| v * 100.0);
+    }
     let trace = PreparedScene::new(up).record(2, 2, 0);
     let normal = trace
         .root

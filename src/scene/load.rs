@@ -164,6 +164,15 @@ impl Loc<'_> {
         Ok(Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32))
     }
 
+    /// A triangle's vertex: within ±[`MAX_VERTEX`].
+    fn vertex(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
+        let v = self.vec3(field, a)?;
+        if a.iter().any(|c| c.abs() > MAX_VERTEX) {
+            return Err(self.err(field, vertex_too_large(&format!("{a:?}"))));
+        }
+        Ok(v)
+    }
+
     /// A position or length of a sphere, plane, light or camera: within ±[`MAX_COORD`].
     fn coord(&self, field: &str, x: f64) -> Result<f32, SceneError> {
         if x.is_finite() && x.abs() > MAX_COORD {
@@ -236,6 +245,22 @@ const MAX_PIXELS: i64 = 40_000_000;
 /// are far smaller. Colours and coefficients multiply at most three deep (light × colour ×
 /// coefficient ≤ 1e33), so one bound serves every number.
 pub const MAX_MAGNITUDE: f64 = 1e11;
+
+/// The largest magnitude of a triangle's (or a mesh's, once scaled and moved) vertex. The
+/// triangle tests stay finite up to [`MAX_MAGNITUDE`], but their answer loses the plane: the
+/// ray's distance to it is a sum of products of about C³ that cancels to det · t, so in f32 a
+/// triangle of vertices at ±C places its plane only to within about C · 1e-7 of where it is. With
+/// vertices at ±1e9 a camera ray 5 units from a slanted triangle's plane gets t = −51 (a miss),
+/// at ±1e11 t = −0; at ±1e8 the same ray still hits (t off by 73 %: the stability lab's S18
+/// shows the conditioning), and geometry a few units across stays within a fraction of a unit.
+pub const MAX_VERTEX: f64 = 1e8;
+
+/// Why a vertex past [`MAX_VERTEX`] is refused.
+pub(crate) fn vertex_too_large(v: &str) -> String {
+    format!(
+        "{v} has a component too large: triangle and mesh vertices lie within ±{MAX_VERTEX:e}, beyond which single-precision (f32) triangle tests lose the plane's position (at ±1e9 a camera ray 5 units from a slanted triangle misses it)"
+    )
+}
 
 /// The largest magnitude of a sphere's centre and radius, a plane's point and offset, a light's
 /// position and the camera's points. These enter the kernels only through squares and
@@ -597,9 +622,9 @@ impl<'a> Ctx<'a> {
                     let name = d.name.clone().unwrap_or_else(|| format!("triangle {i}"));
                     let loc = self.loc(format!("triangle \"{name}\""), t);
                     let p = [
-                        loc.vec3("vertices", d.vertices[0])?,
-                        loc.vec3("vertices", d.vertices[1])?,
-                        loc.vec3("vertices", d.vertices[2])?,
+                        loc.vertex("vertices", d.vertices[0])?,
+                        loc.vertex("vertices", d.vertices[1])?,
+                        loc.vertex("vertices", d.vertices[2])?,
                     ];
                     let m = material(&loc, &d.material)?;
                     add_group(&loc, name, vec![Shape::Triangle { p }], m)?;

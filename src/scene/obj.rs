@@ -128,11 +128,12 @@ pub(super) fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<S
                 )
             })?;
             let v = Vec3::new(p[0], p[1], p[2]) * scale + translate;
-            if !v.is_finite() || v.abs().max_element() as f64 > MAX_MAGNITUDE {
+            if !v.is_finite() || v.abs().max_element() as f64 > MAX_VERTEX {
                 return Err(format!(
-                    "{}: vertex {} {p:?} is too large once scaled and moved ({v:?}): vertices lie within ±{MAX_MAGNITUDE:e}",
+                    "{}: vertex {} {p:?} is too large once scaled and moved: {}",
                     path.display(),
-                    i / 3 + 1
+                    i / 3 + 1,
+                    super::load::vertex_too_large(&format!("{v:?}"))
                 ));
             }
             Ok(v)
