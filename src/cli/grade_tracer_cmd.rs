@@ -107,6 +107,16 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
             "note: raystep is not hidden from the students' programs here: {why} (output that is raystep's own trace text is still named in the reports)"
         );
     }
+    if let Some(csv) = &args.csv {
+        let mut inputs = vec![];
+        if let Some(p) = &args.sheet {
+            inputs.push(("the grading sheet", p.as_path()));
+        }
+        if let Some(p) = &args.scene {
+            inputs.push(("the scene", p.as_path()));
+        }
+        crate::io::check_outputs(&inputs, &[("--csv", csv)])?;
+    }
     let sheet = match &args.sheet {
         Some(p) => Some(student::load_tracer_sheet(p)?),
         None => None,

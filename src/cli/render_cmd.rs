@@ -48,7 +48,13 @@ pub struct RenderArgs {
 
 /// Runs `raystep render`.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    // Check the output paths before spending time on the render.
+    // Check the output paths before spending time on the render: never over the scene, never
+    // the image and the heatmap in one file.
+    let mut outputs = vec![("-o", args.output.as_path())];
+    if let Some(h) = &args.heatmap {
+        outputs.push(("--heatmap", h.as_path()));
+    }
+    crate::io::check_outputs(&[("the scene", &args.scene)], &outputs)?;
     for p in std::iter::once(&args.output).chain(args.heatmap.as_ref()) {
         if !(image::is_exr(p) && std::ptr::eq(p, &args.output) && !args.gpu) {
             super::check_png_path(p)?;
