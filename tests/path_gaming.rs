@@ -195,3 +195,26 @@ fn raysteps_own_samples_pass_every_stage_across_the_image() {
         }
     }
 }
+
+#[test]
+fn a_record_that_cannot_be_read_names_its_field_and_what_it_must_be() {
+    // Roulette's `random` as a list (it is one draw object): the error names the record, the
+    // field and what it must be (it said "invalid type: map, expected u32").
+    let text = "{\"type\":\"format\",\"version\":2}\n{\"type\":\"pixel\",\"x\":1,\"y\":1}\n{\"type\":\"path\",\"sample\":0}\n{\"type\":\"ray\",\"depth\":0}\n{\"type\":\"roulette\",\"random\":[{\"dimension\":22,\"value\":0.5}],\"probability\":1}\n";
+    let err = path::parse(text).unwrap_err().to_string();
+    assert!(
+        err.contains("the \"roulette\" record's \"random\" cannot be read"),
+        "{err}"
+    );
+    assert!(
+        err.contains("one {\"dimension\": D, \"value\": u} object"),
+        "{err}"
+    );
+    let text = "{\"type\":\"format\",\"version\":2}\n{\"type\":\"path\",\"sample\":0}\n{\"type\":\"ray\",\"depth\":0,\"origin\":[1,2]}\n";
+    let err = path::parse(text).unwrap_err().to_string();
+    assert!(err.contains("line 3"), "{err}");
+    assert!(
+        err.contains("the \"ray\" record's \"origin\" cannot be read") && err.contains("[x, y, z]"),
+        "{err}"
+    );
+}
