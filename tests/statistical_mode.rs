@@ -309,3 +309,23 @@ fn false_failure_rate() {
         upper
     );
 }
+
+/// How long a student's reference takes for the path sheet's scene (Cornell's box, 256×256,
+/// 16 spp: the reference renders 64 per pixel), on every core.
+///
+/// `cargo test --test statistical_mode -- --ignored --nocapture reference_time`
+#[test]
+#[ignore]
+fn reference_time() {
+    let s = raystep::scene::load_file(&root().join("scenes/cornell-area.toml")).unwrap();
+    let t = std::time::Instant::now();
+    let r = statistical::student_reference(&s, "ada");
+    println!(
+        "reference of {}×{} at {} spp: {:.1} s on {} threads",
+        r.width,
+        r.height,
+        s.settings.spp * statistical::REFERENCE_FACTOR,
+        t.elapsed().as_secs_f64(),
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
+}
