@@ -164,9 +164,12 @@ pub fn hide_raystep() -> Result<Vec<std::path::PathBuf>, String> {
 
 /// Sets `cmd` up to run with raystep hidden, when [`hide_raystep`] succeeded.
 pub(crate) fn apply(cmd: &mut std::process::Command) {
+    #[cfg(target_os = "linux")]
     if let Some(Some(t)) = HIDDEN.get() {
         hide_in(cmd, t.clone());
     }
+    #[cfg(not(target_os = "linux"))]
+    let _ = cmd;
 }
 
 /// In the child, before the program starts: a mount namespace of its own, its mounts private
