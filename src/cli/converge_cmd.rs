@@ -52,6 +52,24 @@ pub struct ConvergeArgs {
 
 /// Runs `raystep converge`.
 pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
+    // The first folder of `--out` that does not exist yet: made by this run, so removed (with
+    // what this run put in it) if the run fails — a failing command leaves no folder behind.
+    let made = std::path::absolute(&args.out).ok().and_then(|abs| {
+        abs.ancestors()
+            .take_while(|a| !a.exists())
+            .last()
+            .map(|p| p.to_path_buf())
+    });
+    let result = run_in(args);
+    if result.is_err()
+        && let Some(dir) = made
+    {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+    result
+}
+
+fn run_in(args: &ConvergeArgs) -> Result<(), String> {
     let opts = ConvergeOptions {
         max_spp: args.max_spp,
         seeds: args.seeds,
@@ -67,10 +85,10 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
     }
     // Too many samples is refused, with the limit, before anything is loaded or created.
     crate::stability::converge::reference_spp(&opts)?;
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
     let t0 = Instant::now();
     let mut scene = crate::assets::load_scene(&args.scene)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
     if let Some(i) = args.integrator {
         scene.settings.integrator = i;
     }
