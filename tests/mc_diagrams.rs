@@ -514,3 +514,52 @@ fn a_lamp_sampling_itself_is_explained() {
     assert_eq!(note, None);
 }
 
+/// The hemisphere's labels (ωo, the sampled direction, the lobe's peak density) never cover
+/// one another and stay on the canvas, from a small panel to a large one (issue 48: at the app's
+/// default panel size "p(ωi) up to …" lay over "ωo (to the eye)"); its panel of numbers is
+/// wrapped, not cut, at the right edge.
+#[test]
+fn the_hemispheres_labels_do_not_overlap_at_any_size() {
+    use raystep::diagram::hemisphere::draw_labelled;
+    let cases = [
+        // A diffuse wall's light sample, ωo near the normal: the lobe's label and ωo's met.
+        (
+            shipped("cornell-area.toml", Integrator::Path, 4),
+            (10u32, 10u32),
+        ),
+        (shipped("veach-mis.toml", Integrator::Path, 4), (16, 20)),
+    ];
+    let mut drawn = 0;
+    for (scene, (x, y)) in cases {
+        let t = PreparedScene::new(scene).record(x, y, 0);
+        for k in 0..t.timeline().len() {
+            if !raystep::diagram::hemisphere::is_sample_step(&t.timeline()[k].1.step) {
+                continue;
+            }
+            for (w, h) in [(320, 240), (400, 520), (800, 600)] {
+                let opts = ViewOptions {
+                    width: w,
+                    height: h,
+                    focus: Some(k),
+                    ..Default::default()
+                };
+                let (c, labels) = draw_labelled(&t, &opts);
+                assert!(labels.len() >= 2, "{labels:?}");
+                for (i, a) in labels.iter().enumerate() {
+                    let r = a.rect;
+                    assert!(
+                        r[0] >= 0.0 && r[1] >= 0.0 && r[2] <= c.width() && r[3] <= c.height(),
+                        "{w}×{h}, step {k}: {a:?} leaves the canvas"
+                    );
+                    for b in &labels[i + 1..] {
+                        let s = b.rect;
+                        let apart = r[2] <= s[0] || s[2] <= r[0] || r[3] <= s[1] || s[3] <= r[1];
+                        assert!(apart, "{w}×{h}, step {k}: {a:?} covers {b:?}");
+                    }
+                }
+                drawn += 1;
+            }
+        }
+    }
+    assert!(drawn >= 6, "{drawn} hemispheres drawn");
+}
