@@ -58,8 +58,9 @@ pub fn own_light_note(trace: &Trace, ray: &RayRecord, step: &Step) -> Option<Str
                 format!(
                     "the shading point lies on this light's own plane (on the lamp itself): every \
                      point of the lamp is seen edge-on from here (|cos θ| at the light = {}), so \
-                     the density per steradian, d² / (A · |cos θ|), is huge or 0, and the sample \
-                     adds next to nothing; the lamp's own light was counted when the ray hit it",
+                     its density per steradian, d² / (A · |cos θ|), means nothing here (it may be \
+                     huge, or 0) and the sample adds next to nothing; the lamp's own light was \
+                     counted when the ray hit it",
                     num(cos_l)
                 )
             })
