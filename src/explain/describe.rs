@@ -25,7 +25,6 @@ fn triangle_stop(test: &crate::shapes::TriangleTest<f32>, kind: RayKind) -> &'st
         (5, Some(t)) if kind == RayKind::Shadow && t > 0.0 => {
             "t out of range: at or beyond the shadow ray's end (just short of the light), not in the way"
         }
-        (5, Some(t)) if t <= 0.0 => "t out of range: at or behind the origin",
         _ => test.stop_reason(),
     }
 }
