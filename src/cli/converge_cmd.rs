@@ -44,8 +44,9 @@ pub struct ConvergeArgs {
     /// converge-STRATEGY.png, the picture of each at the top spp).
     #[arg(long, value_enum, value_delimiter = ',', conflicts_with = "gpu")]
     pub strategy: Vec<crate::scene::Strategy>,
-    /// With --strategy: the relMSE whose time to reach is reported (default: the largest
-    /// top-level relMSE among the strategies, which each of them reaches).
+    /// With --strategy: the relMSE whose time to reach is reported. Default: one that every
+    /// strategy crosses between its first and its last level (so each time is measured, not
+    /// bounded); when there is none the table says so and this must be given.
     #[arg(long, requires = "strategy")]
     pub target_relmse: Option<f64>,
 }
@@ -155,9 +156,16 @@ fn run_strategies_cmd(
     let mut strategies = args.strategy.clone();
     strategies.dedup();
     let runs = cv::run_strategies(scene, opts, &strategies, observe)?;
-    let target = args
-        .target_relmse
-        .unwrap_or_else(|| cv::default_target(&runs));
+    let target = cv::Target::of(&runs, args.target_relmse);
+    if target == cv::Target::Missing {
+        use std::io::Write;
+        // A note only: a closed or full stderr must not stop the run.
+        let _ = writeln!(
+            std::io::stderr(),
+            "converge: {}",
+            cv::target_words(&runs, target)
+        );
+    }
     let md = cv::strategies_markdown(&runs, target, load);
     crate::io::write_atomic(&args.out.join("converge.md"), md.as_bytes())?;
     crate::io::write_atomic(
