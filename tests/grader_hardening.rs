@@ -179,6 +179,8 @@ fn gradescope(run: &str, extra: &[&str], env: &[(&str, &Path)]) -> Value {
             "--pixels",
             "160,150",
             "--json",
+            // Some tests run raystep itself as the student's program.
+            "--allow-raystep",
             "--run",
             run,
         ])
@@ -357,6 +359,7 @@ fn variants_go_to_a_private_folder_removed_afterwards() {
                 "--student",
                 "ada",
                 "--json",
+                "--allow-raystep",
                 "--run",
                 &format!("{run} {{scene}} {{x}} {{y}}"),
             ])

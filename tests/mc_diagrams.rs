@@ -383,3 +383,183 @@ fn the_3d_view_draws_the_shadow_rays_to_the_sampled_points() {
     assert_eq!(bounces, drawn);
     assert!(bounces > 0);
 }
+
+/// The ray tree labels a bounce with the colour it multiplies by (issue 48: the red wall's
+/// bounce read "× 0.248", the mean of its albedo's channels): a cosine-sampled diffuse bounce's
+/// weight f · cos θ / pdf is the albedo, here the red wall's (0.63, 0.065, 0.05) from the
+/// scene file.
+#[test]
+fn the_ray_tree_weighs_a_red_bounce_with_red() {
+    use raystep::diagram::ray_tree::rgb_weight;
+    let prepared = PreparedScene::new(shipped("cornell-area.toml", Integrator::Path, 4));
+    // The first pixel of the 32 × 24 copy's middle row whose primary ray hits the red wall.
+    let t = (0..32)
+        .map(|x| prepared.record(x, 12, 0))
+        .find(|t| {
+            t.root
+                .hit
+                .as_ref()
+                .is_some_and(|h| h.name.starts_with("red wall"))
+        })
+        .expect("the red wall is in the middle row");
+    let bounce = t
+        .root
+        .children
+        .iter()
+        .find(|c| c.kind == raystep::record::RayKind::Diffuse)
+        .expect("the path goes on from the wall");
+    let w = rgb_weight(&t.root, bounce).expect("the bounce's weight is in the steps");
+    for (got, want) in w.iter().zip([0.63f32, 0.065, 0.05]) {
+        assert!((got - want).abs() <= 1e-6, "{w:?}");
+    }
+    // The recorded scalar is their mean, what the label used to show.
+    assert!((bounce.weight - (0.63 + 0.065 + 0.05) / 3.0).abs() < 1e-6);
+    let text = raystep::diagram::ray_tree::weight_label(Some(&t.root), bounce);
+    assert_eq!(text, "× (0.63, 0.065, 0.05)");
+}
+
+/// A scene whose camera sees a floor under a sphere lamp, traced by the distribution integrator.
+fn lamp_over_floor() -> Scene {
+    raystep::scene::load_str(
+        "[camera]\nfrom = [0, 1, -4]\nat = [0, 0, 0]\nwidth = 16\nheight = 12\n\
+         [render]\nintegrator = \"distribution\"\nspp = 1\n\
+         [[material]]\nname = \"grey\"\nbsdf = \"diffuse\"\ncolor = [0.5, 0.5, 0.5]\n\
+         [[material]]\nname = \"lamp\"\nbsdf = \"diffuse\"\ncolor = [0, 0, 0]\nemission = [10, 10, 10]\n\
+         [[plane]]\nname = \"floor\"\naxis = \"y\"\nmaterial = \"grey\"\n\
+         [[sphere]]\nname = \"lamp\"\ncenter = [0, 2, 0]\nradius = 0.5\nmaterial = \"lamp\"\n",
+        "lamp.toml",
+        None,
+    )
+    .unwrap()
+}
+
+/// A shadow ray ends just short of the point it aims at on the lamp: the lamp's own sphere test
+/// finds its root there, at or beyond t_max, and the trace says so — not "something nearer was
+/// already hit" (issue 48), since nothing was.
+#[test]
+fn a_shadow_ray_reaching_its_lamp_is_not_told_something_nearer_was_hit() {
+    use raystep::record::RayKind;
+    use raystep::shapes::RootChoice;
+    let prepared = PreparedScene::new(lamp_over_floor());
+    let t = prepared.record(8, 9, 0);
+    assert_eq!(t.root.hit.as_ref().unwrap().name, "floor");
+    let shadow = t
+        .root
+        .children
+        .iter()
+        .find(|c| c.kind == RayKind::Shadow)
+        .expect("a shadow ray to the lamp");
+    assert!(shadow.hit.is_none(), "nothing is in the way");
+    let beyond = shadow
+        .steps
+        .iter()
+        .find(|s| {
+            matches!(&s.step, Step::Sphere { name, test, .. }
+                if name == "lamp" && test.choice == RootChoice::BeyondTMax)
+        })
+        .expect("the lamp's own test finds its root at the ray's end");
+    let line = raystep::explain::describe::describe(&beyond.step, RayKind::Shadow);
+    assert!(!line.contains("something nearer"), "{line}");
+    assert!(
+        line.contains("shadow ray's end") && line.contains("not in the way"),
+        "{line}"
+    );
+    let tree = raystep::explain::describe::tree(&t);
+    assert!(!tree.contains("something nearer was already hit"), "{tree}");
+    // The math panel says it too.
+    let e = raystep::explain::formula::explain(&t, shadow, &beyond.step);
+    assert!(
+        e.conclusion.contains("shadow ray's end"),
+        "{}",
+        e.conclusion
+    );
+}
+
+/// A camera ray that hits the Cornell box's ceiling lamp samples that lamp (or its other
+/// half, in the same plane) from its own surface: every point of it is edge-on, so the
+/// density per steradian is huge or 0 and the sample adds nothing. The trace and the math panel
+/// say why; a light sample from the floor gets no such note.
+#[test]
+fn a_lamp_sampling_itself_is_explained() {
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-area.toml");
+    let prepared = PreparedScene::new(load_file(&file).unwrap());
+    let note_of = |x: u32, y: u32| {
+        let t = prepared.record(x, y, 0);
+        let sample = t
+            .root
+            .steps
+            .iter()
+            .find(|s| matches!(s.step, Step::LightSample { .. }))
+            .expect("a light sample at the first hit")
+            .step
+            .clone();
+        let note = raystep::explain::describe::own_light_note(&t, &t.root, &sample);
+        let tree = raystep::explain::describe::tree(&t);
+        let e = raystep::explain::formula::explain(&t, &t.root, &sample);
+        (
+            t.root.hit.as_ref().unwrap().name.clone(),
+            note,
+            tree,
+            e.conclusion,
+        )
+    };
+    let (hit, note, tree, conclusion) = note_of(128, 22);
+    assert!(hit.starts_with("light "), "{hit}");
+    let note = note.expect("the shading point is on the lamp");
+    assert!(note.contains("on this light's own plane"), "{note}");
+    assert!(tree.contains(&note), "{tree}");
+    assert!(conclusion.contains("edge-on"), "{conclusion}");
+    let (hit, note, _, _) = note_of(128, 230);
+    assert!(hit.starts_with("floor"), "{hit}");
+    assert_eq!(note, None);
+}
+
+/// The hemisphere's labels (ωo, the sampled direction, the lobe's peak density) never cover
+/// one another and stay on the canvas, from a small panel to a large one (issue 48: at the app's
+/// default panel size "p(ωi) up to …" lay over "ωo (to the eye)"); its panel of numbers is
+/// wrapped, not cut, at the right edge.
+#[test]
+fn the_hemispheres_labels_do_not_overlap_at_any_size() {
+    use raystep::diagram::hemisphere::draw_labelled;
+    let cases = [
+        // A diffuse wall's light sample, ωo near the normal: the lobe's label and ωo's met.
+        (
+            shipped("cornell-area.toml", Integrator::Path, 4),
+            (10u32, 10u32),
+        ),
+        (shipped("veach-mis.toml", Integrator::Path, 4), (16, 20)),
+    ];
+    let mut drawn = 0;
+    for (scene, (x, y)) in cases {
+        let t = PreparedScene::new(scene).record(x, y, 0);
+        for k in 0..t.timeline().len() {
+            if !raystep::diagram::hemisphere::is_sample_step(&t.timeline()[k].1.step) {
+                continue;
+            }
+            for (w, h) in [(320, 240), (400, 520), (800, 600)] {
+                let opts = ViewOptions {
+                    width: w,
+                    height: h,
+                    focus: Some(k),
+                    ..Default::default()
+                };
+                let (c, labels) = draw_labelled(&t, &opts);
+                assert!(labels.len() >= 2, "{labels:?}");
+                for (i, a) in labels.iter().enumerate() {
+                    let r = a.rect;
+                    assert!(
+                        r[0] >= 0.0 && r[1] >= 0.0 && r[2] <= c.width() && r[3] <= c.height(),
+                        "{w}×{h}, step {k}: {a:?} leaves the canvas"
+                    );
+                    for b in &labels[i + 1..] {
+                        let s = b.rect;
+                        let apart = r[2] <= s[0] || s[2] <= r[0] || r[3] <= s[1] || s[3] <= r[1];
+                        assert!(apart, "{w}×{h}, step {k}: {a:?} covers {b:?}");
+                    }
+                }
+                drawn += 1;
+            }
+        }
+    }
+    assert!(drawn >= 6, "{drawn} hemispheres drawn");
+}

@@ -413,7 +413,7 @@ fn converge_writes_tables_and_plots_and_mse_falls_like_one_over_spp() {
     assert_eq!(rows.len(), 5 * 3, "spp 1, 2, 4, 8, 16 × 3 seeds");
     assert!(
         rows.iter()
-            .all(|r| r.len() == 8 && r[6] == 0.0 && r[7] == 0.0)
+            .all(|r| r.len() == 9 && r[6] == 0.0 && r[7] == 0.0)
     );
     // Median MSE per level, and the log–log slope against spp.
     let mut pts = vec![];
@@ -473,6 +473,23 @@ fn converge_compares_strategies_against_one_reference() {
         .clone();
     let md = String::from_utf8_lossy(&run.stdout);
     assert!(md.contains("| strategy | relMSE at 16 spp"), "{md}");
+    // Progress went to stderr although it is a pipe here, not a terminal: a line for each of
+    // the reference's passes (issue 48: nothing came for minutes), then each level.
+    let progress = String::from_utf8_lossy(&run.stderr);
+    let reference_lines = progress
+        .lines()
+        .filter(|l| l.contains("of the MIS reference's 256 spp"))
+        .count();
+    assert_eq!(
+        reference_lines,
+        raystep::stability::converge::REFERENCE_STEPS as usize - 1,
+        "{progress}"
+    );
+    assert!(
+        progress.contains("the reference (256 spp, MIS) done"),
+        "{progress}"
+    );
+    assert!(progress.contains("mis: level 16 spp"), "{progress}");
     let csv = std::fs::read_to_string(out.join("converge.csv")).unwrap();
     assert!(csv.starts_with("strategy,spp,seed,"));
     // The median relMSE at 16 spp, and the MSE slope, per strategy.
@@ -522,6 +539,7 @@ fn time_to_relmse_interpolates_on_the_log_log_line() {
         mse: [rel; 3],
         rmse: [rel; 3],
         relmse: [rel; 3],
+        mse_all: [rel; 3],
         nan: 0,
         inf: 0,
     };
@@ -532,6 +550,8 @@ fn time_to_relmse_interpolates_on_the_log_log_line() {
         build_seconds: 0.0,
         reference_spp: 16,
         reference_seconds: 0.0,
+        measured_pixels: 1,
+        left_out_pixels: 0,
         samples: vec![],
         levels: vec![level(1, 1.0, 0.4), level(2, 2.0, 0.1)],
         mse_slope: -2.0,
@@ -779,4 +799,170 @@ fn monte_carlo_cases_show_textbook_failures_and_stable_fixes() {
     // two of the quick suite's three scales are dropped.
     let s29 = f32_row("S29", "area");
     assert!(s29.misclassified * 3 >= s29.samples * 2, "{s29:?}");
+}
+
+/// The target of a comparison of strategies: by default one every strategy crosses between two
+/// of its levels (the geometric mean of the largest last-level relMSE and the smallest
+/// first-level one); none when their ranges do not overlap; and each strategy's reach of a
+/// given target says how it was found.
+#[test]
+fn the_default_target_is_crossed_by_every_strategy() {
+    use raystep::scene::Strategy;
+    use raystep::stability::converge::{
+        ConvergeReport, Level, Reach, StrategyRun, Target, default_target, reach, strategy_table,
+    };
+    let run = |strategy, rel: &[f64]| StrategyRun {
+        strategy,
+        report: ConvergeReport {
+            scene: "s".into(),
+            device: "CPU".into(),
+            size: [1, 1],
+            build_seconds: 0.0,
+            reference_spp: 64,
+            reference_seconds: 0.0,
+            measured_pixels: 1,
+            left_out_pixels: 0,
+            samples: vec![],
+            levels: rel
+                .iter()
+                .enumerate()
+                .map(|(k, &e)| Level {
+                    spp: 1 << k,
+                    seconds: f64::from(1u32 << k),
+                    mse: [e; 3],
+                    rmse: [e; 3],
+                    relmse: [e; 3],
+                    mse_all: [e; 3],
+                    nan: 0,
+                    inf: 0,
+                })
+                .collect(),
+            mse_slope: -1.0,
+            image: vec![],
+        },
+    };
+    // light 8 → 2, mis 4 → 1: every error in (2, 4) is crossed by both; the default is √8.
+    let runs = vec![
+        run(Strategy::Light, &[8.0, 4.0, 2.0]),
+        run(Strategy::Mis, &[4.0, 2.0, 1.0]),
+    ];
+    let t = default_target(&runs).unwrap();
+    assert!((t - 8f64.sqrt()).abs() < 1e-12, "{t}");
+    // Each crosses it between two of its levels: light between 2 and 4 spp, mis between 1 and 2.
+    assert!(matches!(
+        reach(&runs[0].report, t),
+        Reach::Crossed { spp: [2, 4], .. }
+    ));
+    assert!(matches!(
+        reach(&runs[1].report, t),
+        Reach::Crossed { spp: [1, 2], .. }
+    ));
+    let (head, rows) = strategy_table(&runs, Target::of(&runs, None));
+    assert!(head[5].ends_with("(default)"), "{head:?}");
+    assert!(
+        rows.iter().all(|r| r[5].contains(" s (between ")),
+        "{rows:?}"
+    );
+    // bsdf still at 10 after light's and mis's first levels: no common error, no default.
+    let runs = vec![
+        run(Strategy::Light, &[8.0, 4.0, 2.0]),
+        run(Strategy::Bsdf, &[0.5, 3.0, 10.0]),
+        run(Strategy::Mis, &[0.06, 0.04, 0.02]),
+    ];
+    assert_eq!(default_target(&runs), None);
+    assert_eq!(Target::of(&runs, None), Target::Missing);
+    let (head, rows) = strategy_table(&runs, Target::Missing);
+    assert_eq!(head[5], "time to a common relMSE");
+    assert!(rows.iter().all(|r| r[5] == "none: see below"), "{rows:?}");
+    // A given target 3: light crosses it, bsdf never gets back below it, mis is there at once.
+    let given = Target::of(&runs, Some(3.0));
+    assert_eq!(given, Target::Given(3.0));
+    assert!(matches!(
+        reach(&runs[0].report, 3.0),
+        Reach::Crossed { spp: [2, 4], .. }
+    ));
+    assert_eq!(reach(&runs[1].report, 3.0), Reach::NotReached { spp: 4 });
+    assert_eq!(
+        reach(&runs[2].report, 3.0),
+        Reach::AtFirst {
+            seconds: 1.0,
+            spp: 1
+        }
+    );
+    let (head, rows) = strategy_table(&runs, given);
+    assert_eq!(head[5], "time to relMSE 3 (given)");
+    assert_eq!(rows[1][5], "not reached by 4 spp");
+    assert_eq!(rows[2][5], "≤ 1 s (already at 1 spp)");
+}
+
+/// A small copy of lesson 13's scene (soft shadows under two sphere lights, both in the
+/// picture): the pixels that see a lamp are left out of the errors, and over the rest the MSE
+/// is Monte Carlo noise: with independent samples it falls like 1/spp, and stratified samples
+/// have less of it at 16 spp (issue 48: with the lamps' edge pixels in, both samplers had the
+/// same MSE at every level and it rose from 1 to 2 spp).
+#[test]
+fn converge_measures_the_noise_and_stratified_samples_have_less() {
+    use raystep::scene::SamplerKind;
+    use raystep::stability::converge::{ConvergeOptions, direct_emitters, run};
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/soft-shadows.toml"),
+    )
+    .unwrap()
+    .replace("width = 320", "width = 96")
+    .replace("height = 240", "height = 72");
+    let scene = raystep::scene::load_str(&text, "small.toml", None).unwrap();
+    // Every pixel brighter than anything lit can be (it sees a lamp of radiance 400 or more
+    // directly) is left out, and most of the picture is measured.
+    let mut bright = scene.clone();
+    bright.settings.spp = 64;
+    let prepared = raystep::trace::PreparedScene::new(bright);
+    let image = raystep::render::render(&prepared.tracer(), &Default::default())
+        .unwrap()
+        .pixels;
+    let left_out = direct_emitters(&raystep::trace::PreparedScene::new(scene.clone()));
+    let lamps = image.iter().filter(|p| p.max_element() > 5.0).count();
+    assert!(
+        lamps >= 3,
+        "the small picture shows the lamps: {lamps} pixels"
+    );
+    for (i, p) in image.iter().enumerate() {
+        assert!(
+            p.max_element() <= 5.0 || left_out[i],
+            "pixel {i} sees a lamp: {p}"
+        );
+    }
+    let out = left_out.iter().filter(|o| **o).count();
+    assert!(out < image.len() / 10, "{out} of {} left out", image.len());
+
+    let opts = ConvergeOptions {
+        max_spp: 16,
+        seeds: 2,
+        ..Default::default()
+    };
+    let mut top = vec![];
+    for sampler in [SamplerKind::Independent, SamplerKind::Stratified] {
+        let mut s = scene.clone();
+        s.settings.sampler = sampler;
+        let r = run(&s, &opts).unwrap();
+        assert_eq!(r.left_out_pixels, out);
+        assert_eq!(r.measured_pixels + out, image.len());
+        let mse: Vec<f64> = r.levels.iter().map(|l| l.mse[1]).collect();
+        println!("{sampler:?}: MSE {mse:?}, slope {:.2}", r.mse_slope);
+        // The error falls at every level.
+        assert!(mse.windows(2).all(|w| w[1] < w[0]), "{sampler:?}: {mse:?}");
+        if sampler == SamplerKind::Independent {
+            assert!(
+                (-1.25..=-0.8).contains(&r.mse_slope),
+                "slope {}",
+                r.mse_slope
+            );
+        }
+        top.push(mse[4]);
+    }
+    assert!(
+        top[1] < 0.75 * top[0],
+        "stratified {} against independent {}",
+        top[1],
+        top[0]
+    );
 }

@@ -350,6 +350,7 @@ fn misbehaving_programs_score_zero_with_a_message() {
             "--upto".into(),
             "camera".into(),
             "--json".into(),
+            "--allow-raystep".into(),
             "--run".into(),
             run.into(),
         ];
@@ -440,6 +441,7 @@ fn results_json_has_gradescopes_documented_shape() {
             "--pixels",
             "160,120;20,20",
             "--json",
+            "--allow-raystep",
             "--run",
             &raystep_as_student(),
         ])
@@ -471,7 +473,17 @@ fn results_json_has_gradescopes_documented_shape() {
     assert!(visibilities.contains(&v["visibility"].as_str().unwrap()));
     assert!(visibilities.contains(&v["stdout_visibility"].as_str().unwrap()));
     let tests = v["tests"].as_array().unwrap();
-    assert_eq!(tests.len(), 2 * 7, "two pixels × seven stages");
+    // Two pixels × seven stages, and raystep's own output named at each pixel (0 points).
+    assert_eq!(
+        tests.len(),
+        2 * 7 + 2,
+        "two pixels × seven stages, two named copies"
+    );
+    assert_eq!(
+        tests.iter().filter(|t| t["max_score"] == 0.0).count(),
+        2,
+        "{v}"
+    );
     let test_keys = [
         "score",
         "max_score",
@@ -540,6 +552,7 @@ fn a_class_run_writes_the_grades_csv() {
             &csv.display().to_string(),
             "--out",
             &out.path().display().to_string(),
+            "--allow-raystep",
             "--run",
             "python3 tracer.py {scene} {x} {y}",
         ])
@@ -862,6 +875,7 @@ fn grade_tracer_arguments() {
             "first-sphere",
             "--pixels",
             "160,120",
+            "--allow-raystep",
             "--run",
             &raystep_as_student(),
         ])
@@ -871,6 +885,11 @@ fn grade_tracer_arguments() {
         .clone();
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.starts_with("student: 7 / 7"), "{text}");
+    // raystep's own output is named for the teacher (a 0-point line, not a failure).
+    assert!(
+        text.contains("⚠ first-sphere.toml (160, 120): raystep's own output"),
+        "{text}"
+    );
     let scene = root()
         .join("scenes/first-sphere.toml")
         .display()

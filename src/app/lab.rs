@@ -8,7 +8,8 @@
 use super::state::{AppState, Command, StepMove};
 use crate::scene::{Integrator, Scene, Strategy};
 use crate::stability::converge::{
-    ConvergeOptions, StrategyRun, default_target, run_strategies, strategy_name, strategy_table,
+    ConvergeOptions, StrategyRun, Target, measured_words, run_strategies, strategy_name,
+    strategy_table, target_words,
 };
 use crate::stability::pixel::{ExactValue, exact_values};
 use crate::stability::{self, CostPoint, Precision, Primitive, Report};
@@ -274,11 +275,15 @@ fn strategies_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView) {
             return;
         }
     };
-    let target = default_target(runs);
+    let target = Target::of(runs, None);
     ui.label(format!(
         "\"{name}\": relMSE against one MIS reference, medians over {COMPARE_SEEDS} seeds \
          (the errors are the command line's, bit for bit; the times are this machine's, now)"
     ));
+    ui.label(target_words(runs, target));
+    if let Some(r) = runs.first() {
+        ui.label(measured_words(&r.report));
+    }
     let (head, rows) = strategy_table(runs, target);
     egui::Grid::new("lab-strategies")
         .striped(true)

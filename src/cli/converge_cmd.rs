@@ -44,14 +44,33 @@ pub struct ConvergeArgs {
     /// converge-STRATEGY.png, the picture of each at the top spp).
     #[arg(long, value_enum, value_delimiter = ',', conflicts_with = "gpu")]
     pub strategy: Vec<crate::scene::Strategy>,
-    /// With --strategy: the relMSE whose time to reach is reported (default: the largest
-    /// top-level relMSE among the strategies, which each of them reaches).
+    /// With --strategy: the relMSE whose time to reach is reported. Default: one that every
+    /// strategy crosses between its first and its last level (so each time is measured, not
+    /// bounded); when there is none the table says so and this must be given.
     #[arg(long, requires = "strategy")]
     pub target_relmse: Option<f64>,
 }
 
 /// Runs `raystep converge`.
 pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
+    // The first folder of `--out` that does not exist yet: made by this run, so removed (with
+    // what this run put in it) if the run fails — a failing command leaves no folder behind.
+    let made = std::path::absolute(&args.out).ok().and_then(|abs| {
+        abs.ancestors()
+            .take_while(|a| !a.exists())
+            .last()
+            .map(|p| p.to_path_buf())
+    });
+    let result = run_in(args);
+    if result.is_err()
+        && let Some(dir) = made
+    {
+        let _ = std::fs::remove_dir_all(dir);
+    }
+    result
+}
+
+fn run_in(args: &ConvergeArgs) -> Result<(), String> {
     let opts = ConvergeOptions {
         max_spp: args.max_spp,
         seeds: args.seeds,
@@ -67,10 +86,10 @@ pub fn run_cmd(args: &ConvergeArgs) -> Result<(), String> {
     }
     // Too many samples is refused, with the limit, before anything is loaded or created.
     crate::stability::converge::reference_spp(&opts)?;
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
     let t0 = Instant::now();
     let mut scene = crate::assets::load_scene(&args.scene)?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("{}: cannot create the directory: {e}", args.out.display()))?;
     if let Some(i) = args.integrator {
         scene.settings.integrator = i;
     }
@@ -137,9 +156,16 @@ fn run_strategies_cmd(
     let mut strategies = args.strategy.clone();
     strategies.dedup();
     let runs = cv::run_strategies(scene, opts, &strategies, observe)?;
-    let target = args
-        .target_relmse
-        .unwrap_or_else(|| cv::default_target(&runs));
+    let target = cv::Target::of(&runs, args.target_relmse);
+    if target == cv::Target::Missing {
+        use std::io::Write;
+        // A note only: a closed or full stderr must not stop the run.
+        let _ = writeln!(
+            std::io::stderr(),
+            "converge: {}",
+            cv::target_words(&runs, target)
+        );
+    }
     let md = cv::strategies_markdown(&runs, target, load);
     crate::io::write_atomic(&args.out.join("converge.md"), md.as_bytes())?;
     crate::io::write_atomic(

@@ -232,6 +232,13 @@ pub fn run_check(args: &CheckArgs) -> Result<(), String> {
 
 /// Runs `raystep grade`.
 pub fn run_grade(args: &GradeArgs) -> Result<(), String> {
+    crate::io::check_outputs(
+        &[
+            ("the class's answers", &args.submissions),
+            ("the exercise sheet", &args.sheet),
+        ],
+        &[("-o", &args.output)],
+    )?;
     let sheet = load(&args.sheet)?;
     let file = args.submissions.display().to_string();
     let text = crate::io::read_text(
@@ -240,6 +247,12 @@ pub fn run_grade(args: &GradeArgs) -> Result<(), String> {
         "submissions file",
     )
     .map_err(|e| format!("{file}: cannot read the submissions: {e}"))?;
+    // Old Mac line endings (CR alone): rows end there, as with LF or CRLF.
+    let text = if !text.contains('\n') && text.contains('\r') {
+        text.replace('\r', "\n")
+    } else {
+        text
+    };
     let report = lesson::grade_answers_csv(&sheet, &text, &file)?;
     crate::io::write_atomic(&args.output, report.csv.as_bytes())?;
     for w in &report.warnings {

@@ -62,13 +62,20 @@ pub struct GradeTracerArgs {
     /// otherwise a private temporary folder, removed when grading ends.
     #[arg(long)]
     pub variants: Option<PathBuf>,
-    /// Check a Monte Carlo tracer that draws its own random numbers statistically: the
-    /// student's per-pixel sample statistics of each scene (a JSON Lines file named by this
-    /// pattern, `{stem}` the scene file's stem, relative to the submission's folder) against
-    /// raystep's render by Welch's t-test, per pixel and for the whole image; a correct image
-    /// fails with probability at most 1e-3. One test per scene, added to the report.
+    /// Grade a path tracer that draws its own random numbers statistically, instead of sample by
+    /// sample: the student's per-pixel sample statistics of each path-traced scene (a JSON Lines
+    /// file named by this pattern, `{stem}` the scene file's stem, relative to the submission's
+    /// folder; every pixel of the scene's image, each with the scene's spp samples or more)
+    /// against raystep's render with a seed of the student's own, by Welch's t-test, per pixel
+    /// and for the whole image; a correct image fails with probability about 1e-3. One test per
+    /// scene, worth the sample-by-sample tests it replaces, first in the report.
     #[arg(long)]
     pub statistical: Option<String>,
+    /// Let the students' programs run raystep (to try the grader with raystep's own output as a
+    /// submission). By default raystep hides its own binary and any `raystep` on the PATH from
+    /// them where the platform allows (Linux as root: a mount namespace per run).
+    #[arg(long)]
+    pub allow_raystep: bool,
     /// Megabytes of output per run; more stops the program.
     #[arg(long, default_value_t = 16, value_parser = clap::value_parser!(u32).range(1..=1024))]
     pub max_output_mb: u32,
@@ -91,6 +98,25 @@ fn parse_pixels(s: &str) -> Result<Vec<[u32; 2]>, String> {
 
 /// Runs `raystep grade-tracer`.
 pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
+    // Nothing a student's program starts outlives its run; raystep out of its reach.
+    student::isolate::reap_descendants();
+    if !args.allow_raystep
+        && let Err(why) = student::isolate::hide_raystep()
+    {
+        eprintln!(
+            "note: raystep is not hidden from the students' programs here: {why} (output that is raystep's own trace text is still named in the reports)"
+        );
+    }
+    if let Some(csv) = &args.csv {
+        let mut inputs = vec![];
+        if let Some(p) = &args.sheet {
+            inputs.push(("the grading sheet", p.as_path()));
+        }
+        if let Some(p) = &args.scene {
+            inputs.push(("the scene", p.as_path()));
+        }
+        crate::io::check_outputs(&inputs, &[("--csv", csv)])?;
+    }
     let sheet = match &args.sheet {
         Some(p) => Some(student::load_tracer_sheet(p)?),
         None => None,
@@ -214,7 +240,10 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         }
         return super::emit(&text);
     }
-    let jobs = jobs_for(&args.student)?;
+    let mut jobs = jobs_for(&args.student)?;
+    for j in &mut jobs {
+        j.statistical = args.statistical.is_some();
+    }
     let mut report = student::grade_submission(
         &args.student,
         &args.run,
@@ -228,7 +257,7 @@ pub fn run(args: &GradeTracerArgs) -> Result<(), String> {
         student::check_images(&mut report, Path::new("."), &jobs, spec);
     }
     if let Some(pattern) = &args.statistical {
-        student::check_statistical(&mut report, Path::new("."), &jobs, pattern);
+        student::check_statistical(&mut report, Path::new("."), &jobs, pattern, upto);
     }
     if args.json {
         super::emit(&student::gradescope_json(&report))

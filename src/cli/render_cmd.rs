@@ -48,7 +48,13 @@ pub struct RenderArgs {
 
 /// Runs `raystep render`.
 pub fn run(args: &RenderArgs) -> Result<(), String> {
-    // Check the output paths before spending time on the render.
+    // Check the output paths before spending time on the render: never over the scene, never
+    // the image and the heatmap in one file.
+    let mut outputs = vec![("-o", args.output.as_path())];
+    if let Some(h) = &args.heatmap {
+        outputs.push(("--heatmap", h.as_path()));
+    }
+    crate::io::check_outputs(&[("the scene", &args.scene)], &outputs)?;
     for p in std::iter::once(&args.output).chain(args.heatmap.as_ref()) {
         if !(image::is_exr(p) && std::ptr::eq(p, &args.output) && !args.gpu) {
             super::check_png_path(p)?;
@@ -224,6 +230,7 @@ fn run_gpu(
     let scene = prepared.scene();
     let t = Instant::now();
     let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
+    fits_adapter(&ctx, scene.camera.width, scene.camera.height)?;
     let mut gpu = GpuTracer::new(ctx, prepared, args.gpu_shader).map_err(|e| e.to_string())?;
     let setup = t.elapsed();
     let frame_time = gpu
@@ -269,4 +276,41 @@ fn run_gpu(
     );
     crate::io::outln!("wrote {}", super::full_path(&args.output));
     Ok(())
+}
+
+/// Bytes the GPU render keeps per pixel in its largest buffer (the running sums: four f32).
+const GPU_BYTES_PER_PIXEL: u64 = 16;
+
+/// Refuses, before anything is made on the GPU, an image past the adapter's limits, naming the
+/// limit and the largest image of the same shape it takes (wgpu's own error was a bare
+/// "Validation Error").
+fn fits_adapter(ctx: &GpuContext, w: u32, h: u32) -> Result<(), String> {
+    let lim = ctx.device.limits();
+    let side = lim.max_texture_dimension_2d;
+    let bytes = lim.max_buffer_size.min(lim.max_storage_buffer_binding_size);
+    let pixels = bytes / GPU_BYTES_PER_PIXEL;
+    let need = u64::from(w) * u64::from(h);
+    if w <= side && h <= side && need <= pixels {
+        return Ok(());
+    }
+    // The largest image of this shape within both limits.
+    let by_area = (pixels as f64 / need as f64).sqrt();
+    let by_side = f64::from(side) / f64::from(w.max(h));
+    let s = by_area.min(by_side).min(1.0);
+    let (lw, lh) = (
+        ((f64::from(w) * s).floor() as u32).max(1),
+        ((f64::from(h) * s).floor() as u32).max(1),
+    );
+    let why = if w > side || h > side {
+        format!("its images are at most {side} pixels a side (max_texture_dimension_2d)")
+    } else {
+        format!(
+            "its largest storage buffer is {bytes} bytes (max_storage_buffer_binding_size, max_buffer_size) and the render keeps {GPU_BYTES_PER_PIXEL} bytes a pixel: {} bytes for this image",
+            need * GPU_BYTES_PER_PIXEL
+        )
+    };
+    Err(format!(
+        "render --gpu: a {w}×{h} image is past the limits of this GPU ({}): {why}; the largest image of this shape it renders is {lw}×{lh} (or render it on the CPU, without --gpu)",
+        ctx.info.name
+    ))
 }

@@ -53,6 +53,9 @@ pub enum TraceFormat {
 
 /// Runs `raystep trace`.
 pub fn run(args: &TraceArgs) -> Result<(), String> {
+    if let Some(save) = &args.save {
+        crate::io::check_outputs(&[("the scene", &args.scene)], &[("--save", save)])?;
+    }
     let scene = load_scene(Some(&args.scene), &args.settings)?;
     if args.format == Some(TraceFormat::Student)
         && !matches!(

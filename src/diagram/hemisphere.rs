@@ -12,6 +12,8 @@
 //! the plane (drawing, not sampling).
 
 use super::canvas::{Anchor, Canvas, Rgba, with_alpha};
+pub use super::text::PlacedLabel;
+use super::text::{Placer, Rich};
 use super::{ViewOptions, pick_step, title_first_fitting};
 use crate::mc::bsdf;
 use crate::mc::lights::LightShape;
@@ -178,6 +180,13 @@ pub fn has_hemisphere(trace: &Trace) -> bool {
 
 /// Draws the hemisphere diagram for the focused (or first) light or BSDF sample.
 pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
+    draw_labelled(trace, opts).0
+}
+
+/// [`draw`], with the labels of the drawing (ωo, the sampled direction, the lobe's density)
+/// where they were placed: each where it covers no other, inside the drawing's area when
+/// anywhere there is room.
+pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLabel>) {
     let mut c = Canvas::for_view(opts);
     let th = c.theme;
     let ts = c.text_size;
@@ -190,7 +199,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             th.muted,
             Anchor::TopLeft,
         );
-        return c;
+        return (c, vec![]);
     };
     let fr = f.frame;
     let what = match f.step {
@@ -209,9 +218,13 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             format!("Hemisphere at \"{}\"", f.object),
         ],
     );
-    // The drawing: a half disc on the tangent plane, the panel of numbers below it.
-    let panel_lines = panel(&f, mc);
+    // The drawing: a half disc on the tangent plane, the panel of numbers below it, each of
+    // its lines wrapped to the canvas's width (a narrow panel in the app cuts none).
     let small = ts * 0.85;
+    let panel_lines: Vec<String> = panel(&f, mc)
+        .iter()
+        .flat_map(|l| wrap_plain(&c, l, small, c.width() - ts * 1.6))
+        .collect();
     let panel_h = small * 1.35 * panel_lines.len() as f32 + ts * 0.6;
     // The drawing gets at least 55 % of the height below the title (on a short, wide canvas —
     // a projector's diagram panel — the panel's last lines give way, not the drawing).
@@ -220,6 +233,9 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         .max(ts * 4.0);
     let r = (avail_h / 1.25).min(c.width() * 0.36);
     let o = [c.width() / 2.0, top + r * 1.18];
+    // The labels are placed where they cover no other label, inside the drawing's area.
+    let mut labels = Placer::new([0.0, top, c.width(), o[1] - 2.0]);
+    labels.block([o[0] - 8.0, o[1] - 8.0, o[0] + 8.0, o[1] + 8.0]);
     let at = |theta: f32, len: f32| [o[0] + theta.sin() * len, o[1] - theta.cos() * len];
     // The tangent plane and the unit hemisphere.
     c.line(
@@ -260,7 +276,8 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             c.circle(at(lo, r * 1.1), 4.0 * c.scale, Some(col), None, 1.0);
         }
     }
-    // The lobe.
+    // The lobe (its label is placed after the arrows').
+    let mut pdf_label: Option<([f32; 2], String, Rgba)> = None;
     let lobe_col = match f.bsdf {
         Some(Bsdf::Glossy { .. }) => th.glossy,
         _ => th.diffuse,
@@ -288,14 +305,11 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                     .iter()
                     .max_by(|a, b| a.1.total_cmp(&b.1))
                     .map_or(0.0, |p| p.0);
-                c.label(
-                    at(peak, r * 0.95)[0],
-                    at(peak, r * 0.95)[1] - ts * 0.3,
-                    small,
-                    &format!("p(ωi) up to {} sr⁻¹", fmt(max, Style::Label)),
+                pdf_label = Some((
+                    at(peak, r * 0.95),
+                    format!("p(ωi) up to {} sr⁻¹", fmt(max, Style::Label)),
                     lobe_col,
-                    Anchor::TopCenter,
-                );
+                ));
             }
         }
         Some(_) => {
@@ -328,24 +342,11 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     }
     // The normal and ωo.
     c.arrow(o, at(0.0, r * 0.55), th.normal, 2.0);
-    c.text(
-        at(0.0, r * 0.55)[0] + ts * 0.3,
-        at(0.0, r * 0.55)[1],
-        small,
-        "n",
-        th.normal,
-        Anchor::TopLeft,
-    );
+    let n_at = [at(0.0, r * 0.55)[0] + ts * 0.3, at(0.0, r * 0.55)[1]];
+    c.text(n_at[0], n_at[1], small, "n", th.normal, Anchor::TopLeft);
+    labels.block([n_at[0], n_at[1], n_at[0] + small, n_at[1] + small * 1.2]);
     let (wo_t, _) = fr.angle(fr.wo);
     c.arrow(o, at(wo_t, r * 0.8), th.ray, 2.0);
-    c.label(
-        at(wo_t, r * 0.85)[0],
-        at(wo_t, r * 0.85)[1],
-        small,
-        "ωo (to the eye)",
-        th.ray,
-        Anchor::Center,
-    );
     // The sampled direction.
     let (dir, col, name): (Vec3, Rgba, &str) = match f.step {
         Step::LightSample {
@@ -360,31 +361,119 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     };
     let (dt, out) = fr.angle(dir);
     c.arrow(o, at(dt, r * 0.9), col, 3.5);
-    let label = if out.abs() > 3.0 {
-        format!("{name} ({} out of this plane)", deg(out))
+    // Each label in the longest wording that has a free place, else in its shortest anyway.
+    let mut wordings = if out.abs() > 3.0 {
+        let short = name.split(' ').next().unwrap_or(name);
+        vec![
+            format!("{name} ({} out of this plane)", deg(out)),
+            format!("{name} ({} out of plane)", deg(out)),
+            format!("{short} ({} out of plane)", deg(out)),
+        ]
     } else {
-        name.to_string()
+        vec![]
     };
-    c.label(
-        at(dt, r * 0.62)[0],
-        at(dt, r * 0.62)[1],
-        small,
-        &label,
-        col,
-        Anchor::Center,
-    );
+    wordings.push(name.to_string());
+    if let Some(short) = name.split(' ').next().filter(|s| *s != name) {
+        wordings.push(short.to_string());
+    }
     c.circle(o, 4.0 * c.scale, Some(th.hit), Some(th.ink), 1.0);
+    // The places: along the arrow, centred on it, beside it, or centred but moved in from the
+    // canvas's edges.
+    let width = c.width();
+    let along = |theta: f32, text_w: f32| {
+        let half = text_w / 2.0 + 6.0;
+        let mut v = vec![];
+        for k in [0.85, 0.65, 1.05, 0.45, 0.3] {
+            let p = at(theta, r * k);
+            v.push((p[0], p[1], Anchor::Center));
+            v.push((p[0] + small * 0.6, p[1], Anchor::MiddleLeft));
+            v.push((p[0] - small * 0.6, p[1], Anchor::MiddleRight));
+            if half * 2.0 < width {
+                v.push((p[0].clamp(half, width - half), p[1], Anchor::Center));
+            }
+        }
+        v
+    };
+    let mut place = |c: &mut Canvas, texts: &[String], theta: f32, colour: Rgba| {
+        for t in texts {
+            let at = along(theta, c.text_width(t, small));
+            if labels
+                .place_if_free(c, &at, small, &Rich::default().plain(t), colour)
+                .is_some()
+            {
+                return;
+            }
+        }
+        if let Some(t) = texts.last() {
+            let at = along(theta, c.text_width(t, small));
+            labels.place(c, &at, small, &Rich::default().plain(t), colour);
+        }
+    };
+    place(
+        &mut c,
+        &["ωo (to the eye)".to_string(), "ωo".to_string()],
+        wo_t,
+        th.ray,
+    );
+    place(&mut c, &wordings, dt, col);
+    if let Some((p, text, colour)) = pdf_label {
+        let h = small * 1.3;
+        let corner = ts * 0.6;
+        let candidates = [
+            (p[0], p[1] - h - ts * 0.2, Anchor::TopCenter),
+            (p[0] + small * 0.6, p[1] - h * 0.5, Anchor::MiddleLeft),
+            (p[0] - small * 0.6, p[1] - h * 0.5, Anchor::MiddleRight),
+            (p[0], p[1] + ts * 0.3, Anchor::TopCenter),
+            (corner, top + corner * 0.3, Anchor::TopLeft),
+            (c.width() - corner, top + corner * 0.3, Anchor::TopRight),
+            (corner, o[1] - h - 4.0, Anchor::TopLeft),
+            (c.width() - corner, o[1] - h - 4.0, Anchor::TopRight),
+        ];
+        labels.place(
+            &mut c,
+            &candidates,
+            small,
+            &Rich::default().plain(&text),
+            colour,
+        );
+    }
     // The panel.
     let mut y = o[1] + ts * 0.8;
     for line in panel_lines {
         if y + small * 1.2 > c.height() {
             break;
         }
-        let shown = c.elide(&line, small, c.width() - ts * 1.6);
-        c.text(ts * 0.8, y, small, &shown, th.ink, Anchor::TopLeft);
+        c.text(ts * 0.8, y, small, &line, th.ink, Anchor::TopLeft);
         y += small * 1.35;
     }
-    c
+    (c, labels.placed)
+}
+
+/// `text` split at spaces into lines no wider than `width` at `size`; a line after the first is
+/// indented. A word wider than `width` is cut (with `…`).
+fn wrap_plain(c: &Canvas, text: &str, size: f32, width: f32) -> Vec<String> {
+    let mut lines: Vec<String> = vec![];
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let candidate = if line.is_empty() {
+            if lines.is_empty() {
+                word.to_string()
+            } else {
+                format!("  {word}")
+            }
+        } else {
+            format!("{line} {word}")
+        };
+        if !line.is_empty() && c.text_width(&candidate, size) > width {
+            lines.push(std::mem::replace(&mut line, format!("  {word}")));
+        } else {
+            line = candidate;
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines.iter().map(|l| c.elide(l, size, width)).collect()
 }
 
 fn deg(a: f32) -> String {

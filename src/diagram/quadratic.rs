@@ -99,6 +99,8 @@ pub struct QuadraticLayout {
     pub name: String,
     /// The ray that ran the test (e.g. "shadow ray (depth 1)").
     pub ray: String,
+    /// Its kind (a shadow ray's t_max is where it reaches the light, not a closest hit).
+    pub kind: crate::record::RayKind,
     /// The recorded test.
     pub test: SphereTest<f32>,
     /// The ray's interval (t_min, t_max) when the test ran.
@@ -198,7 +200,10 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<QuadraticLayout> {
     // values, large).
     let panel_w = fitting_panel_width(
         &c,
-        (&panel_heading(name), &panel_rows(test, interval, &c)),
+        (
+            &panel_heading(name),
+            &panel_rows(test, interval, ray.kind, &c),
+        ),
         small,
         (w * 0.37).max(150.0).min(w * 0.5),
         h - top - s * 0.5,
@@ -233,6 +238,7 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<QuadraticLayout> {
         step: k,
         name: name.clone(),
         ray: ray_name(ray),
+        kind: ray.kind,
         test: *test,
         interval,
         frame,
@@ -335,7 +341,7 @@ pub fn draw_labelled(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<PlacedLa
     }
 
     // The panel: exact values (the renderer's f32s), the case and the decision.
-    let rows = panel_rows(test, l.interval, &c);
+    let rows = panel_rows(test, l.interval, l.kind, &c);
     if l.panel[2] > l.panel[0] {
         draw_panel(&mut c, l.panel, small, panel_heading(&l.name), &rows);
     }
@@ -349,7 +355,12 @@ fn panel_heading(name: &str) -> Rich {
 
 /// The quadratic's panel of values: exact values (the renderer's f32s), the case and the
 /// decision, each row with its colour (an empty row is a gap).
-fn panel_rows(test: &SphereTest<f32>, interval: (f32, f32), c: &Canvas) -> Vec<(String, Rgba)> {
+fn panel_rows(
+    test: &SphereTest<f32>,
+    interval: (f32, f32),
+    kind: crate::record::RayKind,
+    c: &Canvas,
+) -> Vec<(String, Rgba)> {
     let th = c.theme;
     let mut rows: Vec<(String, Rgba)> = vec![];
     let method = match test.method {
@@ -393,7 +404,7 @@ fn panel_rows(test: &SphereTest<f32>, interval: (f32, f32), c: &Canvas) -> Vec<(
         th.muted,
     ));
     rows.push((String::new(), th.ink));
-    let (chosen, why) = (chosen_root(test), words::root_choice(test.choice));
+    let (chosen, why) = (chosen_root(test), words::root_choice_on(test.choice, kind));
     rows.push((
         format!("chosen: {chosen}"),
         if test.t.is_some() { th.hit } else { th.ray },

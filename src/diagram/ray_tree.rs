@@ -198,6 +198,53 @@ fn box_lines(r: &RayRecord) -> Vec<(String, bool)> {
     out
 }
 
+/// The RGB weight the parent multiplied `child`'s colour by, from the parent's steps: the BSDF
+/// sample recorded before the child was spawned (f · cos / pdf, a colour: a red wall's bounce
+/// keeps red), divided by the Russian roulette's probability if the path survived one there.
+/// None when the steps do not give it (a Whitted ray, whose weight is a number) or disagree
+/// with the ray's recorded weight (the mean of the channels).
+pub fn rgb_weight(parent: &RayRecord, child: &RayRecord) -> Option<[f32; 3]> {
+    let k = parent
+        .children
+        .iter()
+        .position(|c| std::ptr::eq(c, child))? as u32;
+    let spawn = parent
+        .steps
+        .iter()
+        .position(|s| matches!(s.step, crate::record::Step::Spawn { child } if child == k))?;
+    let mut weight = None;
+    let mut roulette = 1.0f32;
+    for s in parent.steps[..spawn].iter().rev() {
+        match &s.step {
+            crate::record::Step::RussianRoulette {
+                probability,
+                survived: true,
+                ..
+            } if weight.is_none() => roulette = *probability,
+            crate::record::Step::BsdfSample { weight: w, .. } => {
+                weight = Some(*w);
+                break;
+            }
+            crate::record::Step::Spawn { .. } => break,
+            _ => {}
+        }
+    }
+    let w = weight?.map(|c| c / roulette);
+    let mean = (w[0] + w[1] + w[2]) / 3.0;
+    ((mean - child.weight).abs() <= 1e-5 * child.weight.abs().max(1e-30)).then_some(w)
+}
+
+/// The label on the edge to `child`: its RGB weight when its channels differ (`× (0.62, 0.06,
+/// 0.06)`), else the one number.
+pub fn weight_label(parent: Option<&RayRecord>, child: &RayRecord) -> String {
+    match parent.and_then(|p| rgb_weight(p, child)) {
+        Some(w) if w[0] != w[1] || w[1] != w[2] => {
+            format!("× {}", crate::record::number::v3_in(w, Style::Decimals(3)))
+        }
+        _ => format!("× {}", fmt(child.weight, Style::Decimals(3))),
+    }
+}
+
 fn colour_text(c: [f32; 3]) -> String {
     crate::record::number::v3_in(c, Style::Decimals(3))
 }
@@ -349,6 +396,8 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         c.arrow(from, to, col, line_w);
         let w = rays[b.index].weight;
         if w != 1.0 {
+            let parent_ray = b.parent.map(|p| rays[p]);
+            let text = weight_label(parent_ray, rays[b.index]);
             // Beside the edge's middle, on its outer side, so the edge stays in sight.
             let mid = [(from[0] + to[0]) / 2.0, (from[1] + to[1]) / 2.0];
             let (x, anchor) = if to[0] < from[0] {
@@ -356,14 +405,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             } else {
                 (mid[0] + small * 0.5 + 4.0, Anchor::MiddleLeft)
             };
-            c.label(
-                x,
-                mid[1],
-                small * 0.95,
-                &format!("× {}", fmt(w, Style::Decimals(3))),
-                col,
-                anchor,
-            );
+            c.label(x, mid[1], small * 0.95, &text, col, anchor);
         }
     }
     for b in boxes.iter().filter(|b| b.shown) {

@@ -18,6 +18,70 @@ pub fn stage_name(s: Stage) -> &'static str {
     }
 }
 
+/// Where a triangle test stopped, in words: on a shadow ray a t at or beyond the ray's end is
+/// the light (or something behind it), not "beyond the closest hit".
+fn triangle_stop(test: &crate::shapes::TriangleTest<f32>, kind: RayKind) -> &'static str {
+    match (test.stopped_at, test.t_star) {
+        (5, Some(t)) if kind == RayKind::Shadow && t > 0.0 => {
+            "t out of range: at or beyond the shadow ray's end (just short of the light), not in the way"
+        }
+        _ => test.stop_reason(),
+    }
+}
+
+/// What a light sample needs said when the shading point lies on the light it samples (a lamp's
+/// own surface: a camera ray that hit the lamp, or a bounce that did): its density and its
+/// contribution then look wrong but are not. None for any other sample. `trace` gives the
+/// light's shape (its Monte Carlo record) and the shading point (the ray's surface step).
+pub fn own_light_note(trace: &Trace, ray: &RayRecord, step: &Step) -> Option<String> {
+    use crate::mc::lights::LightShape;
+    let Step::LightSample {
+        light, direction, ..
+    } = step
+    else {
+        return None;
+    };
+    let shape = trace.monte_carlo.as_ref()?.light(*light)?.shape;
+    let point = ray.steps.iter().find_map(|s| match s.step {
+        Step::Surface { point, .. } => Some(glam::Vec3::from(point)),
+        _ => None,
+    })?;
+    let d = glam::Vec3::from(*direction);
+    match shape {
+        LightShape::Triangle { p, normal, .. } => {
+            // In the light's plane: the point is on the lamp (or beside it, in its plane).
+            let scale = (p[1] - p[0]).length().max((p[2] - p[0]).length());
+            let off = (point - p[0]).dot(normal).abs();
+            let cos_l = d.dot(normal).abs();
+            (off <= 1e-4 * scale.max(1e-6)).then(|| {
+                format!(
+                    "the shading point lies on this light's own plane (on the lamp itself): every \
+                     point of the lamp is seen edge-on from here (|cos θ| at the light = {}), so \
+                     its density per steradian, d² / (A · |cos θ|), means nothing here (it may be \
+                     huge, or 0) and the sample adds next to nothing; the lamp's own light was \
+                     counted when the ray hit it",
+                    num(cos_l)
+                )
+            })
+        }
+        LightShape::Sphere { center, radius } => {
+            let dc = (center - point).length();
+            (dc <= radius * (1.0 + 1e-3)).then(|| {
+                format!(
+                    "the shading point is on (or inside) this sphere light itself (its distance \
+                     to the centre, {}, is the radius {} to within rounding): the light fills \
+                     the half of the sky below the tangent plane, so its cone density and its \
+                     contribution mean nothing here; the lamp's own light was counted when the \
+                     ray hit it",
+                    num(dc),
+                    num(radius)
+                )
+            })
+        }
+        LightShape::Point { .. } => None,
+    }
+}
+
 /// Describes one step of a ray of kind `kind` in a line of words and numbers (the kind decides
 /// the words for a node pushed for later: see [`words::node_action`]).
 pub fn describe(step: &Step, kind: RayKind) -> String {
@@ -121,7 +185,7 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                 let _ = write!(s, ", roots {} and {}", num(t0), num(t1));
             }
             if test.choice != RootChoice::NoRoots {
-                let _ = write!(s, " → {}", words::root_choice(test.choice));
+                let _ = write!(s, " → {}", words::root_choice_on(test.choice, kind));
             }
             s
         }
@@ -148,6 +212,9 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                     opt(test.t_raw),
                     match (test.t, test.t_raw) {
                         (Some(_), _) => " → hit",
+                        (None, Some(t)) if t > 0.0 && kind == RayKind::Shadow => {
+                            " → at or beyond the shadow ray's end (the light): not in the way"
+                        }
                         (None, Some(t)) if t > 0.0 => " → beyond the closest hit so far: miss",
                         _ => " → behind the origin: miss",
                     }
@@ -165,7 +232,7 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                 opt(test.u),
                 opt(test.v),
                 test.stopped_at,
-                test.stop_reason()
+                triangle_stop(test, kind)
             ),
             TriangleMethod::Watertight => format!(
                 "triangle \"{name}\" (watertight): edges {}, det = {}, t = {}, u = {}, v = {} → {}",
@@ -176,7 +243,7 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                 opt(test.t_star),
                 opt(test.u),
                 opt(test.v),
-                test.stop_reason()
+                triangle_stop(test, kind)
             ),
         },
         Step::Accept {
@@ -392,7 +459,7 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
 /// number the app's step list and step bar show and what `--step K` takes (`raystep diagram`,
 /// `raystep view`, `raystep open`).
 pub fn tree(trace: &Trace) -> String {
-    fn ray(r: &RayRecord, indent: usize, k: &mut usize, out: &mut String) {
+    fn ray(trace: &Trace, r: &RayRecord, indent: usize, k: &mut usize, out: &mut String) {
         let pad = "  ".repeat(indent);
         let _ = writeln!(
             out,
@@ -412,16 +479,17 @@ pub fn tree(trace: &Trace) -> String {
         for s in &r.steps {
             let _ = writeln!(
                 out,
-                "{pad}  [{k}] [{}] {}",
+                "{pad}  [{k}] [{}] {}{}",
                 stage_name(s.stage),
-                describe(&s.step, r.kind)
+                describe(&s.step, r.kind),
+                own_light_note(trace, r, &s.step).map_or(String::new(), |n| format!(" ({n})"))
             );
             *k += 1;
             // The child's steps follow its spawn step, as in the timeline.
             if let Step::Spawn { child } = s.step
                 && let Some(c) = r.children.get(child as usize)
             {
-                ray(c, indent + 1, k, out);
+                ray(trace, c, indent + 1, k, out);
             }
         }
         match (&r.hit, r.kind) {
@@ -453,7 +521,7 @@ pub fn tree(trace: &Trace) -> String {
     if let Some(mc) = &trace.monte_carlo {
         out.push_str(&pixel_summary(mc));
     }
-    ray(&trace.root, 0, &mut 0, &mut out);
+    ray(trace, &trace.root, 0, &mut 0, &mut out);
     out
 }
 

@@ -158,6 +158,23 @@ fn read_disk_file(
 /// [`read_input`] for a text file: the bytes must be UTF-8.
 pub fn read_text(path: &Path, limit: u64, what: &str) -> std::io::Result<String> {
     let bytes = read_input(path, limit, what)?;
+    // UTF-16 (what some editors and spreadsheets save as "Unicode"): its byte order mark, or
+    // the NUL bytes of its ASCII characters, which no UTF-8 text has.
+    let utf16 = if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        Some("it starts with a UTF-16 byte order mark")
+    } else if bytes.contains(&0) {
+        Some("it has NUL bytes, as UTF-16 text of plain characters has")
+    } else {
+        None
+    };
+    if let Some(why) = utf16 {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "is not UTF-8 text but looks like UTF-16 ({why}): {what}s must be UTF-8 — save it as UTF-8 (in a spreadsheet: \"CSV UTF-8\")"
+            ),
+        ));
+    }
     String::from_utf8(bytes).map_err(|e| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
@@ -216,6 +233,10 @@ pub(crate) use outln;
 
 /// Writing files whole or not at all: native only (a page has no files; the browser build saves
 /// with a download, `app::files`).
+#[cfg(not(target_arch = "wasm32"))]
+mod collide;
+#[cfg(not(target_arch = "wasm32"))]
+pub use collide::{check_outputs, same_file};
 #[cfg(not(target_arch = "wasm32"))]
 mod write;
 #[cfg(all(test, unix))]

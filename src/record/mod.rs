@@ -37,6 +37,7 @@
 //! assert_eq!(again.color, trace.color);
 //! ```
 
+pub mod nesting;
 pub mod number;
 pub mod observer;
 pub mod samples;

@@ -781,7 +781,22 @@ impl Trace {
             column: e.column().max(1),
             message: e.to_string(),
         };
-        let value: serde_json::Value = serde_json::from_str(text).map_err(corrupt)?;
+        // Nesting measured first (without recursion), then parsed without serde_json's limit of
+        // 128 levels, which a trace of a ray 60 bounces deep passes.
+        let nesting = super::nesting::depth(text, super::nesting::MAX_NESTING);
+        if nesting > super::nesting::MAX_NESTING {
+            return Err(TraceError::Corrupt {
+                file: file.into(),
+                line: 1,
+                column: 1,
+                message: format!(
+                    "nested more than {} levels deep: a trace raystep writes nests at most {} (a ray of depth 64)",
+                    super::nesting::MAX_NESTING,
+                    super::nesting::MAX_NESTING
+                ),
+            });
+        }
+        let value: serde_json::Value = super::nesting::parse(text).map_err(corrupt)?;
         match value.get("version").and_then(|v| v.as_u64()) {
             Some(v) if v == TRACE_VERSION as u64 => {}
             Some(found) => {
@@ -799,7 +814,7 @@ impl Trace {
                 });
             }
         }
-        let trace: Trace = serde_json::from_str(text).map_err(corrupt)?;
+        let trace: Trace = super::nesting::parse(text).map_err(corrupt)?;
         super::validate::validate(&trace).map_err(|e| TraceError::Invalid {
             file: file.into(),
             field: e.field,

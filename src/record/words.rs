@@ -58,6 +58,19 @@ pub fn root_choice(choice: RootChoice) -> &'static str {
     }
 }
 
+/// Which root the ray–sphere test took, and why, on a ray of kind `kind`. A shadow ray ends
+/// just short of the light it aims at (its t_max is not a closest hit): a root at or beyond
+/// that end is the light itself, or something behind it, and does not block it.
+pub fn root_choice_on(choice: RootChoice, kind: RayKind) -> &'static str {
+    match (choice, kind) {
+        (RootChoice::BeyondTMax, RayKind::Shadow) => SHADOW_BEYOND,
+        _ => root_choice(choice),
+    }
+}
+
+/// Why a surface a shadow ray meets at or beyond its t_max does not block it.
+pub const SHADOW_BEYOND: &str = "the usable root is at or beyond the shadow ray's end (t_max, just short of the point on the light): this is the light itself or something behind it, not between the surface and the light — not in the way";
+
 /// What an accelerator's traversal did with a node (a BVH box or a bounding sphere) on a ray of
 /// kind `kind`: a node pushed for later was the farther of two siblings the ray hits, or — on a
 /// shadow ray, which looks in the farther first — the nearer.

@@ -7,6 +7,12 @@
 //! relMSE = mean((x − r)² / (r² + ε)) with ε = [`REL_EPSILON`], and NaN/∞ pixel counts. FLIP is
 //! not computed (it needs the nv-flip crate; the report says so).
 //!
+//! Under the Monte Carlo integrators the errors are measured over the pixels that do not see a
+//! light source directly ([`direct_emitters`]): at a lamp's edge the error is aliasing, not the
+//! estimator's noise, and it would swamp the rest. The MSE over every pixel is kept beside them
+//! (`mse_all`). The reference renders in [`REFERENCE_STEPS`] passes, each reported to the
+//! observer, so that a long reference shows its progress wherever the report goes.
+//!
 //! [`RenderStats::trace`]: crate::render::RenderStats::trace
 
 use super::plot::{PALETTE, Plot, Series, draw};
@@ -18,10 +24,13 @@ use glam::Vec3;
 use serde::Serialize;
 use std::fmt::Write as _;
 
+mod mask;
 mod strategies;
+pub use mask::{MASK_SAMPLES, direct_emitters};
 pub use strategies::{
-    StrategyRun, default_target, run_strategies, strategies_csv, strategies_markdown,
-    strategies_plots, strategy_name, strategy_table, time_to_relmse,
+    Reach, StrategyRun, Target, default_target, reach, run_strategies, strategies_csv,
+    strategies_markdown, strategies_plots, strategy_name, strategy_table, target_words,
+    time_to_relmse,
 };
 
 /// ε of relMSE (stated in every report).
@@ -38,8 +47,8 @@ pub struct ConvergeOptions {
     pub reference_factor: u32,
     /// Worker threads (None: all cores).
     pub threads: Option<usize>,
-    /// Show the renderer's progress bar while the reference renders (on stderr, and only when
-    /// stderr is a terminal).
+    /// Show the renderer's progress bar while each pass of the reference renders (on stderr,
+    /// and only when stderr is a terminal; the observer hears of every pass whatever this is).
     pub progress: bool,
     /// A reference already rendered (several strategies measured against one truth): used
     /// instead of rendering one.
@@ -70,12 +79,17 @@ impl Default for ConvergeOptions {
     }
 }
 
+/// The passes the reference renders in: the observer is told after each (a progress line on
+/// the command line), so a long reference is never silent.
+pub const REFERENCE_STEPS: u32 = 16;
+
 /// The most samples per pixel the reference may take (the top level's spp × the reference
 /// factor); more is refused before anything renders.
 pub const MAX_REFERENCE_SPP: u32 = 1 << 20;
 
 /// How far a run has got: given to the observer of [`run_observed`] after the first render
-/// (when the first estimate can be made), after the reference, and after each level.
+/// (when the first estimate can be made), after each pass of the reference, and after each
+/// level.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Progress {
     /// What has just finished, in words: "the first render (1 spp, seed 1)", "the reference (256
@@ -102,12 +116,15 @@ pub struct Sample {
     pub seed: u32,
     /// Trace seconds.
     pub seconds: f64,
-    /// Mean squared error over pixels and channels (linear RGB).
+    /// Mean squared error over the measured pixels' channels (linear RGB): every pixel but
+    /// those that see a light source directly ([`direct_emitters`]).
     pub mse: f64,
     /// √MSE.
     pub rmse: f64,
-    /// mean((x − r)² / (r² + ε)), ε = [`REL_EPSILON`].
+    /// mean((x − r)² / (r² + ε)), ε = [`REL_EPSILON`], over the measured pixels.
     pub relmse: f64,
+    /// The MSE over every pixel, those that see a light source included.
+    pub mse_all: f64,
     /// Pixels with a NaN channel.
     pub nan: usize,
     /// Pixels with an infinite channel.
@@ -127,6 +144,8 @@ pub struct Level {
     pub rmse: [f64; 3],
     /// relMSE: [p10, median, p90].
     pub relmse: [f64; 3],
+    /// The MSE over every pixel: [p10, median, p90].
+    pub mse_all: [f64; 3],
     /// NaN pixels over all seeds.
     pub nan: usize,
     /// Infinite pixels over all seeds.
@@ -149,12 +168,16 @@ pub struct ConvergeReport {
     pub reference_spp: u32,
     /// The reference's trace seconds.
     pub reference_seconds: f64,
+    /// The pixels the errors are measured over.
+    pub measured_pixels: usize,
+    /// The pixels left out: they see a light source directly, or lie next to one that does.
+    pub left_out_pixels: usize,
     /// Every render.
     pub samples: Vec<Sample>,
     /// Per level.
     pub levels: Vec<Level>,
-    /// Least-squares slope of log median MSE against log spp (≈ −1 for independent samples;
-    /// steeper where stratification helps, e.g. at edges).
+    /// Least-squares slope of log median MSE (over the measured pixels) against log spp (≈ −1
+    /// for independent samples; steeper where stratification helps, e.g. at edges).
     pub mse_slope: f64,
     /// The top level's image with seed 1 (linear, row-major): the picture of the estimator.
     #[serde(skip)]
@@ -176,10 +199,25 @@ fn quantiles(mut v: Vec<f64>) -> [f64; 3] {
     [q(0.1), q(0.5), q(0.9)]
 }
 
-fn errors(img: &[Vec3], reference: &[Vec3]) -> (f64, f64, usize, usize) {
-    let (mut se, mut rel) = (0.0, 0.0);
-    let (mut nan, mut inf) = (0, 0);
-    for (x, r) in img.iter().zip(reference) {
+/// An image's errors against the reference.
+struct Errors {
+    /// Over the pixels not `left_out`.
+    mse: f64,
+    relmse: f64,
+    /// Over every pixel.
+    mse_all: f64,
+    nan: usize,
+    inf: usize,
+}
+
+/// The errors of `img` against `reference`, the pixels `left_out` (true) left out of the MSE
+/// and relMSE but not of `mse_all`. A NaN or infinite pixel is counted, not summed.
+fn errors(img: &[Vec3], reference: &[Vec3], left_out: &[bool]) -> Errors {
+    let (mut se, mut rel, mut se_all) = (0.0, 0.0, 0.0);
+    let (mut nan, mut inf, mut measured) = (0, 0, 0usize);
+    for (i, (x, r)) in img.iter().zip(reference).enumerate() {
+        let out = left_out.get(i).copied().unwrap_or(false);
+        measured += usize::from(!out);
         if x.is_nan() {
             nan += 1;
             continue;
@@ -190,12 +228,21 @@ fn errors(img: &[Vec3], reference: &[Vec3]) -> (f64, f64, usize, usize) {
         }
         for k in 0..3 {
             let d = (x[k] - r[k]) as f64;
-            se += d * d;
-            rel += d * d / ((r[k] as f64).powi(2) + REL_EPSILON);
+            se_all += d * d;
+            if !out {
+                se += d * d;
+                rel += d * d / ((r[k] as f64).powi(2) + REL_EPSILON);
+            }
         }
     }
-    let n = (img.len() * 3).max(1) as f64;
-    (se / n, rel / n, nan, inf)
+    let n = (measured * 3).max(1) as f64;
+    Errors {
+        mse: se / n,
+        relmse: rel / n,
+        mse_all: se_all / (img.len() * 3).max(1) as f64,
+        nan,
+        inf,
+    }
 }
 
 /// Least-squares slope of y against x.
@@ -409,18 +456,25 @@ fn run_levels_with(
     let reference = match &opts.reference {
         Some(r) => std::sync::Arc::clone(r),
         None => {
-            let r = render_reference(scene, &base, reference_spp, opts)?;
-            tracker.reference_left = 0;
-            tracker.cpu.add(r.seconds, reference_total);
-            tracker.report(
-                format!("the reference ({reference_spp} spp)"),
-                1,
-                r.seconds,
-                reference_total,
-            );
+            let mut last = (0u32, 0.0f64);
+            let r = render_reference(scene, &base, reference_spp, opts, &mut |done, seconds| {
+                let samples = pixels * u64::from(done - last.0);
+                let dt = seconds - last.1;
+                last = (done, seconds);
+                tracker.reference_left -= samples;
+                tracker.cpu.add(dt, samples);
+                let finished = if done == reference_spp {
+                    format!("the reference ({reference_spp} spp)")
+                } else {
+                    format!("{done} of the reference's {reference_spp} spp")
+                };
+                tracker.report(finished, usize::from(done == reference_spp), dt, samples);
+            })?;
             std::sync::Arc::new(r)
         }
     };
+    let left_out = direct_emitters(&base);
+    let measured_pixels = left_out.iter().filter(|o| !**o).count();
     let reference_seconds = reference.seconds;
     let (rn, ri) = reference.pixels.iter().fold((0, 0), |(n, i), p| {
         (
@@ -459,7 +513,7 @@ fn run_levels_with(
                     reference.pixels.len()
                 ));
             }
-            let (mse, relmse, nan, inf) = errors(&pixels_out, &reference.pixels);
+            let e = errors(&pixels_out, &reference.pixels, &left_out);
             if spp == top && seed == 1 {
                 image = pixels_out.clone();
             }
@@ -467,11 +521,12 @@ fn run_levels_with(
                 spp,
                 seed,
                 seconds,
-                mse,
-                rmse: mse.sqrt(),
-                relmse,
-                nan,
-                inf,
+                mse: e.mse,
+                rmse: e.mse.sqrt(),
+                relmse: e.relmse,
+                mse_all: e.mse_all,
+                nan: e.nan,
+                inf: e.inf,
             });
         }
         levels.push(Level {
@@ -480,6 +535,7 @@ fn run_levels_with(
             mse: quantiles(here.iter().map(|s| s.mse).collect()),
             rmse: quantiles(here.iter().map(|s| s.rmse).collect()),
             relmse: quantiles(here.iter().map(|s| s.relmse).collect()),
+            mse_all: quantiles(here.iter().map(|s| s.mse_all).collect()),
             nan: here.iter().map(|s| s.nan).sum(),
             inf: here.iter().map(|s| s.inf).sum(),
         });
@@ -510,6 +566,8 @@ fn run_levels_with(
         build_seconds: build.as_secs_f64(),
         reference_spp,
         reference_seconds,
+        measured_pixels,
+        left_out_pixels: left_out.len() - measured_pixels,
         samples,
         levels,
         mse_slope: slope(&pts),
@@ -541,31 +599,54 @@ fn render_at(
 }
 
 /// Renders the reference of `scene` at `spp` on the CPU with a seed no level uses (levels use
-/// 1..=K).
+/// 1..=K), in [`REFERENCE_STEPS`] passes of samples added in order (the image is the one render
+/// at `spp` makes, bit for bit); after each, `step(samples per pixel done, trace seconds so
+/// far)`.
 fn render_reference(
     scene: &Scene,
     base: &PreparedScene,
     spp: u32,
     opts: &ConvergeOptions,
+    step: &mut dyn FnMut(u32, f64),
 ) -> Result<Reference, String> {
-    let out = render_at(
-        scene,
-        base,
-        spp,
-        0x5EED_u32.wrapping_mul(7919),
-        opts,
-        opts.progress,
-    )?;
+    let mut settings = scene.settings.clone();
+    settings.spp = spp;
+    settings.seed = 0x5EED_u32.wrapping_mul(7919);
+    let prepared = PreparedScene::with_settings(base.scene_arc(), &settings, Some(base));
+    let tracer = prepared.tracer();
+    let chunk = spp.div_ceil(REFERENCE_STEPS).max(1);
+    let (mut done, mut seconds, mut sums) = (0u32, 0.0f64, None);
+    while done < spp {
+        let end = done.saturating_add(chunk).min(spp);
+        let out = render(
+            &tracer,
+            &RenderOptions {
+                threads: opts.threads,
+                progress: opts.progress,
+                pass: Some(crate::render::Pass {
+                    samples: done..end,
+                    sums: sums.take(),
+                }),
+                ..Default::default()
+            },
+        )?;
+        seconds += out.stats.trace.as_secs_f64();
+        sums = Some(std::sync::Arc::new(out.pixels));
+        done = end;
+        step(done, seconds);
+    }
+    // The mean exactly as Tracer::trace_pixel divides it.
+    let pixels = sums.map_or_else(Vec::new, |s| s.iter().map(|p| *p / spp as f32).collect());
     Ok(Reference {
         spp,
-        pixels: out.pixels,
-        seconds: out.stats.trace.as_secs_f64(),
+        pixels,
+        seconds,
     })
 }
 
 /// Column names of [`csv`].
-pub const CSV_COLUMNS: [&str; 8] = [
-    "spp", "seed", "seconds", "mse", "rmse", "relmse", "nan", "inf",
+pub const CSV_COLUMNS: [&str; 9] = [
+    "spp", "seed", "seconds", "mse", "rmse", "relmse", "nan", "inf", "mse_all",
 ];
 
 /// One line per render (spp × seed).
@@ -575,8 +656,8 @@ pub fn csv(r: &ConvergeReport) -> String {
     for x in &r.samples {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{}",
-            x.spp, x.seed, x.seconds, x.mse, x.rmse, x.relmse, x.nan, x.inf
+            "{},{},{},{},{},{},{},{},{}",
+            x.spp, x.seed, x.seconds, x.mse, x.rmse, x.relmse, x.nan, x.inf, x.mse_all
         );
     }
     s
@@ -605,21 +686,23 @@ pub fn markdown(r: &ConvergeReport, load_seconds: f64) -> String {
         r.reference_seconds,
         REL_EPSILON
     );
+    let _ = writeln!(s, "{}\n", measured_words(r));
     let _ = writeln!(
         s,
-        "MSE slope against spp (log–log least squares): **{:.2}** (independent samples give −1).\n",
+        "MSE slope against spp (log–log least squares, on the measured pixels' MSE): **{:.2}** \
+         (independent samples give −1).\n",
         r.mse_slope
     );
     let _ = writeln!(s, "## Equal spp\n");
     let _ = writeln!(
         s,
-        "| spp | seconds | MSE | MSE p10–p90 | RMSE | relMSE | relMSE p10–p90 | NaN | ∞ |"
+        "| spp | seconds | MSE | MSE p10–p90 | RMSE | relMSE | relMSE p10–p90 | MSE, every pixel | NaN | ∞ |"
     );
-    let _ = writeln!(s, "|---:|---:|---:|---|---:|---:|---|---:|---:|");
+    let _ = writeln!(s, "|---:|---:|---:|---|---:|---:|---|---:|---:|---:|");
     for l in &r.levels {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {}–{} | {} | {} | {}–{} | {} | {} |",
+            "| {} | {} | {} | {}–{} | {} | {} | {}–{} | {} | {} | {} |",
             l.spp,
             num(l.seconds),
             num(l.mse[1]),
@@ -629,6 +712,7 @@ pub fn markdown(r: &ConvergeReport, load_seconds: f64) -> String {
             num(l.relmse[1]),
             num(l.relmse[0]),
             num(l.relmse[2]),
+            num(l.mse_all[1]),
             l.nan,
             l.inf
         );
@@ -664,6 +748,24 @@ pub fn markdown(r: &ConvergeReport, load_seconds: f64) -> String {
     s
 }
 
+/// What the errors are measured over, in a sentence.
+pub fn measured_words(r: &ConvergeReport) -> String {
+    if r.left_out_pixels == 0 {
+        return format!(
+            "MSE and relMSE are measured over every pixel ({}).",
+            r.measured_pixels
+        );
+    }
+    format!(
+        "MSE and relMSE measure the Monte Carlo noise: they are taken over the {} pixels that do \
+         not see a light source directly. The {} pixels that do, or lie next to one that does, \
+         are left out: there the error is where the lamp's edge falls among the pixel's camera \
+         samples (aliasing, hundreds of times the noise elsewhere), not the estimator's. \
+         \"MSE, every pixel\" keeps them.",
+        r.measured_pixels, r.left_out_pixels
+    )
+}
+
 fn band_series(label: &str, xs: &[f64], q: &[[f64; 3]], color: [u8; 4]) -> Series {
     Series {
         label: label.into(),
@@ -696,8 +798,18 @@ pub fn plots(r: &ConvergeReport) -> (Vec<u8>, Vec<u8>) {
         }
     };
     let sub = format!(
-        "median over seeds, band p10–p90; reference {} spp; relMSE ε = {}; MSE slope {:.2}",
-        r.reference_spp, REL_EPSILON, r.mse_slope
+        "median over seeds, band p10–p90; reference {} spp; relMSE ε = {}; MSE slope {:.2}{}",
+        r.reference_spp,
+        REL_EPSILON,
+        r.mse_slope,
+        if r.left_out_pixels > 0 {
+            format!(
+                "; {} pixels that see a light source left out",
+                r.left_out_pixels
+            )
+        } else {
+            String::new()
+        }
     );
     let a = Plot {
         title: format!("{}: error against samples per pixel", r.scene),

@@ -25,6 +25,7 @@ mod coverage;
 pub mod expected;
 pub mod format;
 pub mod image;
+pub mod isolate;
 pub mod path;
 pub mod path_compare;
 pub mod run;
@@ -60,6 +61,9 @@ pub struct Job {
     pub open_path: Option<PathBuf>,
     /// The last stage checked on this scene, when its sheet entry says (else the run's).
     pub upto: Option<Stage>,
+    /// Graded statistically (`--statistical`): a path-traced scene's sample-by-sample stages
+    /// are replaced by [`check_statistical`]'s test.
+    pub statistical: bool,
 }
 
 impl Job {
@@ -77,6 +81,7 @@ impl Job {
             reference: Default::default(),
             variant: None,
             upto: None,
+            statistical: false,
         }
     }
 }
@@ -139,7 +144,26 @@ impl Report {
             self.tests.len(),
             self.seconds
         );
-        for t in &self.tests {
+        // The statistical verdicts lead, passed or not.
+        for t in self
+            .tests
+            .iter()
+            .filter(|t| t.name.ends_with(": statistical"))
+        {
+            let mark = if t.score >= t.max_score { "✓" } else { "✗" };
+            s += &format!("\n{mark} {} ({} / {})\n", t.name, t.score, t.max_score);
+            for l in t.output.lines() {
+                s += &format!("  {l}\n");
+            }
+        }
+        for t in self.tests.iter().filter(|t| t.name.ends_with(COPIED)) {
+            s += &format!("\n⚠ {}\n  {}\n", t.name, t.output);
+        }
+        for t in self
+            .tests
+            .iter()
+            .filter(|t| !t.name.ends_with(": statistical"))
+        {
             if t.score < t.max_score {
                 s += &format!("\n✗ {}\n", t.name);
                 for l in t.output.lines() {
@@ -192,7 +216,10 @@ pub fn grade_submission(
             .map_or("scene".into(), |f| f.to_string_lossy().to_string());
         let upto = job.upto.unwrap_or(upto);
         if path::applies(job.prepared.scene()) {
-            grade_paths(&mut tests, &file, template, dir, job, upto, tol, limits);
+            // With --statistical, the statistical test replaces the sample-by-sample stages.
+            if !job.statistical {
+                grade_paths(&mut tests, &file, template, dir, job, upto, tol, limits);
+            }
             continue;
         }
         for &[x, y] in &job.pixels {
@@ -201,10 +228,12 @@ pub fn grade_submission(
             let name = |st: Stage| format!("{file} ({x}, {y}): {}", st.name());
             let stages = Stage::graded(upto, false);
             let mut note = None;
+            let mut copied = false;
             let out = run::run(template, dir, &job.path, x, y, limits)
                 .map_err(|e| e.to_string())
                 .and_then(|o| {
                     note = o.note;
+                    copied = isolate::is_raysteps_text(&o.stdout, &format::write(&exp.pixel));
                     format::parse(&o.stdout).map_err(|e| format!("your program's output, {e}"))
                 });
             match out {
@@ -243,6 +272,9 @@ pub fn grade_submission(
                     }
                 }
             }
+            if copied {
+                tests.push(copied_test(&file, x, y));
+            }
         }
     }
     Report {
@@ -270,10 +302,12 @@ fn grade_paths(
         let exp = path::expected(&job.prepared, x, y);
         let name = |st: Stage| format!("{file} ({x}, {y}): {}", st.name());
         let mut note = None;
+        let mut copied = false;
         let out = run::run(template, dir, &job.path, x, y, limits)
             .map_err(|e| e.to_string())
             .and_then(|o| {
                 note = o.note;
+                copied = isolate::is_raysteps_text(&o.stdout, &path::write(&exp.pixel));
                 path::parse(&o.stdout).map_err(|e| format!("your program's output, {e}"))
             });
         match out {
@@ -310,6 +344,23 @@ fn grade_paths(
                 }
             }
         }
+        if copied {
+            tests.push(copied_test(file, x, y));
+        }
+    }
+}
+
+/// The suffix of the (0-point) test that names output which is raystep's own trace text.
+pub const COPIED: &str = ": raystep's own output";
+
+/// The 0-point test that names pixel (x, y)'s output as raystep's own text, for the teacher.
+fn copied_test(file: &str, x: u32, y: u32) -> TestResult {
+    TestResult {
+        name: format!("{file} ({x}, {y}){COPIED}"),
+        score: 0.0,
+        max_score: 0.0,
+        output: isolate::raysteps_text_note(x, y),
+        visibility: "visible".into(),
     }
 }
 
@@ -332,12 +383,23 @@ fn see_sample(job: &Job, x: u32, y: u32, k: u32, step: Option<usize>) -> String 
     out
 }
 
-/// The statistical check of each Monte Carlo job (`--statistical`): the student's per-pixel
-/// statistics (a file named by `pattern`, `{stem}` the scene file's stem, relative to `dir`)
-/// against raystep's own render by Welch's t-test ([`statistical::compare`]), one test per
-/// scene.
-pub fn check_statistical(report: &mut Report, dir: &Path, jobs: &[Job], pattern: &str) {
-    for job in jobs {
+/// The statistical check of each path-traced job (`--statistical`), which replaces its
+/// sample-by-sample stages: the student's per-pixel statistics (a file named by `pattern`,
+/// `{stem}` the scene file's stem, relative to `dir`) against raystep's own render with a seed of
+/// the student's ([`statistical::student_reference`]) by Welch's t-test
+/// ([`statistical::compare_with`]). One test per scene, worth the tests it replaces (its pixels
+/// times the path stages up to `upto`), put first in the report. The file's image must be the
+/// scene's (checked before anything is allocated); a file that cannot be read scores 0 with the
+/// reason.
+pub fn check_statistical(
+    report: &mut Report,
+    dir: &Path,
+    jobs: &[Job],
+    pattern: &str,
+    upto: Stage,
+) {
+    let mut lead = vec![];
+    for job in jobs.iter().filter(|j| path::applies(j.prepared.scene())) {
         let stem = job
             .path
             .file_stem()
@@ -349,24 +411,38 @@ pub fn check_statistical(report: &mut Report, dir: &Path, jobs: &[Job], pattern:
                 .file_name()
                 .map_or("scene".into(), |f| f.to_string_lossy().to_string())
         );
+        let scene = job.prepared.scene();
+        let size = (scene.camera.width, scene.camera.height);
         let verdict = crate::io::read_text(&file, crate::io::limits::SCENE * 16, "statistics file")
-            .map_err(|e| format!("{}: cannot read: {e}", file.display()))
+            .map_err(|e| format!("failed: {}: cannot read: {e}", file.display()))
             .and_then(|text| {
-                statistical::parse(&text).map_err(|e| format!("{}: {e}", file.display()))
+                statistical::parse_for(&text, Some(size))
+                    .map_err(|e| format!("failed: {}: {e}", file.display()))
             })
-            .map(|img| statistical::compare(&img, &statistical::reference(&job.prepared)));
+            .map(|img| {
+                statistical::compare_with(
+                    &img,
+                    &statistical::student_reference(scene, &report.student),
+                    statistical::Requirements {
+                        min_samples: scene.settings.spp,
+                    },
+                )
+            });
+        let worth =
+            (job.pixels.len() * Stage::graded(job.upto.unwrap_or(upto), true).len()).max(1) as f64;
         let (score, output) = match verdict {
             Err(e) => (0.0, e),
-            Ok(v) => (v.pass as u8 as f64, v.message),
+            Ok(v) => (if v.pass { worth } else { 0.0 }, v.message),
         };
-        report.tests.push(TestResult {
+        lead.push(TestResult {
             name,
             score,
-            max_score: 1.0,
+            max_score: worth,
             output,
             visibility: "visible".into(),
         });
     }
+    report.tests.splice(0..0, lead);
 }
 
 /// The feedback's pointer to raystep's own numbers for a failed check: the command that opens
@@ -693,13 +769,16 @@ pub fn grade_tracer_class(
             k += 1;
             student = format!("{base} ({k})");
         }
-        let jobs = jobs_for(&student)?;
+        let mut jobs = jobs_for(&student)?;
+        for j in &mut jobs {
+            j.statistical = statistical.is_some();
+        }
         let mut r = grade_submission(&student, template, &d, &jobs, upto, tol, limits);
         if let Some(spec) = image {
             check_images(&mut r, &d, &jobs, spec);
         }
         if let Some(pattern) = statistical {
-            check_statistical(&mut r, &d, &jobs, pattern);
+            check_statistical(&mut r, &d, &jobs, pattern, upto);
         }
         out.push(r);
     }
@@ -749,11 +828,12 @@ pub fn grades_csv(reports: &[Report]) -> String {
                 )
             });
         }
-        // The first failure's first line, as a note.
+        // Output that is raystep's own text, else the first failure's first line, as a note.
         row.push(crate::text::csv::text_cell(
             r.tests
                 .iter()
-                .find(|t| t.score < t.max_score)
+                .find(|t| t.name.ends_with(COPIED))
+                .or_else(|| r.tests.iter().find(|t| t.score < t.max_score))
                 .and_then(|t| t.output.lines().next())
                 .unwrap_or(""),
         ));

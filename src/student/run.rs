@@ -232,6 +232,8 @@ impl Group {
             }
         }
         let _ = self.child.kill();
+        // Those that left the group (a new session or group): where raystep reaps them.
+        super::isolate::stop_descendants(self.child.id());
     }
 }
 
@@ -261,6 +263,7 @@ pub fn run(
         use std::os::unix::process::CommandExt;
         cmd.process_group(0);
     }
+    super::isolate::apply(&mut cmd);
     let child = cmd
         .spawn()
         .map_err(|e| RunError::Start(format!("{}: {e}", w[0])))?;

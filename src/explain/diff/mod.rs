@@ -329,7 +329,8 @@ fn step_line(t: &Trace, k: usize) -> Option<String> {
 
 /// The trace as the JSON it saves as (so numbers read as their shortest f32 form).
 fn as_value(t: &Trace) -> J {
-    serde_json::from_str(&t.to_json()).expect("a trace's JSON parses")
+    // Without serde_json's 128-level limit: a trace nests two levels a bounce (max_depth 64).
+    crate::record::nesting::parse(&t.to_json()).expect("a trace's JSON parses")
 }
 
 fn get<'a>(o: &'a [(String, J)], key: &str) -> &'a J {

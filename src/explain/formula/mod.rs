@@ -22,6 +22,7 @@
 
 use crate::math::gamma;
 use crate::record::number::{num, v3};
+use crate::record::words;
 use crate::record::{NodeAction, RayKind, RayRecord, Step, Trace, TraceObject};
 use crate::scene::camera::CameraRays;
 use crate::scene::{OffsetPolicy, Shape};
@@ -66,6 +67,16 @@ pub struct Explanation {
     pub lines: Vec<Formula>,
     /// The decision, in words.
     pub conclusion: String,
+}
+
+impl Explanation {
+    /// The explanation with `note` (a sentence without its full stop) added to its conclusion.
+    fn with_note(mut self, note: Option<String>) -> Explanation {
+        if let Some(n) = note {
+            self.conclusion = format!("{} {}", words::sentence(&n), self.conclusion);
+        }
+        self
+    }
 }
 
 /// Explains `step`, one of `ray`'s steps in `trace`, as formulas with the recorded numbers.
@@ -174,7 +185,10 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             *mis_weight,
             *blocked,
             *contribution,
-        ),
+        )
+        .with_note(crate::explain::describe::own_light_note(
+            cx.trace, cx.ray, step,
+        )),
         Step::BsdfSample {
             bsdf,
             lobe,

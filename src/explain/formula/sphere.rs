@@ -270,10 +270,10 @@ impl Ctx<'_> {
             }
             (_, RootChoice::NearRoot | RootChoice::FarRoot) => format!(
                 "{} Hit at t = {}.",
-                words::sentence(words::root_choice(test.choice)),
+                words::sentence(words::root_choice_on(test.choice, self.ray.kind)),
                 test.t.map_or("?".into(), num)
             ),
-            (_, choice) => words::sentence(words::root_choice(choice)),
+            (_, choice) => words::sentence(words::root_choice_on(choice, self.ray.kind)),
         };
         Explanation {
             title: format!(

@@ -309,7 +309,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
     }
     if push_refraction {
         let media = media_crossed(task.media, hit.object);
-        push_ray(Ray(spawn_origin(it, refract_d), refract_d, 0.0, params.inf), task.depth + 1u, task.weight * refract_weight, media);
+        push_ray(Ray(spawn_origin(it, refract_d), refract_d, 0.0, params.inf), task.depth + 1u, task.weight * refract_weight, media, FOLD_REFRACTION);
     }
 //#endif
 //#if REFLECTION
@@ -318,11 +318,26 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
         pending_ray = reflect_info;
 //#endif
 //#if REFRACTION
-        push_ray(Ray(spawn_origin(it, reflect_d), reflect_d, 0.0, params.inf), task.depth + 1u, task.weight * reflect_weight, task.media);
+        push_ray(Ray(spawn_origin(it, reflect_d), reflect_d, 0.0, params.inf), task.depth + 1u, task.weight * reflect_weight, task.media, FOLD_REFLECTION);
 //#else
-        push_ray(Ray(spawn_origin(it, reflect_d), reflect_d, 0.0, params.inf), task.depth + 1u, task.weight * reflect_weight);
+        push_ray(Ray(spawn_origin(it, reflect_d), reflect_d, 0.0, params.inf), task.depth + 1u, task.weight * reflect_weight, FOLD_REFLECTION);
 //#endif
     }
 //#endif
+    // How trace() adds the children's colours to this one (src/trace/whitted.rs `shade`).
+    var coef = vec4f(0.0);
+//#if REFLECTION
+    coef.x = m.reflective;
+//#endif
+//#if REFRACTION
+    coef.y = m.transparency;
+//#if REFLECTION
+    if blend {
+        coef.z = fresnel.x;
+        coef.w = 1.0;
+    }
+//#endif
+//#endif
+    hit_coef = coef;
     return surface;
 }

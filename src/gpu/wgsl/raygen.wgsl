@@ -1,6 +1,7 @@
 // ---- ray generation: the camera's primary rays, the ray stack, and the shader entry points ----
 
-// One ray still to trace: its colour is added to the pixel multiplied by `weight`.
+// One ray still to trace: `weight` is its share of the pixel (the product of the weights from the
+// camera: what the cut-off compares), `kind` how its parent adds its colour (FOLD_*).
 struct Task {
     ray: Ray,
     depth: u32,
@@ -8,7 +9,33 @@ struct Task {
 //#if REFRACTION
     media: Media,
 //#endif
+    kind: u32,
 }
+
+// How a ray's colour reaches its parent's: the primary is the sample; a reflection ray's colour
+// is multiplied by `reflective` (and Schlick's R when glass blends), a refraction ray's by
+// `transparency` (and 1 − R).
+const FOLD_PRIMARY: u32 = 0u;
+const FOLD_REFLECTION: u32 = 1u;
+const FOLD_REFRACTION: u32 = 2u;
+
+// The colour of each ray on the path from the primary to the ray being traced (one per depth:
+// depth-first order finishes a ray's children before any other ray of its depth starts), summed
+// in the CPU's order (src/trace/whitted.rs `shade`: surface + reflected + refracted, each child
+// multiplied as it comes back), so that the linear image is the CPU's bit for bit.
+struct Fold {
+    // The ray's own colour, then each finished child's term added in order.
+    acc: vec3f,
+    // Children pushed and not yet finished.
+    pending: u32,
+    // How its parent adds it (FOLD_*).
+    kind: u32,
+    // The hit's reflective, transparency, Schlick's R and 1 if the two are blended by R.
+    coef: vec4f,
+}
+var<private> folds: array<Fold, RAY_STACK>;
+// What closest_hit leaves for trace(): the coefficients of the hit it shaded (Fold.coef).
+var<private> hit_coef: vec4f;
 
 // The recursion of the CPU's Whitted tracer, made iterative: each hit pushes at most one
 // reflection and one refraction ray, and depth-first order needs at most max_depth + 1 entries.
@@ -25,26 +52,58 @@ var<private> camera_screen: vec2f;
 //#endif
 
 //#if REFRACTION
-fn push_ray(r: Ray, depth: u32, weight: f32, media: Media) {
+fn push_ray(r: Ray, depth: u32, weight: f32, media: Media, kind: u32) {
     if ray_sp < RAY_STACK {
 //#if TRACE
         ray_info[ray_sp] = pending_ray;
 //#endif
-        ray_stack[ray_sp] = Task(r, depth, weight, media);
+        ray_stack[ray_sp] = Task(r, depth, weight, media, kind);
         ray_sp += 1u;
+        if depth > 0u {
+            folds[depth - 1u].pending += 1u;
+        }
     }
 }
 //#else
-fn push_ray(r: Ray, depth: u32, weight: f32) {
+fn push_ray(r: Ray, depth: u32, weight: f32, kind: u32) {
     if ray_sp < RAY_STACK {
 //#if TRACE
         ray_info[ray_sp] = pending_ray;
 //#endif
-        ray_stack[ray_sp] = Task(r, depth, weight);
+        ray_stack[ray_sp] = Task(r, depth, weight, kind);
         ray_sp += 1u;
+        if depth > 0u {
+            folds[depth - 1u].pending += 1u;
+        }
     }
 }
 //#endif
+
+// Ray `depth` is finished: adds its colour to its parent's as the CPU's `shade` does
+// (reflected · reflective [· R], then refracted · transparency [· (1 − R)]), and so on up while
+// a parent has no child left to trace.
+fn fold_up(depth: u32) {
+    var k = depth;
+    while k > 0u && folds[k].pending == 0u {
+        let p = k - 1u;
+        let coef = folds[p].coef;
+        var term: vec3f;
+        if folds[k].kind == FOLD_REFLECTION {
+            term = folds[k].acc * coef.x;
+            if coef.w != 0.0 {
+                term = term * coef.z;
+            }
+        } else {
+            term = folds[k].acc * coef.y;
+            if coef.w != 0.0 {
+                term = term * (1.0 - coef.z);
+            }
+        }
+        folds[p].acc = folds[p].acc + term;
+        folds[p].pending -= 1u;
+        k = p;
+    }
+}
 
 // What the debug pixel keeps of the primary ray (the first sample).
 struct DebugRecord {
@@ -119,9 +178,9 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
 //#if REFRACTION
     var air: Media;
     air.len = 0u;
-    push_ray(primary, 0u, 1.0, air);
+    push_ray(primary, 0u, 1.0, air, FOLD_PRIMARY);
 //#else
-    push_ray(primary, 0u, 1.0);
+    push_ray(primary, 0u, 1.0, FOLD_PRIMARY);
 //#endif
     var first = capture;
     while ray_sp > 0u {
@@ -145,6 +204,8 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
         }
 //#endif
         node_visits = 0u;
+        let d = task.depth;
+        folds[d] = Fold(vec3f(0.0), 0u, task.kind, vec4f(0.0));
         let hit = traversal_closest(task.ray);
         if first {
             first = false;
@@ -162,18 +223,23 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
             log_close(EV_MISS);
             log_color(miss());
 //#endif
-            color += task.weight * miss();
+            folds[d].acc = miss();
         } else {
+            // Pushes the hit's children, counting them in folds[d].pending.
             let own = closest_hit(hit, task);
 //#if TRACE
             log_color(own);
 //#endif
-            color += task.weight * own;
+            folds[d].acc = own;
+            folds[d].coef = hit_coef;
         }
 //#if TRACE
         log_end(hit);
 //#endif
+        fold_up(d);
     }
+    // Every ray has been added to its parent's colour: the primary's is the sample's.
+    color = folds[0].acc;
     return color;
 }
 

@@ -389,6 +389,9 @@ pub struct PathExpected {
     pub strategy: crate::scene::Strategy,
     /// The names of every object (for "no such object").
     pub names: Vec<String>,
+    /// The scene's background: the radiance a ray that escapes brings back (a sample's value
+    /// counts it times the throughput that reaches it).
+    pub background: [f64; 3],
 }
 
 /// An f32 as the f64 with the same shortest decimal form.
@@ -441,6 +444,7 @@ pub fn expected(prepared: &PreparedScene, x: u32, y: u32) -> PathExpected {
         names: (0..scene.objects.len() as u32)
             .map(|i| scene.object_name(i))
             .collect(),
+        background: v64(s.background.to_array()),
     }
 }
 

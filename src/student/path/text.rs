@@ -35,10 +35,14 @@ pub fn parse(text: &str) -> Result<Vec<PathPixel>, FormatError> {
         if !KNOWN_TYPES.contains(&ty.as_str()) || ty == "shadow" {
             continue;
         }
-        let rec: Record = serde_json::from_value(value).map_err(|e| {
-            err(format!(
-                "a \"{ty}\" record the format cannot read ({e}): {shown}"
-            ))
+        let rec: Record = serde_json::from_value(value.clone()).map_err(|e| {
+            err(match bad_field(&value, &ty) {
+                Some(key) => format!(
+                    "the \"{ty}\" record's \"{key}\" cannot be read ({e}): it must be {}: {shown}",
+                    expected_of(&ty, &key)
+                ),
+                None => format!("a \"{ty}\" record the format cannot read ({e}): {shown}"),
+            })
         })?;
         if !finite(&rec) {
             return Err(err("a number is not finite".into()));
@@ -379,4 +383,38 @@ pub fn write(px: &PathPixel) -> String {
         }
     }
     s
+}
+
+/// The first field of a record that cannot be read on its own (the record with that field
+/// alone fails).
+fn bad_field(value: &serde_json::Value, ty: &str) -> Option<String> {
+    let obj = value.as_object()?;
+    obj.iter()
+        .filter(|(k, _)| *k != "type")
+        .find(|(k, v)| {
+            let one = serde_json::json!({ "type": ty, k.as_str(): v });
+            serde_json::from_value::<Record>(one).is_err()
+        })
+        .map(|(k, _)| k.clone())
+}
+
+/// What a record's field must be, in words (lessons/starter/README.md's table).
+fn expected_of(ty: &str, key: &str) -> &'static str {
+    match (ty, key) {
+        ("roulette", "random") => {
+            "one {\"dimension\": D, \"value\": u} object (a roulette draws one number: not a list)"
+        }
+        (_, "random") => "a list of {\"dimension\": D, \"value\": u} objects",
+        (_, "version" | "x" | "y" | "sample" | "depth") => "a whole number, 0 or more",
+        ("hit", "object") => "the object's name (a string), or null when the ray escapes",
+        (_, "light" | "object") => "a name from the scene file (a string)",
+        (
+            _,
+            "origin" | "direction" | "point" | "normal" | "radiance" | "contribution" | "bsdf"
+            | "throughput" | "rgb",
+        ) => "[x, y, z]: a list of three numbers",
+        ("sample", "pdf") => "a number, or null for a mirror's (delta) direction",
+        (_, "blocked" | "survived") => "true or false",
+        _ => "a number",
+    }
 }

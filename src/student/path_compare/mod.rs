@@ -10,7 +10,9 @@ use super::path::{Draw, MAX_CHECKED_DEPTH, PathExpected, PathPixel, PathSample, 
 use super::stage::Stage;
 use crate::mc::integrator::power_heuristic;
 
+mod estimate;
 mod sampling;
+use estimate::estimate;
 use sampling::{bounces, bsdf_samples, light_samples};
 
 /// The verdict of one stage for one pixel, and the sample raystep's numbers are in.
@@ -169,6 +171,16 @@ fn stage_check(
             cut.vertices.retain(|v| v.depth < parted);
         }
         let es = &cut;
+        // Every stage judges the records of raystep's vertices: a stage passes only on what it
+        // compared, so a path the student left out (or printed without its rays) fails every
+        // stage, not only the path stage (which says why in its own words).
+        if stage != Stage::Path {
+            for ev in &es.vertices {
+                if let Err(m) = vertex(ss, ev, k) {
+                    return Some(m);
+                }
+            }
+        }
         let found = match stage {
             Stage::Random => random(e, es, ss),
             Stage::Path => path(e, es, ss, tol),
@@ -176,7 +188,7 @@ fn stage_check(
             Stage::LightSample => light_samples(es, ss, tol),
             Stage::Bounce => bounces(es, ss, tol),
             Stage::Mis => mis(es, ss, tol),
-            Stage::Estimate if parted == u32::MAX => estimate(full, ss, tol),
+            Stage::Estimate => estimate(e, full, es, ss, parted == u32::MAX, tol),
             _ => None,
         };
         if found.is_some() {
@@ -319,9 +331,9 @@ fn random(e: &PathExpected, es: &PathSample, ss: &PathSample) -> Divergence {
     };
     for ev in &es.vertices {
         let d = ev.depth;
-        let Some(sv) = ss.vertices.get(d as usize) else {
-            // The path stage says the path is short.
-            continue;
+        let sv = match vertex(ss, ev, k) {
+            Ok(sv) => sv,
+            Err(m) => return Some(m),
         };
         for (i, el) in ev.lights.iter().enumerate() {
             let yours = sv.lights.get(i).map_or(&[][..], |l| &l.random[..]);
@@ -787,43 +799,4 @@ fn mis(es: &PathSample, ss: &PathSample, tol: &TracerTolerances) -> Divergence {
         }
     }
     None
-}
-
-/// Each sample's value.
-fn estimate(es: &PathSample, ss: &PathSample, tol: &TracerTolerances) -> Divergence {
-    let k = es.sample;
-    let want = es.value?;
-    let depth = es.vertices.len().saturating_sub(1) as u32;
-    // A path that goes deeper than one past the vertices compared: its value carries the
-    // rounding of its deep bounces (only its presence is checked).
-    if depth > MAX_CHECKED_DEPTH + 1 {
-        return ss.value.is_none().then(|| {
-            (
-                format!(
-                    "sample {k}: you printed no value: end each path with {{\"type\":\"value\",\"rgb\":[r, g, b]}}"
-                ),
-                k,
-                0,
-            )
-        });
-    }
-    match ss.value {
-        None => Some((
-            format!(
-                "sample {k}: you printed no value: end each path with {{\"type\":\"value\",\"rgb\":[r, g, b]}}"
-            ),
-            k,
-            0,
-        )),
-        Some(y) if !close3(tol, depth, y, want, tol.color) => Some((
-            format!(
-                "sample {k}: your value is {}, raystep's is {} (the sum of the emission and light samples along the path, each times its throughput and weight)",
-                v(y),
-                v(want)
-            ),
-            k,
-            0,
-        )),
-        _ => None,
-    }
 }

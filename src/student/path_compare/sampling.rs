@@ -146,7 +146,18 @@ pub(super) fn light_samples(
                     el.at,
                 ));
             };
-            if sl.light.is_some() && sl.light != el.light {
+            if sl.light.is_none() {
+                return Some((
+                    format!(
+                        "{}: your light sample names no light (\"light\": the light's name; raystep samples \"{}\" here)",
+                        place(k, d),
+                        el.light.as_deref().unwrap_or("?")
+                    ),
+                    k,
+                    el.at,
+                ));
+            }
+            if sl.light != el.light {
                 return Some((
                     format!(
                         "{}: you sampled light \"{}\", raystep \"{}\" — the light is picked with probability proportional to its power (mean of Le × π × area) from the first number",
@@ -393,6 +404,25 @@ pub(super) fn bounces(es: &PathSample, ss: &PathSample, tol: &TracerTolerances) 
                 er.at,
             ));
         };
+        for (what, missing) in [
+            (
+                "probability",
+                er.probability.is_some() && sr.probability.is_none(),
+            ),
+            ("survived", er.survived.is_some() && sr.survived.is_none()),
+            (
+                "throughput",
+                er.throughput.is_some() && sr.throughput.is_none(),
+            ),
+        ] {
+            if missing {
+                return Some((
+                    format!("{}: your roulette has no {what}", place(k, d)),
+                    k,
+                    er.at,
+                ));
+            }
+        }
         if let (Some(w), Some(y)) = (er.probability, sr.probability)
             && !close(tol, d, y, w)
         {
