@@ -741,6 +741,11 @@ impl Runner {
                     "-o" | "--output" | "--save" | "--heatmap" | "--out"
                 );
             }
+            // `converge` writes its folder (default ./converge) even without `--out`.
+            if args.first().is_some_and(|a| a == "converge") && !args.iter().any(|a| a == "--out") {
+                args.push("--out".into());
+                args.push(self.out_dir.path().join("converge").display().to_string());
+            }
             let out = std::process::Command::new(env!("CARGO_BIN_EXE_raystep"))
                 .args(&args)
                 .current_dir(root())

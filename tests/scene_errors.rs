@@ -1008,11 +1008,11 @@ fn a_mesh_scaled_out_of_range_is_refused() {
     let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     let (w, e) = fail_with(
         &[
-            "[[mesh]]",                 // 1
-            "name = \"big\"",           // 2
-            "obj = \"bad.obj\"",        // 3
-            "scale = 1e11",             // 4
-            "translate = [5e10, 0, 0]", // 5: vertex 2 lands at x = 1.5e11
+            "[[mesh]]",                // 1
+            "name = \"big\"",          // 2
+            "obj = \"bad.obj\"",       // 3
+            "scale = 1e8",             // 4
+            "translate = [5e7, 0, 0]", // 5: vertex 2 lands at x = 1.5e8
         ],
         &[("bad.obj", obj)],
     );

@@ -14,7 +14,8 @@ pub mod spd;
 pub use crate::shapes::Shape;
 pub use features::Features;
 pub use load::{
-    LocatedError, MAX_COORD, MAX_MAGNITUDE, MAX_OBJECTS, MAX_VERTEX, SceneError, load_file, load_str,
+    LocatedError, MAX_COORD, MAX_MAGNITUDE, MAX_OBJECTS, MAX_VERTEX, SceneError, load_file,
+    load_str,
 };
 pub use model::SceneFile;
 
