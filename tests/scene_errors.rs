@@ -1080,3 +1080,13 @@ fn a_scene_file_past_the_limit_is_refused_with_the_limit() {
     let e = load_file(&path).unwrap_err();
     assert_says(&e, &["more than the limit of 16 MiB for scene files"]);
 }
+
+/// A number TOML's reader quotes back in full (`spp = 1e-300` is a float where an integer
+/// belongs, and the reader prints its 300 decimals) is shortened in the message.
+#[test]
+fn a_long_number_in_a_parse_error_is_shortened() {
+    let (w, e) = fail(&["[render]", "spp = 1e-300"]);
+    let msg = e.to_string();
+    assert!(msg.len() < 200 && msg.contains("1e-300"), "{msg}");
+    assert_at(&w, &e, 2, 7);
+}

@@ -78,7 +78,7 @@ pub fn load_str(text: &str, file: &str, base: Option<&Path>) -> Result<Scene, Sc
             line,
             column,
             field,
-            message: e.message().trim().to_string(),
+            message: crate::text::shorten_numbers(e.message().trim()),
         }
     })?;
     ctx.build(parsed, base)

@@ -16,6 +16,27 @@ pub(crate) fn line_col(text: &str, pos: usize) -> (usize, usize) {
     (line, col)
 }
 
+/// A parser's message with every number longer than 24 characters (`0.000…0001`, as TOML's
+/// reader quotes `1e-300` back) written in scientific notation, so an error line stays short.
+pub fn shorten_numbers(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        let (before, from) = rest.split_at(start);
+        out += before;
+        let len = from
+            .find(|c: char| !(c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-')))
+            .unwrap_or(from.len());
+        let (number, after) = from.split_at(len);
+        match number.parse::<f64>() {
+            Ok(x) if number.len() > 24 => out += &format!("{x:e}"),
+            _ => out += number,
+        }
+        rest = after;
+    }
+    out + rest
+}
+
 #[cfg(test)]
 mod tests {
     use super::line_col;
