@@ -75,6 +75,16 @@ fn an_output_over_an_input_or_another_output_is_refused() {
         std::fs::read_to_string(d.join("s.toml")).unwrap(),
         scene_text
     );
+    // `diagram` and `compare` likewise (a scene file may have any extension).
+    std::fs::write(d.join("s.png"), &scene_text).unwrap();
+    let err = fails(d, &["diagram", "s.png", "--pixel", "1,1", "-o", "./s.png"]);
+    assert!(err.contains("-o ./s.png is the input"), "{err}");
+    let err = fails(d, &["compare", "s.png", "-o", "s.png"]);
+    assert!(err.contains("-o s.png is the scene"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(d.join("s.png")).unwrap(),
+        scene_text
+    );
 }
 
 #[test]

@@ -39,6 +39,7 @@ pub struct CompareArgs {
 pub fn run(args: &CompareArgs) -> Result<(), String> {
     if let Some(p) = &args.output {
         super::check_png_path(p)?;
+        crate::io::check_outputs(&[("the scene", &args.scene)], &[("-o", p)])?;
     }
     let mut scene = super::load_scene(Some(&args.scene), &args.settings)?;
     if let Some(w) = args.width {

@@ -173,6 +173,9 @@ pub fn input_trace(
 
 /// Runs `raystep diagram`.
 pub fn run(args: &DiagramArgs) -> Result<(), String> {
+    if let Some(o) = &args.output {
+        crate::io::check_outputs(&[("the input", &args.input)], &[("-o", o)])?;
+    }
     let trace = input_trace(&args.input, args.pixel, args.sample, &args.settings)?;
     let steps = trace.timeline().len();
     if let Some(k) = args.step
