@@ -1,7 +1,11 @@
 //! The entry points the fuzzers (`fuzz/`, cargo-fuzz) and the property tests
-//! (`tests/fuzz_props.rs`) drive with hostile input: the same code paths the command line takes
+//! (`tests/it/fuzz_props.rs`) drive with hostile input: the same code paths the command line takes
 //! for a scene, a saved trace, and an exercise sheet with answers and a class CSV. Each returns
-//! normally on every input; a panic, an abort or a hang is the finding.
+//! normally on every input, with a [`Report`]: whether the input was accepted, and every property
+//! it checked that did not hold (a rejection's message names the file; what is written reads
+//! back the same; a right answer is marked right; …). The property tests assert the report; the
+//! fuzz targets panic on a violated property ([`Report::assert_holds`]). A panic, an abort or a
+//! hang inside is a finding too.
 //!
 //! Inputs that carry several files separate them with marker lines: a scene's OBJ follows a line
 //! [`OBJ_MARKER`]; a sheet's answers follow [`ANSWERS_MARKER`], its class CSV [`CSV_MARKER`].
@@ -24,6 +28,54 @@ use crate::trace::PreparedScene;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
+/// What an entry point made of one input.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[must_use = "a report's violations are the finding: assert them"]
+pub struct Report {
+    /// The input was accepted (a scene or trace loaded, a sheet or an output parsed).
+    pub accepted: bool,
+    /// Every checked property that did not hold, in words (empty: all held).
+    pub violations: Vec<String>,
+}
+
+impl Report {
+    fn rejected() -> Report {
+        Report::default()
+    }
+
+    fn accepted() -> Report {
+        Report {
+            accepted: true,
+            violations: vec![],
+        }
+    }
+
+    fn check(&mut self, holds: bool, property: impl FnOnce() -> String) {
+        if !holds {
+            self.violations.push(property());
+        }
+    }
+
+    /// A rejection whose message must name the input's file (`file`), as every located error
+    /// does.
+    fn rejected_naming(message: &str, file: &str) -> Report {
+        let mut r = Report::rejected();
+        r.check(message.contains(file), || {
+            format!("a rejection does not name the file {file}: {message}")
+        });
+        r
+    }
+
+    /// Panics with every violated property (the fuzz targets' check).
+    pub fn assert_holds(&self) {
+        assert!(
+            self.violations.is_empty(),
+            "violated:\n{}",
+            self.violations.join("\n")
+        );
+    }
+}
+
 /// The line that separates a scene's TOML from its OBJ file (written as `mesh.obj`).
 pub const OBJ_MARKER: &str = "\n%%OBJ%%\n";
 /// The line that separates a sheet's TOML from its answers file.
@@ -38,52 +90,66 @@ pub fn split_at_marker<'a>(text: &'a str, marker: &str) -> (&'a str, &'a str) {
 
 /// Loads a scene (TOML, then optionally [`OBJ_MARKER`] and an OBJ written as `mesh.obj` next to
 /// it); when it loads, builds its accelerator, records the trace of the middle pixel and reads
-/// the trace back from its JSON. Returns whether the scene loaded.
-pub fn scene_input(data: &[u8]) -> bool {
+/// the trace back from its JSON, which must read back the same; a scene that does not load must
+/// be refused with a message naming its file.
+pub fn scene_input(data: &[u8]) -> Report {
     let text = String::from_utf8_lossy(data);
     let (toml, obj) = split_at_marker(&text, OBJ_MARKER);
     let dir = match tempfile::tempdir() {
         Ok(d) => d,
-        Err(_) => return false,
+        Err(_) => return Report::rejected(),
     };
     if std::fs::write(dir.path().join("mesh.obj"), obj).is_err() {
-        return false;
+        return Report::rejected();
     }
-    let Ok(scene) = crate::scene::load_str(toml, "fuzz.toml", Some(dir.path())) else {
-        return false;
+    let scene = match crate::scene::load_str(toml, "fuzz.toml", Some(dir.path())) {
+        Ok(s) => s,
+        Err(e) => return Report::rejected_naming(&e.to_string(), "fuzz.toml"),
     };
+    let mut report = Report::accepted();
     let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
     let trace = PreparedScene::new(scene).record(x, y, 0);
     // What the tracer writes, the reader must accept and read back unchanged.
     let json = trace.to_json();
     match Trace::from_json(&json, "fuzz.json") {
-        Ok(back) => assert!(
-            compare(&trace, &back, Tolerance::EXACT).is_equal(),
-            "a recorded trace reads back different"
-        ),
-        Err(e) => panic!("a recorded trace does not read back: {e}"),
+        Ok(back) => report.check(compare(&trace, &back, Tolerance::EXACT).is_equal(), || {
+            "a recorded trace reads back different".into()
+        }),
+        Err(e) => report.check(false, || {
+            format!("a recorded trace does not read back: {e}")
+        }),
     }
-    true
+    report
 }
 
 /// Reads a trace from JSON; when it loads, prints its tree, compares it with itself and with a
 /// copy missing its last root step (`diff`), and draws every available diagram kind, unfocused
-/// and focused on its middle step, at a small size. Returns whether the trace loaded.
-pub fn trace_input(data: &[u8]) -> bool {
+/// and focused on its middle step, at a small size. A loaded trace must equal itself and differ
+/// from the copy when a step was removed; a trace that does not load must be refused with a
+/// message naming its file.
+pub fn trace_input(data: &[u8]) -> Report {
     let Ok(text) = std::str::from_utf8(data) else {
-        return false;
+        return Report::rejected();
     };
-    let Ok(trace) = Trace::from_json(text, "fuzz.json") else {
-        return false;
+    let trace = match Trace::from_json(text, "fuzz.json") {
+        Ok(t) => t,
+        Err(e) => return Report::rejected_naming(&e.to_string(), "fuzz.json"),
     };
-    let _ = describe::tree(&trace);
+    let mut report = Report::accepted();
+    report.check(!describe::tree(&trace).is_empty(), || {
+        "a loaded trace describes as no text".into()
+    });
     let names = ["a.json", "b.json"];
     let same = compare(&trace, &trace, Tolerance::EXACT);
+    report.check(same.is_equal(), || "a trace differs from itself".into());
     let _ = same.to_text(&trace, &trace, names);
     let mut shorter = trace.clone();
-    shorter.root.steps.pop();
+    let removed = shorter.root.steps.pop().is_some();
     for tol in [0.0, 1e-3] {
         let cmp = compare(&trace, &shorter, Tolerance::relative_to_larger(tol, tol));
+        report.check(!removed || !cmp.is_equal(), || {
+            format!("a trace equals its copy with a step removed (tolerance {tol})")
+        });
         let _ = cmp.to_text(&trace, &shorter, names);
         let _ = cmp.to_json(&trace, &shorter, names);
     }
@@ -100,13 +166,19 @@ pub fn trace_input(data: &[u8]) -> bool {
                 top_down: false,
                 ..ViewOptions::default()
             };
-            let _ = diagram::draw(&trace, kind, &opts);
+            let drawn = diagram::draw(&trace, kind, &opts);
+            report.check(drawn.is_ok(), || {
+                format!(
+                    "the available diagram {kind:?} does not draw: {}",
+                    drawn.err().unwrap_or_default()
+                )
+            });
         }
     }
     if let Some(k) = middle {
         let _ = diagram::kinds_for_step(&trace, k);
     }
-    true
+    report
 }
 
 /// The shipped exercise sheets' folder: where a fuzzed sheet's scene paths start from.
@@ -116,24 +188,34 @@ pub fn exercises_dir() -> PathBuf {
 
 /// Parses a sheet (TOML, then [`ANSWERS_MARKER`] and an answers file, then [`CSV_MARKER`] and a
 /// class CSV); when it parses, works out every question's expected answer for one student, marks
-/// the answers file against them and grades the CSV. Returns whether the sheet parsed.
-pub fn sheet_input(data: &[u8]) -> bool {
+/// the answers file against them and grades the CSV. Each expected answer, typed as the key
+/// prints it, must be marked right; a sheet that does not parse must be refused with a message
+/// naming its file.
+pub fn sheet_input(data: &[u8]) -> Report {
     let text = String::from_utf8_lossy(data);
     let (sheet_text, rest) = split_at_marker(&text, ANSWERS_MARKER);
     let (answers, csv) = split_at_marker(rest, CSV_MARKER);
     // CSV parsing stands on its own too (a CSV that no sheet accepts is still parsed).
     let _ = crate::text::csv::parse_csv(csv, "class.csv");
     let base = exercises_dir();
-    let Ok(sheet) = lesson::parse_exercise_sheet(sheet_text, "sheet.toml", Some(&base), "sheet")
-    else {
-        return false;
+    let sheet = match lesson::parse_exercise_sheet(sheet_text, "sheet.toml", Some(&base), "sheet") {
+        Ok(s) => s,
+        Err(e) => return Report::rejected_naming(&e.to_string(), "sheet.toml"),
     };
+    let mut report = Report::accepted();
     let ids: Vec<&str> = sheet.questions.iter().map(|q| q.id.as_str()).collect();
     let given = lesson::parse_answers(answers, "answers.txt", &ids).unwrap_or_default();
     for q in &sheet.questions {
         let v = sheet.variant(q, "fuzz");
         if let Ok(expected) = sheet.expected(q, &v) {
-            let _ = expected.to_string();
+            let key = expected.to_string();
+            let own = lesson::mark(&expected, q.quantity.kind(), Some(&key), q.tolerance);
+            report.check(own.right, || {
+                format!(
+                    "question {}: the key's own answer {key} is marked wrong",
+                    q.id
+                )
+            });
             let _ = lesson::mark(
                 &expected,
                 q.quantity.kind(),
@@ -143,7 +225,7 @@ pub fn sheet_input(data: &[u8]) -> bool {
         }
     }
     let _ = lesson::grade_answers_csv(&sheet, csv, "class.csv");
-    true
+    report
 }
 
 /// The pixels a fuzzed student output is graded against: (shipped scene, x, y). Between them
@@ -172,18 +254,21 @@ pub fn student_expected() -> &'static [Expected] {
 /// Reads a student program's output (UTF-8, as `grade-tracer` requires); when it parses, checks
 /// that each pixel read, written back in the format, reads again, and grades the output against
 /// raystep's trace of every one of [`STUDENT_PIXELS`], up to every stage, with the default and
-/// with zero tolerances: one check per stage, and no panic. Returns whether the output parsed.
-pub fn student_input(data: &[u8]) -> bool {
+/// with zero tolerances: one check per stage, and no panic.
+pub fn student_input(data: &[u8]) -> Report {
     let Ok(text) = std::str::from_utf8(data) else {
-        return false;
+        return Report::rejected();
     };
     let Ok(pixels) = format::parse(text) else {
-        return false;
+        return Report::rejected();
     };
+    let mut report = Report::accepted();
     for px in &pixels {
         let written = format::write(px);
         if let Err(e) = format::parse(&written) {
-            panic!("a pixel read from the format, written back, does not read: {e}\n{written}");
+            report.check(false, || {
+                format!("a pixel read from the format, written back, does not read: {e}\n{written}")
+            });
         }
     }
     let zero = grading::TracerTolerances {
@@ -196,19 +281,15 @@ pub fn student_input(data: &[u8]) -> bool {
         for upto in Stage::ALL {
             for tol in [grading::TracerTolerances::default(), zero] {
                 let checks = grade(exp, &pixels, upto, &tol);
-                assert_eq!(
-                    checks.iter().map(|c| c.stage).collect::<Vec<_>>(),
-                    Stage::ALL
-                        .iter()
-                        .copied()
-                        .filter(|s| *s <= upto)
-                        .collect::<Vec<_>>(),
-                    "one check per stage up to {upto:?}"
-                );
+                let stages: Vec<Stage> = checks.iter().map(|c| c.stage).collect();
+                let want: Vec<Stage> = Stage::ALL.iter().copied().filter(|s| *s <= upto).collect();
+                report.check(stages == want, || {
+                    format!("not one check per stage up to {upto:?}: {stages:?}")
+                });
             }
         }
     }
-    true
+    report
 }
 
 /// Where a fuzzed grading sheet stands: the starter kit's sheet, so `../../scenes/…` names the
@@ -222,19 +303,20 @@ pub fn grade_sheet_path() -> PathBuf {
 /// included), draws each scene's `vary` values for a student and loads the variant (in memory:
 /// nothing is written), then expands the sheet into its jobs — the scenes loaded and prepared,
 /// the listed pixels checked and the `random_pixels` drawn — with the `vary` lists left out,
-/// and checks that every pixel lies inside its scene's image. Returns whether the sheet parsed.
-pub fn grade_sheet_input(data: &[u8]) -> bool {
+/// and checks that every pixel lies inside its scene's image.
+pub fn grade_sheet_input(data: &[u8]) -> Report {
     let text = String::from_utf8_lossy(data);
     let path = grade_sheet_path();
     let Ok(sheet) = student::parse_tracer_sheet(&text, &path) else {
-        return false;
+        return Report::rejected();
     };
+    let mut report = Report::accepted();
     let base = path.parent().unwrap_or(Path::new("."));
     let Ok(scenes) = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("scenes")
         .canonicalize()
     else {
-        return true;
+        return report;
     };
     let shipped = |file: &Path| {
         base.join(file)
@@ -242,7 +324,7 @@ pub fn grade_sheet_input(data: &[u8]) -> bool {
             .is_ok_and(|p| p.starts_with(&scenes) && p.extension().is_some_and(|e| e == "toml"))
     };
     if !sheet.scene.iter().all(|sc| shipped(&sc.file)) {
-        return true;
+        return report;
     }
     let who = "s1001";
     let id = sheet.id.clone().unwrap_or_else(|| "sheet".into());
@@ -267,15 +349,16 @@ pub fn grade_sheet_input(data: &[u8]) -> bool {
         for job in &jobs {
             let cam = &job.prepared.scene().camera;
             for &[x, y] in &job.pixels {
-                assert!(
-                    x < cam.width && y < cam.height,
-                    "pixel ({x}, {y}) outside the {}×{} image of {}",
-                    cam.width,
-                    cam.height,
-                    job.path.display()
-                );
+                report.check(x < cam.width && y < cam.height, || {
+                    format!(
+                        "pixel ({x}, {y}) outside the {}×{} image of {}",
+                        cam.width,
+                        cam.height,
+                        job.path.display()
+                    )
+                });
             }
         }
     }
-    true
+    report
 }

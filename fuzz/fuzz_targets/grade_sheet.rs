@@ -6,5 +6,5 @@ use libfuzzer_sys::fuzz_target;
 use raystep::fuzzing;
 
 fuzz_target!(|data: &[u8]| {
-    fuzzing::grade_sheet_input(data);
+    fuzzing::grade_sheet_input(data).assert_holds();
 });

@@ -6,5 +6,5 @@ use libfuzzer_sys::fuzz_target;
 use raystep::fuzzing;
 
 fuzz_target!(|data: &[u8]| {
-    fuzzing::sheet_input(data);
+    fuzzing::sheet_input(data).assert_holds();
 });

@@ -7,5 +7,5 @@ use libfuzzer_sys::fuzz_target;
 use raystep::fuzzing;
 
 fuzz_target!(|data: &[u8]| {
-    fuzzing::student_input(data);
+    fuzzing::student_input(data).assert_holds();
 });

@@ -5,5 +5,5 @@ use libfuzzer_sys::fuzz_target;
 use raystep::fuzzing;
 
 fuzz_target!(|data: &[u8]| {
-    fuzzing::trace_input(data);
+    fuzzing::trace_input(data).assert_holds();
 });

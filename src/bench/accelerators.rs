@@ -23,7 +23,7 @@ fn comparison_size(scene: &Scene) -> Scene {
 
 /// Every accelerator on every scene, one thread, at most 160×120 pixels: build time, memory,
 /// primitive tests and node or cell visits per ray, rays per second and the speed-up over brute
-/// force (all ray kinds; the images are identical, which `tests/accelerators.rs` checks).
+/// force (all ray kinds; the images are identical, which `crates/raystep-diagram/tests/it/accelerators.rs` checks).
 pub fn accel_compare(scenes: &[Scene], reps: usize) {
     crate::io::outln!(
         "## Accelerators compared, one thread, at most 160×120 pixels (all ray kinds)"

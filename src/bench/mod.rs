@@ -600,7 +600,7 @@ pub fn gpu(scenes: &[Scene], reps: usize) -> Result<(), String> {
     // Monte Carlo scenes have their own table ([`gpu_monte_carlo`]).
     let whitted: Vec<&Scene> = scenes
         .iter()
-        .filter(|s| s.settings.integrator == crate::scene::Integrator::Whitted)
+        .filter(|s| !s.settings.integrator.is_monte_carlo())
         .collect();
     let sizes = whitted
         .iter()
@@ -674,7 +674,7 @@ pub fn gpu_monte_carlo(scenes: &[Scene], reps: usize) -> Result<(), String> {
     }
     let mut mc: Vec<Scene> = scenes
         .iter()
-        .filter(|s| s.settings.integrator != Integrator::Whitted)
+        .filter(|s| s.settings.integrator.is_monte_carlo())
         .cloned()
         .collect();
     for integrator in [Integrator::Distribution, Integrator::Path] {

@@ -15,7 +15,7 @@ use crate::record::Silent;
 use crate::scene::{Scene, Shape};
 use crate::trace::Tracer;
 use crate::trace::interaction::{interact, spawn_origin};
-use crate::trace::whitted::SHADOW_EPSILON;
+use crate::trace::tracer::SHADOW_EPSILON;
 use rayon::prelude::*;
 use std::path::Path;
 use std::time::{Duration, Instant};

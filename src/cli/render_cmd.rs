@@ -79,8 +79,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     };
     // A Monte Carlo render accumulates in passes of 1, 1, 2, 4, … samples per pixel (the same
     // image, bit for bit), saying on stderr how far it is, as the app's counter does.
-    let progressive =
-        scene.settings.integrator != crate::scene::Integrator::Whitted && scene.settings.spp > 1;
+    let progressive = scene.settings.integrator.is_monte_carlo() && scene.settings.spp > 1;
     let out = if progressive {
         let spp = scene.settings.spp;
         let started = Instant::now();
@@ -239,7 +238,7 @@ fn run_gpu(
     // A Monte Carlo scene, on either path: passes of 1, 1, 2, 4, … samples per pixel, as the
     // CPU's render, ending on the path's one-shot image, saying on stderr how far it is.
     let spp = scene.settings.spp;
-    let frame = if scene.settings.integrator != crate::scene::Integrator::Whitted && spp > 1 {
+    let frame = if scene.settings.integrator.is_monte_carlo() && spp > 1 {
         let started = Instant::now();
         gpu.render_progressive(args.gpu_path, |done, _| {
             eprintln!(

@@ -225,7 +225,7 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
     }
     // Whitted's tracer is specialized to the scene; the Monte Carlo integrators always sample
     // lights and bounce.
-    if s.integrator == crate::scene::Integrator::Whitted {
+    if !s.integrator.is_monte_carlo() {
         if f.lights == 0 {
             out.push("shadow rays");
         }

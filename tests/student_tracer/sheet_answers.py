@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A careful student's answers to the Monte Carlo exercise sheets (13-16), in double precision,
 computed from the scene files and raystep's documented random numbers — never from raystep's
-trace. tests/sheets_mc.rs hands it every student's variant and grades what it answers.
+trace. tests/it/sheets_mc.rs hands it every student's variant and grades what it answers.
 
     python3 sheet_answers.py < variants.json > answers.json
 

@@ -9,7 +9,7 @@ refraction, Phong shading).  It is *independent* of raystep: it reads the same s
 (TOML, with OBJ meshes) and computes everything itself, in double precision, with the formulas
 of the lessons.  It traces one pixel and prints that pixel's trace in raystep's *student trace
 format* (JSON Lines: `format`, `pixel`, `ray`, `sphere`, `plane`, `triangle`, `hit`, `shadow`,
-`color` records; see `src/student/format.rs`).
+`color` records; see `crates/raystep-course/src/student/format.rs`).
 
 How the tests use it
 --------------------
@@ -130,7 +130,7 @@ BLACK = (0.0, 0.0, 0.0)
 
 
 # ---------------------------------------------------------------------------------------------
-# The scene file (raystep's schema and defaults: src/scene/model.rs, load.rs).
+# The scene file (raystep's schema and defaults: crates/raystep-core/src/scene/model.rs, load.rs).
 # ---------------------------------------------------------------------------------------------
 
 class Material:

@@ -17,7 +17,7 @@ pub fn main() {
             .get_element_by_id("raystep")
             .and_then(|e| e.dyn_into::<web_sys::HtmlCanvasElement>().ok())
             .expect("index.html has a canvas with id raystep");
-        if let Err(e) = raystep::app::web::start(canvas, fragment).await {
+        if let Err(e) = raystep_app::web::start(canvas, fragment).await {
             show_error(&document, &format!("raystep could not start: {e:?}"));
         }
     });

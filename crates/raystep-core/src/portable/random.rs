@@ -1,0 +1,85 @@
+//! Random numbers as a stateless hash: uniform(pixel, sample, dimension, seed) in [0, 1), and the
+//! PCG hash beneath it, which the antialiasing jitter (`trace::sampling`) uses too. The WGSL
+//! twin is `random.wgsl` beside this file ([`super::RANDOM_WGSL`]), line for line.
+
+/// The PCG hash of Jarzynski and Olano, "Hash Functions for GPU Rendering" (JCGT 2020): a
+/// stateless 32-bit hash with good avalanche, written the same way in WGSL for the GPU view.
+#[inline(always)]
+pub fn pcg_hash(input: u32) -> u32 {
+    let state = input.wrapping_mul(747796405).wrapping_add(2891336453);
+    let word = ((state >> ((state >> 28).wrapping_add(4))) ^ state).wrapping_mul(277803737);
+    (word >> 22) ^ word
+}
+
+/// A uniform float in [0, 1) from a hash (the top 24 bits, so the value is exact in f32).
+#[inline(always)]
+pub fn unit_float(h: u32) -> f32 {
+    (h >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// The `dimension`-th uniform number of sample `sample` of `pixel`, with the scene's `seed`: in
+/// [0, 1), a multiple of 2⁻²⁴ (exact in f32). A chain of PCG hashes (Jarzynski and Olano 2020,
+/// [`pcg_hash`]) over the four inputs, each input folded into the hash of the ones before it, so
+/// that neighbouring pixels, samples and dimensions draw unrelated numbers.
+///
+/// Dimensions are numbered by the integrator in the order it draws them (the camera's lens takes
+/// two, each bounce its BSDF's two and the light's two, …); the trace records each number with
+/// its dimension.
+#[inline]
+pub fn uniform(pixel: [u32; 2], sample: u32, dimension: u32, seed: u32) -> f32 {
+    let h = pcg_hash(
+        dimension ^ pcg_hash(pixel[0] ^ pcg_hash(pixel[1] ^ pcg_hash(sample ^ pcg_hash(seed)))),
+    );
+    unit_float(h)
+}
+
+/// Two consecutive dimensions, `dimension` and `dimension + 1`: the pair a 2D sampler takes.
+#[inline]
+pub fn uniform2(pixel: [u32; 2], sample: u32, dimension: u32, seed: u32) -> [f32; 2] {
+    [
+        uniform(pixel, sample, dimension, seed),
+        uniform(pixel, sample, dimension.wrapping_add(1), seed),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_same_inputs_draw_the_same_number_and_each_input_matters() {
+        let u = uniform([3, 4], 5, 6, 7);
+        assert!((0.0..1.0).contains(&u));
+        assert_eq!(u, uniform([3, 4], 5, 6, 7));
+        for other in [
+            uniform([4, 4], 5, 6, 7),
+            uniform([3, 5], 5, 6, 7),
+            uniform([3, 4], 6, 6, 7),
+            uniform([3, 4], 5, 7, 7),
+            uniform([3, 4], 5, 6, 8),
+        ] {
+            assert_ne!(u, other);
+        }
+        assert_eq!(uniform2([3, 4], 5, 6, 7), [u, uniform([3, 4], 5, 7, 7)]);
+    }
+
+    #[test]
+    fn the_top_24_bits_of_the_hash_chain() {
+        // By hand from the definition: the hash of the seed, folded into the sample's, the
+        // row's, the column's and the dimension's.
+        // (x ^ 0 is x: the zeros of pixel (0, 0), sample 0 and seed 0 leave the chain bare.)
+        let h = pcg_hash(1 ^ pcg_hash(pcg_hash(pcg_hash(pcg_hash(0)))));
+        assert_eq!(uniform([0, 0], 0, 1, 0), (h >> 8) as f32 / 16_777_216.0);
+    }
+
+    #[test]
+    fn pcg_hash_reference_values() {
+        // From the published algorithm: state = 0·747796405 + 2891336453 = 2891336453;
+        // computed by hand with 64-bit arithmetic reduced mod 2³² in a separate script.
+        let state: u64 = 2891336453;
+        let shift = (state >> 28) + 4;
+        let word = (((state >> shift) ^ state) * 277803737) & 0xffff_ffff;
+        let expect = ((word >> 22) ^ word) as u32;
+        assert_eq!(pcg_hash(0), expect);
+    }
+}

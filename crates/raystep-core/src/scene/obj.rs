@@ -1,0 +1,151 @@
+//! OBJ meshes, read through `tobj` (bounded read, regular files only), with the line of the
+//! first problem found when tobj rejects a file.
+
+use super::*;
+use std::path::Path;
+
+/// tobj reports what is wrong with an OBJ file but not where; find the first line it would
+/// reject (a vertex that does not parse, a face index out of range) to say so.
+fn locate_obj_problem(path: &Path, text: &str) -> Option<String> {
+    let mut vertices: i64 = 0;
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let coords: Vec<&str> = words.collect();
+                if coords.len() < 3 || coords.iter().take(3).any(|c| c.parse::<f32>().is_err()) {
+                    return Some(format!(
+                        "{}:{}: `{}` is not a vertex (v X Y Z)",
+                        path.display(),
+                        n + 1,
+                        line.trim()
+                    ));
+                }
+                vertices += 1;
+            }
+            Some("f") => {
+                for w in words {
+                    let idx = w.split('/').next().unwrap_or("");
+                    let ok = match idx.parse::<i64>() {
+                        Ok(i) if i > 0 => i <= vertices,
+                        Ok(i) if i < 0 => -i <= vertices,
+                        _ => false,
+                    };
+                    if !ok {
+                        return Some(format!(
+                            "{}:{}: face refers to vertex {idx}, but only {vertices} vertices are defined above it",
+                            path.display(),
+                            n + 1
+                        ));
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// Loads an OBJ file's faces (triangulated) as triangles, scaled then translated.
+///
+/// The OBJ file and any material library it names (`mtllib`) are read through
+/// [`crate::io::read_input`]: regular files only, within [`crate::io::limits`]. raystep takes
+/// materials from the scene, so a material library that is missing or does not parse is ignored
+/// (as tobj does), but one that is not a regular file or is too large is an error.
+pub(super) fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, String> {
+    use crate::io::{limits, read_input};
+    let bytes = read_input(path, limits::OBJ, "OBJ file").map_err(|e| {
+        if e.kind() == std::io::ErrorKind::NotFound {
+            format!("OBJ file {} does not exist", path.display())
+        } else {
+            format!("cannot read OBJ file {}: {e}", path.display())
+        }
+    })?;
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: false,
+        ignore_points: true,
+        ignore_lines: true,
+    };
+    let dir = path.parent();
+    let mtl_problem: std::cell::RefCell<Option<(std::path::PathBuf, String)>> = None.into();
+    let material_loader = |mtl: &Path| -> tobj::MTLLoadResult {
+        let full = dir.map_or_else(|| mtl.to_path_buf(), |d| d.join(mtl));
+        match read_input(&full, limits::MTL, "MTL file") {
+            Ok(b) => tobj::load_mtl_buf(&mut b.as_slice()),
+            Err(e) => {
+                if e.kind() != std::io::ErrorKind::NotFound {
+                    mtl_problem
+                        .borrow_mut()
+                        .get_or_insert((mtl.to_path_buf(), e.to_string()));
+                }
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        }
+    };
+    let loaded = tobj::load_obj_buf(&mut bytes.as_slice(), &opts, material_loader);
+    if let Some((mtl, e)) = mtl_problem.into_inner() {
+        let text = String::from_utf8_lossy(&bytes);
+        let line = text
+            .lines()
+            .position(|l| {
+                l.trim_start()
+                    .strip_prefix("mtllib")
+                    .is_some_and(|r| Path::new(r.trim()) == mtl)
+            })
+            .map_or(String::new(), |n| format!(":{}", n + 1));
+        return Err(format!(
+            "{}{line}: material library {}: {e}",
+            path.display(),
+            mtl.display()
+        ));
+    }
+    let (models, _) =
+        loaded.map_err(
+            |e| match locate_obj_problem(path, &String::from_utf8_lossy(&bytes)) {
+                Some(at) => format!("cannot load OBJ file: {at} ({e})"),
+                None => format!("cannot load OBJ file {}: {e}", path.display()),
+            },
+        )?;
+    let faces: usize = models.iter().map(|m| m.mesh.indices.len() / 3).sum();
+    if faces > MAX_OBJECTS {
+        return Err(format!(
+            "{} has {faces} triangles, more than the limit of {MAX_OBJECTS} objects in a scene",
+            path.display()
+        ));
+    }
+    let mut tris = Vec::with_capacity(faces);
+    for model in &models {
+        let m = &model.mesh;
+        let pos = |i: u32| -> Result<Vec3, String> {
+            let i = i as usize * 3;
+            let p = m.positions.get(i..i + 3).ok_or_else(|| {
+                format!(
+                    "{}: object \"{}\" refers to vertex {} which does not exist",
+                    path.display(),
+                    model.name,
+                    i / 3 + 1
+                )
+            })?;
+            let v = Vec3::new(p[0], p[1], p[2]) * scale + translate;
+            if !v.is_finite() || v.abs().max_element() as f64 > MAX_VERTEX {
+                return Err(format!(
+                    "{}: vertex {} {p:?} is too large once scaled and moved: {}",
+                    path.display(),
+                    i / 3 + 1,
+                    super::limits::vertex_too_large(&format!("{v:?}"))
+                ));
+            }
+            Ok(v)
+        };
+        for f in m.indices.chunks_exact(3) {
+            tris.push(Shape::Triangle {
+                p: [pos(f[0])?, pos(f[1])?, pos(f[2])?],
+            });
+        }
+    }
+    if tris.is_empty() {
+        return Err(format!("OBJ file {} has no faces", path.display()));
+    }
+    Ok(tris)
+}

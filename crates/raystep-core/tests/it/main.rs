@@ -1,0 +1,22 @@
+//! raystep-core's integration tests, one test binary: scenes and their errors, the kernels'
+//! properties, the accelerators, the Monte Carlo samplers, the CPU render. Nothing here links
+//! the diagrams, the GPU or the app.
+
+// A seeded generator, shared with the workspace's other tests.
+#[path = "../../../../tests/it/common/rng.rs"]
+mod rng;
+mod common {
+    pub(crate) use super::rng;
+}
+
+mod bvh;
+mod formula;
+mod properties;
+mod render_bands;
+mod rtc_world;
+mod samplers;
+mod scene_edit;
+mod scene_errors;
+mod scenes;
+mod spd;
+mod stiff;

@@ -1,0 +1,356 @@
+//! The scene flattened into the byte layouts of `wgsl/common.wgsl` (WGSL's uniform and storage
+//! layout rules: a `vec3f` is 16-byte aligned, so each one is followed by a scalar that fills its
+//! fourth slot). Written by hand, little-endian, so no unsafe casting is needed.
+
+use crate::accel::Bvh;
+use crate::scene::camera::CameraRays;
+use crate::scene::{Scene, Shape};
+use glam::Vec3;
+
+/// A little-endian byte writer.
+#[derive(Default)]
+pub(crate) struct Bytes(pub Vec<u8>);
+
+impl Bytes {
+    fn f32(&mut self, v: f32) -> &mut Self {
+        self.0.extend_from_slice(&v.to_le_bytes());
+        self
+    }
+    fn u32(&mut self, v: u32) -> &mut Self {
+        self.0.extend_from_slice(&v.to_le_bytes());
+        self
+    }
+    fn vec3(&mut self, v: Vec3) -> &mut Self {
+        self.f32(v.x).f32(v.y).f32(v.z)
+    }
+    /// At least one element: a storage buffer may not be empty.
+    fn non_empty(mut self, element: usize) -> Vec<u8> {
+        if self.0.is_empty() {
+            self.0.resize(element, 0);
+        }
+        self.0
+    }
+}
+
+/// Size of `Params` in bytes.
+pub(crate) const PARAMS_SIZE: u64 = 144;
+/// Size of `DebugRecord` in bytes.
+pub(crate) const DEBUG_SIZE: u64 = 48;
+
+/// The storage buffers' contents.
+pub(crate) struct SceneData {
+    pub objects: Vec<u8>,
+    pub materials: Vec<u8>,
+    pub lights: Vec<u8>,
+    pub nodes: Vec<u8>,
+    pub leaf_objects: Vec<u8>,
+    pub planes: Vec<u8>,
+    /// The Monte Carlo integrators' data ([`mc_data`]).
+    pub mc: Vec<u8>,
+    pub n_nodes: u32,
+    pub n_planes: u32,
+}
+
+/// Flattens the scene (and its BVH, when it has one).
+pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
+    let mut objects = Bytes::default();
+    for o in &scene.objects {
+        let (kind, axis, a, b, c) = match o.shape {
+            Shape::Sphere { center, radius } => (
+                0,
+                0,
+                center.extend(radius),
+                glam::Vec4::ZERO,
+                glam::Vec4::ZERO,
+            ),
+            Shape::Plane { normal, offset } => (
+                1,
+                0,
+                normal.extend(offset),
+                glam::Vec4::ZERO,
+                glam::Vec4::ZERO,
+            ),
+            Shape::AxisPlane { axis, offset } => (
+                2,
+                axis as u32,
+                glam::Vec4::new(offset, 0.0, 0.0, 0.0),
+                glam::Vec4::ZERO,
+                glam::Vec4::ZERO,
+            ),
+            Shape::Triangle { p } => (3, 0, p[0].extend(0.0), p[1].extend(0.0), p[2].extend(0.0)),
+        };
+        for v in [a, b, c] {
+            objects.vec3(v.truncate()).f32(v.w);
+        }
+        objects.u32(kind).u32(o.material).u32(axis).u32(0);
+    }
+    let mut materials = Bytes::default();
+    for m in &scene.materials {
+        materials
+            .vec3(m.color)
+            .f32(m.ambient)
+            .f32(m.diffuse)
+            .f32(m.specular)
+            .f32(m.shininess)
+            .f32(m.reflective)
+            .f32(m.transparency)
+            .f32(m.refractive_index)
+            .f32(0.0)
+            .f32(0.0);
+    }
+    let mut lights = Bytes::default();
+    for l in &scene.lights {
+        lights.vec3(l.position).f32(0.0).vec3(l.color).f32(0.0);
+    }
+    let mut nodes = Bytes::default();
+    let mut leaf_objects = Bytes::default();
+    let mut planes = Bytes::default();
+    let (mut n_nodes, mut n_planes) = (0, 0);
+    if let Some(bvh) = bvh {
+        {
+            for n in &bvh.nodes {
+                nodes
+                    .vec3(Vec3::from(n.min))
+                    .u32(n.first)
+                    .vec3(Vec3::from(n.max))
+                    .u32(n.count);
+            }
+            for &id in &bvh.leaf_objects {
+                leaf_objects.u32(id);
+            }
+            for &id in &bvh.planes {
+                planes.u32(id);
+            }
+            n_nodes = bvh.nodes.len() as u32;
+            n_planes = bvh.planes.len() as u32;
+        }
+    }
+    SceneData {
+        objects: objects.non_empty(64),
+        materials: materials.non_empty(48),
+        lights: lights.non_empty(32),
+        nodes: nodes.non_empty(32),
+        leaf_objects: leaf_objects.non_empty(4),
+        planes: planes.non_empty(4),
+        mc: mc_data(scene),
+        n_nodes,
+        n_planes,
+    }
+}
+
+/// The scene for hardware ray queries: every finite object a procedural primitive (its box, in
+/// `aabbs`, six f32 each), `leaf_objects` mapping primitive index to object id, `n_nodes` their
+/// count; planes apart, as with the BVH.
+pub(crate) fn ray_query_data(scene: &Scene) -> (SceneData, Vec<u8>) {
+    let mut data = scene_data(scene, None);
+    let mut aabbs = Bytes::default();
+    let mut ids = Bytes::default();
+    let mut planes = Bytes::default();
+    let (mut n, mut n_planes) = (0, 0);
+    for (id, o) in scene.objects.iter().enumerate() {
+        match crate::accel::bvh::shape_bounds(&o.shape) {
+            Some((lo, hi)) => {
+                aabbs.vec3(lo).vec3(hi);
+                ids.u32(id as u32);
+                n += 1;
+            }
+            None => {
+                planes.u32(id as u32);
+                n_planes += 1;
+            }
+        }
+    }
+    data.leaf_objects = ids.non_empty(4);
+    data.planes = planes.non_empty(4);
+    data.n_nodes = n;
+    data.n_planes = n_planes;
+    (data, aabbs.0)
+}
+
+/// The uniform `Params` for a camera.
+pub(crate) fn params(
+    scene: &Scene,
+    cam: &CameraRays,
+    data: &SceneData,
+    use_bvh: bool,
+    debug_pixel: [u32; 2],
+    trace_sample: u32,
+    pass: [u32; 2],
+) -> Vec<u8> {
+    let s = &scene.settings;
+    let mut b = Bytes::default();
+    b.vec3(cam.origin)
+        .f32(cam.half_width)
+        .vec3(cam.u)
+        .f32(cam.half_height)
+        .vec3(cam.v)
+        .f32(s.epsilon)
+        .vec3(cam.w)
+        .u32(s.seed)
+        .vec3(s.background)
+        .u32(s.spp)
+        .u32(cam.width)
+        .u32(cam.height)
+        .u32(s.max_depth)
+        .u32(scene.objects.len() as u32)
+        .u32(scene.lights.len() as u32)
+        .u32(data.n_planes)
+        .u32(use_bvh as u32)
+        .u32(data.n_nodes)
+        .u32(debug_pixel[0])
+        .u32(debug_pixel[1])
+        .f32(f32::INFINITY)
+        .u32(trace_sample)
+        .u32(pass[0])
+        .u32(pass[1])
+        .u32(0)
+        .u32(0);
+    debug_assert_eq!(b.0.len() as u64, PARAMS_SIZE);
+    b.0
+}
+
+use crate::interface::mc_header::{
+    LIGHT_WORDS as MC_LIGHT_WORDS, MATERIAL_WORDS as MC_MATERIAL_WORDS, WORDS as MC_HEADER_WORDS,
+};
+use crate::interface::{bsdf as bsdf_code, integrator as integrator_code, light as light_code};
+
+/// The Monte Carlo integrators' data (`wgsl/mc_integrator.wgsl` reads it as `mc`, one array of
+/// 32-bit words): a header (the integrator, the strategy, the sampler, `rr_depth`, the counts and
+/// the sections' offsets, the lens), each material's BSDF and emission, the lights of
+/// [`crate::mc::lights::Lights`], their running sum of powers, which light each object is, and
+/// the light groups (each: its members' offset and count; the members; their running sum of
+/// areas). A Whitted scene gets the header alone.
+pub(crate) fn mc_data(scene: &Scene) -> Vec<u8> {
+    use crate::mc::lights::{LightShape, Lights};
+    use crate::scene::{Bsdf, Integrator, SamplerKind, Strategy};
+    let s = &scene.settings;
+    let lights = if !s.integrator.is_monte_carlo() {
+        Lights::default()
+    } else {
+        Lights::new(scene)
+    };
+    let n_lights = lights.lights.len() as u32;
+    let n_materials = scene.materials.len() as u32;
+    let n_objects = scene.objects.len() as u32;
+    let n_groups = lights.groups.len() as u32;
+    let n_members: u32 = lights.groups.iter().map(|g| g.members.len() as u32).sum();
+    let off_materials = MC_HEADER_WORDS;
+    let off_lights = off_materials + MC_MATERIAL_WORDS * n_materials;
+    let off_cdf = off_lights + MC_LIGHT_WORDS * n_lights;
+    let off_by_object = off_cdf + n_lights;
+    let off_groups = off_by_object + n_objects;
+    let off_members = off_groups + 2 * n_groups;
+    let off_group_cdf = off_members + n_members;
+    // The header, word by word where the shaders read it (`interface::mc_header`).
+    let mut header = [0u32; MC_HEADER_WORDS as usize];
+    {
+        use crate::interface::{mc_header as h, strategy};
+        let mut put = |at: u32, v: u32| header[at as usize] = v;
+        put(
+            h::INTEGRATOR,
+            match s.integrator {
+                Integrator::Whitted => integrator_code::WHITTED,
+                Integrator::Distribution => integrator_code::DISTRIBUTION,
+                Integrator::Path => integrator_code::PATH,
+            },
+        );
+        put(
+            h::STRATEGY,
+            match s.strategy {
+                Strategy::Mis => strategy::MIS,
+                Strategy::Light => strategy::LIGHT,
+                Strategy::Bsdf => strategy::BSDF,
+            },
+        );
+        put(h::STRATIFIED, (s.sampler == SamplerKind::Stratified) as u32);
+        put(h::RR_DEPTH, s.rr_depth);
+        put(h::N_LIGHTS, n_lights);
+        put(h::N_GROUPS, n_groups);
+        put(h::OFF_MATERIALS, off_materials);
+        put(h::OFF_LIGHTS, off_lights);
+        put(h::OFF_CDF, off_cdf);
+        put(h::OFF_BY_OBJECT, off_by_object);
+        put(h::OFF_GROUPS, off_groups);
+        put(h::OFF_MEMBERS, off_members);
+        put(h::OFF_GROUP_CDF, off_group_cdf);
+        put(h::APERTURE, scene.camera.aperture.to_bits());
+        put(h::FOCUS_DISTANCE, scene.camera.focus_distance.to_bits());
+    }
+    let mut b = Bytes::default();
+    for w in header {
+        b.u32(w);
+    }
+    for m in &scene.materials {
+        let (kind, c, param) = match m.bsdf() {
+            Bsdf::Diffuse { albedo } => (bsdf_code::DIFFUSE, albedo, 0.0),
+            Bsdf::Mirror { tint } => (bsdf_code::MIRROR, tint, 0.0),
+            Bsdf::Glass { ior } => (bsdf_code::GLASS, Vec3::ZERO, ior),
+            Bsdf::Glossy { tint, alpha } => (bsdf_code::GLOSSY, tint, alpha),
+        };
+        b.u32(kind).vec3(c).f32(param).vec3(m.emission);
+    }
+    let mut by_object = vec![u32::MAX; scene.objects.len()];
+    for (i, l) in lights.lights.iter().enumerate() {
+        let (kind, a, bb, c, n, area, radius) = match l.shape {
+            LightShape::Triangle { p, normal, area } => {
+                (light_code::TRIANGLE, p[0], p[1], p[2], normal, area, 0.0)
+            }
+            LightShape::Sphere { center, radius } => (
+                light_code::SPHERE,
+                center,
+                Vec3::ZERO,
+                Vec3::ZERO,
+                Vec3::ZERO,
+                0.0,
+                radius,
+            ),
+            LightShape::Point { position } => (
+                light_code::POINT,
+                position,
+                Vec3::ZERO,
+                Vec3::ZERO,
+                Vec3::ZERO,
+                0.0,
+                0.0,
+            ),
+        };
+        let object = l.object.unwrap_or(u32::MAX);
+        if let Some(slot) = by_object.get_mut(object as usize) {
+            *slot = i as u32;
+        }
+        b.u32(kind)
+            .u32(object)
+            .vec3(a)
+            .vec3(bb)
+            .vec3(c)
+            .vec3(n)
+            .f32(area)
+            .f32(radius)
+            .vec3(l.radiance)
+            .f32(l.power);
+    }
+    let mut total = 0.0f32;
+    for l in &lights.lights {
+        total += l.power;
+        b.f32(total);
+    }
+    for o in by_object {
+        b.u32(o);
+    }
+    let mut at = 0;
+    for g in &lights.groups {
+        b.u32(at).u32(g.members.len() as u32);
+        at += g.members.len() as u32;
+    }
+    for g in &lights.groups {
+        for &m in &g.members {
+            b.u32(m);
+        }
+    }
+    for g in &lights.groups {
+        for &c in &g.cdf {
+            b.f32(c);
+        }
+    }
+    b.0
+}
