@@ -25,7 +25,7 @@ fn harness_at(size: [f32; 2], file: &Path, prefs: Prefs) -> Harness<'static, Ray
     let file = file.to_path_buf();
     // Frames 1/60 s apart, as on a screen (kittest's default is 1/4 s: two clicks one frame
     // apart would be too slow for a double-click). The accessibility check is left to
-    // tests/it/app.rs: the lessons panel's own widgets are checked there.
+    // tests/it/app/: the lessons panel's own widgets are checked there.
     Harness::builder()
         .with_size(egui::vec2(size[0], size[1]))
         .with_step_dt(1.0 / 60.0)

@@ -1,4 +1,4 @@
-//! The app under egui_kittest, rendered through wgpu (shared by `tests/it/app.rs` and
+//! The app under egui_kittest, rendered through wgpu (shared by `tests/it/app/` and
 //! `tests/it/app_scene3d.rs`).
 
 use egui_kittest::Harness;

@@ -1,11 +1,11 @@
-//! The GPU tests' shared preamble (tests/it/gpu.rs, tests/it/gpu_trace.rs): one test at a time on the
+//! The GPU tests' shared preamble (tests/it/gpu/, tests/it/gpu_trace.rs): one test at a time on the
 //! GPU, and the headless context or a skip.
 
 use raystep_gpu::{GpuContext, GpuError};
 
 /// Holds the GPU for one test at a time where that is needed: NVIDIA's Vulkan driver (580, on
 /// an H200) hangs when several tests of one binary create devices, or start `raystep --gpu`, at
-/// the same time (one at a time tests/it/gpu.rs runs in about 26 s there). Elsewhere (lavapipe, a
+/// the same time (one at a time tests/it/gpu/ runs in about 26 s there). Elsewhere (lavapipe, a
 /// CPU adapter whose shader compiles take one core each) the tests run side by side: `None`.
 /// `RAYSTEP_GPU_TESTS_SERIAL=1` asks for one at a time anyway.
 pub fn one_at_a_time() -> Option<std::sync::MutexGuard<'static, ()>> {
@@ -41,7 +41,7 @@ pub fn context(test: &str) -> Option<GpuContext> {
 }
 
 /// A scene file, set to Whitted's integrator: the Whitted comparisons run every shipped scene
-/// under it (the Monte Carlo integrators on the GPU have their own test in tests/it/gpu.rs).
+/// under it (the Monte Carlo integrators on the GPU have their own test in tests/it/gpu/).
 #[allow(dead_code)]
 pub fn load_whitted(path: &std::path::Path) -> raystep_core::scene::Scene {
     let mut scene = raystep_core::scene::load_file(path).unwrap();

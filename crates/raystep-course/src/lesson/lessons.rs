@@ -202,7 +202,7 @@ pub fn parse_lesson(text: &str, file: &Path) -> Result<Lesson, String> {
 }
 
 /// `body` without its HTML comments (`<!-- not checked: … -->`, the lessons' notes for
-/// `tests/it/lessons.rs`), which a Markdown viewer that does not render HTML would show as text; a
+/// `tests/it/lessons/`), which a Markdown viewer that does not render HTML would show as text; a
 /// line that held only a comment goes with it.
 fn without_comments(body: &str) -> String {
     let mut out = String::with_capacity(body.len());

@@ -1,7 +1,7 @@
 //! Progressive GPU renders on the fragment path (issue 36 §4): the fragment shader adds each
 //! pass's samples to every pixel's running sum (a storage buffer), in sample order, so passes of
 //! 1, 1, 2 samples end on the fragment path's one-shot image. The compute path's twin is in
-//! tests/it/gpu.rs (`monte_carlo_scenes_on_the_gpu_are_the_cpus_image`).
+//! tests/it/gpu/ (`monte_carlo_scenes_on_the_gpu_are_the_cpus_image`).
 //!
 //! The expected image is the fragment path's own one-shot render (the fragment path is inexact
 //! by design against the CPU: its ray directions are interpolated). Bit for bit where the
