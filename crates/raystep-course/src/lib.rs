@@ -17,8 +17,11 @@
 
 // The layers below, by the names the modules use for them.
 use raystep_core::{
-    accel, assets, io, math, mc, platform, portable, record, render, scene, shapes, text, trace,
+    accel, assets, io, math, mc, platform, record, render, scene, shapes, text, trace,
 };
+// Only the student tools (native) hash as the GPU does.
+#[cfg(not(target_arch = "wasm32"))]
+use raystep_core::portable;
 use raystep_diagram as diagram;
 
 pub mod lesson;

@@ -215,9 +215,8 @@ mod collide;
 #[cfg(all(test, unix))]
 use crate::platform::atomic::current_umask;
 #[cfg(not(target_arch = "wasm32"))]
-pub(crate) use crate::platform::atomic::kind_of;
-#[cfg(not(target_arch = "wasm32"))]
 pub use crate::platform::atomic::write_atomic;
+pub(crate) use crate::platform::files::kind_of;
 #[cfg(not(target_arch = "wasm32"))]
 pub use collide::{check_outputs, same_file};
 

@@ -138,7 +138,7 @@ fn write_special(path: &Path, ft: &std::fs::FileType, bytes: &[u8]) -> Result<()
     }
     Err(format!(
         "{shown}: is {}: raystep writes only regular files, character devices and FIFOs",
-        kind_of(ft)
+        super::files::kind_of(ft)
     ))
 }
 
@@ -209,28 +209,4 @@ pub(crate) fn current_umask() -> u32 {
                 .and_then(|v| u32::from_str_radix(v.trim(), 8).ok())
         })
         .unwrap_or(0o022)
-}
-
-/// What a non-regular file is, in words ("a FIFO (named pipe)", "a directory", …).
-pub(crate) fn kind_of(ft: &std::fs::FileType) -> &'static str {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if ft.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if ft.is_char_device() {
-            return "a character device";
-        }
-        if ft.is_block_device() {
-            return "a block device";
-        }
-        if ft.is_socket() {
-            return "a socket";
-        }
-    }
-    if ft.is_dir() {
-        return "a directory";
-    }
-    "not a regular file"
 }

@@ -146,3 +146,27 @@ mod tests {
         assert_eq!(web::normal(Path::new("a.json")), PathBuf::from("/a.json"));
     }
 }
+
+/// What a non-regular file is, in words ("a FIFO (named pipe)", "a directory", …).
+pub(crate) fn kind_of(ft: &std::fs::FileType) -> &'static str {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if ft.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if ft.is_char_device() {
+            return "a character device";
+        }
+        if ft.is_block_device() {
+            return "a block device";
+        }
+        if ft.is_socket() {
+            return "a socket";
+        }
+    }
+    if ft.is_dir() {
+        return "a directory";
+    }
+    "not a regular file"
+}
