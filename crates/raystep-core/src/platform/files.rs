@@ -129,24 +129,6 @@ mod web {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::web;
-    use std::path::{Path, PathBuf};
-
-    #[test]
-    fn the_pages_files_resolve_dots_by_name() {
-        assert_eq!(
-            web::normal(Path::new(
-                "/raystep/b/lessons/exercises/../../scenes/./c.toml"
-            )),
-            PathBuf::from("/raystep/b/scenes/c.toml")
-        );
-        assert_eq!(web::normal(Path::new("../../x")), PathBuf::from("/x"));
-        assert_eq!(web::normal(Path::new("a.json")), PathBuf::from("/a.json"));
-    }
-}
-
 /// What a non-regular file is, in words ("a FIFO (named pipe)", "a directory", …).
 pub(crate) fn kind_of(ft: &std::fs::FileType) -> &'static str {
     #[cfg(unix)]
@@ -169,4 +151,22 @@ pub(crate) fn kind_of(ft: &std::fs::FileType) -> &'static str {
         return "a directory";
     }
     "not a regular file"
+}
+
+#[cfg(test)]
+mod tests {
+    use super::web;
+    use std::path::{Path, PathBuf};
+
+    #[test]
+    fn the_pages_files_resolve_dots_by_name() {
+        assert_eq!(
+            web::normal(Path::new(
+                "/raystep/b/lessons/exercises/../../scenes/./c.toml"
+            )),
+            PathBuf::from("/raystep/b/scenes/c.toml")
+        );
+        assert_eq!(web::normal(Path::new("../../x")), PathBuf::from("/x"));
+        assert_eq!(web::normal(Path::new("a.json")), PathBuf::from("/a.json"));
+    }
 }
