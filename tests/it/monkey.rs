@@ -203,7 +203,7 @@ fn run(seed: u64, scene: &Path, events: usize, gpu: bool) {
             app.with_wgpu(cc.wgpu_render_state.clone())
         });
         // The lab's suite, should the monkey start it, runs a small sample.
-        h.state_mut().panels.lab.options.rays = 4;
+        h.state_mut().state.lab.options.rays = 4;
         for i in 0..events {
             let what = one_event(&mut h, &mut rng);
             log.push(format!("{i}: {what}"));

@@ -3,138 +3,34 @@
 //! the selected pixel, every number the tracer recorded beside its exact value and the error in
 //! ulps (click a row to go to its step). For a path-traced scene it also compares the path
 //! tracer's estimators (light sampling, BSDF sampling, MIS) as `raystep converge --strategy`
-//! does: the same table, and the error against samples per pixel as a plot.
+//! does: the same table, and the error against samples per pixel as a plot. The runs themselves
+//! belong to the app's state ([`super::state::lab`]); the window asks for them with commands.
 
+use super::state::lab::{COMPARE_MAX_SPP, COMPARE_SEEDS, LabCmd};
 use super::state::{AppState, Command, StepMove};
-use crate::scene::{Integrator, Scene, Strategy};
+use crate::scene::Integrator;
 use crate::stability::converge::{
-    ConvergeOptions, StrategyRun, Target, measured_words, run_strategies, strategy_name,
-    strategy_table, target_words,
+    Target, measured_words, strategy_name, strategy_table, target_words,
 };
 use crate::stability::pixel::{ExactValue, exact_values};
-use crate::stability::{self, CostPoint, Precision, Primitive, Report};
+use crate::stability::{CostPoint, Precision, Primitive};
 use egui::{Color32, RichText};
 use egui_plot::{Legend, Line, Plot, PlotPoints, Points};
 
-/// A finished comparison of strategies, or why it failed.
-pub type Comparison = Result<Vec<StrategyRun>, String>;
-
-/// The strategies the lab compares, in the table's order.
-const ALL_STRATEGIES: [Strategy; 3] = [Strategy::Light, Strategy::Bsdf, Strategy::Mis];
-use crate::platform::Instant;
-use std::sync::mpsc::Receiver;
-
-/// The lab window's state (part of [`super::panels::Panels`]).
+/// What the lab window keeps between frames (part of [`super::panels::Panels`]): whether it is
+/// open, and the selected pixel's exact values, made once per trace. The runs and their results
+/// are [`AppState::lab`]'s.
+#[derive(Default)]
 pub struct LabView {
     /// The window is open.
     pub open: bool,
-    /// What the suite button runs (the quick suite, on one worker thread).
-    pub options: stability::Options,
-    /// The quick suite running in the background, and when it started.
-    running: Option<(Receiver<Report>, Instant)>,
-    /// The last report.
-    pub report: Option<Report>,
     /// The exact values of the selected pixel's trace (for the trace generation they were made
     /// for).
     pixel: Option<(u64, Vec<ExactValue>)>,
-    /// The strategy comparison running in the background, and when it started.
-    comparing: Option<(Receiver<Comparison>, Instant, String)>,
-    /// The last comparison (or why it failed), and the scene it was of.
-    pub comparison: Option<(String, Comparison)>,
-}
-
-/// What the lab's comparison of strategies renders: the levels up to this spp, with this many
-/// seeds (the command line's `--max-spp 16 --seeds 2`).
-pub const COMPARE_MAX_SPP: u32 = 16;
-/// Seeds per level of the lab's comparison.
-pub const COMPARE_SEEDS: u32 = 2;
-
-impl Default for LabView {
-    fn default() -> Self {
-        LabView {
-            open: false,
-            // One worker: the render and the UI keep the other core.
-            options: stability::Options {
-                threads: Some(1),
-                ..stability::Options::quick()
-            },
-            running: None,
-            report: None,
-            pixel: None,
-            comparing: None,
-            comparison: None,
-        }
-    }
-}
-
-impl LabView {
-    /// Starts the quick suite in the background (unless it is running): a case a step, on a
-    /// thread of its own natively, between frames in a web page (which keeps drawing).
-    pub fn start(&mut self, ctx: &egui::Context) {
-        if self.running.is_some() {
-            return;
-        }
-        let (tx, rx) = std::sync::mpsc::channel();
-        let repaint = ctx.clone();
-        let mut suite = stability::Suite::new(&self.options);
-        crate::platform::spawn_steps(move || match suite.step() {
-            None => true,
-            Some(report) => {
-                let _ = tx.send(report);
-                repaint.request_repaint();
-                false
-            }
-        });
-        self.running = Some((rx, Instant::now()));
-    }
-
-    /// Whether the suite or a comparison is running.
-    pub fn running(&self) -> bool {
-        self.running.is_some() || self.comparing.is_some()
-    }
-
-    /// Starts comparing the path tracer's strategies on `scene` in the background.
-    pub fn compare(&mut self, ctx: &egui::Context, scene: Scene) {
-        if self.comparing.is_some() {
-            return;
-        }
-        let (tx, rx) = std::sync::mpsc::channel();
-        let repaint = ctx.clone();
-        let name = scene.name.clone();
-        crate::platform::spawn(move || {
-            let opts = ConvergeOptions {
-                max_spp: COMPARE_MAX_SPP,
-                seeds: COMPARE_SEEDS,
-                threads: Some(1),
-                ..ConvergeOptions::default()
-            };
-            let runs = run_strategies(&scene, &opts, &ALL_STRATEGIES, &mut |_| {});
-            let _ = tx.send(runs);
-            repaint.request_repaint();
-        });
-        self.comparing = Some((rx, Instant::now(), name));
-    }
-
-    /// Takes a finished run.
-    fn poll(&mut self) {
-        if let Some((rx, _, name)) = &self.comparing
-            && let Ok(r) = rx.try_recv()
-        {
-            self.comparison = Some((name.clone(), r));
-            self.comparing = None;
-        }
-        if let Some((rx, _)) = &self.running
-            && let Ok(r) = rx.try_recv()
-        {
-            self.report = Some(r);
-            self.running = None;
-        }
-    }
 }
 
 /// The lab window (when open).
 pub fn window(ctx: &egui::Context, state: &AppState, lab: &mut LabView, cmds: &mut Vec<Command>) {
-    lab.poll();
     if !lab.open {
         return;
     }
@@ -146,12 +42,12 @@ pub fn window(ctx: &egui::Context, state: &AppState, lab: &mut LabView, cmds: &m
         .show(ctx, |ui| {
             pixel_section(ui, state, lab, cmds);
             ui.separator();
-            strategies_section(ui, state, lab);
+            strategies_section(ui, state, cmds);
             ui.separator();
-            suite_section(ui, lab);
+            suite_section(ui, state, cmds);
         });
     lab.open = open;
-    if lab.running() {
+    if state.lab.running() {
         ctx.request_repaint_after(std::time::Duration::from_millis(250));
     }
 }
@@ -234,15 +130,16 @@ fn precision_ulps(u: f64, p: Precision) -> String {
 
 /// Light sampling, BSDF sampling and MIS on the scene as it is set now, each against one
 /// reference: the command line's table and the error against spp.
-fn strategies_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView) {
-    let scene = state.prepared.as_ref().map(|p| p.scene().clone());
-    let path = scene
+fn strategies_section(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
+    let lab = &state.lab;
+    let path = state
+        .prepared
         .as_ref()
-        .is_some_and(|s| s.settings.integrator == Integrator::Path);
+        .is_some_and(|p| p.scene().settings.integrator == Integrator::Path);
     ui.horizontal_wrapped(|ui| {
         let button = ui
             .add_enabled(
-                path && lab.comparing.is_none(),
+                path && lab.comparison_started().is_none(),
                 egui::Button::new("Compare light, BSDF and MIS"),
             )
             .on_hover_text(format!(
@@ -250,12 +147,10 @@ fn strategies_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView) {
                  seeds each, against one reference (as `raystep converge SCENE --strategy \
                  light,bsdf,mis --max-spp {COMPARE_MAX_SPP} --seeds {COMPARE_SEEDS}`)"
             ));
-        if button.clicked()
-            && let Some(s) = scene.clone()
-        {
-            lab.compare(ui.ctx(), s);
+        if button.clicked() {
+            cmds.push(Command::Lab(LabCmd::CompareStrategies));
         }
-        if let Some((_, started, _)) = &lab.comparing {
+        if let Some(started) = lab.comparison_started() {
             ui.spinner();
             ui.label(format!(
                 "rendering… {:.0} s",
@@ -318,7 +213,8 @@ fn strategies_section(ui: &mut egui::Ui, state: &AppState, lab: &mut LabView) {
         });
 }
 
-fn suite_section(ui: &mut egui::Ui, lab: &mut LabView) {
+fn suite_section(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
+    let lab = &state.lab;
     ui.horizontal(|ui| {
         let label = if lab.report.is_some() {
             "Run the quick suite again"
@@ -330,9 +226,9 @@ fn suite_section(ui: &mut egui::Ui, lab: &mut LabView) {
             .on_hover_text("every method in f32 and f64 on the stiff cases S1–S25 (as `raystep stability --quick`)")
             .clicked()
         {
-            lab.start(ui.ctx());
+            cmds.push(Command::Lab(LabCmd::RunSuite));
         }
-        if let Some((_, started)) = &lab.running {
+        if let Some(started) = lab.suite_started() {
             ui.spinner();
             ui.label(format!("running… {:.0} s", started.elapsed().as_secs_f64()));
         }

@@ -172,6 +172,18 @@ impl RaystepApp {
     /// Gives the app eframe's wgpu device, which turns on the GPU view (the tabs "GPU render"
     /// and "CPU − GPU" above the render).
     pub fn with_wgpu(mut self, render_state: Option<eframe::egui_wgpu::RenderState>) -> Self {
+        // Natively the GPU view traces on eframe's own device; in a web page it opens a WebGPU
+        // device of its own on first use (the page may draw with WebGL2).
+        if let Some(rs) = &render_state
+            && !crate::platform::IN_BROWSER
+        {
+            self.state.gpu.attach(crate::gpu::GpuContext::from_device(
+                rs.device.clone(),
+                rs.queue.clone(),
+                rs.adapter.get_info(),
+                rs.adapter.features(),
+            ));
+        }
         self.panels.gpu.render_state = render_state;
         self
     }
@@ -214,7 +226,7 @@ impl RaystepApp {
         }
         crash::remember(&self.state);
         #[cfg(target_arch = "wasm32")]
-        web::publish(&web::Status::of(&self.state, &self.panels.gpu));
+        web::publish(&web::Status::of(&self.state));
         // A way to check the crash recovery end to end in a real window: debug builds only, and
         // only when asked for by the environment.
         #[cfg(debug_assertions)]

@@ -81,15 +81,15 @@ pub struct Status {
     pub ready: bool,
     /// The message shown in the status bar, if any (`data-message`).
     pub message: String,
-    /// The GPU view ([`super::gpu_view::GpuView::status`]): `data-gpu` (empty until its tab
+    /// The GPU view ([`super::state::gpu::GpuState::status`]): `data-gpu` (empty until its tab
     /// opens, then `waiting`, `ready`, `no-webgpu` or `error: …`), `data-gpu-adapter`,
     /// `data-gpu-pick` (the debug pixel), `data-gpu-diff` (the CPU − GPU summary).
-    pub gpu: super::gpu_view::GpuStatus,
+    pub gpu: super::state::gpu::GpuStatus,
 }
 
 impl Status {
     /// The status of `state` and the GPU view `gpu`.
-    pub fn of(state: &super::state::AppState, gpu: &super::gpu_view::GpuView) -> Status {
+    pub fn of(state: &super::state::AppState) -> Status {
         use super::learn::LearnTab;
         use super::state::Document;
         let learn = &state.learn;
@@ -138,7 +138,7 @@ impl Status {
                 .message
                 .as_ref()
                 .map_or(String::new(), |m| m.text.clone()),
-            gpu: gpu.status(),
+            gpu: state.gpu.status(),
         }
     }
 

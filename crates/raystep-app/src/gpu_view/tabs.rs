@@ -39,19 +39,35 @@ pub fn tabs(ui: &mut egui::Ui, gpu: &mut GpuView) {
     });
 }
 
+/// The path radio buttons: a change is a command.
+fn path_choice(ui: &mut egui::Ui, gpu: &GpuState, cmds: &mut Vec<Command>, hover: bool) {
+    let mut path = gpu.path;
+    let f = ui.radio_value(&mut path, GpuPath::Fragment, "fragment");
+    let c = ui.radio_value(&mut path, GpuPath::Compute, "compute");
+    if hover {
+        f.on_hover_text("a full-screen triangle: the rasterizer interpolates the primary rays");
+        c.on_hover_text("a compute shader, one invocation per pixel");
+    }
+    if path != gpu.path {
+        cmds.push(Command::Gpu(GpuCmd::SetPath(path)));
+    }
+}
+
 /// The GPU render view (the central panel's "GPU render" tab).
-pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mut Vec<Command>) {
-    gpu.poll(ui.ctx(), state);
+pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, view: &mut GpuView, cmds: &mut Vec<Command>) {
+    let gpu = &state.gpu;
     let Some(prepared) = &state.prepared else {
         ui.label("Preparing the scene…");
         return;
     };
-    let prepared = Arc::clone(prepared);
+    if gpu.needs_frame(prepared, state.pixel) {
+        cmds.push(Command::Gpu(GpuCmd::Frame));
+    }
+    if gpu.waiting() {
+        ui.ctx().request_repaint();
+    }
     ui.horizontal_wrapped(|ui| {
-        ui.radio_value(&mut gpu.path, GpuPath::Fragment, "fragment")
-            .on_hover_text("a full-screen triangle: the rasterizer interpolates the primary rays");
-        ui.radio_value(&mut gpu.path, GpuPath::Compute, "compute")
-            .on_hover_text("a compute shader, one invocation per pixel");
+        path_choice(ui, gpu, cmds, true);
         if ui
             .add_enabled(
                 gpu.orbit != Orbit::IDENTITY,
@@ -59,11 +75,10 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
             )
             .clicked()
         {
-            gpu.orbit = Orbit::IDENTITY;
+            cmds.push(Command::Gpu(GpuCmd::SetOrbit(Orbit::IDENTITY)));
         }
-        ui.toggle_value(&mut gpu.show_wgsl, "WGSL");
+        ui.toggle_value(&mut view.show_wgsl, "WGSL");
     });
-    let frame = gpu.frame(ui.ctx(), &prepared);
     if let Some(line) = gpu.adapter_line() {
         ui.label(RichText::new(line).small());
     }
@@ -74,8 +89,6 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
             .map_or_else(String::new, |v| v.get_name().to_string());
         let so_far = match gpu.samples_so_far() {
             Some((done, spp)) if done < spp => {
-                // The next pass is traced on the next frame.
-                ui.ctx().request_repaint();
                 format!("{done} of {spp} samples per pixel so far")
             }
             _ => format!("{} samples per pixel", settings.spp),
@@ -88,21 +101,20 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
             .small(),
         );
     }
-    let (id, size) = match frame {
-        Ok(Some(f)) => f,
-        Ok(None) => {
-            ui.label(
-                "Opening the GPU, measuring its arithmetic and tracing the first frame (the \
-                 answers come back on later frames)…",
-            );
-            ui.ctx().request_repaint();
-            return;
+    if let Some(e) = gpu.error_for(prepared) {
+        if e.starts_with(NO_WEBGPU) {
+            return no_webgpu(ui, e);
         }
-        Err(e) if e.starts_with(NO_WEBGPU) => return no_webgpu(ui, &e),
-        Err(e) => {
-            ui.colored_label(ui.visuals().error_fg_color, format!("GPU view: {e}"));
-            return;
-        }
+        ui.colored_label(ui.visuals().error_fg_color, format!("GPU view: {e}"));
+        return;
+    }
+    let Some((id, size)) = view.image(ui.ctx(), gpu) else {
+        ui.label(
+            "Opening the GPU, measuring its arithmetic and tracing the first frame (the \
+             answers come back on later frames)…",
+        );
+        ui.ctx().request_repaint();
+        return;
     };
     if let Some((path, d)) = gpu.frame_time() {
         ui.label(format!(
@@ -118,15 +130,12 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
             size[1]
         ));
     }
-    if let Some([x, y]) = state.pixel {
-        gpu.pick_pixel(&prepared, [x, y]);
-        gpu.poll(ui.ctx(), state);
+    if state.pixel.is_some() {
         pick_table(ui, state, prepared.scene(), gpu);
-        trace_switch(ui, state, &prepared, gpu, cmds);
+        trace_switch(ui, state, cmds);
     }
-    if gpu.show_wgsl {
-        if let Some(t) = &gpu.traced {
-            let wgsl = t.tracer.wgsl();
+    if view.show_wgsl {
+        if let Some(wgsl) = gpu.wgsl() {
             ui.label(format!(
                 "Generated for this scene: {} lines, {} bytes (features the scene lacks are left out)",
                 wgsl.lines().count(),
@@ -153,34 +162,38 @@ pub fn gpu_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView, cmds: &mu
         .max(0.05);
     let shown = egui::vec2(size[0] as f32, size[1] as f32) * scale;
     let (rect, response) = ui.allocate_exact_size(shown, Sense::click_and_drag());
-    gpu.image_rect = Some(rect);
+    view.image_rect = Some(rect);
     ui.painter().image(
         id,
         rect,
         egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
         Color32::WHITE,
     );
+    let mut orbit = gpu.orbit;
     let drag = response.drag_delta();
     if drag != egui::Vec2::ZERO {
         // 0.01 radians per point; the pitch within ±1.4 radians.
         let per_point = 0.01_f32.to_degrees();
         let limit = 1.4_f32.to_degrees();
-        gpu.orbit.yaw -= drag.x * per_point;
-        gpu.orbit.pitch = (gpu.orbit.pitch - drag.y * per_point).clamp(-limit, limit);
+        orbit.yaw -= drag.x * per_point;
+        orbit.pitch = (orbit.pitch - drag.y * per_point).clamp(-limit, limit);
     }
     if response.hovered() {
         let scroll = ui.input(|i| i.smooth_scroll_delta.y);
         if scroll != 0.0 {
-            gpu.orbit.distance = (gpu.orbit.distance * (-scroll * 0.002).exp()).clamp(0.1, 10.0);
+            orbit.distance = (orbit.distance * (-scroll * 0.002).exp()).clamp(0.1, 10.0);
         }
     }
     if response.double_clicked() {
-        gpu.orbit = Orbit::IDENTITY;
+        orbit = Orbit::IDENTITY;
+    }
+    if orbit != gpu.orbit {
+        cmds.push(Command::Gpu(GpuCmd::SetOrbit(orbit)));
     }
 }
 
 /// The GPU debug buffer of the selected pixel beside the CPU trace's values.
-fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuView) {
+fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuState) {
     let Some(pick) = gpu.pick() else {
         if gpu.waiting() {
             ui.label("Reading the pixel's debug buffer back from the GPU…");
@@ -286,22 +299,16 @@ fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuView)
 }
 
 /// CPU ⇄ GPU: which trace of the selected pixel the stepper, math panel and diagrams show. The
-/// GPU's own trace is made on first use (the trace shader logs each step the compute path takes)
+/// GPU's own trace is made on first use (the trace shader logs each step the chosen path takes)
 /// and compared with the CPU's; the first divergence is named, marked on the step bar, and one
 /// click away.
-fn trace_switch(
-    ui: &mut egui::Ui,
-    state: &AppState,
-    prepared: &PreparedScene,
-    gpu: &mut GpuView,
-    cmds: &mut Vec<Command>,
-) {
+fn trace_switch(ui: &mut egui::Ui, state: &AppState, cmds: &mut Vec<Command>) {
     let Some(pixel) = state.pixel else {
         return;
     };
-    let Some(stepping) = &state.stepping else {
+    if state.stepping.is_none() {
         return;
-    };
+    }
     ui.horizontal_wrapped(|ui| {
         ui.label("Step through:");
         if ui
@@ -319,30 +326,15 @@ fn trace_switch(
                  and diagrams",
             );
         if gpu_button.clicked() {
-            let cpu = Arc::clone(&stepping.trace);
-            gpu.trace_on_gpu(prepared, pixel, state.sample, &cpu, true);
-            gpu.poll(ui.ctx(), state);
+            cmds.push(Command::Gpu(GpuCmd::TracePixel));
         }
     });
-    let path = gpu.path;
-    let shown = gpu
-        .traced
-        .as_mut()
-        .and_then(|t| t.gpu_trace.as_mut())
-        .filter(|g| g.pixel == pixel && g.sample == state.sample && g.path == path);
-    let Some(shown) = shown else {
-        return;
-    };
-    // Into the stepper once it has come (the button was pressed).
-    if let (true, Answer::Done(Ok(g))) = (shown.show, &shown.result) {
-        cmds.push(Command::ShowGpuTrace(Arc::clone(&g.trace), g.divergence));
-        shown.show = false;
-    }
-    match &shown.result {
-        Answer::Waiting(_) => {
+    match state.gpu.gpu_trace(pixel, state.sample) {
+        None => {}
+        Some(None) => {
             ui.label("Reading the GPU's step log back…");
         }
-        Answer::Done(Ok(g)) => {
+        Some(Some(Ok(g))) => {
             let colour = if g.divergence.is_some() {
                 ui.visuals().warn_fg_color
             } else {
@@ -362,7 +354,7 @@ fn trace_switch(
                 cmds.push(Command::Step(StepMove::To(k)));
             }
         }
-        Answer::Done(Err(e)) => {
+        Some(Some(Err(e))) => {
             ui.colored_label(ui.visuals().error_fg_color, format!("GPU trace: {e}"));
         }
     }
@@ -370,8 +362,13 @@ fn trace_switch(
 
 /// The difference tab: CPU − GPU as an image, with RMSE, max error and the count of differing
 /// pixels.
-pub fn difference_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
-    gpu.poll(ui.ctx(), state);
+pub fn difference_tab(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    view: &mut GpuView,
+    cmds: &mut Vec<Command>,
+) {
+    let gpu = &state.gpu;
     let Some(prepared) = &state.prepared else {
         ui.label("Preparing the scene…");
         return;
@@ -380,50 +377,48 @@ pub fn difference_tab(ui: &mut egui::Ui, state: &AppState, gpu: &mut GpuView) {
         ui.label("Waiting for the CPU render to finish…");
         return;
     }
-    let prepared = Arc::clone(prepared);
-    ui.horizontal(|ui| {
-        ui.radio_value(&mut gpu.path, GpuPath::Fragment, "fragment");
-        ui.radio_value(&mut gpu.path, GpuPath::Compute, "compute");
-    });
-    if let Err(e) = gpu.context() {
+    if gpu.waiting() {
+        ui.ctx().request_repaint();
+    }
+    ui.horizontal(|ui| path_choice(ui, gpu, cmds, false));
+    if let Some(e) = gpu.error_for(prepared) {
         return if e.starts_with(NO_WEBGPU) {
-            no_webgpu(ui, &e)
+            no_webgpu(ui, e)
         } else {
             ui.colored_label(ui.visuals().error_fg_color, format!("GPU view: {e}"));
         };
     }
-    gpu.compare(&prepared, state);
-    gpu.poll(ui.ctx(), state);
+    if gpu.needs_compare(prepared, state.renders_started) {
+        cmds.push(Command::Gpu(GpuCmd::Compare));
+    }
     late_errors(ui, gpu);
-    let Some(t) = &gpu.traced else {
-        if let Some((_, e)) = &gpu.error {
-            ui.colored_label(ui.visuals().error_fg_color, format!("GPU view: {e}"));
-        } else {
-            ui.label("Measuring the GPU's arithmetic…");
-            ui.ctx().request_repaint();
-        }
+    if !gpu.ready_for(prepared) {
+        ui.label("Measuring the GPU's arithmetic…");
+        ui.ctx().request_repaint();
         return;
-    };
-    match &t.diff {
-        Some((_, Answer::Waiting(_))) => {
-            ui.label("Tracing on the GPU and reading the image back…");
-        }
-        Some(((_, path), Answer::Done(Ok((d, tex))))) => {
+    }
+    if gpu.comparing() {
+        ui.label("Tracing on the GPU and reading the image back…");
+        return;
+    }
+    match (gpu.difference(), gpu.difference_path()) {
+        (Some(Ok((d, generation))), Some(path)) => {
             ui.label(RichText::new(format!("{} path: {}", path.name(), d.summary())).strong());
             ui.label(
                 "Equal pixels are dim grey; differing ones run from dark red (one 8-bit step) to \
                  yellow (16 or more). Both sides compute in f32; the GPU's pow, FMA contraction \
                  and the rasterizer's interpolated rays round differently in the last bits.",
             );
+            let tex = view.difference_texture(ui.ctx(), d, generation);
             let avail = ui.available_size();
             let size = tex.size_vec2();
             let scale = (avail.x / size.x).min(avail.y / size.y).max(0.05);
             ui.image((tex.id(), size * scale));
         }
-        Some((_, Answer::Done(Err(e)))) => {
+        (Some(Err(e)), _) => {
             ui.colored_label(ui.visuals().error_fg_color, e);
         }
-        None => {}
+        _ => {}
     }
 }
 
@@ -444,7 +439,7 @@ fn no_webgpu(ui: &mut egui::Ui, why: &str) {
 
 /// Errors the browser reported after the call that caused them (a web page cannot wait for
 /// them).
-fn late_errors(ui: &mut egui::Ui, gpu: &GpuView) {
+fn late_errors(ui: &mut egui::Ui, gpu: &GpuState) {
     for e in &gpu.late_errors {
         ui.colored_label(ui.visuals().error_fg_color, format!("GPU: {e}"));
     }

@@ -252,7 +252,7 @@ fn central(
     match panels.gpu.tab {
         CentralTab::Cpu => view::render_view(ui, state, render, cmds),
         CentralTab::Gpu => gpu_view::gpu_tab(ui, state, &mut panels.gpu, cmds),
-        CentralTab::Difference => gpu_view::difference_tab(ui, state, &mut panels.gpu),
+        CentralTab::Difference => gpu_view::difference_tab(ui, state, &mut panels.gpu, cmds),
         CentralTab::Scene3d => scene3d::tab(
             ui,
             state,

@@ -3,6 +3,8 @@
 //! read it and return [`Command`]s; [`AppState::apply`] is the only place that changes it.
 
 pub mod editing;
+pub mod gpu;
+pub mod lab;
 pub mod learn;
 mod save;
 
@@ -153,6 +155,11 @@ pub enum Command {
     ShowGpuTrace(Arc<Trace>, Option<usize>),
     /// Back to the CPU's trace of the selected pixel (recorded again), the step index kept.
     ShowCpuTrace,
+    /// Run the stability lab's suite, or compare the path tracer's strategies.
+    Lab(lab::LabCmd),
+    /// The GPU view: trace its frame, compare it with the CPU render, trace the pixel on the
+    /// GPU, change its path or orbit.
+    Gpu(gpu::GpuCmd),
 }
 
 /// A message for the status line.
@@ -225,6 +232,10 @@ pub struct AppState {
     pub divergence: Option<usize>,
     /// The lessons and the exercise session.
     pub learn: Learn,
+    /// The stability lab's runs (the suite, the comparison of strategies) and their results.
+    pub lab: lab::Lab,
+    /// The GPU view's tracer, its frame and the answers asked of the GPU.
+    pub gpu: gpu::GpuState,
     /// The open scene's TOML document being edited (None: not editable, e.g. an exercise's
     /// variant or a saved trace).
     pub editor: Option<crate::scene::edit::SceneDoc>,
@@ -279,6 +290,8 @@ impl AppState {
             showing_gpu_trace: false,
             divergence: None,
             learn: Learn::load(&prefs.student),
+            lab: lab::Lab::default(),
+            gpu: gpu::GpuState::default(),
             editor: None,
             editor_path: None,
             selected: None,
@@ -409,6 +422,44 @@ impl AppState {
             Command::ShowError(text) => self.message = Some(Message { text, error: true }),
             Command::Learn(c) => self.apply_learn(c),
             Command::Edit(c) => self.apply_edit(c),
+            Command::Lab(lab::LabCmd::RunSuite) => self.lab.start_suite(Arc::clone(&self.repaint)),
+            Command::Lab(lab::LabCmd::CompareStrategies) => {
+                if let Some(p) = &self.prepared {
+                    let scene = p.scene().clone();
+                    self.lab.compare(scene, Arc::clone(&self.repaint));
+                }
+            }
+            Command::Gpu(c) => self.apply_gpu(c),
+        }
+    }
+
+    /// Applies a [`gpu::GpuCmd`].
+    fn apply_gpu(&mut self, c: gpu::GpuCmd) {
+        use gpu::GpuCmd;
+        match c {
+            GpuCmd::SetPath(p) => self.gpu.path = p,
+            GpuCmd::SetOrbit(o) => self.gpu.orbit = o,
+            GpuCmd::Frame => {
+                if let Some(p) = self.prepared.clone() {
+                    self.gpu.frame(&p, self.pixel);
+                }
+            }
+            GpuCmd::Compare => {
+                if self.job.is_none()
+                    && self.rendered.is_some()
+                    && let Some(p) = self.prepared.clone()
+                {
+                    self.gpu.compare(&p, self.renders_started);
+                }
+            }
+            GpuCmd::TracePixel => {
+                if let (Some(p), Some(pixel), Some(s)) =
+                    (self.prepared.clone(), self.pixel, &self.stepping)
+                {
+                    let cpu = Arc::clone(&s.trace);
+                    self.gpu.trace_pixel(&p, pixel, self.sample, &cpu);
+                }
+            }
         }
     }
 
@@ -748,6 +799,14 @@ impl AppState {
             Err(std::sync::mpsc::TryRecvError::Empty) => true,
             Err(std::sync::mpsc::TryRecvError::Disconnected) => false,
         });
+        self.lab.poll();
+        let cpu = self
+            .rendered
+            .as_ref()
+            .map(|r| (&*r.output, self.renders_started));
+        if let Some((trace, divergence)) = self.gpu.poll(cpu) {
+            self.apply(Command::ShowGpuTrace(trace, divergence));
+        }
         self.check_file();
         self.expire_message(now);
     }
