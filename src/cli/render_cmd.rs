@@ -231,6 +231,7 @@ fn run_gpu(
     let ctx = GpuContext::headless().map_err(|e| e.to_string())?;
     fits_adapter(&ctx, scene.camera.width, scene.camera.height)?;
     let mut gpu = GpuTracer::new(ctx, prepared, args.gpu_shader).map_err(|e| e.to_string())?;
+    gpu.prepare(args.gpu_path).map_err(|e| e.to_string())?;
     let setup = t.elapsed();
     let frame_time = gpu
         .time_frames(args.gpu_path, 1, GPU_FRAMES)

@@ -29,6 +29,8 @@
 //! let ctx = GpuContext::from_device(
 //!     rs.device.clone(), rs.queue.clone(), rs.adapter.get_info(), rs.adapter.features());
 //! let mut gpu = GpuTracer::new(ctx, &scene, ShaderVariant::Generated)?;
+//! // Each path's pipeline is compiled on its first frame (or by gpu.prepare(path)): a driver
+//! // compiles the whole tracer for each, and lavapipe takes seconds to do it.
 //! // Per frame (or when the scene or camera changed): trace, then show the texture.
 //! gpu.set_camera(&camera)?;                  // optional: another view or size
 //! let time = gpu.trace(GpuPath::Fragment)?;  // blocks until done; or gpu.encode(&mut encoder, path)

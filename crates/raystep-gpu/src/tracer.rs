@@ -108,9 +108,10 @@ struct Built {
     output_layout: wgpu::BindGroupLayout,
     accum_layout: wgpu::BindGroupLayout,
     display_layout: wgpu::BindGroupLayout,
-    fragment: wgpu::RenderPipeline,
-    compute: wgpu::ComputePipeline,
-    debug_pipeline: wgpu::ComputePipeline,
+    /// The tracer's SPIR-V (or WGSL) module for the compute path's pipelines.
+    compute_module: wgpu::ShaderModule,
+    fragment_layout: wgpu::PipelineLayout,
+    compute_layout: wgpu::PipelineLayout,
     display_pipeline: wgpu::RenderPipeline,
     debug: wgpu::Buffer,
     debug_readback: wgpu::Buffer,
@@ -134,6 +135,37 @@ struct Target {
     display_group: wgpu::BindGroup,
     /// Each pixel's running sum, one `vec4f` a pixel (a progressive render's, on either path).
     _accum: wgpu::Buffer,
+}
+
+/// The tracer's own pipelines (the full-screen fragment path, the compute path, and the compute
+/// shader that reads back one pixel's hit), made when first used.
+struct Pipelines {
+    compute_module: wgpu::ShaderModule,
+    fragment_layout: wgpu::PipelineLayout,
+    compute_layout: wgpu::PipelineLayout,
+    fragment: Option<wgpu::RenderPipeline>,
+    compute: Option<wgpu::ComputePipeline>,
+    debug: Option<wgpu::ComputePipeline>,
+}
+
+/// One of [`Pipelines`].
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Kernel {
+    /// The fragment path's `fs_main`.
+    Fragment,
+    /// The compute path's `cs_main`.
+    Compute,
+    /// `debug_main`: one pixel's hit into the debug buffer.
+    Debug,
+}
+
+impl From<GpuPath> for Kernel {
+    fn from(path: GpuPath) -> Kernel {
+        match path {
+            GpuPath::Fragment => Kernel::Fragment,
+            GpuPath::Compute => Kernel::Compute,
+        }
+    }
 }
 
 /// The GPU tracer of one scene. See the [module documentation](super) for how the app uses it.
@@ -168,9 +200,10 @@ pub struct GpuTracer {
     display_layout: wgpu::BindGroupLayout,
     debug: wgpu::Buffer,
     debug_readback: wgpu::Buffer,
-    fragment: wgpu::RenderPipeline,
-    compute: wgpu::ComputePipeline,
-    debug_pipeline: wgpu::ComputePipeline,
+    /// The tracer's pipelines, each made on first use ([`Self::pipelines`]): a driver compiles
+    /// the whole tracer for each (on lavapipe, seconds to tens of seconds each), and most uses
+    /// need one of the three.
+    pipelines: Pipelines,
     display_pipeline: wgpu::RenderPipeline,
     target: Target,
     /// The BLAS and TLAS when tracing with hardware ray queries (kept alive while bound).
@@ -240,7 +273,6 @@ impl GpuTracer {
                 &queue,
                 &data,
                 aabbs.as_deref(),
-                &wgsl,
                 scene.camera.width,
                 scene.camera.height,
             )
@@ -270,9 +302,14 @@ impl GpuTracer {
             display_layout: b.display_layout,
             debug: b.debug,
             debug_readback: b.debug_readback,
-            fragment: b.fragment,
-            compute: b.compute,
-            debug_pipeline: b.debug_pipeline,
+            pipelines: Pipelines {
+                compute_module: b.compute_module,
+                fragment_layout: b.fragment_layout,
+                compute_layout: b.compute_layout,
+                fragment: None,
+                compute: None,
+                debug: None,
+            },
             display_pipeline: b.display_pipeline,
             target: b.target,
             acceleration: b.acceleration,
@@ -428,31 +465,110 @@ impl GpuTracer {
 
     /// Records one frame into `encoder`: the trace pass by `path` into the linear image, then
     /// the sRGB encoding into [`Self::display_view`]. For the app: record into its own encoder
-    /// (e.g. in an egui_wgpu callback's `prepare`) and nothing here blocks.
-    pub fn encode(&self, encoder: &mut wgpu::CommandEncoder, path: GpuPath) {
+    /// (e.g. in an egui_wgpu callback's `prepare`); nothing here blocks but the first frame by
+    /// `path`, which compiles its pipeline.
+    pub fn encode(
+        &mut self,
+        encoder: &mut wgpu::CommandEncoder,
+        path: GpuPath,
+    ) -> Result<(), GpuError> {
+        self.pipeline(path.into())?;
         self.encode_trace(encoder, path);
         self.encode_display(encoder);
+        Ok(())
     }
 
+    /// Compiles the pipeline `path` traces with, which the first frame by `path` would otherwise
+    /// do: for a caller that times its set-up apart from its frames (`raystep render --gpu`).
+    pub fn prepare(&mut self, path: GpuPath) -> Result<(), GpuError> {
+        self.pipeline(path.into())
+    }
+
+    /// Makes `kernel`'s pipeline if it is not made yet (inside an error scope: a driver's
+    /// refusal is an error, not wgpu's panic).
+    pub(crate) fn pipeline(&mut self, kernel: Kernel) -> Result<(), GpuError> {
+        let p = &mut self.pipelines;
+        let made = match kernel {
+            Kernel::Fragment => p.fragment.is_some(),
+            Kernel::Compute => p.compute.is_some(),
+            Kernel::Debug => p.debug.is_some(),
+        };
+        if made {
+            return Ok(());
+        }
+        let device = self.ctx.device.clone();
+        let what = match kernel {
+            Kernel::Fragment => "creating the GPU tracer's fragment pipeline",
+            Kernel::Compute => "creating the GPU tracer's compute pipeline",
+            Kernel::Debug => "creating the GPU tracer's debug-pixel pipeline",
+        };
+        let wgsl = &self.wgsl;
+        self.ctx.checked(what, || match kernel {
+            Kernel::Fragment => {
+                let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                    label: Some("raystep tracer"),
+                    source: wgpu::ShaderSource::Wgsl(wgsl.as_str().into()),
+                });
+                p.fragment = Some(full_screen_pipeline(
+                    &device,
+                    "raystep fragment",
+                    &p.fragment_layout,
+                    &module,
+                    "fs_main",
+                    LINEAR_FORMAT,
+                ));
+            }
+            // The compute path: SPIR-V with NoContraction where the device takes passthrough.
+            Kernel::Compute | Kernel::Debug => {
+                let entry = if kernel == Kernel::Compute {
+                    "cs_main"
+                } else {
+                    "debug_main"
+                };
+                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry),
+                    layout: Some(&p.compute_layout),
+                    module: &p.compute_module,
+                    entry_point: Some(entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+                if kernel == Kernel::Compute {
+                    p.compute = Some(pipeline);
+                } else {
+                    p.debug = Some(pipeline);
+                }
+            }
+        })
+    }
+
+    /// Records the trace pass; its pipeline must be made ([`Self::pipeline`]), else nothing is
+    /// recorded.
     fn encode_trace(&self, encoder: &mut wgpu::CommandEncoder, path: GpuPath) {
         let t = &self.target;
         match path {
-            GpuPath::Fragment => full_screen_pass(
-                encoder,
-                "raystep trace (fragment)",
-                &t.linear_view,
-                &self.fragment,
-                &[&self.scene_group, &t.accum_group],
-            ),
+            GpuPath::Fragment => {
+                if let Some(fragment) = &self.pipelines.fragment {
+                    full_screen_pass(
+                        encoder,
+                        "raystep trace (fragment)",
+                        &t.linear_view,
+                        fragment,
+                        &[&self.scene_group, &t.accum_group],
+                    )
+                }
+            }
             GpuPath::Compute => {
-                let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some("raystep trace (compute)"),
-                    timestamp_writes: None,
-                });
-                pass.set_pipeline(&self.compute);
-                pass.set_bind_group(0, &self.scene_group, &[]);
-                pass.set_bind_group(1, &t.output_group, &[]);
-                pass.dispatch_workgroups(t.width.div_ceil(8), t.height.div_ceil(8), 1);
+                if let Some(compute) = &self.pipelines.compute {
+                    let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("raystep trace (compute)"),
+                        timestamp_writes: None,
+                    });
+                    pass.set_pipeline(compute);
+                    pass.set_bind_group(0, &self.scene_group, &[]);
+                    pass.set_bind_group(1, &t.output_group, &[]);
+                    pass.dispatch_workgroups(t.width.div_ceil(8), t.height.div_ceil(8), 1);
+                }
             }
         }
     }
@@ -482,6 +598,7 @@ impl GpuTracer {
     /// Traces one frame and waits for it: returns the trace pass's time from submit to
     /// completion. The display texture is updated too (untimed).
     pub fn trace(&mut self, path: GpuPath) -> Result<Duration, GpuError> {
+        self.pipeline(path.into())?;
         let device = self.ctx.device.clone();
         let mut encoder = device.create_command_encoder(&Default::default());
         self.encode_trace(&mut encoder, path);

@@ -62,6 +62,7 @@ impl GpuTracer {
                 self.target.width, self.target.height
             )));
         }
+        self.pipeline(super::Kernel::Debug)?;
         self.debug_pixel = [x, y];
         self.write_params();
         let device = self.ctx.device.clone();
@@ -69,10 +70,12 @@ impl GpuTracer {
             let mut encoder = device.create_command_encoder(&Default::default());
             {
                 let mut pass = encoder.begin_compute_pass(&Default::default());
-                pass.set_pipeline(&self.debug_pipeline);
-                pass.set_bind_group(0, &self.scene_group, &[]);
-                pass.set_bind_group(1, &self.target.output_group, &[]);
-                pass.dispatch_workgroups(1, 1, 1);
+                if let Some(debug) = &self.pipelines.debug {
+                    pass.set_pipeline(debug);
+                    pass.set_bind_group(0, &self.scene_group, &[]);
+                    pass.set_bind_group(1, &self.target.output_group, &[]);
+                    pass.dispatch_workgroups(1, 1, 1);
+                }
             }
             encoder.copy_buffer_to_buffer(&self.debug, 0, &self.debug_readback, 0, DEBUG_SIZE);
             self.ctx.queue.submit([encoder.finish()]);

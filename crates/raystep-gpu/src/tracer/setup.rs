@@ -68,7 +68,6 @@ impl GpuTracer {
         queue: &wgpu::Queue,
         data: &SceneData,
         aabbs: Option<&[u8]>,
-        wgsl: &str,
         width: u32,
         height: u32,
     ) -> Built {
@@ -233,10 +232,6 @@ impl GpuTracer {
                 count: None,
             }],
         });
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("raystep tracer"),
-            source: wgpu::ShaderSource::Wgsl(wgsl.into()),
-        });
         let display_module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("raystep display"),
             source: wgpu::ShaderSource::Wgsl(shader::DISPLAY_WGSL.into()),
@@ -263,21 +258,6 @@ impl GpuTracer {
                                format: wgpu::TextureFormat| {
             full_screen_pipeline(device, label, layout, module, "fs_main", format)
         };
-        // The compute path: SPIR-V with NoContraction where the device takes passthrough.
-        let compute_pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&compute_layout),
-                module: &compute_module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let fragment =
-            render_pipeline("raystep fragment", &fragment_layout, &module, LINEAR_FORMAT);
-        let compute = compute_pipeline("cs_main");
-        let debug_pipeline = compute_pipeline("debug_main");
         let display_pipeline = render_pipeline(
             "raystep display",
             &display_pipeline_layout,
@@ -312,9 +292,9 @@ impl GpuTracer {
             output_layout,
             accum_layout,
             display_layout,
-            fragment,
-            compute,
-            debug_pipeline,
+            compute_module,
+            fragment_layout,
+            compute_layout,
             display_pipeline,
             debug,
             debug_readback,
