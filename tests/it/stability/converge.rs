@@ -225,17 +225,7 @@ fn converge_compares_strategies_against_one_reference() {
 /// reached; one the first level meets is its time; an early dip below it does not count.
 #[test]
 fn time_to_relmse_interpolates_on_the_log_log_line() {
-    use raystep::stability::converge::{ConvergeReport, Level, time_to_relmse};
-    let level = |spp, seconds, rel| Level {
-        spp,
-        seconds,
-        mse: [rel; 3],
-        rmse: [rel; 3],
-        relmse: [rel; 3],
-        mse_all: [rel; 3],
-        nan: 0,
-        inf: 0,
-    };
+    use raystep::stability::converge::{ConvergeReport, time_to_relmse};
     let r = ConvergeReport {
         scene: "s".into(),
         device: "CPU".into(),
@@ -269,7 +259,7 @@ fn time_to_relmse_interpolates_on_the_log_log_line() {
 fn the_default_target_is_crossed_by_every_strategy() {
     use raystep::scene::Strategy;
     use raystep::stability::converge::{
-        ConvergeReport, Level, Reach, StrategyRun, Target, default_target, reach, strategy_table,
+        ConvergeReport, Reach, StrategyRun, Target, default_target, reach, strategy_table,
     };
     let run = |strategy, rel: &[f64]| StrategyRun {
         strategy,
@@ -286,16 +276,7 @@ fn the_default_target_is_crossed_by_every_strategy() {
             levels: rel
                 .iter()
                 .enumerate()
-                .map(|(k, &e)| Level {
-                    spp: 1 << k,
-                    seconds: f64::from(1u32 << k),
-                    mse: [e; 3],
-                    rmse: [e; 3],
-                    relmse: [e; 3],
-                    mse_all: [e; 3],
-                    nan: 0,
-                    inf: 0,
-                })
+                .map(|(k, &e)| level(1 << k, f64::from(1u32 << k), e))
                 .collect(),
             mse_slope: -1.0,
             image: vec![],
@@ -425,4 +406,19 @@ fn converge_measures_the_noise_and_stratified_samples_have_less() {
         top[1],
         top[0]
     );
+}
+
+/// A convergence level at `spp` after `seconds` whose every error (MSE, RMSE, relMSE, in each
+/// channel) is `e`, with no NaN or infinite pixel.
+fn level(spp: u32, seconds: f64, e: f64) -> raystep::stability::converge::Level {
+    raystep::stability::converge::Level {
+        spp,
+        seconds,
+        mse: [e; 3],
+        rmse: [e; 3],
+        relmse: [e; 3],
+        mse_all: [e; 3],
+        nan: 0,
+        inf: 0,
+    }
 }
