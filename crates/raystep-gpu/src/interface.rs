@@ -314,6 +314,22 @@ mod tests {
             shader::validate(&wgsl).unwrap_or_else(|e| panic!("{c:?}:\n{e}"));
             checked += 1;
         }
-        assert_eq!(checked, 136);
+        // A generated Monte Carlo shader has one integrator: each alone, rendering and tracing.
+        for (path, distribution) in [(true, false), (false, true)] {
+            for trace in [false, true] {
+                let c = ShaderConfig {
+                    monte_carlo: true,
+                    path,
+                    distribution,
+                    trace,
+                    ..full
+                };
+                let wgsl = shader::wgsl(&c);
+                assert!(!wgsl.contains("mc_integrator() == MC_INTEGRATOR_PATH"));
+                shader::validate(&wgsl).unwrap_or_else(|e| panic!("{c:?}:\n{e}"));
+                checked += 1;
+            }
+        }
+        assert_eq!(checked, 140);
     }
 }

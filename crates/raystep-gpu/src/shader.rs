@@ -12,7 +12,7 @@
 use super::exact::{ArithConfig, arith_wgsl};
 use crate::accel::Bvh;
 use crate::math::gamma;
-use crate::scene::{OffsetPolicy, Scene};
+use crate::scene::{Integrator, OffsetPolicy, Scene};
 use crate::shapes::{SphereMethod, TriangleMethod};
 use crate::trace::PreparedScene;
 
@@ -60,8 +60,16 @@ pub struct ShaderConfig {
     pub arith: ArithConfig,
     /// The Monte Carlo integrators (the scene's `[render] integrator` is `distribution` or
     /// `path`): each sample is traced by `wgsl/mc_integrator.wgsl` with the CPU's random numbers
-    /// ([`super::buffers`] uploads the lights and BSDFs; which integrator is read at run time).
+    /// ([`super::buffers`] uploads the lights and BSDFs; `path` and `distribution` say which
+    /// integrators are compiled in).
     pub monte_carlo: bool,
+    /// The path tracer (`wgsl/mc_integrator.wgsl`'s `mc_path`) is compiled in. A generated
+    /// shader has only the scene's integrator: a shader compiler inlines the whole integrator
+    /// at its call, so the other one doubled what lavapipe compiles. The full shader has both,
+    /// chosen at run time.
+    pub path: bool,
+    /// The distribution tracer (`mc_distribution`) is compiled in (see `path`).
+    pub distribution: bool,
     /// The trace shader: one invocation logs every step it takes (`raystep trace --gpu`,
     /// [`super::trace_log`]). The shaders that render have it off.
     pub trace: bool,
@@ -108,6 +116,8 @@ impl ShaderConfig {
             bvh_stack: tree.map_or(2, |t| t.max_depth as u32 + 2),
             arith: ArithConfig::default(),
             monte_carlo,
+            path: s.integrator == Integrator::Path,
+            distribution: s.integrator == Integrator::Distribution,
             trace: false,
         }
     }
@@ -131,6 +141,8 @@ impl ShaderConfig {
             reflection: true,
             refraction: true,
             full: true,
+            path: true,
+            distribution: true,
             ..self
         }
     }
@@ -168,6 +180,8 @@ impl ShaderConfig {
             "RAY_QUERY" => self.ray_query,
             "TRACE" => self.trace,
             "MC" => self.monte_carlo,
+            "PATH" => self.path,
+            "DISTRIBUTION" => self.distribution,
             _ => return None,
         })
     }

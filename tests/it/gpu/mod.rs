@@ -357,6 +357,13 @@ fn generated_shaders_leave_out_what_the_scene_does_not_need() {
     // A scene without lights has no shadow loop.
     let dark = load_str("[[sphere]]\n", "dark.toml", None).unwrap();
     assert!(!gpu::generated_wgsl(&prep(&dark)).contains("fn traversal_any"));
+    // A Monte Carlo scene's shader calls its own integrator only (the other is inlined nowhere).
+    let path = gpu::generated_wgsl(&prep(&load_file(&dir.join("cornell-area.toml")).unwrap()));
+    assert!(path.contains("return mc_path(ray);"));
+    assert!(!path.contains("return mc_distribution(ray);"));
+    let dist = gpu::generated_wgsl(&prep(&load_file(&dir.join("soft-shadows.toml")).unwrap()));
+    assert!(dist.contains("return mc_distribution(ray);"));
+    assert!(!dist.contains("return mc_path(ray);"));
     // And every generated shader is smaller than the full one.
     for p in scene_paths() {
         let scene = load_whitted(&p);

@@ -867,8 +867,18 @@ fn mc_sample(p: vec2u, k: u32, primary: Ray) -> vec3f {
     current_ray = 0u;
     next_ray_id = 1u;
 //#endif
+    // Only the scene's integrator is compiled in, except in the full shader (ShaderConfig's
+    // `path` and `distribution`).
+//#if PATH
+//#if DISTRIBUTION
     if mc_integrator() == MC_INTEGRATOR_PATH {
         return mc_path(ray);
     }
     return mc_distribution(ray);
+//#else
+    return mc_path(ray);
+//#endif
+//#else
+    return mc_distribution(ray);
+//#endif
 }

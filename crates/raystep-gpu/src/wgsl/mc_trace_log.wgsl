@@ -216,20 +216,29 @@ fn d_log_followed(slot: u32, depth: u32, r: Ray) -> u32 {
 
 // The trace shader's pixel: sample params.trace_sample with every step, its value, then the
 // summaries of the pixel's samples. `writes`: this invocation writes the log.
+// One loop with one call of the integrator for both (i = 0 is the traced sample, i = k + 1 is
+// sample k's summary): a shader compiler inlines every call, and a second call doubled the code
+// lavapipe compiles (docs/ARCHITECTURE.md, *Lavapipe's shader cache*).
 fn mc_trace_pixel(p: vec2u, centre: vec3f, exact: bool, writes: bool) -> vec3f {
     summary = false;
     sum_active = writes;
-    let c = mc_sample(p, params.trace_sample, ray_generation(p, params.trace_sample, centre, exact));
-    log_open();
-    log_v(c);
-    log_close(EV_PIXEL);
-    summary = true;
     let kept = min(max(params.spp, 1u), MAX_PIXEL_SAMPLES);
-    for (var k = 0u; k < kept; k++) {
-        log_on = false;
-        sum_object = NO_OBJECT;
+    var c = vec3f(0.0);
+    for (var i = 0u; i <= kept; i++) {
+        var k = params.trace_sample;
+        if i > 0u {
+            k = i - 1u;
+            log_on = false;
+            sum_object = NO_OBJECT;
+        }
         let v = mc_sample(p, k, ray_generation(p, k, centre, exact));
-        if sum_active && !log_full {
+        if i == 0u {
+            c = v;
+            log_open();
+            log_v(c);
+            log_close(EV_PIXEL);
+            summary = true;
+        } else if sum_active && !log_full {
             log_on = true;
             log_open();
             log_u(k);
