@@ -79,64 +79,6 @@ fn pixels(s: &Scene) -> Vec<([u32; 2], u32)> {
     ]
 }
 
-/// One scene's tracer, its pixels traced on the GPU and compared with the CPU's traces step by
-/// step; the differences are pushed onto `failures`. Returns the numbers compared, or `None`
-/// where the adapter's compute path is not exact (the scene is skipped, with a message).
-fn compare_pixels(
-    name: &str,
-    s: &Scene,
-    prepared: &PreparedScene,
-    gpu: &mut GpuTracer,
-    failures: &mut Vec<String>,
-    seen: &mut BTreeMap<&'static str, usize>,
-) -> Option<usize> {
-    let exact = gpu.exact(GpuPath::Compute) && gpu.arithmetic().probe.subnormals_kept();
-    if !exact || gpu.hardware_ray_queries() {
-        eprintln!("SKIPPED {name}: the adapter's compute path is not exact");
-        return None;
-    }
-    let mut px = pixels(s);
-    if name == "cornell-area.toml" {
-        // And a pixel whose camera ray lands on the area light (found with the CPU's trace):
-        // the emission step and its MIS weights.
-        let (w, h) = (s.camera.width, s.camera.height);
-        let on_light = (0..h).step_by(4).map(|y| [w / 2, y]).find(|&[x, y]| {
-            prepared
-                .record(x, y, 0)
-                .root
-                .steps
-                .iter()
-                .any(|r| matches!(r.step, Step::Emitted { .. }))
-        });
-        px.push((on_light.expect("a pixel sees the light"), 0));
-    }
-    let mut compared = 0;
-    for ([x, y], k) in px {
-        let cpu = prepared.record(x, y, k);
-        let got = gpu.trace_pixel(x, y, k, DEFAULT_LOG_WORDS).unwrap();
-        let at = format!("{name} {:?} ({x}, {y}) sample {k}", s.settings.integrator);
-        assert!(!got.truncated && !got.summaries_truncated, "{at}");
-        // Read back as raystep reads a saved trace (the loader's checks).
-        Trace::from_json(&got.trace.to_json(), "gpu.json").unwrap();
-        let mc = got
-            .trace
-            .monte_carlo
-            .as_ref()
-            .expect("a Monte Carlo record");
-        assert_eq!(mc.samples.len() as u32, s.settings.spp.min(1024), "{at}");
-        tally(&got.trace, seen);
-        let cmp = compare(&cpu, &got.trace, Tolerance::EXACT);
-        compared += cmp.numbers_compared;
-        if !cmp.is_equal() {
-            failures.push(format!(
-                "{at}:\n{}",
-                cmp.to_text(&cpu, &got.trace, ["cpu", "gpu"])
-            ));
-        }
-    }
-    Some(compared)
-}
-
 /// Also runs, on the tracers it makes, the checks below that need one (each tracer compiles its
 /// shaders on lavapipe: seconds to tens of seconds on a CI machine).
 ///
@@ -172,11 +114,49 @@ fn gpu_traces_of_monte_carlo_samples_equal_the_cpu_traces() {
             "{name}"
         );
         let mut gpu = GpuTracer::new(ctx.clone(), &prepared, ShaderVariant::Generated).unwrap();
-        let Some(n) = compare_pixels(name, &s, &prepared, &mut gpu, &mut failures, &mut seen)
-        else {
+        let exact = gpu.exact(GpuPath::Compute) && gpu.arithmetic().probe.subnormals_kept();
+        if !exact || gpu.hardware_ray_queries() {
+            eprintln!("SKIPPED {name}: the adapter's compute path is not exact");
             continue;
-        };
-        compared += n;
+        }
+        let mut px = pixels(&s);
+        if name == "cornell-area.toml" {
+            // And a pixel whose camera ray lands on the area light (found with the CPU's trace):
+            // the emission step and its MIS weights.
+            let (w, h) = (s.camera.width, s.camera.height);
+            let on_light = (0..h).step_by(4).map(|y| [w / 2, y]).find(|&[x, y]| {
+                prepared
+                    .record(x, y, 0)
+                    .root
+                    .steps
+                    .iter()
+                    .any(|r| matches!(r.step, Step::Emitted { .. }))
+            });
+            px.push((on_light.expect("a pixel sees the light"), 0));
+        }
+        for ([x, y], k) in px {
+            let cpu = prepared.record(x, y, k);
+            let got = gpu.trace_pixel(x, y, k, DEFAULT_LOG_WORDS).unwrap();
+            let at = format!("{name} {integrator:?} ({x}, {y}) sample {k}");
+            assert!(!got.truncated && !got.summaries_truncated, "{at}");
+            // Read back as raystep reads a saved trace (the loader's checks).
+            Trace::from_json(&got.trace.to_json(), "gpu.json").unwrap();
+            let mc = got
+                .trace
+                .monte_carlo
+                .as_ref()
+                .expect("a Monte Carlo record");
+            assert_eq!(mc.samples.len() as u32, s.settings.spp.min(1024), "{at}");
+            tally(&got.trace, &mut seen);
+            let cmp = compare(&cpu, &got.trace, Tolerance::EXACT);
+            compared += cmp.numbers_compared;
+            if !cmp.is_equal() {
+                failures.push(format!(
+                    "{at}:\n{}",
+                    cmp.to_text(&cpu, &got.trace, ["cpu", "gpu"])
+                ));
+            }
+        }
         match name {
             "cornell-area.toml" => {
                 a_perturbed_gpu_value_is_named_by_diff(&s, &prepared, &mut gpu);
