@@ -767,53 +767,67 @@ fn d_shade(ray: Ray, depth: u32, throughput: vec3f, slot: u32) -> DFrame {
 }
 
 fn mc_distribution(primary: Ray) -> vec3f {
-    var sp = 1u;
+    // The ray to shade next: the primary ray first, then each child a frame follows. d_shade is
+    // called from one place: a shader compiler inlines every call, and each copy of d_shade holds
+    // the (logged) traversal twice, for the hit and for the shadow rays; two copies took lavapipe
+    // minutes to compile (docs/ARCHITECTURE.md, *Lavapipe's shader cache*).
+    var ray = primary;
+    var depth = 0u;
+    var throughput = vec3f(1.0);
+    var sp = 0u;
 //#if TRACE
     d_id[0] = current_ray;
 //#endif
-    d_stack[0] = d_shade(primary, 0u, vec3f(1.0), 0u);
     loop {
-        let top = sp - 1u;
-        let f = d_stack[top];
-        if f.cur >= f.n {
+        d_stack[sp] = d_shade(ray, depth, throughput, sp);
+        sp += 1u;
+        // Finished frames give their radiance to their parents, until a frame has a child to
+        // follow (or the primary ray's frame is done).
+        loop {
+            let top = sp - 1u;
+            let f = d_stack[top];
+            if f.cur >= f.n {
+//#if TRACE
+                current_ray = d_id[top];
+                d_log_branches(top, f.depth, false);
+                log_color(f.l);
+                log_end(d_hit[top]);
+//#endif
+                // Done: its radiance goes to its parent, weighted as the parent followed it.
+                sp -= 1u;
+                if sp == 0u {
+                    return f.l;
+                }
+                let parent = sp - 1u;
+                var w = d_stack[parent].w0;
+                if d_stack[parent].cur == 1u {
+                    w = d_stack[parent].w1;
+                }
+                d_stack[parent].l = d_stack[parent].l + w * f.l;
+                d_stack[parent].cur += 1u;
+                continue;
+            }
+            var r = f.r0;
+            var t = f.t0;
+            if f.cur == 1u {
+                r = f.r1;
+                t = f.t1;
+            }
+            if sp >= RAY_STACK {
+                // Cannot happen (depth ≤ max_depth < RAY_STACK); ends the branch as a miss would not.
+                d_stack[top].cur += 1u;
+                continue;
+            }
 //#if TRACE
             current_ray = d_id[top];
-            d_log_branches(top, f.depth, false);
-            log_color(f.l);
-            log_end(d_hit[top]);
+            d_log_branches(top, f.depth, true);
+            d_id[sp] = d_log_followed(top, f.depth + 1u, r);
 //#endif
-            // Done: its radiance goes to its parent, weighted as the parent followed it.
-            sp -= 1u;
-            if sp == 0u {
-                return f.l;
-            }
-            let parent = sp - 1u;
-            var w = d_stack[parent].w0;
-            if d_stack[parent].cur == 1u {
-                w = d_stack[parent].w1;
-            }
-            d_stack[parent].l = d_stack[parent].l + w * f.l;
-            d_stack[parent].cur += 1u;
-            continue;
+            ray = r;
+            depth = f.depth + 1u;
+            throughput = t;
+            break;
         }
-        var r = f.r0;
-        var t = f.t0;
-        if f.cur == 1u {
-            r = f.r1;
-            t = f.t1;
-        }
-        if sp >= RAY_STACK {
-            // Cannot happen (depth ≤ max_depth < RAY_STACK); ends the branch as a miss would not.
-            d_stack[top].cur += 1u;
-            continue;
-        }
-//#if TRACE
-        current_ray = d_id[top];
-        d_log_branches(top, f.depth, true);
-        d_id[sp] = d_log_followed(top, f.depth + 1u, r);
-//#endif
-        d_stack[sp] = d_shade(r, f.depth + 1u, t, sp);
-        sp += 1u;
     }
     return vec3f(0.0);
 }
