@@ -70,10 +70,10 @@ if [ "$(wasm-bindgen --version 2>/dev/null || true)" != "wasm-bindgen $WBG_VERSI
   # to do): a fifth less to compile. At opt-level 1 (CARGO_PROFILE_RELEASE_OPT_LEVEL): on a
   # 2-core machine, alone, 324 s of CPU against 398 s at release's opt-level 3, and it writes
   # the same files for raystep's 24 MB wasm, in 3.4 s against 2.9 s.
-  export CARGO_PROFILE_RELEASE_OPT_LEVEL=1
-  cargo install --quiet wasm-bindgen-cli --version "$WBG_VERSION" --no-default-features --locked \
-    || cargo install --quiet wasm-bindgen-cli --version "$WBG_VERSION" --no-default-features
-  unset CARGO_PROFILE_RELEASE_OPT_LEVEL
+  CARGO_PROFILE_RELEASE_OPT_LEVEL=1 cargo install --quiet wasm-bindgen-cli \
+      --version "$WBG_VERSION" --no-default-features --locked \
+    || CARGO_PROFILE_RELEASE_OPT_LEVEL=1 cargo install --quiet wasm-bindgen-cli \
+      --version "$WBG_VERSION" --no-default-features
   hash -r
 fi
 if [ "$(wasm-bindgen --version 2>/dev/null || true)" != "wasm-bindgen $WBG_VERSION" ]; then
