@@ -131,6 +131,10 @@ pub struct SettingsArgs {
     /// samples.
     #[arg(long, value_enum)]
     pub sampler: Option<crate::scene::SamplerKind>,
+    /// Where rays leave smooth-shaded triangles: none (the flat triangle: a jagged shadow
+    /// terminator) or hanika (Hanika's lift towards the smooth surface).
+    #[arg(long, value_enum)]
+    pub terminator: Option<crate::scene::Terminator>,
 }
 
 impl SettingsArgs {
@@ -149,6 +153,7 @@ impl SettingsArgs {
             integrator: self.integrator,
             strategy: self.strategy,
             sampler: self.sampler,
+            terminator: self.terminator,
             ..Default::default()
         };
         overrides.apply(scene)

@@ -82,7 +82,15 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
         for v in [a, b, c] {
             objects.vec3(v.truncate()).f32(v.w);
         }
-        objects.u32(kind).u32(o.material).u32(axis).u32(0);
+        objects.u32(kind).u32(o.material).u32(axis).u32(o.normals);
+    }
+    // A smooth triangle's vertex normals, one Object-sized record each after the objects
+    // (`objects[params.n_objects + normals]`, n₀ n₁ n₂ in a b c): no binding of their own.
+    for n in &scene.vertex_normals {
+        for v in n {
+            objects.vec3(*v).f32(0.0);
+        }
+        objects.u32(0).u32(0).u32(0).u32(0);
     }
     let mut materials = Bytes::default();
     for m in &scene.materials {

@@ -76,6 +76,8 @@ codes! {
         ROULETTE = 24,
         /// A pixel sample's summary.
         SAMPLE = 25,
+        /// Smooth shading's interpolated normal.
+        SHADING_NORMAL = 26,
     }
 }
 
@@ -204,6 +206,7 @@ fn scalars() -> Vec<(&'static str, u32)> {
         ("LOG_HEADER", LOG_HEADER),
         ("LOG_RECORD_MAX", LOG_RECORD_MAX),
         ("NO_OBJECT", NO_OBJECT),
+        ("NO_NORMALS", crate::scene::NO_NORMALS),
         (
             "MAX_PIXEL_SAMPLES",
             crate::record::samples::MAX_PIXEL_SAMPLES as u32,
@@ -278,8 +281,8 @@ mod tests {
         let prepared = crate::trace::PreparedScene::new(crate::scene::default_scene());
         let base = ShaderConfig::for_scene(&prepared);
         let mut checked = 0;
-        // Every combination of the features a scene switches on, then the Monte Carlo, trace
-        // and ray-query shaders with every feature.
+        // Every combination of the features a scene switches on, then the Monte Carlo, trace,
+        // ray-query and terminator-fix shaders with every feature (smooth shading included).
         for bits in 0u32..128 {
             let b = |k: u32| bits & (1 << k) != 0;
             let c = ShaderConfig {
@@ -299,11 +302,12 @@ mod tests {
             checked += 1;
         }
         let full = ShaderConfig::full(&prepared);
-        for bits in 0u32..8 {
+        for bits in 0u32..16 {
             let b = |k: u32| bits & (1 << k) != 0;
             let mut c = ShaderConfig {
                 monte_carlo: b(0),
                 trace: b(1),
+                hanika: b(3),
                 ..full
             };
             if b(2) {
@@ -330,6 +334,6 @@ mod tests {
                 checked += 1;
             }
         }
-        assert_eq!(checked, 140);
+        assert_eq!(checked, 148);
     }
 }

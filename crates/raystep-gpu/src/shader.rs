@@ -29,6 +29,11 @@ pub struct ShaderConfig {
     pub planes: bool,
     /// Triangle intersection code.
     pub triangles: bool,
+    /// Smooth shading: a triangle's vertex normals interpolated at the hit (the scene has
+    /// smooth triangles).
+    pub smooth: bool,
+    /// Hanika's terminator fix on smooth triangles (`[render] terminator = "hanika"`).
+    pub hanika: bool,
     /// BVH traversal.
     pub bvh: bool,
     /// The brute-force loop.
@@ -101,6 +106,8 @@ impl ShaderConfig {
             spheres: f.spheres > 0,
             planes: f.planes > 0,
             triangles: f.triangles > 0,
+            smooth: f.smooth > 0,
+            hanika: f.smooth > 0 && s.terminator == crate::scene::Terminator::Hanika,
             bvh,
             brute: !bvh,
             ray_query: false,
@@ -135,6 +142,7 @@ impl ShaderConfig {
             spheres: true,
             planes: true,
             triangles: true,
+            smooth: true,
             bvh: !self.ray_query,
             brute: !self.ray_query,
             shadows: true,
@@ -171,6 +179,8 @@ impl ShaderConfig {
             "SPHERES" => self.spheres,
             "PLANES" => self.planes,
             "TRIANGLES" => self.triangles,
+            "SMOOTH" => self.smooth,
+            "HANIKA" => self.hanika,
             "BVH" => self.bvh,
             "BRUTE" => self.brute,
             "SHADOWS" => self.shadows,
@@ -316,7 +326,8 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     );
     // Constants computed exactly as the CPU computes them, written in Rust's shortest
     // round-trip form.
-    let constants: [(&str, f32); 7] = [
+    let constants: [(&str, f32); 8] = [
+        ("GAMMA1", gamma::<f32>(1)),
         ("GAMMA2", gamma::<f32>(2)),
         ("GAMMA3", gamma::<f32>(3)),
         ("GAMMA5", gamma::<f32>(5)),

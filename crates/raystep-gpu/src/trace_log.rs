@@ -296,6 +296,32 @@ fn surface_step(p: &mut Payload) -> Result<Step, String> {
     })
 }
 
+/// A smooth-shading record: the object, u, v, the shading normal, the geometric normal and the
+/// lifted point (the vertex normals are the scene's).
+fn shading_normal_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
+    let object = p.u()?;
+    let (u, v) = (p.f()?, p.f()?);
+    let (normal, geometric, lifted) = (p.v()?, p.v()?, p.v()?);
+    let vertex_normals = scene
+        .objects
+        .get(object as usize)
+        .and_then(|_| scene.vertex_normals_of(object))
+        .ok_or_else(|| {
+            format!("a shading normal on object {object}, which has no vertex normals")
+        })?;
+    Ok(Step::ShadingNormal {
+        vertex_normals: vertex_normals.map(|n| n.to_array()),
+        u,
+        v,
+        normal,
+        angle_deg: crate::trace::interaction::angle_deg(
+            glam::Vec3::from(normal),
+            glam::Vec3::from(geometric),
+        ),
+        lifted: (scene.settings.terminator == crate::scene::Terminator::Hanika).then_some(lifted),
+    })
+}
+
 /// A node record as the CPU's node visit.
 fn node_step(p: &mut Payload) -> Result<Step, String> {
     let node = p.u()?;
@@ -463,6 +489,7 @@ pub fn decode(
             }
             tag::MISS => push(&mut rays, Step::Miss { background: p.v()? })?,
             tag::SURFACE => push(&mut rays, surface_step(&mut p)?)?,
+            tag::SHADING_NORMAL => push(&mut rays, shading_normal_step(scene, &mut p)?)?,
             tag::LENS => push(&mut rays, mc::lens(&mut p)?)?,
             tag::EMITTED => push(&mut rays, mc::emitted(scene, &mut p)?)?,
             tag::LIGHT_SAMPLE => {

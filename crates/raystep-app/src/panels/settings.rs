@@ -3,7 +3,7 @@
 
 use crate::record::number::num;
 use crate::scene::{
-    AccelChoice, BvhQuality, Integrator, OffsetPolicy, SamplerKind, Settings, Strategy,
+    AccelChoice, BvhQuality, Integrator, OffsetPolicy, SamplerKind, Settings, Strategy, Terminator,
 };
 use crate::shapes::{SphereMethod, TriangleMethod};
 use crate::state::{AppState, Command};
@@ -195,6 +195,22 @@ pub(super) fn settings_panel(
             });
         }
     }
+    if f.smooth > 0 {
+        ui.label(RichText::new("Shadow terminator").strong());
+        ui.horizontal_wrapped(|ui| {
+            ui.radio_value(&mut s.terminator, Terminator::None, "flat triangle")
+                .on_hover_text(
+                    "rays leave from the hit point on the flat triangle: where the smooth normal \
+                     still faces the light, neighbouring facets block the shadow ray (a jagged \
+                     terminator)",
+                );
+            ui.radio_value(&mut s.terminator, Terminator::Hanika, "Hanika's lift")
+                .on_hover_text(
+                    "rays leave from the point lifted onto the vertices' tangent planes \
+                     (Ray Tracing Gems II, ch. 4): the terminator follows the smooth surface",
+                );
+        });
+    }
     if s.spp > 1 {
         ui.horizontal(|ui| {
             let l = ui.label("Jitter seed");
@@ -302,5 +318,8 @@ fn settings_summary(ui: &mut egui::Ui, s: &Settings) {
         format!("acceleration: {accel}"),
     ] {
         ui.label(line);
+    }
+    if s.terminator == Terminator::Hanika {
+        ui.label("shadow terminator: Hanika's lift");
     }
 }

@@ -273,6 +273,14 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             },
             v3(*over_point)
         ),
+        Step::ShadingNormal {
+            normal, angle_deg, ..
+        } => format!(
+            "smooth shading: the vertex normals blended at (u, v) give the shading normal {} \
+             ({}° from the flat normal)",
+            v3(*normal),
+            num(*angle_deg)
+        ),
         Step::ShadowRay { name, distance, .. } => {
             format!(
                 "shadow ray towards light \"{name}\" ({} away)",

@@ -220,6 +220,35 @@ pub enum Step {
         #[serde(with = "crate::jsonf")]
         over_point: [f32; 3],
     },
+    /// Smooth shading (after the `Surface` step of a triangle with vertex normals): the vertex
+    /// normals blended with the hit's barycentrics, s = (1 − u − v)·n₀ + u·n₁ + v·n₂, and
+    /// s / |s| turned to the side of the geometric normal.
+    ShadingNormal {
+        /// The unit vertex normals n₀, n₁, n₂.
+        #[serde(with = "crate::jsonf")]
+        vertex_normals: [[f32; 3]; 3],
+        /// Barycentric u (the weight of n₁).
+        #[serde(with = "crate::jsonf")]
+        u: f32,
+        /// Barycentric v (the weight of n₂).
+        #[serde(with = "crate::jsonf")]
+        v: f32,
+        /// The unit shading normal that lighting, reflection, refraction and the BSDFs use.
+        #[serde(with = "crate::jsonf")]
+        normal: [f32; 3],
+        /// The angle between the shading normal and the geometric normal, in degrees.
+        #[serde(with = "crate::jsonf")]
+        angle_deg: f32,
+        /// Under `terminator = "hanika"`: the point P′ that rays leaving on the ray's side start
+        /// from (before the offset), lifted towards the smooth surface (P′ = P where nothing
+        /// lifts it).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        lifted: Option<[f32; 3]>,
+    },
     /// A shadow ray is about to be traced towards a light.
     ShadowRay {
         /// Light index.

@@ -12,6 +12,9 @@ pub struct Features {
     pub planes: usize,
     /// Number of triangles (loose and from meshes).
     pub triangles: usize,
+    /// Number of smooth-shaded triangles (with vertex normals).
+    #[serde(default)]
+    pub smooth: usize,
     /// Number of meshes.
     pub meshes: usize,
     /// Number of point lights.
@@ -48,6 +51,7 @@ impl Features {
                 Shape::Plane { .. } | Shape::AxisPlane { .. } => f.planes += 1,
                 Shape::Triangle { .. } => f.triangles += 1,
             }
+            f.smooth += usize::from(o.normals != super::NO_NORMALS);
             used[o.material as usize] = true;
             f.emitters += usize::from(materials[o.material as usize].emission.max_element() > 0.0);
         }

@@ -3,7 +3,7 @@
 
 use super::limits::*;
 use super::model::*;
-use super::obj::load_obj;
+use super::obj::{MeshShading, load_obj};
 use super::*;
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
@@ -448,10 +448,13 @@ impl<'a> Ctx<'a> {
 
         let mut objects: Vec<Object> = vec![];
         let mut groups: Vec<Group> = vec![];
+        let mut vertex_normals: Vec<[Vec3; 3]> = vec![];
         let mut names: HashMap<String, usize> = HashMap::new();
+        // `normals`: empty, or one entry per shape (a smooth triangle's vertex normals).
         let mut add_group = |loc: &Loc,
                              name: String,
                              shapes: Vec<Shape>,
+                             normals: Vec<Option<[Vec3; 3]>>,
                              mat: u32|
          -> Result<(), SceneError> {
             // Keep the byte offset; the line is counted only when a duplicate is reported (counting
@@ -479,11 +482,22 @@ impl<'a> Ctx<'a> {
                 first: objects.len() as u32,
                 count: shapes.len() as u32,
             });
-            objects.extend(shapes.into_iter().map(|shape| Object {
-                shape,
-                material: mat,
-                group: g,
-            }));
+            let mut normals = normals.into_iter();
+            for shape in shapes {
+                let n = match normals.next().flatten() {
+                    Some(n) => {
+                        vertex_normals.push(n);
+                        vertex_normals.len() as u32 - 1
+                    }
+                    None => NO_NORMALS,
+                };
+                objects.push(Object {
+                    shape,
+                    material: mat,
+                    group: g,
+                    normals: n,
+                });
+            }
             Ok(())
         };
 
@@ -535,7 +549,13 @@ impl<'a> Ctx<'a> {
                         );
                     }
                     let m = material(&loc, &d.material)?;
-                    add_group(&loc, name, vec![Shape::Sphere { center, radius }], m)?;
+                    add_group(
+                        &loc,
+                        name,
+                        vec![Shape::Sphere { center, radius }],
+                        vec![],
+                        m,
+                    )?;
                 }
                 Def::Plane(p) => {
                     let d = p.get_ref();
@@ -577,7 +597,7 @@ impl<'a> Ctx<'a> {
                         Shape::Plane { normal, offset }
                     };
                     let m = material(&loc, &d.material)?;
-                    add_group(&loc, name, vec![shape], m)?;
+                    add_group(&loc, name, vec![shape], vec![], m)?;
                 }
                 Def::Triangle(t) => {
                     let d = t.get_ref();
@@ -588,8 +608,28 @@ impl<'a> Ctx<'a> {
                         loc.vertex("vertices", d.vertices[1])?,
                         loc.vertex("vertices", d.vertices[2])?,
                     ];
+                    let normals = match d.normals {
+                        Some(ns) => {
+                            let mut out = [Vec3::ZERO; 3];
+                            for (k, (n, o)) in ns.iter().zip(out.iter_mut()).enumerate() {
+                                loc.vec3("normals", *n)?;
+                                let Some(u) = crate::math::unit_f64(*n) else {
+                                    return Err(loc.err(
+                                        "normals",
+                                        format!(
+                                            "normal {} must be a non-zero vector, got {n:?}",
+                                            k + 1
+                                        ),
+                                    ));
+                                };
+                                *o = Vec3::new(u[0] as f32, u[1] as f32, u[2] as f32);
+                            }
+                            vec![Some(out)]
+                        }
+                        None => vec![],
+                    };
                     let m = material(&loc, &d.material)?;
-                    add_group(&loc, name, vec![Shape::Triangle { p }], m)?;
+                    add_group(&loc, name, vec![Shape::Triangle { p }], normals, m)?;
                 }
                 Def::Mesh(mesh) => {
                     let d = mesh.get_ref();
@@ -602,9 +642,21 @@ impl<'a> Ctx<'a> {
                     }
                     let path =
                         base.map_or_else(|| Path::new(&d.obj).to_path_buf(), |b| b.join(&d.obj));
-                    let tris = load_obj(&path, translate, scale).map_err(|m| loc.err("obj", m))?;
+                    let shading = match d.shading.as_deref() {
+                        None => MeshShading::Auto,
+                        Some("flat") => MeshShading::Flat,
+                        Some("smooth") => MeshShading::Smooth,
+                        Some(other) => {
+                            return Err(loc.err(
+                                "shading",
+                                format!("must be \"flat\" or \"smooth\", got \"{other}\""),
+                            ));
+                        }
+                    };
+                    let (tris, normals) = load_obj(&path, translate, scale, shading)
+                        .map_err(|m| loc.err("obj", m))?;
                     let m = material(&loc, &d.material)?;
-                    add_group(&loc, name, tris, m)?;
+                    add_group(&loc, name, tris, normals, m)?;
                 }
             }
         }
@@ -625,6 +677,7 @@ impl<'a> Ctx<'a> {
             materials,
             objects,
             groups,
+            vertex_normals,
             features,
         })
     }
@@ -813,6 +866,7 @@ impl<'a> Ctx<'a> {
             rr_depth: rr_depth as u32,
             strategy,
             sampler: loc.choice("sampler", &d.sampler)?,
+            terminator: loc.choice("terminator", &d.terminator)?,
         })
     }
 }

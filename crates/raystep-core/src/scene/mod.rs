@@ -149,6 +149,25 @@ pub struct Settings {
     /// (`[render] sampler`).
     #[serde(default)]
     pub sampler: SamplerKind,
+    /// Where rays leave a smooth-shaded triangle (`[render] terminator`): the shadow
+    /// terminator's fix, or none.
+    #[serde(default)]
+    pub terminator: Terminator,
+}
+
+/// Where rays leave a smooth-shaded triangle on the side the ray came from (`[render]
+/// terminator`). Shadow rays from the flat triangle of a coarse mesh are blocked by the
+/// neighbouring facets where the smooth normal still faces the light: a jagged terminator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Terminator {
+    /// From the hit point on the flat triangle: the jagged terminator shows.
+    #[default]
+    None,
+    /// Hanika's shift ("Hacking the shadow terminator", Ray Tracing Gems II, ch. 4): from the
+    /// point lifted towards the curved surface the vertex normals describe
+    /// ([`crate::trace::interaction::lift_point`]).
+    Hanika,
 }
 
 fn default_rr_depth() -> u32 {
@@ -270,6 +289,7 @@ impl Default for Settings {
             rr_depth: 3,
             strategy: Strategy::Mis,
             sampler: SamplerKind::Independent,
+            terminator: Terminator::None,
         }
     }
 }
@@ -381,7 +401,13 @@ pub struct Object {
     pub material: u32,
     /// Index into [`Scene::groups`] (a named sphere, plane or triangle, or a whole mesh).
     pub group: u32,
+    /// Index into [`Scene::vertex_normals`] of a smooth-shaded triangle's three vertex normals,
+    /// or [`NO_NORMALS`] (the geometric normal shades it).
+    pub normals: u32,
 }
+
+/// [`Object::normals`] of an object shaded with its geometric normal.
+pub const NO_NORMALS: u32 = u32::MAX;
 
 /// A named entry of the scene file: one sphere, plane or triangle, or one mesh's triangles.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -439,6 +465,9 @@ pub struct Scene {
     pub objects: Vec<Object>,
     /// Named groups of objects.
     pub groups: Vec<Group>,
+    /// The unit vertex normals n₀, n₁, n₂ of each smooth-shaded triangle (OBJ `vn`, a mesh's
+    /// `shading = "smooth"`, or a triangle's `normals`), indexed by [`Object::normals`].
+    pub vertex_normals: Vec<[Vec3; 3]>,
     /// What the scene uses.
     pub features: Features,
 }
@@ -453,6 +482,12 @@ impl Scene {
         } else {
             format!("{}[{}]", g.name, id - g.first)
         }
+    }
+    /// The vertex normals of object `id`, if it is a smooth-shaded triangle.
+    #[inline(always)]
+    pub fn vertex_normals_of(&self, id: u32) -> Option<&[Vec3; 3]> {
+        self.vertex_normals
+            .get(self.objects[id as usize].normals as usize)
     }
     /// The material of object `id`.
     #[inline(always)]

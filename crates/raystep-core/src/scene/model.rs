@@ -89,6 +89,7 @@ pub struct RenderDef {
     pub rr_depth: i64,
     pub strategy: String,
     pub sampler: String,
+    pub terminator: String,
 }
 
 impl Default for RenderDef {
@@ -108,6 +109,7 @@ impl Default for RenderDef {
             rr_depth: 3,
             strategy: "mis".into(),
             sampler: "independent".into(),
+            terminator: "none".into(),
         }
     }
 }
@@ -220,6 +222,9 @@ pub struct TriangleDef {
     pub name: Option<String>,
     #[serde(deserialize_with = "exact::triangle")]
     pub vertices: [[f64; 3]; 3],
+    /// Vertex normals n₀, n₁, n₂ (any length but zero): the triangle is smooth-shaded.
+    #[serde(default, deserialize_with = "exact::opt_triangle")]
+    pub normals: Option<[[f64; 3]; 3]>,
     pub material: Option<String>,
 }
 
@@ -235,6 +240,10 @@ pub struct MeshDef {
     #[serde(default = "one")]
     pub scale: f64,
     pub material: Option<String>,
+    /// `"flat"` (the geometric normal) or `"smooth"` (vertex normals: the file's `vn`, else the
+    /// area-weighted average of the faces around each vertex). Default: smooth where the file
+    /// gives every face its `vn`, flat otherwise.
+    pub shading: Option<String>,
 }
 
 fn one() -> f64 {
@@ -262,6 +271,13 @@ mod exact {
     /// Exactly three numbers, when present.
     pub fn opt_vec3<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 3]>, D::Error> {
         vec3(d).map(Some)
+    }
+
+    /// Exactly three points of exactly three numbers, when present.
+    pub fn opt_triangle<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[[f64; 3]; 3]>, D::Error> {
+        triangle(d).map(Some)
     }
 
     /// Exactly three points of exactly three numbers.

@@ -46,13 +46,62 @@ fn locate_obj_problem(path: &Path, text: &str) -> Option<String> {
     None
 }
 
-/// Loads an OBJ file's faces (triangulated) as triangles, scaled then translated.
+/// How a mesh's triangles are shaded (`[[mesh]] shading`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum MeshShading {
+    /// Smooth where the file gives every face its vertex normals (`vn`), flat otherwise.
+    Auto,
+    /// The geometric normal.
+    Flat,
+    /// Vertex normals: the file's, else computed ([`computed_normals`]).
+    Smooth,
+}
+
+/// The line of the `k`-th (from 0) `vn` of an OBJ file, for error messages.
+fn vn_line(text: &str, k: usize) -> Option<usize> {
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| l.split_whitespace().next() == Some("vn"))
+        .nth(k)
+        .map(|(n, _)| n + 1)
+}
+
+/// Vertex normals for a mesh whose file has none: at each vertex, the sum of E1 × E2 over the
+/// faces around it (a face's cross product is twice its area along its normal, so larger faces
+/// weigh more), normalised, in f64. A vertex whose faces cancel (or are all degenerate) has
+/// none, and its faces are shaded flat.
+fn computed_normals(positions: &[Vec3], faces: &[[usize; 3]]) -> Vec<Option<[Vec3; 3]>> {
+    let mut sum = vec![glam::DVec3::ZERO; positions.len()];
+    for f in faces {
+        let p = f.map(|i| positions[i].as_dvec3());
+        let c = (p[1] - p[0]).cross(p[2] - p[0]);
+        for &i in f {
+            sum[i] += c;
+        }
+    }
+    let unit: Vec<Option<Vec3>> = sum
+        .iter()
+        .map(|s| crate::math::unit_f64(s.to_array()).map(|u| glam::DVec3::from(u).as_vec3()))
+        .collect();
+    faces
+        .iter()
+        .map(|f| Some([unit[f[0]]?, unit[f[1]]?, unit[f[2]]?]))
+        .collect()
+}
+
+/// Loads an OBJ file's faces (triangulated) as triangles, scaled then translated, with each
+/// face's vertex normals where `shading` asks for them (one entry per triangle, or none).
 ///
 /// The OBJ file and any material library it names (`mtllib`) are read through
 /// [`crate::io::read_input`]: regular files only, within [`crate::io::limits`]. raystep takes
 /// materials from the scene, so a material library that is missing or does not parse is ignored
 /// (as tobj does), but one that is not a regular file or is too large is an error.
-pub(super) fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<Shape>, String> {
+pub(super) fn load_obj(
+    path: &Path,
+    translate: Vec3,
+    scale: f32,
+    shading: MeshShading,
+) -> Result<(Vec<Shape>, Vec<Option<[Vec3; 3]>>), String> {
     use crate::io::{limits, read_input};
     let bytes = read_input(path, limits::OBJ, "OBJ file").map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
@@ -115,6 +164,12 @@ pub(super) fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<S
         ));
     }
     let mut tris = Vec::with_capacity(faces);
+    let mut normals: Vec<Option<[Vec3; 3]>> = vec![];
+    // Every face has its file normals (OBJ `f v//vn`): tobj gives a normal index per index.
+    let file_normals = models
+        .iter()
+        .all(|m| !m.mesh.indices.is_empty() && m.mesh.normal_indices.len() == m.mesh.indices.len());
+    let text = std::cell::OnceCell::new();
     for model in &models {
         let m = &model.mesh;
         let pos = |i: u32| -> Result<Vec3, String> {
@@ -138,14 +193,73 @@ pub(super) fn load_obj(path: &Path, translate: Vec3, scale: f32) -> Result<Vec<S
             }
             Ok(v)
         };
+        let first = tris.len();
         for f in m.indices.chunks_exact(3) {
             tris.push(Shape::Triangle {
                 p: [pos(f[0])?, pos(f[1])?, pos(f[2])?],
             });
         }
+        match shading {
+            MeshShading::Flat => {}
+            MeshShading::Auto | MeshShading::Smooth if file_normals => {
+                // Unit length in f64 (a uniform scale and a translation leave normals as they
+                // are); a zero or non-finite `vn` is an error naming its line.
+                let normal = |i: u32| -> Result<Vec3, String> {
+                    let k = i as usize;
+                    let n = m.normals.get(3 * k..3 * k + 3).ok_or_else(|| {
+                        format!(
+                            "{}: object \"{}\" refers to normal {} which does not exist",
+                            path.display(),
+                            model.name,
+                            k + 1
+                        )
+                    })?;
+                    let v = [n[0] as f64, n[1] as f64, n[2] as f64];
+                    crate::math::unit_f64(v)
+                        .map(|u| glam::DVec3::from(u).as_vec3())
+                        .ok_or_else(|| {
+                            let line = vn_line(
+                                text.get_or_init(|| String::from_utf8_lossy(&bytes).into_owned()),
+                                k,
+                            )
+                            .map_or(String::new(), |l| format!(":{l}"));
+                            format!(
+                                "{}{line}: normal {} (vn {} {} {}) must be a non-zero, finite vector",
+                                path.display(),
+                                k + 1,
+                                n[0],
+                                n[1],
+                                n[2]
+                            )
+                        })
+                };
+                normals.resize(first, None);
+                for f in m.normal_indices.chunks_exact(3) {
+                    normals.push(Some([normal(f[0])?, normal(f[1])?, normal(f[2])?]));
+                }
+            }
+            MeshShading::Auto => {}
+            MeshShading::Smooth => {
+                let positions: Vec<Vec3> = m
+                    .positions
+                    .chunks_exact(3)
+                    .map(|p| Vec3::new(p[0], p[1], p[2]))
+                    .collect();
+                let faces: Vec<[usize; 3]> = m
+                    .indices
+                    .chunks_exact(3)
+                    .map(|f| [f[0] as usize, f[1] as usize, f[2] as usize])
+                    .collect();
+                normals.resize(first, None);
+                normals.extend(computed_normals(&positions, &faces));
+            }
+        }
     }
     if tris.is_empty() {
         return Err(format!("OBJ file {} has no faces", path.display()));
     }
-    Ok(tris)
+    if !normals.is_empty() {
+        normals.resize(tris.len(), None);
+    }
+    Ok((tris, normals))
 }

@@ -118,7 +118,7 @@ impl<A: Accelerator> Tracer<'_, A> {
             Bsdf::Glass { ior } => {
                 // Both branches, each weighted by its Fresnel share.
                 let (fr, mut reflection, transmission) =
-                    bsdf::glass_lobes(ior, it.eye, it.normal, it.inside);
+                    bsdf::glass_lobes(ior, it.eye, it.shading_normal, it.inside);
                 reflection.weight *= fr;
                 l += self.follow(sampler, it, &b, reflection, &[], depth, throughput, obs);
                 if let Some(mut t) = transmission {
@@ -134,9 +134,14 @@ impl<A: Accelerator> Tracer<'_, A> {
                 } else {
                     &[][..]
                 };
-                if let Some(bs) =
-                    bsdf::sample(&b, it.eye, it.normal, it.inside, 0.0, [u0.value, u1.value])
-                {
+                if let Some(bs) = bsdf::sample(
+                    &b,
+                    it.eye,
+                    it.shading_normal,
+                    it.inside,
+                    0.0,
+                    [u0.value, u1.value],
+                ) {
                     l += self.follow(sampler, it, &b, bs, random, depth, throughput, obs);
                 }
             }

@@ -5,7 +5,7 @@
 
 use crate::accel::Hit;
 use crate::math::{Ray, gamma};
-use crate::scene::{OffsetPolicy, Scene, Shape};
+use crate::scene::{OffsetPolicy, Scene, Shape, Terminator};
 use glam::Vec3;
 
 /// Where a ray met a surface.
@@ -21,6 +21,17 @@ pub struct Interaction {
     pub inside: bool,
     /// Per-axis bound on the point's rounding error.
     pub error: Vec3,
+    /// Unit shading normal, on the same side as `normal`: a smooth triangle's vertex normals
+    /// interpolated at the hit ([`interpolate_normal`]), else `normal` itself. Lighting,
+    /// reflection, refraction and the BSDFs use it; which side a ray is on and where a spawned
+    /// ray starts use `normal`.
+    pub shading_normal: Vec3,
+    /// Where rays leaving on the side of `shading_normal` start from before the offset: `point`,
+    /// or on a smooth triangle under `terminator = "hanika"` the point lifted by [`lift_point`].
+    pub lifted: Vec3,
+    /// The rounding-error bound of `lifted` (`error`, plus half an ulp of its own sum where it
+    /// was lifted).
+    pub lifted_error: Vec3,
 }
 
 /// Computes the interaction at `hit`. Each shape computes the point from its own parametrization
@@ -30,7 +41,70 @@ pub struct Interaction {
 /// general plane — re-projected, bound γ₇(|P| + |P·n||n| + |c||n|).
 #[inline(always)]
 pub fn interact(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
-    interact_shape(&scene.objects[hit.object as usize].shape, hit, ray)
+    let shape = &scene.objects[hit.object as usize].shape;
+    let mut it = interact_shape(shape, hit, ray);
+    if let Some(n) = scene.vertex_normals_of(hit.object) {
+        let (normal, side) = blend_normals(n, hit.u, hit.v, it.normal);
+        it.shading_normal = normal;
+        if scene.settings.terminator == Terminator::Hanika
+            && side != 0.0
+            && let Shape::Triangle { p } = shape
+        {
+            let lifted = lift_point(p, n, hit.u, hit.v, it.point, side);
+            if lifted != it.point {
+                it.lifted = lifted;
+                it.lifted_error = it.error + gamma::<f32>(1) * lifted.abs();
+            }
+        }
+    }
+    it
+}
+
+/// [`interpolate_normal`], and the sign that turned the blend to `facing` (1 or −1; 0 where the
+/// normals cancelled and `facing` was used).
+#[inline(always)]
+fn blend_normals(n: &[Vec3; 3], u: f32, v: f32, facing: Vec3) -> (Vec3, f32) {
+    let b0 = 1.0 - u - v;
+    let s = n[0] * b0 + n[1] * u + n[2] * v;
+    let len = s.length();
+    if !len.is_normal() {
+        return (facing, 0.0);
+    }
+    let unit = s / len;
+    if unit.dot(facing) < 0.0 {
+        (-unit, -1.0)
+    } else {
+        (unit, 1.0)
+    }
+}
+
+/// Hanika's shading-point shift for the shadow terminator ("Hacking the shadow terminator", Ray
+/// Tracing Gems II, ch. 4). Each vertex Pᵢ with its normal nᵢ (times `side`, so that it faces
+/// the ray) defines a tangent plane of the curved surface the normals describe. Where the point
+/// lies below a vertex's plane, dᵢ = (P − Pᵢ)·nᵢ < 0, it is raised onto it, P − dᵢ·nᵢ; where it
+/// lies above, it stays. The three raised points are blended with the barycentrics:
+/// P′ = P − (min(d₀, 0)·n₀·b₀ + min(d₁, 0)·n₁·u + min(d₂, 0)·n₂·v). On a convex patch P′ lies
+/// above the flat triangle, towards the smooth surface, and a shadow ray from it clears the
+/// neighbouring facets; on a flat or concave patch every dᵢ ≥ 0 and P′ = P exactly.
+#[inline(always)]
+pub fn lift_point(p: &[Vec3; 3], n: &[Vec3; 3], u: f32, v: f32, point: Vec3, side: f32) -> Vec3 {
+    let b0 = 1.0 - u - v;
+    let raise = |i: usize| {
+        let ni = n[i] * side;
+        ni * (point - p[i]).dot(ni).min(0.0)
+    };
+    point - (raise(0) * b0 + raise(1) * u + raise(2) * v)
+}
+
+/// Smooth shading: the vertex normals blended by the hit's barycentrics,
+/// s = (1 − u − v)·n₀ + u·n₁ + v·n₂, then s / |s|, turned to the side of `facing` (the
+/// geometric normal facing the ray) if it points away from it, so that a mesh whose winding
+/// disagrees with its normals still shades its visible side. Where the three cancel (|s| is
+/// zero or subnormal: normals that point opposite ways) the geometric normal `facing` is used.
+/// The GPU's `interpolate_normal` is the same arithmetic in the same order.
+#[inline(always)]
+pub fn interpolate_normal(n: &[Vec3; 3], u: f32, v: f32, facing: Vec3) -> Vec3 {
+    blend_normals(n, u, v, facing).0
 }
 
 /// [`interact`] for one shape, without a scene: the stability lab spawns rays from bare shapes
@@ -81,7 +155,18 @@ pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
         eye,
         inside,
         error,
+        shading_normal: if inside { -outward } else { outward },
+        lifted: point,
+        lifted_error: error,
     }
+}
+
+/// The angle between two unit vectors in degrees, computed in f64 as atan2(|a × b|, a · b)
+/// (accurate at small angles, where acos(a · b) is not): the `ShadingNormal` step's angle,
+/// recorded for the reader (nothing is computed from it), on the CPU and from a GPU trace alike.
+pub fn angle_deg(a: Vec3, b: Vec3) -> f32 {
+    let (a, b) = (a.as_dvec3(), b.as_dvec3());
+    a.cross(b).length().atan2(a.dot(b)).to_degrees() as f32
 }
 
 /// The unit normal E1 × E2 / |E1 × E2| of a triangle's edges. For a triangle of vertices near
@@ -109,16 +194,25 @@ pub fn unit_normal(e1: Vec3, e2: Vec3) -> Vec3 {
 #[inline(always)]
 pub fn spawn_origin(policy: OffsetPolicy, epsilon: f32, it: &Interaction, w: Vec3) -> Vec3 {
     let side = if w.dot(it.normal) >= 0.0 { 1.0 } else { -1.0 };
+    // Rays on the shading normal's side leave from the lifted point (the terminator's fix; the
+    // point itself elsewhere, and wherever nothing was lifted). A shadow ray near the terminator
+    // may go below the flat triangle's plane (w·n < 0) while its light is above the smooth
+    // surface (w·n_s > 0): it leaves from P′, offset to the side w goes.
+    let (point, error) = if w.dot(it.shading_normal) >= 0.0 {
+        (it.lifted, it.lifted_error)
+    } else {
+        (it.point, it.error)
+    };
     match policy {
-        OffsetPolicy::None => it.point,
+        OffsetPolicy::None => point,
         // RTC's over_point / under_point.
-        OffsetPolicy::Fixed => it.point + it.normal * (epsilon * side),
+        OffsetPolicy::Fixed => point + it.normal * (epsilon * side),
         OffsetPolicy::Robust => {
             // pbrt-v4 OffsetRayOrigin: move |n|·error along n to the side w leaves on, then round
             // each moved coordinate one float further away so the offset survives the addition.
             let n = it.normal * side;
-            let d = n.abs().dot(it.error);
-            let mut o = it.point + n * d;
+            let d = n.abs().dot(error);
+            let mut o = point + n * d;
             for i in 0..3 {
                 if n[i] > 0.0 {
                     o[i] = o[i].next_up();

@@ -66,7 +66,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         let Some(bs) = bsdf::sample(
             &b,
             it.eye,
-            it.normal,
+            it.shading_normal,
             it.inside,
             lobe.value,
             [u0.value, u1.value],

@@ -235,6 +235,17 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             error_bound: it.error.to_array(),
             over_point: spawn_origin(s.offset, s.epsilon, &it, it.normal).to_array(),
         });
+        if let Some(n) = self.scene.vertex_normals_of(hit.object) {
+            obs.step(|| Step::ShadingNormal {
+                vertex_normals: n.map(|v| v.to_array()),
+                u: hit.u,
+                v: hit.v,
+                normal: it.shading_normal.to_array(),
+                angle_deg: super::interaction::angle_deg(it.shading_normal, it.normal),
+                lifted: (s.terminator == crate::scene::Terminator::Hanika)
+                    .then(|| it.lifted.to_array()),
+            });
+        }
         it
     }
 }

@@ -149,7 +149,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         {
             let to_light = light.position - it.point;
             // A light behind the surface contributes only ambient, shadowed or not: no shadow ray.
-            let facing = to_light.dot(it.normal) > 0.0;
+            let facing = to_light.dot(it.shading_normal) > 0.0;
             let mut blocker = None;
             if facing {
                 obs.step(|| Step::ShadowRay {
@@ -170,7 +170,7 @@ impl<A: Accelerator> Tracer<'_, A> {
                 light.color,
                 it.point,
                 it.eye,
-                it.normal,
+                it.shading_normal,
                 blocker.is_some(),
             );
             obs.step(|| Step::Light {
@@ -198,7 +198,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         let blend = transparent && R && m.reflective > 0.0;
         let snell = transparent.then(|| {
             let (n1, n2) = media.indices(hit.object, m.refractive_index);
-            (n1, n2, refract(it.eye, it.normal, n1, n2))
+            (n1, n2, refract(it.eye, it.shading_normal, n1, n2))
         });
         let fresnel = match snell {
             Some((n1, n2, refr)) if blend => Some(schlick_recorded(refr.cos_i, n1, n2)),
@@ -223,7 +223,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         let mut reflected = Vec3::ZERO;
         if R && m.reflective > 0.0 {
             if can_recurse {
-                let (d_dot_n, dir) = reflect_recorded(ray.dir, it.normal);
+                let (d_dot_n, dir) = reflect_recorded(ray.dir, it.shading_normal);
                 obs.step(|| Step::Reflect {
                     reflective: m.reflective,
                     direction: dir.to_array(),

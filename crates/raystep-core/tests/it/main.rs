@@ -18,5 +18,6 @@ mod samplers;
 mod scene_edit;
 mod scene_errors;
 mod scenes;
+mod smooth;
 mod spd;
 mod stiff;

@@ -73,6 +73,8 @@ pub struct LessonSettings {
     pub strategy: Option<crate::scene::Strategy>,
     /// The Monte Carlo integrators' 2D samples (`independent`, `stratified`).
     pub sampler: Option<crate::scene::SamplerKind>,
+    /// Where rays leave smooth triangles (`none`, `hanika`).
+    pub terminator: Option<crate::scene::Terminator>,
 }
 
 #[derive(Deserialize)]
@@ -146,6 +148,9 @@ impl LessonSettings {
         }
         if let Some(v) = self.sampler {
             s.sampler = v;
+        }
+        if let Some(v) = self.terminator {
+            s.terminator = v;
         }
         if let Some(v) = self.bvh_quality {
             s.bvh_quality = v;

@@ -70,6 +70,10 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
                 }
             )
         }
+        Step::ShadingNormal { angle_deg, .. } => format!(
+            "{kind} ray: smooth shading: the vertex normals blended, {}° from the flat normal",
+            label(*angle_deg)
+        ),
         Step::ShadowRay { name, distance, .. } => {
             format!("shadow ray towards \"{name}\" ({} away)", label(*distance))
         }

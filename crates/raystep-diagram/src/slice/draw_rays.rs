@@ -230,6 +230,27 @@ impl Drawer<'_, '_> {
                 );
             }
         }
+        // Smooth shading: the shading normal that lit this point, dashed beside the flat one.
+        if let Some((_, Step::ShadingNormal { normal: ns, .. })) = self
+            .info
+            .find(i, |s| matches!(s, Step::ShadingNormal { .. }))
+            && let Some(n2) = unit(self.lay.dpx(v3(*ns)))
+        {
+            let l = len(self.lay.dpx(v3(*ns))).min(1.0) * 30.0 * u;
+            let tip = add(h, mul(n2, l));
+            let w = if faded { 1.2 * u } else { 1.8 * u };
+            self.c.dashed(h, tip, ncol, w);
+            self.c.arrow(add(h, mul(n2, 0.7 * l)), tip, ncol, w);
+            if !faded && (self.info.current == Some(i) || (self.info.focus.is_none() && i == 0)) {
+                self.label_p(
+                    Prio::Marks,
+                    tip,
+                    "n_s",
+                    t.normal,
+                    &[mul(perp(n2), -1.0), perp(n2), n2],
+                );
+            }
+        }
         let hc = if faded { self.faded(t.hit) } else { t.hit };
         self.c.circle(
             h,

@@ -127,6 +127,9 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
     log_v(it.error);
     log_v(spawn_origin(it, it.normal));
     log_close(EV_SURFACE);
+//#if SMOOTH
+    log_shading_normal(hit, it);
+//#endif
 //#endif
     var surface = vec3f(0.0);
 //#if SHADOWS
@@ -144,7 +147,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
         var blocked_by = NO_OBJECT;
 //#endif
         // A light behind the surface contributes only ambient: no shadow ray.
-        if fdot(to_light, it.normal) > 0.0 {
+        if fdot(to_light, it.shading) > 0.0 {
 //#if TRACE
             log_open();
             log_u(li);
@@ -171,7 +174,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
 //#endif
             }
         }
-        let terms = phong(m, light, it.point, it.eye, it.normal, blocked);
+        let terms = phong(m, light, it.point, it.eye, it.shading, blocked);
         let total = terms.ambient + terms.diffuse + terms.specular;
 //#if TRACE
         log_open();
@@ -211,7 +214,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
 //#if REFLECTION
         if m.reflective > 0.0 {
             blend = true;
-            fresnel = schlick(fdot(it.eye, it.normal), n.x, n.y);
+            fresnel = schlick(fdot(it.eye, it.shading), n.x, n.y);
             reflect_weight = m.reflective * fresnel.x;
             refract_weight = m.transparency * (1.0 - fresnel.x);
         }
@@ -229,12 +232,12 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
 //#endif
     if m.reflective > 0.0 {
         if can_recurse {
-            reflect_d = mirror_dir(r.dir, it.normal);
+            reflect_d = mirror_dir(r.dir, it.shading);
 //#if TRACE
             log_open();
             log_f(m.reflective);
             log_v(reflect_d);
-            log_f(fdot(r.dir, it.normal));
+            log_f(fdot(r.dir, it.shading));
             log_close(EV_REFLECT);
 //#endif
             if !(task.weight * reflect_weight < WEIGHT_CUTOFF) {
@@ -262,7 +265,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
     var refract_d = vec3f(0.0);
     if m.transparency > 0.0 {
         if can_recurse {
-            let snell = refract_dir(it.eye, it.normal, n.x, n.y);
+            let snell = refract_dir(it.eye, it.shading, n.x, n.y);
             refract_d = snell.dir;
 //#if TRACE
             log_open();

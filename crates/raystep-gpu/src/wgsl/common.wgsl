@@ -42,7 +42,9 @@ struct Object {
     kind: u32,
     material: u32,
     axis: u32,
-    pad: u32,
+    // A smooth triangle's vertex normals: objects[params.n_objects + normals] holds n₀ n₁ n₂ in
+    // a b c; NO_NORMALS for every other object.
+    normals: u32,
 }
 
 struct Material {

@@ -8,6 +8,9 @@ struct Interaction {
     eye: vec3f,       // unit, from the point back towards the ray's origin
     inside: bool,
     error: vec3f,
+    shading: vec3f,   // unit shading normal: `normal`, or a smooth triangle's blended vertex normals
+    lifted: vec3f,    // where rays on the side of `shading` leave from: `point`, or Hanika's P′
+    lifted_error: vec3f,
 }
 
 //#if TRIANGLES
@@ -27,6 +30,41 @@ fn unit_normal(e1: vec3f, e2: vec3f) -> vec3f {
     let k = bitcast<f32>(u32(127 - exponent) << 23u);
     let nk = fcross(e1 * k, e2 * k);
     return fdiv3(nk, flen(nk));
+}
+//#endif
+
+//#if SMOOTH
+// crates/raystep-core/src/trace/interaction.rs blend_normals: (1 − u − v)·n₀ + u·n₁ + v·n₂,
+// normalized, turned to the side of `facing` (w: the sign, 1 or −1); `facing` itself where the
+// blend vanishes (w = 0).
+fn blend_normals(n: Object, u: f32, v: f32, facing: vec3f) -> vec4f {
+    let b0 = 1.0 - u - v;
+    let s = n.a.xyz * b0 + n.b.xyz * u + n.c.xyz * v;
+    let len = flen(s);
+    if !(is_finite_f(len) && len >= 1.17549435e-38) {
+        return vec4f(facing, 0.0);
+    }
+    let unit = fdiv3(s, len);
+    if fdot(unit, facing) < 0.0 {
+        return vec4f(-unit, -1.0);
+    }
+    return vec4f(unit, 1.0);
+}
+//#endif
+
+//#if HANIKA
+// crates/raystep-core/src/trace/interaction.rs lift_point: Hanika's shift of the shading point
+// onto the vertices' tangent planes, blended with the barycentrics.
+fn raise(p: vec3f, n: vec3f, point: vec3f) -> vec3f {
+    return n * min(fdot(point - p, n), 0.0);
+}
+
+fn lift_point(o: Object, nv: Object, u: f32, v: f32, point: vec3f, side: f32) -> vec3f {
+    let b0 = 1.0 - u - v;
+    let r0 = raise(o.a.xyz, nv.a.xyz * side, point);
+    let r1 = raise(o.b.xyz, nv.b.xyz * side, point);
+    let r2 = raise(o.c.xyz, nv.c.xyz * side, point);
+    return point - (r0 * b0 + r1 * u + r2 * v);
 }
 //#endif
 
@@ -85,5 +123,25 @@ fn interact(hit: Hit, r: Ray) -> Interaction {
     }
     let eye = fdiv3(-r.dir, flen(r.dir));
     let inside = fdot(outward, eye) < 0.0;
-    return Interaction(point, select(outward, -outward, inside), eye, inside, error);
+    let normal = select(outward, -outward, inside);
+    var shading = normal;
+    var lifted = point;
+    var lifted_error = error;
+//#if SMOOTH
+    if o.normals != NO_NORMALS {
+        let nv = objects[params.n_objects + o.normals];
+        let b = blend_normals(nv, hit.u, hit.v, normal);
+        shading = b.xyz;
+//#if HANIKA
+        if b.w != 0.0 {
+            let l = lift_point(o, nv, hit.u, hit.v, point, b.w);
+            if any(l != point) {
+                lifted = l;
+                lifted_error = error + GAMMA1 * abs(l);
+            }
+        }
+//#endif
+    }
+//#endif
+    return Interaction(point, normal, eye, inside, error, shading, lifted, lifted_error);
 }

@@ -460,9 +460,9 @@ fn mc_light_sample(it: Interaction, m: McMaterial, index: u32, select_pdf: f32, 
         return vec3f(0.0);
     }
     let delta = light_kind(index) == LIGHT_POINT;
-    let f = bsdf_eval(m, it.eye, lp.wi, it.normal);
-    let c = max(fdot(lp.wi, it.normal), 0.0);
-    let b_pdf = bsdf_pdf(m, it.eye, lp.wi, it.normal);
+    let f = bsdf_eval(m, it.eye, lp.wi, it.shading);
+    let c = max(fdot(lp.wi, it.shading), 0.0);
+    let b_pdf = bsdf_pdf(m, it.eye, lp.wi, it.shading);
     let pdf = select_pdf * lp.pdf;
     let useful = max3(lp.radiance) > 0.0 && max3(f) > 0.0 && c > 0.0;
     var blocked = false;
@@ -570,7 +570,7 @@ fn mc_path(primary: Ray) -> vec3f {
         let bsdf_dim = mc_dimension(depth, SLOT_BSDF);
         let lobe = draw(lobe_dim);
         let u = draw_pair(bsdf_dim);
-        let bs = bsdf_sample(m, it.eye, it.normal, it.inside, lobe, u);
+        let bs = bsdf_sample(m, it.eye, it.shading, it.inside, lobe, u);
         if !bs.ok {
             tail = l;
             break;
@@ -742,7 +742,7 @@ fn d_shade(ray: Ray, depth: u32, throughput: vec3f, slot: u32) -> DFrame {
         return f;
     }
     if m.kind == BSDF_GLASS {
-        let g = glass_lobes(m.param, it.eye, it.normal, it.inside);
+        let g = glass_lobes(m.param, it.eye, it.shading, it.inside);
         var reflection = g.reflection;
         reflection.weight = reflection.weight * g.fr;
         d_add_child(&f, it, m, reflection, throughput, slot, no_draws());
@@ -754,7 +754,7 @@ fn d_shade(ray: Ray, depth: u32, throughput: vec3f, slot: u32) -> DFrame {
     } else {
         let bsdf_dim = mc_dimension(depth, SLOT_BSDF);
         let u = draw_pair(bsdf_dim);
-        let bs = bsdf_sample(m, it.eye, it.normal, it.inside, 0.0, u);
+        let bs = bsdf_sample(m, it.eye, it.shading, it.inside, 0.0, u);
         var draws = no_draws();
         if m.kind == BSDF_GLOSSY {
             draws = Draws(2u, vec3u(bsdf_dim, bsdf_dim + 1u, 0u), vec3f(u.x, u.y, 0.0));

@@ -59,6 +59,10 @@ fn log_mc_surface(it: Interaction, hit: Hit, depth: u32) {
     log_v(spawn_origin(it, it.normal));
     log_close(EV_SURFACE);
     sum_close(g);
+//#if SMOOTH
+    // Not in a sample's summary: only the traced sample's steps.
+    log_shading_normal(hit, it);
+//#endif
 }
 
 fn log_lens(u: vec2f, lens_point: vec3f, focus: vec3f, pdf: f32, dir: vec3f) {

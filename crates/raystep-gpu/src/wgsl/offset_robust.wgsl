@@ -16,9 +16,13 @@ fn next_down(x: f32) -> f32 {
 
 fn spawn_origin(it: Interaction, w: vec3f) -> vec3f {
     let side = select(-1.0, 1.0, fdot(w, it.normal) >= 0.0);
+    // Rays on the shading normal's side leave from the lifted point (the terminator's fix).
+    let lifted = fdot(w, it.shading) >= 0.0;
+    let point = select(it.point, it.lifted, lifted);
+    let error = select(it.error, it.lifted_error, lifted);
     let n = it.normal * side;
-    let d = fdot(abs(n), it.error);
-    var o = it.point + n * d;
+    let d = fdot(abs(n), error);
+    var o = point + n * d;
     for (var i = 0u; i < 3u; i++) {
         if n[i] > 0.0 {
             o[i] = next_up(o[i]);

@@ -132,3 +132,22 @@ fn log_blocker(id: u32, c: Cand, t_max: f32) {
     log_accept(id, c.t, t_max);
     blocker = Hit(id, c.t, c.u, c.v, c.aux);
 }
+
+//#if SMOOTH
+// Smooth shading's step (crates/raystep-core/src/trace/tracer.rs `surface`: after the surface, on a
+// triangle with vertex normals): the object, u, v, the shading normal, the geometric normal and
+// the point rays leave from on the ray's side.
+fn log_shading_normal(hit: Hit, it: Interaction) {
+    if objects[hit.object].normals == NO_NORMALS {
+        return;
+    }
+    log_open();
+    log_u(hit.object);
+    log_f(hit.u);
+    log_f(hit.v);
+    log_v(it.shading);
+    log_v(it.normal);
+    log_v(it.lifted);
+    log_close(EV_SHADING_NORMAL);
+}
+//#endif

@@ -200,6 +200,135 @@ impl Ctx<'_> {
         }
     }
 
+    /// Smooth shading: the vertex normals blended at the hit (the arithmetic of
+    /// `trace::interaction::interpolate_normal`, redone here in the same f32 order).
+    pub(super) fn shading_normal(
+        &self,
+        vertex_normals: &[[f32; 3]; 3],
+        u: f32,
+        v: f32,
+        normal: [f32; 3],
+        angle_deg: f32,
+        lifted: Option<[f32; 3]>,
+    ) -> Explanation {
+        let n = vertex_normals.map(Vec3::from);
+        let b0 = 1.0 - u - v;
+        let blend = n[0] * b0 + n[1] * u + n[2] * v;
+        let len = blend.length();
+        let (geometric, point) = self
+            .before()
+            .iter()
+            .rev()
+            .find_map(|s| match s.step {
+                Step::Surface { normal, point, .. } => {
+                    Some((Vec3::from(normal), Vec3::from(point)))
+                }
+                _ => None,
+            })
+            .unzip();
+        let turned = len.is_normal() && (blend / len).dot(Vec3::from(normal)) < 0.0;
+        let mut lines = vec![
+            line(
+                "b₀",
+                "1 − u − v",
+                format!("1 − {} − {}", p(u), p(v)),
+                p(b0),
+                None,
+            ),
+            line(
+                "s",
+                "b₀·n₀ + u·n₁ + v·n₂",
+                format!(
+                    "{}·{} + {}·{} + {}·{}",
+                    p(b0),
+                    vv(n[0]),
+                    p(u),
+                    vv(n[1]),
+                    p(v),
+                    vv(n[2])
+                ),
+                vv(blend),
+                Some("the vertex normals weighted as the vertices are in P".into()),
+            ),
+            line("|s|", "√(s·s)", "", num(len), None),
+        ];
+        lines.push(line(
+            "n_s",
+            if turned { "−s / |s|" } else { "s / |s|" },
+            "",
+            v3(normal),
+            Some(if !len.is_normal() {
+                "the vertex normals cancel here: the geometric normal shades instead".into()
+            } else if turned {
+                "turned round to the side the ray came from, as the geometric normal is".into()
+            } else {
+                "unit length again: a blend of unit vectors is shorter than 1".into()
+            }),
+        ));
+        if let Some(g) = geometric {
+            lines.push(line(
+                "∠(n_s, n)",
+                "atan2(|n_s × n|, n_s · n)",
+                "",
+                format!("{}°", num(angle_deg)),
+                Some(format!("the geometric normal n = {}", vv(g))),
+            ));
+        }
+        let mut conclusion = format!(
+            "Lighting, reflection and refraction use n_s = {}, {}° from the flat triangle's \
+             normal; which side the ray is on, and where spawned rays start, still use the \
+             geometric normal.",
+            v3(normal),
+            num(angle_deg)
+        );
+        // Hanika's lift: the vertices' tangent planes, from the hit triangle's own vertices.
+        let vertices = self
+            .ray
+            .hit
+            .as_ref()
+            .and_then(|h| self.object(h.object))
+            .and_then(|o| match o.shape {
+                Shape::Triangle { p } => Some(p),
+                _ => None,
+            });
+        if let (Some(lifted), Some(point), Some(pv)) = (lifted, point, vertices) {
+            let side = if turned { -1.0 } else { 1.0 };
+            let d = [0, 1, 2].map(|i| (point - pv[i]).dot(n[i] * side));
+            lines.push(line(
+                "d₀, d₁, d₂",
+                "(P − Pᵢ)·nᵢ",
+                "",
+                format!("{}, {}, {}", num(d[0]), num(d[1]), num(d[2])),
+                Some("how far P lies above (+) or below (−) each vertex's tangent plane".into()),
+            ));
+            let moved = Vec3::from(lifted) - point;
+            lines.push(line(
+                "P′",
+                "P − (min(d₀, 0)·n₀·b₀ + min(d₁, 0)·n₁·u + min(d₂, 0)·n₂·v)",
+                "",
+                v3(lifted),
+                Some(if moved == Vec3::ZERO {
+                    "not lifted: P lies on or above every vertex's tangent plane".into()
+                } else {
+                    format!(
+                        "lifted by {} towards the smooth surface",
+                        num(moved.length())
+                    )
+                }),
+            ));
+            conclusion = format!(
+                "{conclusion} Hanika's terminator fix: rays leaving on this side start from \
+                 P′ = {} instead of P.",
+                v3(lifted)
+            );
+        }
+        Explanation {
+            title: "Smooth shading: the interpolated normal".into(),
+            lines,
+            conclusion,
+        }
+    }
+
     /// The child ray spawned by the next `Spawn` step after this one, if any.
     pub(super) fn next_child(&self) -> Option<&RayRecord> {
         let i = self.idx?;

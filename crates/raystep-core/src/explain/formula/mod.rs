@@ -126,6 +126,14 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             error_bound,
             over_point,
         } => cx.surface(*point, *normal, *inside, *error_bound, *over_point),
+        Step::ShadingNormal {
+            vertex_normals,
+            u,
+            v,
+            normal,
+            angle_deg,
+            lifted,
+        } => cx.shading_normal(vertex_normals, *u, *v, *normal, *angle_deg, *lifted),
         Step::ShadowRay {
             light,
             name,
@@ -391,12 +399,22 @@ impl Ctx<'_> {
         self.trace.objects.iter().find(|o| o.id == id)
     }
 
-    /// The latest `Surface` step before this one: (point, normal).
+    /// The latest `Surface` step before this one: (point, the normal that shades it: the
+    /// `ShadingNormal` step's where the surface is smooth, else the surface's own).
     fn surface_before(&self) -> Option<(Vec3, Vec3)> {
-        self.before().iter().rev().find_map(|s| match s.step {
-            Step::Surface { point, normal, .. } => Some((Vec3::from(point), Vec3::from(normal))),
-            _ => None,
-        })
+        let mut shading = None;
+        for s in self.before().iter().rev() {
+            match s.step {
+                Step::ShadingNormal { normal, .. } => {
+                    shading.get_or_insert(Vec3::from(normal));
+                }
+                Step::Surface { point, normal, .. } => {
+                    return Some((Vec3::from(point), shading.unwrap_or(Vec3::from(normal))));
+                }
+                _ => {}
+            }
+        }
+        None
     }
 
     fn camera(

@@ -68,6 +68,7 @@ fn every_step_of_every_shipped_scene_is_explained() {
         "accept",
         "miss",
         "surface",
+        "shading-normal",
         "shadow-ray",
         "light",
         "reflect",

@@ -11,10 +11,11 @@ use raystep_core::shapes::{SphereMethod, TriangleMethod};
 use raystep_core::trace::Tracer;
 use std::path::Path;
 
-const SHIPPED: [&str; 5] = [
+const SHIPPED: [&str; 6] = [
     "first-sphere.toml",
     "three-spheres.toml",
     "triangles.toml",
+    "smooth-shading.toml",
     "mirror-glass.toml",
     "cornell.toml",
 ];
@@ -211,6 +212,7 @@ fn variant(s: &Step) -> &'static str {
         Step::Accept { .. } => "accept",
         Step::Miss { .. } => "miss",
         Step::Surface { .. } => "surface",
+        Step::ShadingNormal { .. } => "shading-normal",
         Step::ShadowRay { .. } => "shadow-ray",
         Step::Light { .. } => "light",
         Step::Reflect { .. } => "reflect",

@@ -73,3 +73,71 @@ fn directory_as_scene_file() {
 }
 
 // ---------------------------------------------------------------------------------------------
+
+// ---------------------------------------------------------------------------------------------
+// Smooth shading: vertex normals
+
+#[test]
+fn obj_zero_vertex_normal_names_its_line() {
+    // Line 6 is the second vn, (0, 0, 0): no direction to shade with.
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn 0 0 1\nvn 0 0 0\nf 1//1 2//2 3//3\n";
+    let (w, e) = fail_with(&mesh_scene(), &[("bad.obj", obj)]);
+    check(
+        &w,
+        &e,
+        (3, 1),
+        "mesh \"teapot\"",
+        "obj",
+        &["normal 3", "non-zero"],
+    );
+    says_obj_line(&e, 6);
+}
+
+#[test]
+fn mesh_shading_must_be_flat_or_smooth() {
+    let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let mut lines = mesh_scene().to_vec();
+    lines.push("shading = \"round\""); // 5
+    let (w, e) = fail_with(&lines, &[("bad.obj", obj)]);
+    check(
+        &w,
+        &e,
+        (5, 1),
+        "mesh \"teapot\"",
+        "shading",
+        &["\"flat\"", "\"smooth\"", "round"],
+    );
+}
+
+#[test]
+fn triangle_normals_must_be_non_zero_and_three() {
+    let (w, e) = fail(&[
+        "[[triangle]]",                                 // 1
+        "name = \"t\"",                                 // 2
+        "vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]", // 3
+        "normals = [[0, 0, 1], [0, 0, 0], [0, 0, 1]]",  // 4: the second is zero
+    ]);
+    check(
+        &w,
+        &e,
+        (4, 1),
+        "triangle \"t\"",
+        "normals",
+        &["normal 2", "non-zero"],
+    );
+    let (w, e) = fail(&[
+        "[[triangle]]",                                 // 1
+        "name = \"t\"",                                 // 2
+        "vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]", // 3
+        "normals = [[0, 0, 1], [0, 0, 1]]",             // 4: two, not three
+    ]);
+    assert_at(&w, &e, 4, 11);
+    assert_says(&e, &["3 vertices", "2 values"]);
+    let (w, e) = fail(&[
+        "[[triangle]]",                                  // 1
+        "name = \"t\"",                                  // 2
+        "vertices = [[0, 0, 0], [1, 0, 0], [0, 1, 0]]",  // 3
+        "normals = [[0, 0, 1], [0, nan, 1], [0, 0, 1]]", // 4: not finite
+    ]);
+    check(&w, &e, (4, 1), "triangle \"t\"", "normals", &["finite"]);
+}
