@@ -167,8 +167,10 @@ class Plane:
 class Triangle:
     kind = "triangle"
 
-    def __init__(self, name, p0, p1, p2, material):
+    def __init__(self, name, p0, p1, p2, material, normals=None):
         self.name, self.p, self.material = name, (p0, p1, p2), material
+        # Smooth shading (lesson 17): unit vertex normals n0, n1, n2, or None (flat).
+        self.normals = normals
 
 
 class Light:
@@ -184,9 +186,12 @@ def vec(v):
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
-def load_obj(path, translate, k):
-    """The triangles of an OBJ file (faces fanned into triangles), scaled by k then moved."""
-    vertices, triangles = [], []
+def load_obj(path, translate, k, shading=None):
+    """The triangles of an OBJ file (faces fanned into triangles), scaled by k then moved, each
+    with its vertex normals for smooth shading (lesson 17) or None: the file's `vn` where every
+    face has them (unless shading = "flat"); with shading = "smooth" and no `vn`, the sum of the
+    cross products E1 × E2 of the faces around each vertex, normalized."""
+    vertices, normals, faces = [], [], []
     with open(path, encoding="utf-8") as f:
         for line in f:
             words = line.split()
@@ -194,13 +199,38 @@ def load_obj(path, translate, k):
                 continue
             if words[0] == "v":
                 vertices.append(add(scale(vec(words[1:4]), k), translate))
+            elif words[0] == "vn":
+                normals.append(normalize(vec(words[1:4])))
             elif words[0] == "f":
                 idx = []
                 for w in words[1:]:
-                    i = int(w.split("/")[0])
-                    idx.append(i - 1 if i > 0 else len(vertices) + i)
+                    parts = w.split("/")
+                    i = int(parts[0])
+                    n = int(parts[2]) if len(parts) == 3 and parts[2] else None
+                    idx.append((i - 1 if i > 0 else len(vertices) + i,
+                                None if n is None else (n - 1 if n > 0 else len(normals) + n)))
                 for j in range(1, len(idx) - 1):
-                    triangles.append((vertices[idx[0]], vertices[idx[j]], vertices[idx[j + 1]]))
+                    faces.append((idx[0], idx[j], idx[j + 1]))
+    with_vn = all(c[1] is not None for f in faces for c in f)
+    sums = {}
+    if shading == "smooth" and not with_vn:
+        for f in faces:
+            p0, p1, p2 = (vertices[c[0]] for c in f)
+            c = cross(sub(p1, p0), sub(p2, p0))
+            for corner in f:
+                sums[corner[0]] = add(sums.get(corner[0], (0.0, 0.0, 0.0)), c)
+    triangles = []
+    for f in faces:
+        p = tuple(vertices[c[0]] for c in f)
+        if shading == "flat":
+            n = None
+        elif with_vn:
+            n = tuple(normals[c[1]] for c in f)
+        elif shading == "smooth":
+            n = tuple(normalize(sums[c[0]]) for c in f)
+        else:
+            n = None
+        triangles.append((p, n))
     return triangles
 
 
@@ -271,14 +301,16 @@ def load_scene(path):
             scene.objects.append(Plane(name, normal, offset, material(d)))
         elif kind == "triangle":
             p = [vec(v) for v in d["vertices"]]
-            scene.objects.append(Triangle(name, p[0], p[1], p[2], material(d)))
+            n = tuple(normalize(vec(v)) for v in d["normals"]) if "normals" in d else None
+            scene.objects.append(Triangle(name, p[0], p[1], p[2], material(d), n))
         else:
             obj = os.path.join(os.path.dirname(path), d["obj"])
-            tris = load_obj(obj, vec(d.get("translate", (0, 0, 0))), float(d.get("scale", 1.0)))
+            tris = load_obj(obj, vec(d.get("translate", (0, 0, 0))), float(d.get("scale", 1.0)),
+                            d.get("shading"))
             # A mesh's triangles are named after the mesh: `icosahedron[5]` (one triangle: no index).
-            for k, (p0, p1, p2) in enumerate(tris):
+            for k, ((p0, p1, p2), n) in enumerate(tris):
                 tname = name if len(tris) == 1 else f"{name}[{k}]"
-                scene.objects.append(Triangle(tname, p0, p1, p2, material(d)))
+                scene.objects.append(Triangle(tname, p0, p1, p2, material(d), n))
     return scene
 
 
@@ -476,6 +508,21 @@ def surface_at(ray, obj, t):
     # Flip the normal when the ray meets the surface from behind (Q·n > 0).
     s.inside = dot(outward, s.eye) < 0
     s.normal = neg(outward) if s.inside else outward
+    # Lesson 17: a smooth triangle is lit with its vertex normals blended at the hit's u, v,
+    # (1 − u − v)·n0 + u·n1 + v·n2 normalized, on the side of the (flipped) normal. Sides and
+    # spawned rays keep the flat normal.
+    s.shading = s.normal
+    if obj.kind == "triangle" and obj.normals is not None:
+        p0, p1, p2 = obj.p
+        e1, e2 = sub(p1, p0), sub(p2, p0)
+        mq, tv = neg(ray.direction), sub(ray.origin, p0)
+        d0 = det3(mq, e1, e2)
+        u, v = det3(mq, tv, e2) / d0, det3(mq, e1, tv) / d0
+        n0, n1, n2 = obj.normals
+        blend = add(add(scale(n0, 1 - u - v), scale(n1, u)), scale(n2, v))
+        if dot(blend, blend) > 0:
+            ns = normalize(blend)
+            s.shading = neg(ns) if dot(ns, s.normal) < 0 else ns
     return s
 
 
@@ -494,7 +541,7 @@ def spawn_origin(s, direction):
 
 def light_blocked(scene, s, light, depth):
     to_light = sub(light.position, s.point)
-    if dot(to_light, s.normal) <= 0:
+    if dot(to_light, s.shading) <= 0:
         return False  # the light is behind the surface
     if BUG == "no-shadow-offset":
         origin = s.point  # BUG: starts exactly on the surface (and t_min = 0)
@@ -531,10 +578,10 @@ def phong(m, light, s, in_shadow):
     effective = mul(m.color, light.color)
     l = normalize(sub(light.position, s.point))
     color = scale(effective, m.ambient)
-    l_dot_n = dot(l, s.normal)
+    l_dot_n = dot(l, s.shading)
     if not in_shadow and l_dot_n >= 0:
         color = add(color, scale(effective, m.diffuse * l_dot_n))
-        r_dot_e = dot(reflect(neg(l), s.normal), s.eye)
+        r_dot_e = dot(reflect(neg(l), s.shading), s.eye)
         if r_dot_e > 0:
             color = add(color, scale(light.color, m.specular * r_dot_e ** m.shininess))
     return color
@@ -635,13 +682,13 @@ def trace(scene, ray, throughput=1.0, media=None):
     n1 = n2 = None
     if transparent:
         n1, n2 = media.indices(obj, m.refractive_index)  # from the side the ray comes from
-    reflectance = schlick(dot(s.eye, s.normal), n1, n2) if blend else 1.0
+    reflectance = schlick(dot(s.eye, s.shading), n1, n2) if blend else 1.0
 
     # Lesson 8: reflection, r = d − 2(d·n)n, weighted by `reflective` (not traced past max_depth
     # or when its share of the pixel is below the cut-off).
     reflected = BLACK
     if m.reflective > 0 and can_recurse:
-        direction = reflect(ray.direction, s.normal)
+        direction = reflect(ray.direction, s.shading)
         share = m.reflective * reflectance if blend else m.reflective
         if throughput * share >= WEIGHT_CUTOFF:
             child = Ray(spawn_origin(s, direction), direction, "reflection", d + 1)
@@ -650,7 +697,7 @@ def trace(scene, ray, throughput=1.0, media=None):
     # Lesson 9: refraction, weighted by `transparency`.
     refracted = BLACK
     if transparent and can_recurse:
-        direction = refract(s.eye, s.normal, n1, n2)
+        direction = refract(s.eye, s.shading, n1, n2)
         share = m.transparency * (1 - reflectance) if blend else m.transparency
         if direction is not None and throughput * share >= WEIGHT_CUTOFF:
             child = Ray(spawn_origin(s, direction), direction, "refraction", d + 1)

@@ -70,6 +70,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/14-area-lights-and-soft-shadows.md",
     "lessons/15-path-tracing.md",
     "lessons/16-multiple-importance-sampling.md",
+    "lessons/17-smooth-shading.md",
     "lessons/starter/README.md",
     "lessons/starter/sheet.toml",
     "lessons/starter/path-sheet.toml",
@@ -90,6 +91,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/exercises/14-area-lights.toml",
     "lessons/exercises/15-path-tracing.toml",
     "lessons/exercises/16-mis.toml",
+    "lessons/exercises/17-smooth-shading.toml",
 );
 
 /// The names of the built-in scenes (`cornell`, `three-spheres`, …), sorted.
@@ -454,7 +456,7 @@ mod tests {
         // A scene is not a sheet, nor is the starter kit's grading sheet.
         assert!(builtin_sheet("cornell").is_none());
         assert!(builtin_sheet("sheet").is_none());
-        assert_eq!(sheet_names().len(), 16);
+        assert_eq!(sheet_names().len(), 17);
         assert_eq!(sheet_names()[0], "01-camera");
         // An existing file of that name wins over the built-in sheet.
         let dir = std::env::temp_dir().join(format!("raystep-sheet-{}", std::process::id()));

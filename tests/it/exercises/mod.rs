@@ -149,6 +149,13 @@ fn read_quantity(trace: &Trace, q: &Question) -> A {
                 _ => None,
             })
             .unwrap_or(A::None),
+        "shading_normal" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::ShadingNormal { normal, .. } => Some(vec(*normal)),
+                _ => None,
+            })
+            .unwrap_or(A::None),
         "hit_point" | "normal" => steps
             .iter()
             .find_map(|s| match s {

@@ -274,12 +274,19 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             v3(*over_point)
         ),
         Step::ShadingNormal {
-            normal, angle_deg, ..
+            normal,
+            angle_deg,
+            lifted,
+            ..
         } => format!(
             "smooth shading: the vertex normals blended at (u, v) give the shading normal {} \
-             ({}° from the flat normal)",
+             ({}° from the flat normal){}",
             v3(*normal),
-            num(*angle_deg)
+            num(*angle_deg),
+            lifted.map_or(String::new(), |p| format!(
+                "; Hanika's lift: rays on its side leave from P′ = {}",
+                v3(p)
+            ))
         ),
         Step::ShadowRay { name, distance, .. } => {
             format!(

@@ -57,6 +57,9 @@ pub(super) enum MeshShading {
     Smooth,
 }
 
+/// Each triangle's vertex normals (none for a flat one), or empty when the mesh is flat.
+pub(super) type FaceNormals = Vec<Option<[Vec3; 3]>>;
+
 /// The line of the `k`-th (from 0) `vn` of an OBJ file, for error messages.
 fn vn_line(text: &str, k: usize) -> Option<usize> {
     text.lines()
@@ -70,7 +73,7 @@ fn vn_line(text: &str, k: usize) -> Option<usize> {
 /// faces around it (a face's cross product is twice its area along its normal, so larger faces
 /// weigh more), normalised, in f64. A vertex whose faces cancel (or are all degenerate) has
 /// none, and its faces are shaded flat.
-fn computed_normals(positions: &[Vec3], faces: &[[usize; 3]]) -> Vec<Option<[Vec3; 3]>> {
+fn computed_normals(positions: &[Vec3], faces: &[[usize; 3]]) -> FaceNormals {
     let mut sum = vec![glam::DVec3::ZERO; positions.len()];
     for f in faces {
         let p = f.map(|i| positions[i].as_dvec3());
@@ -101,7 +104,7 @@ pub(super) fn load_obj(
     translate: Vec3,
     scale: f32,
     shading: MeshShading,
-) -> Result<(Vec<Shape>, Vec<Option<[Vec3; 3]>>), String> {
+) -> Result<(Vec<Shape>, FaceNormals), String> {
     use crate::io::{limits, read_input};
     let bytes = read_input(path, limits::OBJ, "OBJ file").map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
@@ -164,7 +167,7 @@ pub(super) fn load_obj(
         ));
     }
     let mut tris = Vec::with_capacity(faces);
-    let mut normals: Vec<Option<[Vec3; 3]>> = vec![];
+    let mut normals: FaceNormals = vec![];
     // Every face has its file normals (OBJ `f v//vn`): tobj gives a normal index per index.
     let file_normals = models
         .iter()

@@ -69,6 +69,12 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
             .map_or(Answer::None, |h| Answer::Name(h.name.clone())),
         Quantity::HitPoint => surface().map_or(Answer::None, |(p, _)| v3(p)),
         Quantity::Normal => surface().map_or(Answer::None, |(_, n)| v3(n)),
+        Quantity::ShadingNormal => steps()
+            .find_map(|s| match s {
+                Step::ShadingNormal { normal, .. } => Some(v3(*normal)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
         Quantity::TriangleU => num(triangle().and_then(|t| t.u)),
         Quantity::TriangleV => num(triangle().and_then(|t| t.v)),
         Quantity::BvhNodesVisited => {
@@ -168,6 +174,7 @@ pub fn explaining_step(trace: &Trace, q: &Question) -> Option<usize> {
         Quantity::ClosestT | Quantity::HitObject | Quantity::HitPoint | Quantity::Normal => {
             matches!(s, Step::Surface { .. })
         }
+        Quantity::ShadingNormal => matches!(s, Step::ShadingNormal { .. }),
         Quantity::BvhNodesVisited => matches!(s, Step::Node(_)),
         Quantity::ShadowBlocked => matches!(s, Step::Light { light, .. } if *light == q.light),
         Quantity::ReflectedDirection => matches!(s, Step::Reflect { .. }),

@@ -89,6 +89,8 @@ pub enum Quantity {
     HitPoint,
     /// The closest hit's unit normal (facing the ray).
     Normal,
+    /// A smooth triangle's shading normal at the closest hit (none on a flat surface).
+    ShadingNormal,
     /// The barycentric u (weight of P1) of a triangle test.
     TriangleU,
     /// The barycentric v (weight of P2) of a triangle test.
@@ -134,6 +136,7 @@ impl Quantity {
             Quantity::HitObject => "hit_object",
             Quantity::HitPoint => "hit_point",
             Quantity::Normal => "normal",
+            Quantity::ShadingNormal => "shading_normal",
             Quantity::TriangleU => "triangle_u",
             Quantity::TriangleV => "triangle_v",
             Quantity::BvhNodesVisited => "bvh_nodes_visited",
@@ -167,6 +170,7 @@ impl Quantity {
             Quantity::ShadowBlocked | Quantity::TotalInternalReflection => AnswerKind::YesNo,
             Quantity::HitPoint
             | Quantity::Normal
+            | Quantity::ShadingNormal
             | Quantity::ReflectedDirection
             | Quantity::RefractedDirection
             | Quantity::Color
