@@ -3,8 +3,10 @@
 //! This layer sits below [`crate::accel`] and [`crate::trace`], which produce records, and
 //! below [`crate::explain`], [`crate::diagram`], the app and the command line, which read them:
 //!
-//! - [`steps`]: the step trace — [`Trace`], its rays ([`RayRecord`]) and their [`Step`]s, each
-//!   holding the record a kernel returned with every intermediate it computed;
+//! - [`trace`]: the step trace — [`Trace`] and its rays ([`RayRecord`]), saved and loaded as
+//!   versioned JSON;
+//! - [`steps`]: the [`Step`]s a ray takes, each holding the record a kernel returned with every
+//!   intermediate it computed;
 //! - [`observer`]: what the tracer reports to as it works — [`Silent`] (the render: every hook
 //!   compiles away), [`Counter`] (statistics) and [`Recorder`] (builds the [`Trace`]);
 //! - [`validate`]: the checks a loaded trace passes before anything reads it;
@@ -43,12 +45,13 @@ pub mod observer;
 pub mod samples;
 pub mod steps;
 pub mod tolerance;
+pub mod trace;
 pub mod validate;
 pub mod words;
 
 pub use observer::{Counter, MAX_TRACE_STEPS, Observer, Recorder, Silent};
-pub use steps::{
-    Draw, GridOutline, HitRecord, NodeAction, NodeVisit, OutlineNode, RayKind, RayRecord, Stage,
-    Step, StepRecord, TRACE_VERSION, Trace, TraceError, TraceObject,
-};
+pub use steps::{Draw, NodeAction, NodeVisit, RayKind, Stage, Step, TRACE_VERSION};
 pub use tolerance::Tolerance;
+pub use trace::{
+    GridOutline, HitRecord, OutlineNode, RayRecord, StepRecord, Trace, TraceError, TraceObject,
+};

@@ -5,7 +5,8 @@
 //! Steps are handed over as closures: a silent observer never calls them, so the record (and
 //! every `String` in it) is never built on the render path.
 
-use super::steps::{HitRecord, NodeVisit, RayKind, RayRecord, Stage, Step, StepRecord};
+use super::steps::{NodeVisit, RayKind, Stage, Step};
+use super::trace::{HitRecord, RayRecord, StepRecord};
 use crate::math::Ray;
 use glam::Vec3;
 
