@@ -11,7 +11,8 @@
 
 use raystep::lesson::{SceneSource, load_exercise_sheet, mark};
 use std::path::PathBuf;
-use std::process::Command;
+
+use crate::common::grades::grade_class;
 
 const STUDENTS: usize = 300;
 const CLASS: usize = 40;
@@ -245,35 +246,12 @@ fn every_variant_of_the_smooth_shading_sheet_is_true_and_keyed_right() {
         }
         csv += "\n";
     }
-    let (input, grades) = (dir.path().join("class.csv"), dir.path().join("grades.csv"));
-    std::fs::write(&input, csv).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_raystep"))
-        .args([
-            "grade",
-            path.to_str().unwrap(),
-            input.to_str().unwrap(),
-            "-o",
-        ])
-        .arg(&grades)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let g = std::fs::read_to_string(&grades).unwrap();
-    let mut rows = g.lines();
-    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
-    let (score, out_of) = (
-        header.iter().position(|h| *h == "score").unwrap(),
-        header.iter().position(|h| *h == "out_of").unwrap(),
-    );
-    let mut n = 0;
-    for row in rows.filter(|r| !r.is_empty()) {
-        let cells: Vec<&str> = row.split(',').collect();
-        assert_eq!(cells[score], cells[out_of], "{row}");
-        n += 1;
+    let (g, mut rows) = grade_class(&path, &csv, dir.path(), "17-smooth-shading");
+    let header = rows.remove(0);
+    let score = header.iter().position(|h| h == "score").unwrap();
+    let out_of = header.iter().position(|h| h == "out_of").unwrap();
+    assert_eq!(rows.len(), CLASS, "{g}");
+    for row in &rows {
+        assert_eq!(row[score], row[out_of], "{row:?}");
     }
-    assert_eq!(n, CLASS, "{g}");
 }

@@ -19,6 +19,8 @@ use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use crate::common::grades::grade_class;
+
 const STUDENTS: usize = 500;
 const CLASS: usize = 40;
 const SHEETS: [&str; 4] = [
@@ -190,26 +192,7 @@ fn every_variant_of_the_monte_carlo_sheets_is_true_and_keyed_right() {
                 }
                 csv += "\n";
             }
-            let class = dir.path().join(format!("{name}-class-{wrong}.csv"));
-            let grades = dir.path().join(format!("{name}-grades-{wrong}.csv"));
-            std::fs::write(&class, &csv).unwrap();
-            let out = Command::new(env!("CARGO_BIN_EXE_raystep"))
-                .args([
-                    "grade",
-                    path.to_str().unwrap(),
-                    class.to_str().unwrap(),
-                    "-o",
-                ])
-                .arg(&grades)
-                .output()
-                .unwrap();
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
-            let g = std::fs::read_to_string(&grades).unwrap();
-            let mut reader = csv_rows(&g);
+            let (g, mut reader) = grade_class(&path, &csv, dir.path(), &format!("{name}-{wrong}"));
             let header = reader.remove(0);
             let score = header.iter().position(|h| h == "score").unwrap();
             let out_of = header.iter().position(|h| h == "out_of").unwrap();
@@ -232,31 +215,6 @@ fn every_variant_of_the_monte_carlo_sheets_is_true_and_keyed_right() {
             }
         }
     }
-}
-
-/// A minimal CSV reader for the grades file (quoted fields, doubled quotes).
-fn csv_rows(text: &str) -> Vec<Vec<String>> {
-    let mut rows = vec![];
-    for line in text.lines().filter(|l| !l.is_empty()) {
-        let mut row = vec![];
-        let mut cell = String::new();
-        let mut quoted = false;
-        let mut chars = line.chars().peekable();
-        while let Some(c) = chars.next() {
-            match (c, quoted) {
-                ('"', true) if chars.peek() == Some(&'"') => {
-                    cell.push('"');
-                    chars.next();
-                }
-                ('"', _) => quoted = !quoted,
-                (',', false) => row.push(std::mem::take(&mut cell)),
-                (c, _) => cell.push(c),
-            }
-        }
-        row.push(cell);
-        rows.push(row);
-    }
-    rows
 }
 
 /// A wrong answer's feedback names the classic mistake it matches, and a tolerance that has no
