@@ -196,6 +196,38 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
         if f.reflective { "yes" } else { "no" },
         if f.transparent { "yes" } else { "no" }
     );
+    if !scene.textures.is_empty() {
+        let each: Vec<String> = scene
+            .textures
+            .iter()
+            .map(|t| match &t.kind {
+                crate::scene::TextureKind::Checker { squares, .. } => {
+                    format!("\"{}\" checker {}×{}", t.name, squares[0], squares[1])
+                }
+                crate::scene::TextureKind::Image {
+                    width,
+                    height,
+                    filter,
+                    wrap,
+                    ..
+                } => format!(
+                    "\"{}\" image {width}×{height} {} {}",
+                    t.name,
+                    value_name(filter),
+                    value_name(wrap)
+                ),
+            })
+            .collect();
+        let _ = writeln!(
+            o,
+            "  textures   {} ({}); {} textured object{}, {} with vertex texture coordinates",
+            scene.textures.len(),
+            each.join(", "),
+            f.textured,
+            if f.textured == 1 { "" } else { "s" },
+            scene.vertex_uvs.len()
+        );
+    }
     let _ = writeln!(
         o,
         "  settings   integrator {}, sphere {}, triangle {}, offset {}, accel {}, BVH quality {}, max depth {}, {} sample{} per pixel",

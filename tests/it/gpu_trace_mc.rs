@@ -93,13 +93,17 @@ fn gpu_traces_of_monte_carlo_samples_equal_the_cpu_traces() {
     };
     // Path: next-event estimation with MIS, a mirror ball, roulette; glossy plates. Distribution:
     // soft shadows, a lens and glossy balls. Glass under both (mirror-glass.toml): the
-    // distribution tracer's two branches and cut-offs, the path tracer's lobe choice.
+    // distribution tracer's two branches and cut-offs, the path tracer's lobe choice. Textures
+    // under the path tracer.
     let cases = [
         ("cornell-area.toml", None),
         ("soft-shadows.toml", None),
         ("depth-of-field.toml", None),
         ("mirror-glass.toml", Some(Integrator::Distribution)),
         ("mirror-glass.toml", Some(Integrator::Path)),
+        // Textures: a checker, a bilinear image on a sphere, a nearest one on triangles; the
+        // texture step and the textured albedo.
+        ("textures.toml", Some(Integrator::Path)),
     ];
     let mut failures = vec![];
     let mut seen = BTreeMap::new();

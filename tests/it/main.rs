@@ -33,6 +33,7 @@ mod monte_carlo;
 mod outputs_safe;
 mod render_gpu_limits;
 mod sheet_smooth;
+mod sheet_textures;
 mod sheets_mc;
 mod slice_framing;
 mod stability;

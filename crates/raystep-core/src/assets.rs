@@ -50,6 +50,9 @@ pub static ASSETS: &[Asset] = assets!(
     "scenes/smooth-shading.toml",
     "scenes/soft-shadows.toml",
     "scenes/teapot-stadium.toml",
+    "scenes/textures.toml",
+    "scenes/textures/globe-64x32.png",
+    "scenes/textures/tiles-8x8.png",
     "scenes/three-spheres.toml",
     "scenes/triangles.toml",
     "scenes/veach-mis.toml",
@@ -71,6 +74,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/15-path-tracing.md",
     "lessons/16-multiple-importance-sampling.md",
     "lessons/17-smooth-shading.md",
+    "lessons/18-textures.md",
     "lessons/starter/README.md",
     "lessons/starter/sheet.toml",
     "lessons/starter/path-sheet.toml",
@@ -92,6 +96,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/exercises/15-path-tracing.toml",
     "lessons/exercises/16-mis.toml",
     "lessons/exercises/17-smooth-shading.toml",
+    "lessons/exercises/18-textures.toml",
 );
 
 /// The names of the built-in scenes (`cornell`, `three-spheres`, …), sorted.
@@ -392,7 +397,13 @@ mod tests {
     fn every_file_of_the_shipped_folders_is_built_in() {
         let root = &Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
         let mut on_disk = vec![];
-        for sub in ["scenes", "lessons", "lessons/exercises", "lessons/starter"] {
+        for sub in [
+            "scenes",
+            "scenes/textures",
+            "lessons",
+            "lessons/exercises",
+            "lessons/starter",
+        ] {
             for e in std::fs::read_dir(root.join(sub)).unwrap() {
                 let p = e.unwrap().path();
                 if p.is_file() {
@@ -456,7 +467,7 @@ mod tests {
         // A scene is not a sheet, nor is the starter kit's grading sheet.
         assert!(builtin_sheet("cornell").is_none());
         assert!(builtin_sheet("sheet").is_none());
-        assert_eq!(sheet_names().len(), 17);
+        assert_eq!(sheet_names().len(), 18);
         assert_eq!(sheet_names()[0], "01-camera");
         // An existing file of that name wins over the built-in sheet.
         let dir = std::env::temp_dir().join(format!("raystep-sheet-{}", std::process::id()));

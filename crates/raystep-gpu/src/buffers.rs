@@ -3,8 +3,9 @@
 //! fourth slot). Written by hand, little-endian, so no unsafe casting is needed.
 
 use crate::accel::Bvh;
+use crate::interface::{NO_TEXTURE, texture};
 use crate::scene::camera::CameraRays;
-use crate::scene::{Scene, Shape};
+use crate::scene::{Filter, NO_UVS, Scene, Shape, TextureKind, Wrap};
 use glam::Vec3;
 
 /// A little-endian byte writer.
@@ -53,6 +54,19 @@ pub(crate) struct SceneData {
 
 /// Flattens the scene (and its BVH, when it has one).
 pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
+    // Records after the objects (each the size of an Object): the smooth triangles' vertex
+    // normals, the triangles' texture coordinates, the textures, the images' texels.
+    let n = |len: usize| len as u32;
+    let uvs_at = n(scene.objects.len()) + n(scene.vertex_normals.len());
+    let textures_at = uvs_at + n(scene.vertex_uvs.len());
+    let mut texels_at = vec![];
+    let mut next = textures_at + n(scene.textures.len());
+    for t in &scene.textures {
+        texels_at.push(next);
+        if let TextureKind::Image { texels, .. } = &t.kind {
+            next += n(texels.len().div_ceil(4));
+        }
+    }
     let mut objects = Bytes::default();
     for o in &scene.objects {
         let (kind, axis, a, b, c) = match o.shape {
@@ -77,7 +91,17 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
                 glam::Vec4::ZERO,
                 glam::Vec4::ZERO,
             ),
-            Shape::Triangle { p } => (3, 0, p[0].extend(0.0), p[1].extend(0.0), p[2].extend(0.0)),
+            Shape::Triangle { p } => (
+                3,
+                if o.uvs == NO_UVS {
+                    NO_UVS
+                } else {
+                    uvs_at + o.uvs
+                },
+                p[0].extend(0.0),
+                p[1].extend(0.0),
+                p[2].extend(0.0),
+            ),
         };
         for v in [a, b, c] {
             objects.vec3(v.truncate()).f32(v.w);
@@ -92,6 +116,66 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
         }
         objects.u32(0).u32(0).u32(0).u32(0);
     }
+    // A triangle's texture coordinates: t₀ in a.xy, t₁ in a.zw, t₂ in b.xy.
+    for t in &scene.vertex_uvs {
+        objects.f32(t[0][0]).f32(t[0][1]).f32(t[1][0]).f32(t[1][1]);
+        objects.f32(t[2][0]).f32(t[2][1]).f32(0.0).f32(0.0);
+        objects.vec3(Vec3::ZERO).f32(0.0);
+        objects.u32(0).u32(0).u32(0).u32(0);
+    }
+    // The textures (wgsl/texture.wgsl reads these records).
+    for (t, first) in scene.textures.iter().zip(&texels_at) {
+        match &t.kind {
+            TextureKind::Checker { squares, colors } => {
+                objects.vec3(colors[0]).f32(squares[0] as f32);
+                objects.vec3(colors[1]).f32(squares[1] as f32);
+                objects.vec3(Vec3::ZERO).f32(0.0);
+                objects.u32(texture::TEX_CHECKER).u32(0).u32(0).u32(*first);
+            }
+            TextureKind::Image {
+                width,
+                height,
+                filter,
+                wrap,
+                ..
+            } => {
+                objects.vec3(Vec3::ZERO).f32(0.0);
+                objects.vec3(Vec3::ZERO).f32(0.0);
+                objects
+                    .f32(*width as f32)
+                    .f32(*height as f32)
+                    .f32(0.0)
+                    .f32(0.0);
+                let filter = match filter {
+                    Filter::Nearest => texture::FILTER_NEAREST,
+                    Filter::Bilinear => texture::FILTER_BILINEAR,
+                };
+                let wrap = match wrap {
+                    Wrap::Repeat => texture::WRAP_REPEAT,
+                    Wrap::Clamp => texture::WRAP_CLAMP,
+                    Wrap::Mirror => texture::WRAP_MIRROR,
+                };
+                objects
+                    .u32(texture::TEX_IMAGE)
+                    .u32(filter)
+                    .u32(wrap)
+                    .u32(*first);
+            }
+        }
+    }
+    // The images' texels, four to a record: a.xyz, b.xyz, c.xyz, then (a.w, b.w, c.w).
+    for t in &scene.textures {
+        if let TextureKind::Image { texels, .. } = &t.kind {
+            for four in texels.chunks(4) {
+                let c = |k: usize| four.get(k).copied().unwrap_or(Vec3::ZERO);
+                let last = c(3);
+                objects.vec3(c(0)).f32(last.x);
+                objects.vec3(c(1)).f32(last.y);
+                objects.vec3(c(2)).f32(last.z);
+                objects.u32(0).u32(0).u32(0).u32(0);
+            }
+        }
+    }
     let mut materials = Bytes::default();
     for m in &scene.materials {
         materials
@@ -103,7 +187,7 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
             .f32(m.reflective)
             .f32(m.transparency)
             .f32(m.refractive_index)
-            .f32(0.0)
+            .u32(m.texture.map_or(NO_TEXTURE, |t| textures_at + t))
             .f32(0.0);
     }
     let mut lights = Bytes::default();

@@ -78,6 +78,37 @@ codes! {
         SAMPLE = 25,
         /// Smooth shading's interpolated normal.
         SHADING_NORMAL = 26,
+        /// A texture read at the hit.
+        TEXTURE = 27,
+    }
+}
+
+codes! {
+    /// A texture's kind, filter and wrap mode, and how a hit's texture coordinates were found
+    /// (`scene::TextureKind`, `scene::Filter`, `scene::Wrap`, `record::texturing::UvMapping`).
+    pub mod texture ("") {
+        /// A checker.
+        TEX_CHECKER = 0,
+        /// An image.
+        TEX_IMAGE = 1,
+        /// The nearest texel.
+        FILTER_NEAREST = 0,
+        /// Bilinear.
+        FILTER_BILINEAR = 1,
+        /// Repeat.
+        WRAP_REPEAT = 0,
+        /// Clamp.
+        WRAP_CLAMP = 1,
+        /// Mirror.
+        WRAP_MIRROR = 2,
+        /// A triangle's vertex texture coordinates.
+        UV_VERTEX_UVS = 0,
+        /// A triangle's barycentrics.
+        UV_BARYCENTRIC = 1,
+        /// A sphere's longitude and latitude.
+        UV_SPHERE = 2,
+        /// A plane's coordinates.
+        UV_PLANE = 3,
     }
 }
 
@@ -199,6 +230,8 @@ pub const LOG_HEADER: u32 = 4;
 pub const LOG_RECORD_MAX: u32 = 64;
 /// "No object" wherever an object index is stored.
 pub const NO_OBJECT: u32 = u32::MAX;
+/// A material's `texture` word when it has none.
+pub const NO_TEXTURE: u32 = u32::MAX;
 
 /// The shared `u32` constants besides the code lists: (WGSL name, value).
 fn scalars() -> Vec<(&'static str, u32)> {
@@ -207,6 +240,8 @@ fn scalars() -> Vec<(&'static str, u32)> {
         ("LOG_RECORD_MAX", LOG_RECORD_MAX),
         ("NO_OBJECT", NO_OBJECT),
         ("NO_NORMALS", crate::scene::NO_NORMALS),
+        ("NO_UVS", crate::scene::NO_UVS),
+        ("NO_TEXTURE", NO_TEXTURE),
         (
             "MAX_PIXEL_SAMPLES",
             crate::record::samples::MAX_PIXEL_SAMPLES as u32,
@@ -234,6 +269,7 @@ pub fn wgsl() -> String {
         light::ALL,
         integrator::ALL,
         strategy::ALL,
+        texture::ALL,
         monte_carlo::slot::ALL,
     ];
     for (name, v) in lists
@@ -282,7 +318,7 @@ mod tests {
         let base = ShaderConfig::for_scene(&prepared);
         let mut checked = 0;
         // Every combination of the features a scene switches on, then the Monte Carlo, trace,
-        // ray-query and terminator-fix shaders with every feature (smooth shading included).
+        // ray-query, terminator-fix and texture shaders with every feature (smooth shading included).
         for bits in 0u32..128 {
             let b = |k: u32| bits & (1 << k) != 0;
             let c = ShaderConfig {
@@ -302,12 +338,13 @@ mod tests {
             checked += 1;
         }
         let full = ShaderConfig::full(&prepared);
-        for bits in 0u32..16 {
+        for bits in 0u32..32 {
             let b = |k: u32| bits & (1 << k) != 0;
             let mut c = ShaderConfig {
                 monte_carlo: b(0),
                 trace: b(1),
                 hanika: b(3),
+                textures: b(4),
                 ..full
             };
             if b(2) {
@@ -334,6 +371,6 @@ mod tests {
                 checked += 1;
             }
         }
-        assert_eq!(checked, 148);
+        assert_eq!(checked, 164);
     }
 }

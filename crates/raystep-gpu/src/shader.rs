@@ -34,6 +34,8 @@ pub struct ShaderConfig {
     pub smooth: bool,
     /// Hanika's terminator fix on smooth triangles (`[render] terminator = "hanika"`).
     pub hanika: bool,
+    /// Textures (`wgsl/texture.wgsl`): some object's material has one.
+    pub textures: bool,
     /// BVH traversal.
     pub bvh: bool,
     /// The brute-force loop.
@@ -108,6 +110,7 @@ impl ShaderConfig {
             triangles: f.triangles > 0,
             smooth: f.smooth > 0,
             hanika: f.smooth > 0 && s.terminator == crate::scene::Terminator::Hanika,
+            textures: f.textured > 0,
             bvh,
             brute: !bvh,
             ray_query: false,
@@ -143,6 +146,7 @@ impl ShaderConfig {
             planes: true,
             triangles: true,
             smooth: true,
+            textures: true,
             bvh: !self.ray_query,
             brute: !self.ray_query,
             shadows: true,
@@ -181,6 +185,7 @@ impl ShaderConfig {
             "TRIANGLES" => self.triangles,
             "SMOOTH" => self.smooth,
             "HANIKA" => self.hanika,
+            "TEXTURES" => self.textures,
             "BVH" => self.bvh,
             "BRUTE" => self.brute,
             "SHADOWS" => self.shadows,
@@ -223,6 +228,8 @@ pub(crate) mod pieces {
     pub const OFFSET_NONE: &str = include_str!("wgsl/offset_none.wgsl");
     pub const OFFSET_FIXED: &str = include_str!("wgsl/offset_fixed.wgsl");
     pub const OFFSET_ROBUST: &str = include_str!("wgsl/offset_robust.wgsl");
+    pub const TEXTURE: &str = include_str!("wgsl/texture.wgsl");
+    pub const ATAN: &str = raystep_core::portable::ATAN_WGSL;
     pub const CLOSEST_HIT: &str = include_str!("wgsl/closest_hit.wgsl");
     pub const RAYGEN: &str = include_str!("wgsl/raygen.wgsl");
     pub const DISPLAY: &str = include_str!("wgsl/display.wgsl");
@@ -254,6 +261,8 @@ pub(crate) mod pieces {
         ("offset_none.wgsl", OFFSET_NONE),
         ("offset_fixed.wgsl", OFFSET_FIXED),
         ("offset_robust.wgsl", OFFSET_ROBUST),
+        ("texture.wgsl", TEXTURE),
+        ("portable/atan.wgsl", ATAN),
         ("closest_hit.wgsl", CLOSEST_HIT),
         ("raygen.wgsl", RAYGEN),
         ("display.wgsl", DISPLAY),
@@ -301,7 +310,7 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     let on = |b: bool| if b { "yes" } else { "no" };
     out += &format!(
         "// raystep GPU tracer, {} shader.\n// spheres: {}, planes: {}, triangles: {}, accelerator: {}, \
-         shadows: {}, reflection: {}, refraction: {}, monte carlo: {}\n// sphere method: {:?}, triangle method: {:?}, offset: {:?}\n\n",
+         shadows: {}, reflection: {}, refraction: {}, textures: {}, monte carlo: {}\n// sphere method: {:?}, triangle method: {:?}, offset: {:?}\n\n",
         if config.full {
             "full (every feature)"
         } else {
@@ -319,6 +328,7 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         on(config.shadows),
         on(config.reflection),
         on(config.refraction),
+        on(config.textures),
         on(config.monte_carlo),
         config.sphere_method,
         config.triangle_method,
@@ -396,6 +406,10 @@ pub fn wgsl(config: &ShaderConfig) -> String {
             OffsetPolicy::Fixed => pieces::OFFSET_FIXED,
             OffsetPolicy::Robust => pieces::OFFSET_ROBUST,
         });
+    }
+    if config.textures {
+        add(pieces::ATAN);
+        add(pieces::TEXTURE);
     }
     add(pieces::CLOSEST_HIT);
     add(pieces::RANDOM);

@@ -322,6 +322,92 @@ fn shading_normal_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
     })
 }
 
+/// A texture record as the CPU's `Texture` step: the numbers the GPU computed, with the
+/// texture's name, kind and settings, a triangle's vertex texture coordinates and a plane's
+/// axes taken from the scene (which the GPU read, not computed).
+fn texture_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
+    use crate::interface::texture as code;
+    use crate::record::texturing::{Texel, TexelLookup, UvMapping};
+    use crate::scene::{Shape, TextureKind};
+    let object = p.u()?;
+    let barycentric = [p.f()?, p.f()?];
+    let mapping = match p.u()? {
+        code::UV_VERTEX_UVS => UvMapping::VertexUvs,
+        code::UV_BARYCENTRIC => UvMapping::Barycentric,
+        code::UV_SPHERE => UvMapping::Sphere,
+        code::UV_PLANE => UvMapping::Plane,
+        other => return Err(format!("a texture record with mapping code {other}")),
+    };
+    let uv = [p.f()?, p.f()?];
+    let direction = p.v()?;
+    let cell = [p.f()?, p.f()?];
+    let odd = p.b()?;
+    let wrapped = [p.f()?, p.f()?];
+    let address = [p.f()?, p.f()?];
+    let count = p.u()? as usize;
+    let mut texels = vec![];
+    for k in 0..4 {
+        let at = [p.u()?, p.u()?];
+        let (color, weight) = (p.v()?, p.f()?);
+        if k < count {
+            texels.push(Texel { at, color, weight });
+        }
+    }
+    let (texel, color) = (p.v()?, p.v()?);
+    let o = scene
+        .objects
+        .get(object as usize)
+        .ok_or_else(|| format!("a texture on object {object}, which does not exist"))?;
+    let tex = scene
+        .texture_of(object)
+        .ok_or_else(|| format!("a texture on object {object}, whose material has none"))?;
+    let lookup = match &tex.kind {
+        TextureKind::Checker { squares, colors } => TexelLookup::Checker {
+            squares: *squares,
+            cell,
+            odd,
+            colors: colors.map(|c| c.to_array()),
+        },
+        TextureKind::Image {
+            width,
+            height,
+            filter,
+            wrap,
+            ..
+        } => TexelLookup::Image {
+            size: [*width, *height],
+            filter: *filter,
+            wrap: *wrap,
+            wrapped,
+            address,
+            texels,
+        },
+    };
+    let triangle = matches!(o.shape, Shape::Triangle { .. });
+    Ok(Step::Texture {
+        texture: tex.name.clone(),
+        mapping,
+        barycentric: triangle.then_some(barycentric),
+        vertex_uvs: (mapping == UvMapping::VertexUvs)
+            .then(|| scene.vertex_uvs_of(object).copied())
+            .flatten(),
+        direction: (mapping == UvMapping::Sphere).then_some(direction),
+        axes: match o.shape {
+            Shape::Plane { normal, .. } => {
+                Some(crate::trace::texture::plane_axes(normal).map(|a| a.to_array()))
+            }
+            Shape::AxisPlane { axis, .. } => {
+                Some(crate::trace::texture::axis_plane_axes(axis).map(|a| a.to_array()))
+            }
+            _ => None,
+        },
+        uv,
+        lookup,
+        texel,
+        color,
+    })
+}
+
 /// A node record as the CPU's node visit.
 fn node_step(p: &mut Payload) -> Result<Step, String> {
     let node = p.u()?;
@@ -490,6 +576,7 @@ pub fn decode(
             tag::MISS => push(&mut rays, Step::Miss { background: p.v()? })?,
             tag::SURFACE => push(&mut rays, surface_step(&mut p)?)?,
             tag::SHADING_NORMAL => push(&mut rays, shading_normal_step(scene, &mut p)?)?,
+            tag::TEXTURE => push(&mut rays, texture_step(scene, &mut p)?)?,
             tag::LENS => push(&mut rays, mc::lens(&mut p)?)?,
             tag::EMITTED => push(&mut rays, mc::emitted(scene, &mut p)?)?,
             tag::LIGHT_SAMPLE => {

@@ -12,7 +12,13 @@ fn examples_write_every_built_in_file_and_refuse_to_overwrite() {
     // for byte, named with its full path.
     let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
     let mut count = 0;
-    for sub in ["scenes", "lessons", "lessons/exercises", "lessons/starter"] {
+    for sub in [
+        "scenes",
+        "scenes/textures",
+        "lessons",
+        "lessons/exercises",
+        "lessons/starter",
+    ] {
         for e in std::fs::read_dir(repo.join(sub)).unwrap() {
             let p = e.unwrap().path();
             if p.is_dir() {

@@ -99,7 +99,7 @@ fn scene_check_of_a_written_scene() {
     assert_eq!(
         v,
         json!({
-            "spheres": 1, "planes": 0, "triangles": 0, "smooth": 0, "meshes": 0, "lights": 1,
+            "spheres": 1, "planes": 0, "triangles": 0, "smooth": 0, "textured": 0, "meshes": 0, "lights": 1,
             "reflective": false, "transparent": false, "primitives": 1, "emitters": 0
         })
     );

@@ -36,6 +36,37 @@ pub fn grade_class(
     (text, rows)
 }
 
+/// Grades a class whose student `s{k:04}` answered `class[k]` (one answer per question of
+/// `ids`, in order) and asserts that every student scored full marks.
+pub fn assert_full_marks(
+    sheet: &Path,
+    ids: &[String],
+    class: &[Vec<String>],
+    dir: &Path,
+    name: &str,
+) {
+    let mut csv = String::from("student");
+    for id in ids {
+        csv += &format!(",{id}");
+    }
+    csv += "\n";
+    for (k, answers) in class.iter().enumerate() {
+        csv += &format!("s{k:04}");
+        for a in answers {
+            csv += &format!(",\"{a}\"");
+        }
+        csv += "\n";
+    }
+    let (g, mut rows) = grade_class(sheet, &csv, dir, name);
+    let header = rows.remove(0);
+    let score = header.iter().position(|h| h == "score").unwrap();
+    let out_of = header.iter().position(|h| h == "out_of").unwrap();
+    assert_eq!(rows.len(), class.len(), "{g}");
+    for row in &rows {
+        assert_eq!(row[score], row[out_of], "{row:?}");
+    }
+}
+
 /// A minimal CSV reader for the grades file (quoted fields, doubled quotes).
 pub fn csv_rows(text: &str) -> Vec<Vec<String>> {
     let mut rows = vec![];

@@ -1,10 +1,12 @@
 //! Helpers shared by the integration tests: the diagram tests' goldens ([`golden`]), the GPU tests'
 //! one lock and context ([`gpu`]), the scenes the grader tests write ([`scenes`]), a seeded
 //! generator ([`rng`]), hostile input ([`hostile`]), the app's test harness ([`app_harness`])
-//! and a class graded through `raystep grade` ([`grades`]).
+//! a class graded through `raystep grade` ([`grades`]) and a careful student's f64 arithmetic
+//! ([`exact`]).
 #![allow(dead_code)]
 
 pub mod app_harness;
+pub mod exact;
 pub mod golden;
 pub mod gpu;
 pub mod grades;

@@ -149,6 +149,30 @@ fn read_quantity(trace: &Trace, q: &Question) -> A {
                 _ => None,
             })
             .unwrap_or(A::None),
+        "texture_u" | "texture_v" | "texel_column" | "texel_row" | "texture_color" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::Texture {
+                    uv, lookup, texel, ..
+                } => Some(match q.quantity.name() {
+                    "texture_u" => A::Num(uv[0] as f64),
+                    "texture_v" => A::Num(uv[1] as f64),
+                    "texture_color" => vec(*texel),
+                    column_or_row => {
+                        let k = usize::from(column_or_row == "texel_row");
+                        match lookup {
+                            raystep::record::texturing::TexelLookup::Checker { cell, .. } => {
+                                A::Num(cell[k] as f64)
+                            }
+                            raystep::record::texturing::TexelLookup::Image { texels, .. } => {
+                                A::Num(texels[0].at[k] as f64)
+                            }
+                        }
+                    }
+                }),
+                _ => None,
+            })
+            .unwrap_or(A::None),
         "shading_normal" => steps
             .iter()
             .find_map(|s| match s {

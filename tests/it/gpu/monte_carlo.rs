@@ -91,6 +91,13 @@ fn monte_carlo_scenes_on_the_gpu_are_the_cpus_image() {
             scenes.push(s);
         }
     }
+    // Textures (a checker, bilinear and nearest images) multiplying the path tracer's albedo.
+    let mut textured = load_file(&scene_file("textures.toml")).unwrap();
+    textured.camera.width = 48;
+    textured.camera.height = 36;
+    textured.settings.spp = 4;
+    textured.settings.integrator = Integrator::Path;
+    scenes.push(textured);
     let mut failures: Vec<String> = vec![];
     for scene in &scenes {
         let label = format!(

@@ -288,6 +288,49 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                 v3(p)
             ))
         ),
+        Step::Texture {
+            texture,
+            mapping,
+            uv,
+            lookup,
+            texel,
+            ..
+        } => format!(
+            "texture \"{texture}\": (u, v) = ({}, {}) from {}, {}: colour {}",
+            num(uv[0]),
+            num(uv[1]),
+            mapping.name(),
+            match lookup {
+                crate::record::texturing::TexelLookup::Checker { cell, odd, .. } => format!(
+                    "square ({}, {}), {}",
+                    num(cell[0]),
+                    num(cell[1]),
+                    if *odd { "odd" } else { "even" }
+                ),
+                crate::record::texturing::TexelLookup::Image {
+                    texels, address, ..
+                } => format!(
+                    "texel position ({}, {}): {}",
+                    num(address[0]),
+                    num(address[1]),
+                    match texels.as_slice() {
+                        [t] => format!("texel ({}, {})", t.at[0], t.at[1]),
+                        ts => format!(
+                            "texels {} weighted {}",
+                            ts.iter()
+                                .map(|t| format!("({}, {})", t.at[0], t.at[1]))
+                                .collect::<Vec<_>>()
+                                .join(", "),
+                            ts.iter()
+                                .map(|t| num(t.weight))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        ),
+                    }
+                ),
+            },
+            v3(*texel)
+        ),
         Step::ShadowRay { name, distance, .. } => {
             format!(
                 "shadow ray towards light \"{name}\" ({} away)",

@@ -1,4 +1,4 @@
-//! Portable elementary functions: `sin`, `cos`, `exp`, `ln` (and [`pow`]) computed by the same
+//! Portable elementary functions: `sin`, `cos`, `exp`, `ln`, `atan2` (and [`pow`]) computed by the same
 //! f32 steps on the CPU and on the GPU, so that a sample's direction has the same bits on both.
 //!
 //! Rust's `f32::sin` calls the platform's libm and WGSL's `sin` is whatever the driver does
@@ -11,7 +11,7 @@
 //! `pow.wgsl` ([`super::POW_WGSL`]).
 //!
 //! The methods are Cody and Waite's range reduction followed by Cephes' single-precision
-//! polynomials (S. L. Moshier, *Cephes Math Library*, `sinf.c`, `expf.c`, `logf.c`; see
+//! polynomials (S. L. Moshier, *Cephes Math Library*, `sinf.c`, `expf.c`, `logf.c`, `atanf.c`; see
 //! docs/SOURCES.md). Accuracy, measured against f64's `sin`, `cos`, `exp` and `ln` in this
 //! module's tests:
 //!
@@ -23,6 +23,9 @@
 //!   so none is made), above `f32::MAX` +∞.
 //! * [`ln`]: within 1 ulp for normal positive x; 0 and subnormals give −∞, negative x and NaN
 //!   give NaN, +∞ gives +∞.
+//! * [`atan`]: within 2 ulp (Cephes `atanf`); [`atan2`] within 3 ulp, the quotient's rounding
+//!   included (a sphere's texture coordinates, `trace::texture`). Their WGSL twin is
+//!   `atan.wgsl`, which divides with the tracer's exact `fdiv`.
 
 // The coefficients are Cephes' published decimals, kept verbatim so they can be checked against
 // the source (each rounds to the f32 it names; the WGSL twin writes the same decimals).
@@ -125,6 +128,61 @@ pub fn sin(x: f32) -> f32 {
 /// `cos x`: the second half of [`sin_cos`].
 pub fn cos(x: f32) -> f32 {
     sin_cos(x).1
+}
+
+/// π/2, π/4 and π rounded to f32 (the WGSL twin, `atan.wgsl`, writes decimals that round to
+/// the same f32s; a test checks it).
+const ATAN_PIO2: f32 = std::f32::consts::FRAC_PI_2;
+const ATAN_PIO4: f32 = std::f32::consts::FRAC_PI_4;
+const ATAN_PI: f32 = std::f32::consts::PI;
+
+/// atan x (Cephes `atanf`): |x| reduced to [0, tan π/8] by atan x = π/2 + atan(−1/x) above
+/// tan 3π/8 and π/4 + atan((x − 1)/(x + 1)) above tan π/8, then an odd polynomial. Within
+/// 2 ulp of atan for finite x; ±∞ gives ±π/2, NaN gives NaN.
+pub fn atan(x: f32) -> f32 {
+    let negative = x < 0.0;
+    let mut a = x.abs();
+    let mut y = 0.0;
+    if a > 2.414_213_562_373_095 {
+        y = ATAN_PIO2;
+        a = -(1.0 / a);
+    } else if a > 0.414_213_562_373_095_0 {
+        y = ATAN_PIO4;
+        a = (a - 1.0) / (a + 1.0);
+    }
+    let z = a * a;
+    y += (((8.053_744_495_38e-2 * z - 1.387_768_560_32e-1) * z + 1.997_771_064_78e-1) * z
+        - 3.333_294_915_39e-1)
+        * z
+        * a
+        + a;
+    if negative { -y } else { y }
+}
+
+/// atan2(y, x) (Cephes `atan2f`): the angle of the point (x, y) in (−π, π], from [`atan`] of
+/// y/x and the quadrant; within 3 ulp (the quotient's rounding included). (0, 0) gives 0; the
+/// sign of a zero is not looked at.
+pub fn atan2(y: f32, x: f32) -> f32 {
+    if x == 0.0 {
+        return if y < 0.0 {
+            -ATAN_PIO2
+        } else if y == 0.0 {
+            0.0
+        } else {
+            ATAN_PIO2
+        };
+    }
+    if y == 0.0 {
+        return if x < 0.0 { ATAN_PI } else { 0.0 };
+    }
+    let w = if x > 0.0 {
+        0.0
+    } else if y < 0.0 {
+        -ATAN_PI
+    } else {
+        ATAN_PI
+    };
+    w + atan(y / x)
 }
 
 /// ln 2 in two parts (Cephes): `C1` has 9 significant bits, so `k·C1` is exact for |k| < 2¹⁵.
@@ -233,6 +291,40 @@ mod tests {
         assert_eq!(PIO2_2.to_bits() & 0xfff, 0);
         assert_eq!(LN2_HI.to_bits() & 0x7fff, 0);
         assert!(((LN2_HI as f64 + LN2_LO as f64) - std::f64::consts::LN_2).abs() < 1e-11);
+    }
+
+    /// atan over a sweep of f32s from 1e-6 to 1e7 (and their negatives): within 2 ulp of f64's.
+    /// atan2 over the unit circle in 100 000 steps: within 3 ulp (the quotient y/x's rounding
+    /// included), or 6e-8 absolute where the result is near zero. The quadrants and axes by hand.
+    #[test]
+    fn atan_and_atan2_are_within_2_ulp_of_f64() {
+        let mut worst = 0;
+        let mut x = 1e-6f32;
+        while x < 1e7 {
+            for v in [x, -x] {
+                let u = ulps(atan(v), f64::from(v).atan());
+                worst = worst.max(u);
+            }
+            x *= 1.000_37;
+        }
+        assert!(worst <= 2, "atan: {worst} ulp");
+        for k in 0..100_000 {
+            let a = (f64::from(k) / 100_000.0 - 0.5) * std::f64::consts::TAU;
+            let (y, x) = (a.sin() as f32, a.cos() as f32);
+            let want = f64::from(y).atan2(f64::from(x));
+            let got = atan2(y, x);
+            assert!(
+                ulps(got, want) <= 3 || (f64::from(got) - want).abs() < 6e-8,
+                "atan2({y}, {x}) = {got}, want {want}"
+            );
+        }
+        assert_eq!(atan2(0.0, 1.0), 0.0);
+        assert_eq!(atan2(0.0, -1.0), ATAN_PI);
+        assert_eq!(atan2(1.0, 0.0), ATAN_PIO2);
+        assert_eq!(atan2(-1.0, 0.0), -ATAN_PIO2);
+        assert_eq!(atan2(0.0, 0.0), 0.0);
+        assert!(atan(f32::NAN).is_nan());
+        assert_eq!(atan(f32::INFINITY), ATAN_PIO2);
     }
 
     /// Every f32 in ±[0, 2π) at a stride of 679 ulp-steps (3.2 million values, dense near 0),

@@ -10,6 +10,7 @@
 //! - [`observer`]: what the tracer reports to as it works — [`Silent`] (the render: every hook
 //!   compiles away), [`Counter`] (statistics) and [`Recorder`] (builds the [`Trace`]);
 //! - [`validate`]: the checks a loaded trace passes before anything reads it;
+//! - [`texturing`]: what a texture lookup records (the `Texture` step's mapping and texels);
 //! - [`samples`]: what a Monte Carlo trace keeps beyond its one sample: the pixel's samples
 //!   summarised, the lights they aimed at, the BSDFs;
 //! - [`words`]: one name per ray kind and one wording per kernel outcome;
@@ -44,6 +45,7 @@ pub mod number;
 pub mod observer;
 pub mod samples;
 pub mod steps;
+pub mod texturing;
 pub mod tolerance;
 pub mod trace;
 pub mod validate;

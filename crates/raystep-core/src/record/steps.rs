@@ -249,6 +249,55 @@ pub enum Step {
         )]
         lifted: Option<[f32; 3]>,
     },
+    /// A texture read at the hit (after the `Surface` step, and `ShadingNormal` if any, of an
+    /// object whose material has a texture): the texture coordinates (u, v), the texel or
+    /// texels read there, and the colour they give, which multiplies the material's colour.
+    Texture {
+        /// The texture's name.
+        texture: String,
+        /// How (u, v) was found.
+        mapping: crate::record::texturing::UvMapping,
+        /// A triangle's barycentric coordinates (b₁, b₂) at the hit (triangles only).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        barycentric: Option<[f32; 2]>,
+        /// A triangle's vertex texture coordinates t₀, t₁, t₂ (`vertex-uvs` only).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        vertex_uvs: Option<[[f32; 2]; 3]>,
+        /// A sphere's outward unit direction d at the hit (`sphere` only).
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        direction: Option<[f32; 3]>,
+        /// A plane's two in-plane axes, u along the first and v along the second (`plane`
+        /// only): u = P·a₁, v = P·a₂.
+        #[serde(
+            with = "crate::jsonf",
+            skip_serializing_if = "Option::is_none",
+            default
+        )]
+        axes: Option<[[f32; 3]; 2]>,
+        /// The texture coordinates at the hit.
+        #[serde(with = "crate::jsonf")]
+        uv: [f32; 2],
+        /// How the texture was read at (u, v).
+        lookup: crate::record::texturing::TexelLookup,
+        /// The texture's colour at (u, v) (linear RGB).
+        #[serde(with = "crate::jsonf")]
+        texel: [f32; 3],
+        /// The surface colour: the material's colour × `texel`.
+        #[serde(with = "crate::jsonf")]
+        color: [f32; 3],
+    },
     /// A shadow ray is about to be traced towards a light.
     ShadowRay {
         /// Light index.

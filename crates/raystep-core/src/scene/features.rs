@@ -15,6 +15,9 @@ pub struct Features {
     /// Number of smooth-shaded triangles (with vertex normals).
     #[serde(default)]
     pub smooth: usize,
+    /// Number of objects whose material has a texture.
+    #[serde(default)]
+    pub textured: usize,
     /// Number of meshes.
     pub meshes: usize,
     /// Number of point lights.
@@ -53,6 +56,7 @@ impl Features {
             }
             f.smooth += usize::from(o.normals != super::NO_NORMALS);
             used[o.material as usize] = true;
+            f.textured += usize::from(materials[o.material as usize].texture.is_some());
             f.emitters += usize::from(materials[o.material as usize].emission.max_element() > 0.0);
         }
         for (m, _) in materials.iter().zip(&used).filter(|(_, u)| **u) {

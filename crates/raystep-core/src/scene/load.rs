@@ -213,6 +213,20 @@ impl Loc<'_> {
         Ok(v)
     }
 
+    /// A colour that is a reflectance: each component in [0, 1].
+    fn unit_color(&self, field: &str, a: [f64; 3]) -> Result<Vec3, SceneError> {
+        let v = self.color(field, a)?;
+        if v.max_element() > 1.0 {
+            return Err(self.err(
+                field,
+                format!(
+                    "a texture's colours are reflectances: each component lies in [0, 1], got {a:?}"
+                ),
+            ));
+        }
+        Ok(v)
+    }
+
     fn choice<T: clap::ValueEnum>(&self, field: &str, s: &str) -> Result<T, SceneError> {
         T::from_str(s, true).map_err(|_| {
             let names: Vec<String> = T::value_variants()
@@ -373,6 +387,7 @@ impl<'a> Ctx<'a> {
             });
         }
 
+        let textures = self.textures(&f, base)?;
         let mut materials = vec![];
         let mut by_name: HashMap<String, u32> = HashMap::new();
         for (i, m) in f.material.iter().enumerate() {
@@ -417,6 +432,19 @@ impl<'a> Ctx<'a> {
                     .map(|b| loc.choice("bsdf", b))
                     .transpose()?,
                 roughness: loc.unit("roughness", d.roughness)?,
+                texture: match &d.texture {
+                    None => None,
+                    Some(n) => Some(textures.iter().position(|t| &t.name == n).ok_or_else(|| {
+                        let known: Vec<String> =
+                            textures.iter().map(|t| format!("\"{}\"", t.name)).collect();
+                        let known = if known.is_empty() {
+                            "no textures are defined: add a [[texture]]".to_string()
+                        } else {
+                            format!("known: {}", known.join(", "))
+                        };
+                        loc.err("texture", format!("unknown texture \"{n}\" ({known})"))
+                    })? as u32),
+                },
             });
         }
         let mut default_material = None;
@@ -449,12 +477,15 @@ impl<'a> Ctx<'a> {
         let mut objects: Vec<Object> = vec![];
         let mut groups: Vec<Group> = vec![];
         let mut vertex_normals: Vec<[Vec3; 3]> = vec![];
+        let mut vertex_uvs: Vec<[[f32; 2]; 3]> = vec![];
         let mut names: HashMap<String, usize> = HashMap::new();
-        // `normals`: empty, or one entry per shape (a smooth triangle's vertex normals).
+        // `normals`, `uvs`: empty, or one entry per shape (a smooth triangle's vertex normals, a
+        // triangle's texture coordinates).
         let mut add_group = |loc: &Loc,
                              name: String,
                              shapes: Vec<Shape>,
                              normals: Vec<Option<[Vec3; 3]>>,
+                             uvs: Vec<Option<[[f32; 2]; 3]>>,
                              mat: u32|
          -> Result<(), SceneError> {
             // Keep the byte offset; the line is counted only when a duplicate is reported (counting
@@ -483,7 +514,15 @@ impl<'a> Ctx<'a> {
                 count: shapes.len() as u32,
             });
             let mut normals = normals.into_iter();
+            let mut uvs = uvs.into_iter();
             for shape in shapes {
+                let t = match uvs.next().flatten() {
+                    Some(t) => {
+                        vertex_uvs.push(t);
+                        vertex_uvs.len() as u32 - 1
+                    }
+                    None => NO_UVS,
+                };
                 let n = match normals.next().flatten() {
                     Some(n) => {
                         vertex_normals.push(n);
@@ -496,6 +535,7 @@ impl<'a> Ctx<'a> {
                     material: mat,
                     group: g,
                     normals: n,
+                    uvs: t,
                 });
             }
             Ok(())
@@ -554,6 +594,7 @@ impl<'a> Ctx<'a> {
                         name,
                         vec![Shape::Sphere { center, radius }],
                         vec![],
+                        vec![],
                         m,
                     )?;
                 }
@@ -597,7 +638,7 @@ impl<'a> Ctx<'a> {
                         Shape::Plane { normal, offset }
                     };
                     let m = material(&loc, &d.material)?;
-                    add_group(&loc, name, vec![shape], vec![], m)?;
+                    add_group(&loc, name, vec![shape], vec![], vec![], m)?;
                 }
                 Def::Triangle(t) => {
                     let d = t.get_ref();
@@ -628,8 +669,18 @@ impl<'a> Ctx<'a> {
                         }
                         None => vec![],
                     };
+                    let uvs = match d.uvs {
+                        Some(ts) => {
+                            let mut out = [[0.0f32; 2]; 3];
+                            for (t, o) in ts.iter().zip(out.iter_mut()) {
+                                *o = [loc.num("uvs", t[0])?, loc.num("uvs", t[1])?];
+                            }
+                            vec![Some(out)]
+                        }
+                        None => vec![],
+                    };
                     let m = material(&loc, &d.material)?;
-                    add_group(&loc, name, vec![Shape::Triangle { p }], normals, m)?;
+                    add_group(&loc, name, vec![Shape::Triangle { p }], normals, uvs, m)?;
                 }
                 Def::Mesh(mesh) => {
                     let d = mesh.get_ref();
@@ -653,10 +704,10 @@ impl<'a> Ctx<'a> {
                             ));
                         }
                     };
-                    let (tris, normals) = load_obj(&path, translate, scale, shading)
+                    let (tris, normals, uvs) = load_obj(&path, translate, scale, shading)
                         .map_err(|m| loc.err("obj", m))?;
                     let m = material(&loc, &d.material)?;
-                    add_group(&loc, name, tris, normals, m)?;
+                    add_group(&loc, name, tris, normals, uvs, m)?;
                 }
             }
         }
@@ -678,8 +729,111 @@ impl<'a> Ctx<'a> {
             objects,
             groups,
             vertex_normals,
+            vertex_uvs,
+            textures,
             features,
         })
+    }
+
+    /// The `[[texture]]` tables, in file order: a checker's squares and colours, or an image
+    /// read (relative to the scene file) and decoded to linear texels.
+    fn textures(&self, f: &SceneFile, base: Option<&Path>) -> Result<Vec<Texture>, SceneError> {
+        let mut out: Vec<Texture> = vec![];
+        let mut budget = texture::MAX_TEXELS;
+        for (i, t) in f.texture.iter().enumerate() {
+            let d = t.get_ref();
+            let name = d.name.clone().unwrap_or_else(|| format!("texture {i}"));
+            let loc = self.loc(format!("texture \"{name}\""), t);
+            if out.iter().any(|x| x.name == name) {
+                return Err(loc.err(
+                    "name",
+                    format!("a texture named \"{name}\" is already defined"),
+                ));
+            }
+            let kind = match (&d.checker, &d.image) {
+                (Some(_), Some(_)) => {
+                    return Err(loc.err(
+                        "image",
+                        "give either `checker` (a checkerboard) or `image` (a file), not both",
+                    ));
+                }
+                (None, None) => {
+                    return Err(loc.err(
+                        "",
+                        "a texture needs `checker = [squares across u, squares across v]` or `image = \"file.png\"`",
+                    ));
+                }
+                (Some(squares), None) => {
+                    for (field, given) in [("filter", &d.filter), ("wrap", &d.wrap)] {
+                        if given.is_some() {
+                            return Err(loc.err(
+                                field,
+                                format!("`{field}` applies to images; a checker is computed exactly at each point"),
+                            ));
+                        }
+                    }
+                    if squares.iter().any(|&s| s == 0 || s > 1_000_000) {
+                        return Err(loc.err(
+                            "checker",
+                            format!(
+                                "squares across u and v must lie in 1 … 1000000, got {squares:?}"
+                            ),
+                        ));
+                    }
+                    let colors = d.colors.unwrap_or([[0.9; 3], [0.15; 3]]);
+                    TextureKind::Checker {
+                        squares: *squares,
+                        colors: [
+                            loc.unit_color("colors", colors[0])?,
+                            loc.unit_color("colors", colors[1])?,
+                        ],
+                    }
+                }
+                (None, Some(file)) => {
+                    if d.colors.is_some() {
+                        return Err(
+                            loc.err("colors", "`colors` go with `checker`; an image has its own")
+                        );
+                    }
+                    let path = base.map_or_else(|| Path::new(file).to_path_buf(), |b| b.join(file));
+                    let bytes =
+                        crate::io::read_input(&path, texture::MAX_IMAGE_BYTES, "image file")
+                            .map_err(|e| {
+                                loc.err(
+                                    "image",
+                                    if e.kind() == std::io::ErrorKind::NotFound {
+                                        format!("image file {} does not exist", path.display())
+                                    } else {
+                                        format!("cannot read image file {}: {e}", path.display())
+                                    },
+                                )
+                            })?;
+                    let (width, height, texels) = texture::decode_image(&bytes, &path, budget)
+                        .map_err(|m| loc.err("image", m))?;
+                    budget -= u64::from(width) * u64::from(height);
+                    TextureKind::Image {
+                        file: file.clone(),
+                        width,
+                        height,
+                        texels: std::sync::Arc::new(texels),
+                        filter: d
+                            .filter
+                            .as_deref()
+                            .map(|x| loc.choice("filter", x))
+                            .transpose()?
+                            .unwrap_or_default(),
+                        wrap: d
+                            .wrap
+                            .as_deref()
+                            .map(|x| loc.choice("wrap", x))
+                            .transpose()?
+                            .unwrap_or_default(),
+                    }
+                }
+            };
+            out.push(Texture { name, kind });
+        }
+        Ok(out)
     }
 
     fn camera(&self, c: Option<&Spanned<CameraDef>>) -> Result<Camera, SceneError> {

@@ -11,12 +11,14 @@ pub mod mitsuba;
 mod model;
 mod obj;
 pub mod spd;
+pub mod texture;
 
 pub use crate::shapes::Shape;
 pub use features::Features;
 pub use limits::{MAX_COORD, MAX_MAGNITUDE, MAX_OBJECTS, MAX_VERTEX};
 pub use load::{LocatedError, SceneError, load_file, load_str};
 pub use model::SceneFile;
+pub use texture::{Filter, Texture, TextureKind, Wrap};
 
 use crate::shapes::{SphereMethod, TriangleMethod};
 use glam::Vec3;
@@ -335,6 +337,10 @@ pub struct Material {
     /// A glossy BSDF's roughness in [0, 1].
     #[serde(default)]
     pub roughness: f32,
+    /// Index into [`Scene::textures`] of the texture whose colour multiplies `color` (and the
+    /// Monte Carlo BSDF's albedo or tint) at each hit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<u32>,
 }
 
 /// Below this roughness a glossy BSDF is a mirror (GGX's α = roughness² would be a delta).
@@ -373,6 +379,25 @@ impl Material {
     }
 }
 
+impl Material {
+    /// [`Material::bsdf`] with the texture's colour at the hit (`None`: untextured) multiplying
+    /// a diffuse BSDF's albedo and a mirror's or glossy BSDF's tint; glass is not tinted.
+    #[inline(always)]
+    pub fn bsdf_textured(&self, texel: Option<Vec3>) -> Bsdf {
+        let b = self.bsdf();
+        let Some(t) = texel else { return b };
+        match b {
+            Bsdf::Diffuse { albedo } => Bsdf::Diffuse { albedo: albedo * t },
+            Bsdf::Mirror { tint } => Bsdf::Mirror { tint: tint * t },
+            Bsdf::Glossy { tint, alpha } => Bsdf::Glossy {
+                tint: tint * t,
+                alpha,
+            },
+            glass => glass,
+        }
+    }
+}
+
 impl Default for Material {
     fn default() -> Self {
         Material {
@@ -388,6 +413,7 @@ impl Default for Material {
             emission: Vec3::ZERO,
             bsdf: None,
             roughness: 0.5,
+            texture: None,
         }
     }
 }
@@ -404,10 +430,15 @@ pub struct Object {
     /// Index into [`Scene::vertex_normals`] of a smooth-shaded triangle's three vertex normals,
     /// or [`NO_NORMALS`] (the geometric normal shades it).
     pub normals: u32,
+    /// Index into [`Scene::vertex_uvs`] of a triangle's three texture coordinates, or
+    /// [`NO_UVS`] (a texture reads the hit's barycentric u, v, or a sphere's or plane's own).
+    pub uvs: u32,
 }
 
 /// [`Object::normals`] of an object shaded with its geometric normal.
 pub const NO_NORMALS: u32 = u32::MAX;
+/// [`Object::uvs`] of an object without vertex texture coordinates.
+pub const NO_UVS: u32 = u32::MAX;
 
 /// A named entry of the scene file: one sphere, plane or triangle, or one mesh's triangles.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -468,6 +499,11 @@ pub struct Scene {
     /// The unit vertex normals n₀, n₁, n₂ of each smooth-shaded triangle (OBJ `vn`, a mesh's
     /// `shading = "smooth"`, or a triangle's `normals`), indexed by [`Object::normals`].
     pub vertex_normals: Vec<[Vec3; 3]>,
+    /// The texture coordinates t₀, t₁, t₂ of each triangle that has them (OBJ `vt`, a
+    /// triangle's `uvs`), indexed by [`Object::uvs`].
+    pub vertex_uvs: Vec<[[f32; 2]; 3]>,
+    /// The textures (`[[texture]]`), indexed by [`Material::texture`].
+    pub textures: Vec<Texture>,
     /// What the scene uses.
     pub features: Features,
 }
@@ -488,6 +524,18 @@ impl Scene {
     pub fn vertex_normals_of(&self, id: u32) -> Option<&[Vec3; 3]> {
         self.vertex_normals
             .get(self.objects[id as usize].normals as usize)
+    }
+    /// The texture coordinates of object `id`'s vertices, if it is a triangle that has them.
+    #[inline(always)]
+    pub fn vertex_uvs_of(&self, id: u32) -> Option<&[[f32; 2]; 3]> {
+        self.vertex_uvs.get(self.objects[id as usize].uvs as usize)
+    }
+    /// The texture of object `id`'s material, if it has one.
+    #[inline(always)]
+    pub fn texture_of(&self, id: u32) -> Option<&Texture> {
+        self.material_of(id)
+            .texture
+            .and_then(|t| self.textures.get(t as usize))
     }
     /// The material of object `id`.
     #[inline(always)]

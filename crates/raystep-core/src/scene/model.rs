@@ -34,6 +34,9 @@ pub struct SceneFile {
     /// `[[mesh]]`.
     #[serde(default)]
     pub mesh: Vec<Spanned<MeshDef>>,
+    /// `[[texture]]`.
+    #[serde(default)]
+    pub texture: Vec<Spanned<TextureDef>>,
 }
 
 /// `[camera]`.
@@ -155,6 +158,8 @@ pub struct MaterialDef {
     pub emission: [f64; 3],
     pub bsdf: Option<String>,
     pub roughness: f64,
+    /// The name of a `[[texture]]` whose colour multiplies `color` at each hit.
+    pub texture: Option<String>,
 }
 
 impl Default for MaterialDef {
@@ -172,6 +177,7 @@ impl Default for MaterialDef {
             emission: [0.0; 3],
             bsdf: None,
             roughness: 0.5,
+            texture: None,
         }
     }
 }
@@ -225,6 +231,10 @@ pub struct TriangleDef {
     /// Vertex normals n₀, n₁, n₂ (any length but zero): the triangle is smooth-shaded.
     #[serde(default, deserialize_with = "exact::opt_triangle")]
     pub normals: Option<[[f64; 3]; 3]>,
+    /// Texture coordinates t₀, t₁, t₂ of the three vertices (without them a texture reads the
+    /// hit's barycentric u, v).
+    #[serde(default, deserialize_with = "exact::opt_uvs")]
+    pub uvs: Option<[[f64; 2]; 3]>,
     pub material: Option<String>,
 }
 
@@ -244,6 +254,25 @@ pub struct MeshDef {
     /// area-weighted average of the faces around each vertex). Default: smooth where the file
     /// gives every face its `vn`, flat otherwise.
     pub shading: Option<String>,
+}
+
+/// `[[texture]]`: a checker (`checker`, `colors`) or an image (`image`, `filter`, `wrap`).
+#[derive(Debug, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+#[allow(missing_docs)]
+pub struct TextureDef {
+    pub name: Option<String>,
+    /// Squares per unit of u and of v.
+    pub checker: Option<[u32; 2]>,
+    /// The even and the odd squares' colours (default white and a dark grey).
+    #[serde(deserialize_with = "exact::opt_colors")]
+    pub colors: Option<[[f64; 3]; 2]>,
+    /// A PNG or JPEG file, relative to the scene file.
+    pub image: Option<String>,
+    /// `"nearest"` or `"bilinear"` (images only; default bilinear).
+    pub filter: Option<String>,
+    /// `"repeat"`, `"clamp"` or `"mirror"` (images only; default repeat).
+    pub wrap: Option<String>,
 }
 
 fn one() -> f64 {
@@ -278,6 +307,44 @@ mod exact {
         d: D,
     ) -> Result<Option<[[f64; 3]; 3]>, D::Error> {
         triangle(d).map(Some)
+    }
+
+    /// Exactly three pairs (u, v), when present.
+    pub fn opt_uvs<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[[f64; 2]; 3]>, D::Error> {
+        let v = Vec::<Vec<f64>>::deserialize(d)?;
+        let mut out = [[0.0; 2]; 3];
+        if v.len() != 3 {
+            return Err(D::Error::custom(format!(
+                "expected 3 texture coordinates [[u, v], [u, v], [u, v]], found {} values",
+                v.len()
+            )));
+        }
+        for (k, (p, o)) in v.into_iter().zip(out.iter_mut()).enumerate() {
+            *o = <[f64; 2]>::try_from(p.as_slice()).map_err(|_| {
+                D::Error::custom(format!(
+                    "expected 2 numbers [u, v] in vertex {}, found {} values",
+                    k + 1,
+                    p.len()
+                ))
+            })?;
+        }
+        Ok(Some(out))
+    }
+
+    /// Exactly two colours of exactly three numbers, when present.
+    pub fn opt_colors<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[[f64; 3]; 2]>, D::Error> {
+        let v = Vec::<Vec<f64>>::deserialize(d)?;
+        if v.len() != 2 {
+            return Err(D::Error::custom(format!(
+                "expected 2 colours [[r, g, b], [r, g, b]], found {} values",
+                v.len()
+            )));
+        }
+        let mut out = [[0.0; 3]; 2];
+        for (k, (p, o)) in v.into_iter().zip(out.iter_mut()).enumerate() {
+            *o = three(p, &format!("3 numbers [r, g, b] in colour {}", k + 1))?;
+        }
+        Ok(Some(out))
     }
 
     /// Exactly three points of exactly three numbers.

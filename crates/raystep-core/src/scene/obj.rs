@@ -60,11 +60,19 @@ pub(super) enum MeshShading {
 /// Each triangle's vertex normals (none for a flat one), or empty when the mesh is flat.
 pub(super) type FaceNormals = Vec<Option<[Vec3; 3]>>;
 
+/// Each triangle's vertex texture coordinates (none where its face has no `vt`), or empty.
+pub(super) type FaceUvs = Vec<Option<[[f32; 2]; 3]>>;
+
 /// The line of the `k`-th (from 0) `vn` of an OBJ file, for error messages.
 fn vn_line(text: &str, k: usize) -> Option<usize> {
+    nth_line(text, "vn", k)
+}
+
+/// The line of the `k`-th (from 0) statement `keyword` of an OBJ file.
+fn nth_line(text: &str, keyword: &str, k: usize) -> Option<usize> {
     text.lines()
         .enumerate()
-        .filter(|(_, l)| l.split_whitespace().next() == Some("vn"))
+        .filter(|(_, l)| l.split_whitespace().next() == Some(keyword))
         .nth(k)
         .map(|(n, _)| n + 1)
 }
@@ -93,7 +101,8 @@ fn computed_normals(positions: &[Vec3], faces: &[[usize; 3]]) -> FaceNormals {
 }
 
 /// Loads an OBJ file's faces (triangulated) as triangles, scaled then translated, with each
-/// face's vertex normals where `shading` asks for them (one entry per triangle, or none).
+/// face's vertex normals where `shading` asks for them (one entry per triangle, or none) and
+/// its texture coordinates (`f v/vt`, likewise).
 ///
 /// The OBJ file and any material library it names (`mtllib`) are read through
 /// [`crate::io::read_input`]: regular files only, within [`crate::io::limits`]. raystep takes
@@ -104,7 +113,7 @@ pub(super) fn load_obj(
     translate: Vec3,
     scale: f32,
     shading: MeshShading,
-) -> Result<(Vec<Shape>, FaceNormals), String> {
+) -> Result<(Vec<Shape>, FaceNormals, FaceUvs), String> {
     use crate::io::{limits, read_input};
     let bytes = read_input(path, limits::OBJ, "OBJ file").map_err(|e| {
         if e.kind() == std::io::ErrorKind::NotFound {
@@ -168,6 +177,7 @@ pub(super) fn load_obj(
     }
     let mut tris = Vec::with_capacity(faces);
     let mut normals: FaceNormals = vec![];
+    let mut uvs: FaceUvs = vec![];
     // Every face has its file normals (OBJ `f v//vn`): tobj gives a normal index per index.
     let file_normals = models
         .iter()
@@ -201,6 +211,42 @@ pub(super) fn load_obj(
             tris.push(Shape::Triangle {
                 p: [pos(f[0])?, pos(f[1])?, pos(f[2])?],
             });
+        }
+        if !m.texcoord_indices.is_empty() && m.texcoord_indices.len() == m.indices.len() {
+            // A `vt u v` must be finite (v up: the image's bottom row is v = 0).
+            let uv = |i: u32| -> Result<[f32; 2], String> {
+                let k = i as usize;
+                let t = m.texcoords.get(2 * k..2 * k + 2).ok_or_else(|| {
+                    format!(
+                        "{}: object \"{}\" refers to texture coordinate {} which does not exist",
+                        path.display(),
+                        model.name,
+                        k + 1
+                    )
+                })?;
+                if t.iter()
+                    .all(|c| c.is_finite() && f64::from(c.abs()) <= MAX_MAGNITUDE)
+                {
+                    return Ok([t[0], t[1]]);
+                }
+                let line = nth_line(
+                    text.get_or_init(|| String::from_utf8_lossy(&bytes).into_owned()),
+                    "vt",
+                    k,
+                )
+                .map_or(String::new(), |l| format!(":{l}"));
+                Err(format!(
+                    "{}{line}: texture coordinate {} (vt {} {}) must be two finite numbers within ±{MAX_MAGNITUDE:e}",
+                    path.display(),
+                    k + 1,
+                    t[0],
+                    t[1]
+                ))
+            };
+            uvs.resize(first, None);
+            for f in m.texcoord_indices.chunks_exact(3) {
+                uvs.push(Some([uv(f[0])?, uv(f[1])?, uv(f[2])?]));
+            }
         }
         match shading {
             MeshShading::Flat => {}
@@ -264,5 +310,8 @@ pub(super) fn load_obj(
     if !normals.is_empty() {
         normals.resize(tris.len(), None);
     }
-    Ok((tris, normals))
+    if !uvs.is_empty() {
+        uvs.resize(tris.len(), None);
+    }
+    Ok((tris, normals, uvs))
 }

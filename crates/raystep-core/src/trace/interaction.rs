@@ -32,6 +32,10 @@ pub struct Interaction {
     /// The rounding-error bound of `lifted` (`error`, plus half an ulp of its own sum where it
     /// was lifted).
     pub lifted_error: Vec3,
+    /// The colour of the material's texture at the hit ([`crate::trace::texture`]), which
+    /// multiplies the material's colour (and a Monte Carlo BSDF's albedo or tint); `None` for
+    /// an untextured material. Set by the tracer's `surface`, which records the lookup.
+    pub texel: Option<Vec3>,
 }
 
 /// Computes the interaction at `hit`. Each shape computes the point from its own parametrization
@@ -158,6 +162,7 @@ pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
         shading_normal: if inside { -outward } else { outward },
         lifted: point,
         lifted_error: error,
+        texel: None,
     }
 }
 

@@ -1,7 +1,7 @@
 //! Tracing: the [`Tracer`] and its three integrators, each in its own file beside it, and what
 //! they stand on — deterministic sampling (`sampling`), where a ray meets a surface and where its
 //! children start (`interaction`), the media a ray is inside (`media`), Phong/Snell/Schlick
-//! shading (`shading`) — and [`PreparedScene`]. What the tracer reports (the observer and its
+//! shading (`shading`), textures (`texture`) — and [`PreparedScene`]. What the tracer reports (the observer and its
 //! records) lives one layer down, in [`crate::record`]; the samplers, BSDFs and lights the Monte
 //! Carlo integrators draw from, in [`crate::mc`].
 //!
@@ -49,6 +49,7 @@ pub mod pixel_samples;
 pub mod prepared;
 pub mod sampling;
 pub mod shading;
+pub mod texture;
 pub mod tracer;
 mod whitted;
 

@@ -33,10 +33,13 @@ impl PhongTerms {
 }
 
 /// Phong lighting at `point` (RTC's `lighting`): `eye` and `normal` are unit vectors, `normal`
-/// faces the eye. In shadow only the ambient term remains.
+/// faces the eye; `color` is the surface's colour (the material's, times its texture's at the
+/// point). In shadow only the ambient term remains.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn phong(
     m: &Material,
+    color: Vec3,
     light_pos: Vec3,
     light_color: Vec3,
     point: Vec3,
@@ -44,7 +47,7 @@ pub fn phong(
     normal: Vec3,
     in_shadow: bool,
 ) -> PhongTerms {
-    let effective = m.color * light_color;
+    let effective = color * light_color;
     let to_light = light_pos - point;
     let lightv = to_light / to_light.length();
     let ambient = effective * m.ambient;
@@ -214,12 +217,13 @@ mod tests {
             ),
         ];
         for (eye, light, expect) in cases {
-            let got = phong(&m, light, white, Vec3::ZERO, eye, n, false).sum();
+            let got = phong(&m, m.color, light, white, Vec3::ZERO, eye, n, false).sum();
             assert!(approx(got, expect), "{got:?} vs {expect:?}");
         }
         // In shadow: ambient only.
         let shadowed = phong(
             &m,
+            m.color,
             Vec3::new(0., 0., -10.),
             white,
             Vec3::ZERO,

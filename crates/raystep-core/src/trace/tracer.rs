@@ -227,7 +227,7 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         obs: &mut O,
     ) -> Interaction {
         let s = &self.scene.settings;
-        let it = interact(self.scene, hit, ray);
+        let mut it = interact(self.scene, hit, ray);
         obs.step(|| Step::Surface {
             point: it.point.to_array(),
             normal: it.normal.to_array(),
@@ -245,6 +245,10 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                 lifted: (s.terminator == crate::scene::Terminator::Hanika)
                     .then(|| it.lifted.to_array()),
             });
+        }
+        if let Some(t) = super::texture::texture_at(self.scene, hit, &it) {
+            obs.step(|| t.step(self.scene));
+            it.texel = Some(t.lookup.color);
         }
         it
     }

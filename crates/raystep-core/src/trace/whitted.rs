@@ -133,13 +133,14 @@ impl<A: Accelerator> Tracer<'_, A> {
         let s = &scene.settings;
         let m = scene.material_of(hit.object);
         let it = self.surface(hit, ray, obs);
+        let color = it.texel.map_or(m.color, |t| m.color * t);
 
         // Direct light: Phong from each light, ambient only where a shadow ray is blocked.
         let mut surface = Vec3::ZERO;
         if !L || scene.lights.is_empty() {
             // No lights: show the ambient colour rather than black (a scene with no lights still
             // shows its shapes).
-            surface = m.color * m.ambient;
+            surface = color * m.ambient;
         }
         for (li, light) in scene
             .lights
@@ -166,6 +167,7 @@ impl<A: Accelerator> Tracer<'_, A> {
             }
             let terms = phong(
                 m,
+                color,
                 light.position,
                 light.color,
                 it.point,

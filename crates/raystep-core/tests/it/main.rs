@@ -21,3 +21,4 @@ mod scenes;
 mod smooth;
 mod spd;
 mod stiff;
+mod textures;

@@ -1,6 +1,7 @@
 //! Reading a question's quantity out of a recorded trace.
 
 use super::{Answer, Quantity, Question, RaySel};
+use crate::record::texturing::TexelLookup;
 use crate::record::{RayKind, RayRecord, Step, Trace};
 
 fn v3(a: [f32; 3]) -> Answer {
@@ -72,6 +73,34 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
         Quantity::ShadingNormal => steps()
             .find_map(|s| match s {
                 Step::ShadingNormal { normal, .. } => Some(v3(*normal)),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
+        Quantity::TextureU | Quantity::TextureV | Quantity::TexelColumn | Quantity::TexelRow => {
+            steps()
+                .find_map(|s| match s {
+                    Step::Texture { uv, lookup, .. } => Some(match q.quantity {
+                        Quantity::TextureU => Answer::Number(f64::from(uv[0])),
+                        Quantity::TextureV => Answer::Number(f64::from(uv[1])),
+                        _ => {
+                            let k = usize::from(q.quantity == Quantity::TexelRow);
+                            match lookup {
+                                TexelLookup::Checker { cell, .. } => {
+                                    Answer::Number(f64::from(cell[k]))
+                                }
+                                TexelLookup::Image { texels, .. } => texels
+                                    .first()
+                                    .map_or(Answer::None, |t| Answer::Number(f64::from(t.at[k]))),
+                            }
+                        }
+                    }),
+                    _ => None,
+                })
+                .unwrap_or(Answer::None)
+        }
+        Quantity::TextureColor => steps()
+            .find_map(|s| match s {
+                Step::Texture { texel, .. } => Some(v3(*texel)),
                 _ => None,
             })
             .unwrap_or(Answer::None),
@@ -175,6 +204,11 @@ pub fn explaining_step(trace: &Trace, q: &Question) -> Option<usize> {
             matches!(s, Step::Surface { .. })
         }
         Quantity::ShadingNormal => matches!(s, Step::ShadingNormal { .. }),
+        Quantity::TextureU
+        | Quantity::TextureV
+        | Quantity::TexelColumn
+        | Quantity::TexelRow
+        | Quantity::TextureColor => matches!(s, Step::Texture { .. }),
         Quantity::BvhNodesVisited => matches!(s, Step::Node(_)),
         Quantity::ShadowBlocked => matches!(s, Step::Light { light, .. } if *light == q.light),
         Quantity::ReflectedDirection => matches!(s, Step::Reflect { .. }),

@@ -91,6 +91,18 @@ pub enum Quantity {
     Normal,
     /// A smooth triangle's shading normal at the closest hit (none on a flat surface).
     ShadingNormal,
+    /// The texture coordinate u at the closest hit (its material must have a texture).
+    TextureU,
+    /// The texture coordinate v at the closest hit.
+    TextureV,
+    /// The column of the texel the texture lookup read (nearest), of the first of the four it
+    /// blended (bilinear: the one whose centre is up and to the left of the point), or a
+    /// checker's square i.
+    TexelColumn,
+    /// The row of that texel (row 0 at the top of the image), or a checker's square j.
+    TexelRow,
+    /// The texture's colour T at the closest hit (linear RGB).
+    TextureColor,
     /// The barycentric u (weight of P1) of a triangle test.
     TriangleU,
     /// The barycentric v (weight of P2) of a triangle test.
@@ -137,6 +149,11 @@ impl Quantity {
             Quantity::HitPoint => "hit_point",
             Quantity::Normal => "normal",
             Quantity::ShadingNormal => "shading_normal",
+            Quantity::TextureU => "texture_u",
+            Quantity::TextureV => "texture_v",
+            Quantity::TexelColumn => "texel_column",
+            Quantity::TexelRow => "texel_row",
+            Quantity::TextureColor => "texture_color",
             Quantity::TriangleU => "triangle_u",
             Quantity::TriangleV => "triangle_v",
             Quantity::BvhNodesVisited => "bvh_nodes_visited",
@@ -171,6 +188,7 @@ impl Quantity {
             Quantity::HitPoint
             | Quantity::Normal
             | Quantity::ShadingNormal
+            | Quantity::TextureColor
             | Quantity::ReflectedDirection
             | Quantity::RefractedDirection
             | Quantity::Color

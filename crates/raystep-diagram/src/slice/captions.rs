@@ -74,6 +74,14 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
             "{kind} ray: smooth shading: the vertex normals blended, {}° from the flat normal",
             label(*angle_deg)
         ),
+        Step::Texture {
+            texture, uv, texel, ..
+        } => format!(
+            "{kind} ray: texture \"{texture}\" at (u, v) = ({}, {}): colour {}",
+            label(uv[0]),
+            label(uv[1]),
+            raystep_core::record::number::v3(*texel)
+        ),
         Step::ShadowRay { name, distance, .. } => {
             format!("shadow ray towards \"{name}\" ({} away)", label(*distance))
         }

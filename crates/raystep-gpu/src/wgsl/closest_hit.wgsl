@@ -117,7 +117,7 @@ fn take_ray_id(kind: u32, weight: f32) -> u32 {
 // is traced first, as the CPU's recursion does.
 fn closest_hit(hit: Hit, task: Task) -> vec3f {
     let r = task.ray;
-    let m = materials[objects[hit.object].material];
+    var m = materials[objects[hit.object].material];
     let it = interact(hit, r);
 //#if TRACE
     log_open();
@@ -130,6 +130,16 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
 //#if SMOOTH
     log_shading_normal(hit, it);
 //#endif
+//#endif
+//#if TEXTURES
+    // The texture's colour multiplies the material's (Phong's ambient and diffuse terms use it).
+    if m.texture != NO_TEXTURE {
+        let th = texture_at(hit, it, m.texture);
+        m.color = m.color * th.texel;
+//#if TRACE
+        log_texture(hit, th, m.color);
+//#endif
+    }
 //#endif
     var surface = vec3f(0.0);
 //#if SHADOWS

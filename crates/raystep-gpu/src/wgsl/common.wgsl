@@ -41,6 +41,7 @@ struct Object {
     c: vec4f,
     kind: u32,
     material: u32,
+    // An axis plane's axis; a triangle's texture-coordinate record, objects[axis], or NO_UVS.
     axis: u32,
     // A smooth triangle's vertex normals: objects[params.n_objects + normals] holds n₀ n₁ n₂ in
     // a b c; NO_NORMALS for every other object.
@@ -56,7 +57,8 @@ struct Material {
     reflective: f32,
     transparency: f32,
     refractive_index: f32,
-    pad0: f32,
+    // The texture's record in the objects buffer (wgsl/texture.wgsl), or NO_TEXTURE.
+    texture: u32,
     pad1: f32,
 }
 

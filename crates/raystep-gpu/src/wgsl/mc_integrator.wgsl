@@ -90,6 +90,24 @@ fn mc_material(object: u32) -> McMaterial {
     return McMaterial(mc[i], mcv(i + 1u), mcf(i + 4u), mcv(i + 5u));
 }
 
+//#if TEXTURES
+// The texture's colour multiplies a diffuse BSDF's albedo and a mirror's or glossy BSDF's tint;
+// glass is not tinted (crates/raystep-core/src/scene/mod.rs Material::bsdf_textured).
+fn mc_texture(m: ptr<function, McMaterial>, hit: Hit, it: Interaction) {
+    let mat = materials[objects[hit.object].material];
+    if mat.texture == NO_TEXTURE {
+        return;
+    }
+    let th = texture_at(hit, it, mat.texture);
+//#if TRACE
+    log_texture(hit, th, mat.color * th.texel);
+//#endif
+    if (*m).kind != BSDF_GLASS {
+        (*m).c = (*m).c * th.texel;
+    }
+}
+//#endif
+
 fn is_delta(m: McMaterial) -> bool {
     return m.kind == BSDF_MIRROR || m.kind == BSDF_GLASS;
 }
@@ -546,7 +564,10 @@ fn mc_path(primary: Ray) -> vec3f {
 //#if TRACE
         log_mc_surface(it, hit, depth);
 //#endif
-        let m = mc_material(hit.object);
+        var m = mc_material(hit.object);
+//#if TEXTURES
+        mc_texture(&m, hit, it);
+//#endif
         var l = mc_emitted(hit.object, it, m, has_prev, prev_pdf, prev_origin, throughput);
         if depth >= params.max_depth {
 //#if TRACE
@@ -709,7 +730,10 @@ fn d_shade(ray: Ray, depth: u32, throughput: vec3f, slot: u32) -> DFrame {
 //#if TRACE
     log_mc_surface(it, hit, depth);
 //#endif
-    let m = mc_material(hit.object);
+    var m = mc_material(hit.object);
+//#if TEXTURES
+    mc_texture(&m, hit, it);
+//#endif
     var l = mc_emitted(hit.object, it, m, false, 0.0, vec3f(0.0), throughput);
     if !is_delta(m) {
         for (var g = 0u; g < mc_n_groups(); g++) {

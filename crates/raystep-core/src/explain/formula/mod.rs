@@ -38,6 +38,7 @@ pub(crate) mod monte_carlo;
 mod plane;
 mod shading;
 mod sphere;
+mod texture;
 mod traversal;
 mod triangle;
 
@@ -134,6 +135,7 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             angle_deg,
             lifted,
         } => cx.shading_normal(vertex_normals, *u, *v, *normal, *angle_deg, *lifted),
+        Step::Texture { .. } => cx.texture(step),
         Step::ShadowRay {
             light,
             name,
@@ -397,6 +399,22 @@ impl Ctx<'_> {
 
     fn object(&self, id: u32) -> Option<&TraceObject> {
         self.trace.objects.iter().find(|o| o.id == id)
+    }
+
+    /// The colour that shades the hit: a `Texture` step's (the material's colour × the
+    /// texture's) where one came before this step, else the hit object's material colour.
+    fn surface_color(&self) -> Option<[f32; 3]> {
+        self.before()
+            .iter()
+            .rev()
+            .find_map(|s| match s.step {
+                Step::Texture { color, .. } => Some(color),
+                _ => None,
+            })
+            .or_else(|| {
+                let h = self.ray.hit.as_ref()?;
+                self.object(h.object).map(|o| o.color)
+            })
     }
 
     /// The latest `Surface` step before this one: (point, the normal that shades it: the

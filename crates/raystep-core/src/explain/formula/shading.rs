@@ -30,12 +30,7 @@ impl Ctx<'_> {
         let (ambient, diffuse, specular) = (*ambient, *diffuse, *specular);
         let lt = self.trace.lights.get(light as usize);
         let lcol = lt.map_or("I".to_string(), |l| vv(l.color));
-        let col = self
-            .ray
-            .hit
-            .as_ref()
-            .and_then(|h| self.object(h.object))
-            .map_or("c".to_string(), |o| v3(o.color));
+        let col = self.surface_color().map_or("c".to_string(), v3);
         let mut lines = vec![];
         let surf = self.surface_before();
         let vec_or = |v: &Option<[f32; 3]>, symbol: &str| v.map_or(symbol.to_string(), v3);
@@ -534,12 +529,7 @@ impl Ctx<'_> {
             }
         }
         if terms.is_empty() {
-            let col = self
-                .ray
-                .hit
-                .as_ref()
-                .and_then(|h| self.object(h.object))
-                .map_or("c".to_string(), |o| v3(o.color));
+            let col = self.surface_color().map_or("c".to_string(), v3);
             lines.push(line(
                 "surface",
                 "c · k_a",

@@ -69,6 +69,7 @@ fn every_step_of_every_shipped_scene_is_explained() {
         "miss",
         "surface",
         "shading-normal",
+        "texture",
         "shadow-ray",
         "light",
         "reflect",

@@ -11,11 +11,12 @@ use raystep_core::shapes::{SphereMethod, TriangleMethod};
 use raystep_core::trace::Tracer;
 use std::path::Path;
 
-const SHIPPED: [&str; 6] = [
+const SHIPPED: [&str; 7] = [
     "first-sphere.toml",
     "three-spheres.toml",
     "triangles.toml",
     "smooth-shading.toml",
+    "textures.toml",
     "mirror-glass.toml",
     "cornell.toml",
 ];
@@ -213,6 +214,7 @@ fn variant(s: &Step) -> &'static str {
         Step::Miss { .. } => "miss",
         Step::Surface { .. } => "surface",
         Step::ShadingNormal { .. } => "shading-normal",
+        Step::Texture { .. } => "texture",
         Step::ShadowRay { .. } => "shadow-ray",
         Step::Light { .. } => "light",
         Step::Reflect { .. } => "reflect",

@@ -114,3 +114,4 @@ fn says_obj_line(e: &SceneError, line: usize) {
 }
 
 mod objects;
+mod textures;

@@ -1,0 +1,85 @@
+//! What a texture lookup records: how the hit's texture coordinates were found
+//! ([`UvMapping`]) and how the texture was read at them ([`TexelLookup`]). The `Texture` step
+//! ([`super::Step::Texture`]) holds both; `trace::texture` computes them.
+
+use crate::scene::{Filter, Wrap};
+use serde::{Deserialize, Serialize};
+
+/// How a hit's texture coordinates (u, v) were found.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum UvMapping {
+    /// A triangle's vertex texture coordinates blended with the hit's barycentrics:
+    /// (1 − b₁ − b₂)·t₀ + b₁·t₁ + b₂·t₂.
+    VertexUvs,
+    /// A triangle without vertex texture coordinates: (u, v) are the hit's barycentrics.
+    Barycentric,
+    /// A sphere's longitude and latitude: from the outward unit direction d,
+    /// u = (atan2(−d_z, d_x) + π) / 2π and v = atan2(√(d_x² + d_z²), −d_y) / π.
+    Sphere,
+    /// A plane's own coordinates: the point's components along two axes in the plane.
+    Plane,
+}
+
+impl UvMapping {
+    /// The mapping's name in words.
+    pub fn name(self) -> &'static str {
+        match self {
+            UvMapping::VertexUvs => "the vertices' texture coordinates",
+            UvMapping::Barycentric => "the barycentric coordinates",
+            UvMapping::Sphere => "the sphere's longitude and latitude",
+            UvMapping::Plane => "the plane's coordinates",
+        }
+    }
+}
+
+/// One texel read by an image lookup.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Texel {
+    /// Column and row (row 0 at the top of the image).
+    pub at: [u32; 2],
+    /// Its linear colour.
+    #[serde(with = "crate::jsonf")]
+    pub color: [f32; 3],
+    /// Its weight in the result (1 for the nearest texel; the bilinear weights sum to 1).
+    #[serde(with = "crate::jsonf")]
+    pub weight: f32,
+}
+
+/// How a texture was read at (u, v).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum TexelLookup {
+    /// A checker: the square (i, j) = (⌊u·squares₀⌋, ⌊v·squares₁⌋), odd when i + j is.
+    Checker {
+        /// Squares per unit of u and of v.
+        squares: [u32; 2],
+        /// ⌊u·squares₀⌋ and ⌊v·squares₁⌋ (as floats: a plane's coordinates may be large).
+        #[serde(with = "crate::jsonf")]
+        cell: [f32; 2],
+        /// Whether i + j is odd (the square takes the second colour).
+        odd: bool,
+        /// The even and the odd squares' colours.
+        #[serde(with = "crate::jsonf")]
+        colors: [[f32; 3]; 2],
+    },
+    /// An image.
+    Image {
+        /// Width and height in texels.
+        size: [u32; 2],
+        /// Nearest or bilinear.
+        filter: Filter,
+        /// Repeat, clamp or mirror.
+        wrap: Wrap,
+        /// (u, v) after the wrap mode, in [0, 1].
+        #[serde(with = "crate::jsonf")]
+        wrapped: [f32; 2],
+        /// The point in texel units, x = u·width and y = (1 − v)·height (row 0 at the top);
+        /// texel (i, j)'s centre is at (i + ½, j + ½).
+        #[serde(with = "crate::jsonf")]
+        address: [f32; 2],
+        /// The texels read: one (nearest), or four with their bilinear weights, in the order
+        /// (x₀, y₀), (x₀ + 1, y₀), (x₀, y₀ + 1), (x₀ + 1, y₀ + 1).
+        texels: Vec<Texel>,
+    },
+}
