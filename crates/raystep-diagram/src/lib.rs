@@ -34,6 +34,7 @@ pub mod ray_tree;
 pub mod samples;
 pub mod slice;
 mod text;
+pub mod texture;
 
 pub use canvas::{Anchor, Canvas, MAX_SIDE, Theme};
 
@@ -63,14 +64,18 @@ pub enum DiagramKind {
     AreaLight,
     /// Monte Carlo: the pixel's samples, their values and the running mean.
     Samples,
+    /// A texture lookup: the texels (or checker squares) around the point, the ones read with
+    /// their weights, and the point at its texel position.
+    Texture,
 }
 
 impl DiagramKind {
     /// All kinds, in menu order.
-    pub const ALL: [DiagramKind; 8] = [
+    pub const ALL: [DiagramKind; 9] = [
         DiagramKind::Slice,
         DiagramKind::Quadratic,
         DiagramKind::Barycentric,
+        DiagramKind::Texture,
         DiagramKind::Bvh,
         DiagramKind::Raytree,
         DiagramKind::Hemisphere,
@@ -89,6 +94,7 @@ impl DiagramKind {
             DiagramKind::Hemisphere => "hemisphere",
             DiagramKind::AreaLight => "area-light",
             DiagramKind::Samples => "samples",
+            DiagramKind::Texture => "texture",
         }
     }
 }
@@ -153,6 +159,9 @@ pub fn available(trace: &Trace) -> Vec<DiagramKind> {
     if has(&|s| matches!(s, Step::Triangle { .. })) {
         out.push(DiagramKind::Barycentric);
     }
+    if texture::has_texture(trace) {
+        out.push(DiagramKind::Texture);
+    }
     if has(&bvh_tree::is_node_visit) {
         out.push(DiagramKind::Bvh);
     }
@@ -202,6 +211,7 @@ fn whitted_kinds_for_step(step: &Step) -> Vec<DiagramKind> {
     match step {
         Step::Sphere { .. } => vec![DiagramKind::Quadratic, DiagramKind::Slice],
         Step::Triangle { .. } => vec![DiagramKind::Barycentric, DiagramKind::Slice],
+        Step::Texture { .. } => vec![DiagramKind::Texture, DiagramKind::Slice],
         Step::Node(_) | Step::SphereNode { .. } => vec![DiagramKind::Bvh, DiagramKind::Slice],
         Step::Light { .. }
         | Step::ShadowRay { .. }
@@ -239,6 +249,7 @@ pub fn draw(trace: &Trace, kind: DiagramKind, opts: &ViewOptions) -> Result<Canv
         DiagramKind::Hemisphere => hemisphere::draw(trace, opts),
         DiagramKind::AreaLight => area_light::draw(trace, opts),
         DiagramKind::Samples => samples::draw(trace, opts),
+        DiagramKind::Texture => texture::draw(trace, opts),
     })
 }
 

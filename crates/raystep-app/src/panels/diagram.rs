@@ -296,6 +296,7 @@ fn diagram_label(k: DiagramKind) -> &'static str {
         DiagramKind::Hemisphere => "Hemisphere",
         DiagramKind::AreaLight => "Area light",
         DiagramKind::Samples => "Samples",
+        DiagramKind::Texture => "Texture",
     }
 }
 

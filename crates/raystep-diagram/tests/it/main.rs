@@ -15,3 +15,4 @@ mod common {
 mod accelerators;
 mod diagram_quadratic_barycentric;
 mod diagram_slice;
+mod diagram_texture;
