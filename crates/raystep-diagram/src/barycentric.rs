@@ -206,8 +206,19 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<BarycentricLayout> {
         }
     }
     let (x0, x1, y0, y1) = (min(0, &pts), max(0, &pts), min(1, &pts), max(1, &pts));
-    // Room for labels around the shapes, and for the line saying why there is no P.
-    let margin = small * 2.6;
+    // Room for labels around the shapes, and for the line saying why there is no P; a smooth
+    // triangle's hit leaves a fifth of the room more for its vertex normals, which lean outwards.
+    let smooth = test.t.is_some()
+        && ray.hit.as_ref().is_some_and(|h| &h.name == name)
+        && ray
+            .steps
+            .iter()
+            .any(|s| matches!(s.step, Step::ShadingNormal { .. }));
+    let margin = if smooth {
+        small * 2.6 + 0.1 * (drawing[2] - drawing[0]).min(drawing[3] - drawing[1])
+    } else {
+        small * 2.6
+    };
     let fit = if uv.is_none() {
         [drawing[0], drawing[1], drawing[2], drawing[3] - small * 1.6]
     } else {
@@ -334,9 +345,121 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let small = (s * 0.85).max(13.0 * c.scale);
     title_first_fitting(&mut c, &titles(trace, &l));
     draw_triangle(&mut c, &l, small);
-    draw_numbers(&mut c, &l, small);
+    let mut extra = vec![];
+    if let Some(n) = smooth_normals(trace, &l) {
+        draw_normals(&mut c, &l, &n, small);
+        let th = c.theme;
+        extra = vec![
+            (String::new(), th.ink),
+            ("arrows: n_0, n_1, n_2 and n_s,".to_string(), th.normal),
+            ("their parts along the plane,".to_string(), th.muted),
+            ("enlarged (the rest points out)".to_string(), th.muted),
+        ];
+    }
+    draw_numbers(&mut c, &l, small, &extra);
     draw_steps(&mut c, &l, small);
     c
+}
+
+/// A smooth triangle's normals as the diagram draws them: the parts of n₀, n₁, n₂ and of their
+/// blend n_s along the triangle's plane (x, y of its frame; the rest points out of the plane),
+/// from the `ShadingNormal` step of the ray whose closest hit this test found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SmoothNormals {
+    /// n₀, n₁, n₂ in the plane's frame.
+    pub vertex: [[f64; 2]; 3],
+    /// n_s in the plane's frame.
+    pub blend: [f64; 2],
+}
+
+/// [`SmoothNormals`] for the layout's test, when it hit a smooth triangle.
+pub fn smooth_normals(trace: &Trace, l: &BarycentricLayout) -> Option<SmoothNormals> {
+    if !l.hit() {
+        return None;
+    }
+    let tl = trace.timeline();
+    let (ray, _) = tl[l.step];
+    if ray.hit.as_ref()?.name != l.name {
+        return None;
+    }
+    let (vertex_normals, normal) = ray.steps.iter().find_map(|s| match &s.step {
+        Step::ShadingNormal {
+            vertex_normals,
+            normal,
+            ..
+        } => Some((*vertex_normals, *normal)),
+        _ => None,
+    })?;
+    let (xa, ya) = plane_frame(l.vertices, ray.direction);
+    let along = |n: [f32; 3]| {
+        let n = [n[0] as f64, n[1] as f64, n[2] as f64];
+        [dot(n, xa), dot(n, ya)]
+    };
+    Some(SmoothNormals {
+        vertex: vertex_normals.map(along),
+        blend: along(normal),
+    })
+}
+
+/// The normals' parts along the plane, as arrows from the vertices and from P, all enlarged by
+/// one factor: the longest a sixth of the shortest side, less where a tip would leave the
+/// drawing and its margins.
+fn draw_normals(c: &mut Canvas, l: &BarycentricLayout, n: &SmoothNormals, small: f32) {
+    let th = c.theme;
+    let v = l.vertex_px;
+    let side = |a: [f32; 2], b: [f32; 2]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+    let shortest = side(v[0], v[1]).min(side(v[1], v[2])).min(side(v[2], v[0]));
+    let len = |q: [f64; 2]| (q[0] * q[0] + q[1] * q[1]).sqrt();
+    let longest = n
+        .vertex
+        .iter()
+        .map(|q| len(*q))
+        .fold(len(n.blend), f64::max);
+    if !(longest > 1e-9 && shortest > 4.0) {
+        return;
+    }
+    let mut arrows: Vec<([f32; 2], [f64; 2], &str, Rgba)> = (0..3)
+        .map(|i| (v[i], n.vertex[i], ["n_0", "n_1", "n_2"][i], th.normal))
+        .collect();
+    if let Some(p) = l.point_px {
+        arrows.push((p, n.blend, "n_s", th.hit));
+    }
+    // Pixels per unit of the normals' in-plane part (the canvas's y points down), shrunk until
+    // every tip, with room for its label, lies in the drawing.
+    // The drawing's box, with the margins around it (not the title, the panel or the strip).
+    let [x0, y0, x1, y1] = [
+        small * 0.5,
+        l.drawing[1] - small * 0.5,
+        l.drawing[2] + small * 0.5,
+        l.drawing[3] + small * 0.3,
+    ];
+    let pad = small * 1.5;
+    let mut k = shortest / 6.0 / longest as f32;
+    for (from, q, _, _) in &arrows {
+        for (d, lo, hi, f) in [
+            (q[0] as f32, x0 + pad, x1 - pad, from[0]),
+            (-q[1] as f32, y0 + pad, y1 - pad, from[1]),
+        ] {
+            if d > 0.0 && f + d * k > hi {
+                k = k.min(((hi - f) / d).max(0.0));
+            } else if d < 0.0 && f + d * k < lo {
+                k = k.min(((lo - f) / d).max(0.0));
+            }
+        }
+    }
+    let lw = 2.0 * c.scale;
+    for (from, q, name, colour) in arrows {
+        let t = [from[0] + q[0] as f32 * k, from[1] - q[1] as f32 * k];
+        c.arrow(from, t, colour, lw);
+        // The label past the tip, on the arrow's side.
+        let anchor = if q[0] >= 0.0 {
+            Anchor::MiddleLeft
+        } else {
+            Anchor::MiddleRight
+        };
+        let gap = if q[0] >= 0.0 { 4.0 } else { -4.0 };
+        rich(c, t[0] + gap, t[1], small, &Rich::new(name), colour, anchor);
+    }
 }
 
 /// The triangle, its edge vectors, the region and P.
@@ -669,9 +792,10 @@ fn outward(a: [f32; 2], b: [f32; 2], inside: [f32; 2]) -> (f32, f32) {
 }
 
 /// The number panel (left out when the layout found no room for it).
-fn draw_numbers(c: &mut Canvas, l: &BarycentricLayout, small: f32) {
+fn draw_numbers(c: &mut Canvas, l: &BarycentricLayout, small: f32, extra: &[(String, Rgba)]) {
     if l.panel[2] > l.panel[0] {
-        let rows = number_rows(&l.test, l.interval, c);
+        let mut rows = number_rows(&l.test, l.interval, c);
+        rows.extend_from_slice(extra);
         draw_panel(c, l.panel, small, number_heading(&l.name), &rows);
     }
 }

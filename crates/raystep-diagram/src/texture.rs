@@ -284,12 +284,17 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                     c.rect_outline(x, y, cp, cp, th.muted, 1.0 * c.scale, false);
                     if i as f32 == cell[0] && j as f32 == cell[1] {
                         c.rect_outline(x, y, cp, cp, th.hit, 3.0 * c.scale, false);
+                        let label = format!("({}, {})", num(cell[0]), num(cell[1]));
+                        if c.text_width(&label, small) > cp * 0.9 {
+                            // Too small a square to label: the panel names it.
+                            continue;
+                        }
                         let ink = ink_on(fill);
                         c.text(
                             x + cp / 2.0,
                             y + cp * 0.2,
                             small,
-                            &format!("({}, {})", num(cell[0]), num(cell[1])),
+                            &label,
                             ink,
                             Anchor::TopCenter,
                         );
@@ -368,6 +373,8 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         }
     };
     let muted = th.muted;
+    let avail = (l.cell_px * l.cells[0] as f32).max(l.panel[0] - l.origin[0] - s * 0.8);
+    let caption = c.elide(&caption, small, avail.max(s));
     c.text(
         l.origin[0] + l.cell_px * l.cells[0] as f32 / 2.0,
         below,
@@ -408,6 +415,12 @@ fn draw_texel(
     let mut lines = vec![format!("({}, {})", t.at[0], t.at[1])];
     if let Some(w) = weight {
         lines.push(format!("w = {w:.3}"));
+    }
+    // Labels only where they fit inside the texel (the panel lists every texel and weight).
+    if lines.iter().any(|l| c.text_width(l, size) > cp * 0.9)
+        || size * 1.25 * lines.len() as f32 > cp * 0.45
+    {
+        return;
     }
     let line_h = size * 1.25;
     let y0 = if bottom {

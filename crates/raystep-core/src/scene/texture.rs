@@ -112,13 +112,20 @@ pub fn decode_image(
     path: &Path,
     budget: u64,
 ) -> Result<(u32, u32, Vec<Vec3>), String> {
-    let img = image::load_from_memory(bytes).map_err(|e| {
+    let unreadable = |e: &dyn std::fmt::Display| {
         format!(
             "cannot read image {}: {e} (raystep reads PNG and JPEG)",
             path.display()
         )
-    })?;
-    let (w, h) = (img.width(), img.height());
+    };
+    let reader = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|e| unreadable(&e))
+    };
+    // The size from the header first, so that a file claiming a huge image is refused before
+    // anything is allocated for it; then the decoder is held to that size's memory.
+    let (w, h) = reader()?.into_dimensions().map_err(|e| unreadable(&e))?;
     if w == 0 || h == 0 {
         return Err(format!("image {} is empty ({w} × {h})", path.display()));
     }
@@ -129,6 +136,12 @@ pub fn decode_image(
             path.display()
         ));
     }
+    let mut decode = reader()?;
+    let mut limits = image::Limits::default();
+    // Up to 16 bytes a texel (RGBA, 32-bit float at most) and room for the decoder's own state.
+    limits.max_alloc = Some(u64::from(w) * u64::from(h) * 16 + (16 << 20));
+    decode.limits(limits);
+    let img = decode.decode().map_err(|e| unreadable(&e))?;
     let texels = if img.color().bytes_per_pixel() / img.color().channel_count().max(1) > 1 {
         img.to_rgb16()
             .pixels()

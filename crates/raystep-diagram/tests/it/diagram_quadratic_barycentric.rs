@@ -530,3 +530,76 @@ fn titles_number_the_step_as_the_app_does() {
     );
     assert!(diagram::first_fitting(&wide, &titles).contains("step 9 of 0–"));
 }
+
+// ---------------------------------------------------------------------------------------------
+// A smooth triangle's normals.
+
+/// On the smooth sphere the barycentric view also draws n₀, n₁, n₂ and n_s: their parts along
+/// the triangle's plane, whose lengths are √(1 − (n·N)²) for the face's unit normal N, computed
+/// here in f64 from the recorded vertices. A flat triangle has none.
+#[test]
+fn a_smooth_triangle_shows_its_normals_parts_along_its_plane() {
+    let s = scene("smooth-shading.toml", None);
+    let t = trace(&s, 215, 77);
+    let ray = &t.root;
+    let hit = ray.hit.as_ref().unwrap().name.clone();
+    assert_eq!(hit, "smooth sphere[39]");
+    // The primary ray's test of the triangle it hits.
+    let tl = t.timeline();
+    let k = tl
+        .iter()
+        .position(|(r, s)| {
+            std::ptr::eq(*r, ray)
+                && matches!(&s.step, Step::Triangle { name, test, .. } if *name == hit && test.t.is_some())
+        })
+        .unwrap();
+    let Step::Triangle { vertices, .. } = &tl[k].1.step else {
+        unreachable!()
+    };
+    let l = barycentric::layout(&t, &opts(Some(k))).unwrap();
+    let n = barycentric::smooth_normals(&t, &l).expect("the smooth sphere's normals");
+    let (vn, ns) = ray
+        .steps
+        .iter()
+        .find_map(|s| match &s.step {
+            Step::ShadingNormal {
+                vertex_normals,
+                normal,
+                ..
+            } => Some((*vertex_normals, *normal)),
+            _ => None,
+        })
+        .unwrap();
+    let p = vertices.map(|v| v.map(f64::from));
+    let e1 = [0, 1, 2].map(|i| p[1][i] - p[0][i]);
+    let e2 = [0, 1, 2].map(|i| p[2][i] - p[0][i]);
+    let c = [
+        e1[1] * e2[2] - e1[2] * e2[1],
+        e1[2] * e2[0] - e1[0] * e2[2],
+        e1[0] * e2[1] - e1[1] * e2[0],
+    ];
+    let len = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+    let face = c.map(|x| x / len);
+    let part = |n: [f32; 3]| {
+        let d: f64 = (0..3).map(|i| f64::from(n[i]) * face[i]).sum();
+        (1.0 - d * d).max(0.0).sqrt()
+    };
+    for (got, want) in n.vertex.iter().zip(vn) {
+        let g = (got[0] * got[0] + got[1] * got[1]).sqrt();
+        assert!((g - part(want)).abs() < 1e-6, "{g} vs {}", part(want));
+        assert!(
+            g > 0.05,
+            "a vertex normal of a coarse sphere leans off the face: {g}"
+        );
+    }
+    let g = (n.blend[0] * n.blend[0] + n.blend[1] * n.blend[1]).sqrt();
+    assert!((g - part(ns)).abs() < 1e-6);
+    let canvas = diagram::draw(&t, DiagramKind::Barycentric, &opts(Some(k))).unwrap();
+    assert_eq!(canvas.width(), 400.0);
+    // A flat triangle: nothing to draw.
+    let flat = scene("triangles.toml", None);
+    let ft = trace(&flat, 160, 120);
+    let fk = triangle_step(&ft, |x| x.stopped_at == 12 && x.t.is_some());
+    let fl = barycentric::layout(&ft, &opts(Some(fk))).unwrap();
+    assert!(barycentric::smooth_normals(&ft, &fl).is_none());
+}

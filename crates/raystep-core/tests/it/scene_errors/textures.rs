@@ -204,3 +204,76 @@ fn obj_texture_coordinate_that_is_not_finite_names_its_line() {
     );
     says_obj_line(&e, 5);
 }
+
+/// CRC-32 (ISO 3309, as PNG uses it), for the hand-made PNG below.
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = 0xffff_ffffu32;
+    for &b in bytes {
+        c ^= u32::from(b);
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xedb8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
+/// A PNG of a few dozen bytes whose header claims `w` × `h` RGB texels (its pixel data is one
+/// empty zlib stream: a decoder that believed the header would allocate w·h·3 bytes first).
+fn png_claiming(w: u32, h: u32) -> Vec<u8> {
+    let chunk = |kind: &[u8], data: &[u8]| {
+        let mut body = kind.to_vec();
+        body.extend_from_slice(data);
+        let mut out = (data.len() as u32).to_be_bytes().to_vec();
+        out.extend_from_slice(&body);
+        out.extend_from_slice(&crc32(&body).to_be_bytes());
+        out
+    };
+    let mut ihdr = w.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]);
+    let mut png = b"\x89PNG\r\n\x1a\n".to_vec();
+    png.extend(chunk(b"IHDR", &ihdr));
+    png.extend(chunk(
+        b"IDAT",
+        &[0x78, 0x9c, 0x03, 0x00, 0x00, 0x00, 0x00, 0x01],
+    ));
+    png.extend(chunk(b"IEND", &[]));
+    png
+}
+
+#[test]
+fn an_image_claiming_a_huge_size_is_refused_by_its_header() {
+    let w = write(
+        &textured(&["[[texture]]", "name = \"wood\"", "image = \"wood.png\""]),
+        &[],
+    );
+    let png = w.path.parent().unwrap().join("wood.png");
+    // 100 000 × 100 000 texels: 30 GB of RGB, refused in a moment.
+    std::fs::write(&png, png_claiming(100_000, 100_000)).unwrap();
+    let start = std::time::Instant::now();
+    let e = load_file(&w.path).unwrap_err();
+    check(
+        &w,
+        &e,
+        (6, 1),
+        "texture \"wood\"",
+        "image",
+        &["100000 × 100000", "2048 × 2048", "smaller"],
+    );
+    assert!(start.elapsed().as_secs() < 5, "{:?}", start.elapsed());
+    // Within the budget but with no pixel data: a clean error, not a panic.
+    std::fs::write(&png, png_claiming(64, 64)).unwrap();
+    let e = load_file(&w.path).unwrap_err();
+    check(
+        &w,
+        &e,
+        (6, 1),
+        "texture \"wood\"",
+        "image",
+        &["cannot read image"],
+    );
+}
