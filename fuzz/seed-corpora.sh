@@ -15,13 +15,15 @@ root=..
 if [ $# -ge 1 ]; then raystep=("$1"); else raystep=(cargo run --quiet --manifest-path "$root/Cargo.toml" --); fi
 mkdir -p corpus/scene corpus/trace corpus/sheet corpus/student corpus/grade_sheet
 
+# A fuzz input carries one OBJ file but no images: image textures become checkers.
+images_as_checkers() { sed -e 's/^image *= *".*"/checker = [8, 8]/' -e '/^filter *=/d' -e '/^wrap *=/d' "$1"; }
 for f in "$root"/scenes/*.toml; do
     out="corpus/scene/$(basename "$(dirname "$f")")-$(basename "$f" .toml)"
     obj=$(sed -n 's/^obj *= *"\(.*\)"/\1/p' "$f" | head -n1)
     if [ -n "$obj" ]; then
-        { sed "s/^obj *= *\".*\"/obj = \"mesh.obj\"/" "$f"; printf '\n%%%%OBJ%%%%\n'; cat "$(dirname "$f")/$obj"; } > "$out"
+        { images_as_checkers "$f" | sed "s/^obj *= *\".*\"/obj = \"mesh.obj\"/"; printf '\n%%%%OBJ%%%%\n'; cat "$(dirname "$f")/$obj"; } > "$out"
     else
-        cp "$f" "$out"
+        images_as_checkers "$f" > "$out"
     fi
 done
 

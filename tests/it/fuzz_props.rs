@@ -29,14 +29,33 @@ fn files(dir: &str, ext: &str) -> Vec<std::path::PathBuf> {
     v
 }
 
-/// The shipped scenes, each with the OBJ it names appended (renamed `mesh.obj`).
+/// A scene's image textures made checkers (`image` → `checker = [8, 8]`, its `filter` and `wrap`
+/// dropped): a fuzz input carries one OBJ file but no images, and the texture coordinates,
+/// materials and lookups stay in the seed.
+fn images_as_checkers(text: &str) -> String {
+    text.lines()
+        .filter(|l| !(l.starts_with("filter =") || l.starts_with("wrap =")))
+        .map(|l| {
+            if l.starts_with("image =") {
+                "checker = [8, 8]"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+        + "\n"
+}
+
+/// The shipped scenes, each with the OBJ it names appended (renamed `mesh.obj`) and its images
+/// made checkers ([`images_as_checkers`]).
 fn scene_seeds() -> &'static [String] {
     static S: OnceLock<Vec<String>> = OnceLock::new();
     S.get_or_init(|| {
         files("scenes", "toml")
             .iter()
             .map(|p| {
-                let text = read(p);
+                let text = images_as_checkers(&read(p));
                 let obj = text.lines().find_map(|l| {
                     let l = l.trim();
                     l.strip_prefix("obj")

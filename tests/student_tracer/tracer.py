@@ -63,6 +63,7 @@ import os
 import re
 import sys
 import tomllib
+import zlib
 
 BUGS = ("half-b", "unnormalized-normal", "no-shadow-offset", "reflect-sign", "snell-inverted")
 BUG = None  # set from --bug
@@ -147,6 +148,7 @@ class Material:
         self.reflective = float(d.get("reflective", 0.0))
         self.transparency = float(d.get("transparency", 0.0))
         self.refractive_index = float(d.get("refractive_index", 1.0))
+        self.texture = None  # lesson 18: a Texture whose colour multiplies `color`
 
 
 class Sphere:
@@ -167,10 +169,133 @@ class Plane:
 class Triangle:
     kind = "triangle"
 
-    def __init__(self, name, p0, p1, p2, material, normals=None):
+    def __init__(self, name, p0, p1, p2, material, normals=None, uvs=None):
         self.name, self.p, self.material = name, (p0, p1, p2), material
         # Smooth shading (lesson 17): unit vertex normals n0, n1, n2, or None (flat).
         self.normals = normals
+        # Lesson 18: the corners' texture coordinates t0, t1, t2, or None (the barycentrics).
+        self.uvs = uvs
+
+
+# ---------------------------------------------------------------------------------------------
+# Lesson 18: textures.  A checker's square (⌊u·s1⌋, ⌊v·s2⌋) takes its second colour when the
+# sum is odd; an image (8-bit RGB PNG, decoded here) is read at x = u·w, y = (1 − v)·h after
+# the wrap (repeat keeps the fraction, clamp holds to [0, 1], mirror folds), nearest at
+# (⌊x⌋, ⌊y⌋), bilinear from the four texels around (x − ½, y − ½); texels are sRGB, decoded
+# to linear light.
+# ---------------------------------------------------------------------------------------------
+
+def srgb_to_linear(c):
+    c = c / 255.0
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def read_png(path):
+    """An 8-bit RGB or RGBA, non-interlaced PNG's texels, row 0 at the top, as linear RGB."""
+    with open(path, "rb") as f:
+        data = f.read()
+    pos, idat = 8, b""
+    while pos < len(data):
+        n = int.from_bytes(data[pos:pos + 4], "big")
+        kind, body = data[pos + 4:pos + 8], data[pos + 8:pos + 8 + n]
+        if kind == b"IHDR":
+            w, h = int.from_bytes(body[0:4], "big"), int.from_bytes(body[4:8], "big")
+            channels = {2: 3, 6: 4}[body[9]]
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + n
+    raw, stride = zlib.decompress(idat), w * channels
+    rows, prev = [], bytearray(stride)
+    for y in range(h):
+        f, line = raw[y * (stride + 1)], bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            a = line[i - channels] if i >= channels else 0
+            b, c = prev[i], prev[i - channels] if i >= channels else 0
+            if f == 1:
+                line[i] = (line[i] + a) & 255
+            elif f == 2:
+                line[i] = (line[i] + b) & 255
+            elif f == 3:
+                line[i] = (line[i] + (a + b) // 2) & 255
+            elif f == 4:
+                pa, pb, pc = abs(b - c), abs(a - c), abs(a + b - 2 * c)
+                pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
+                line[i] = (line[i] + pred) & 255
+        rows.append([tuple(srgb_to_linear(line[x * channels + k]) for k in range(3))
+                     for x in range(w)])
+        prev = line
+    return w, h, rows
+
+
+class Texture:
+    def __init__(self, d, base):
+        if "checker" in d:
+            self.kind, self.squares = "checker", d["checker"]
+            self.colors = [vec(c) for c in d.get("colors", ((0.9, 0.9, 0.9), (0.15, 0.15, 0.15)))]
+        else:
+            self.kind = "image"
+            self.w, self.h, self.rows = read_png(os.path.join(base, d["image"]))
+            self.filter, self.wrap = d.get("filter", "bilinear"), d.get("wrap", "repeat")
+
+    def wrap_coord(self, t):
+        if self.wrap == "repeat":
+            return t - math.floor(t)
+        if self.wrap == "clamp":
+            return min(max(t, 0.0), 1.0)
+        m = t - 2 * math.floor(t / 2)
+        return 2 - m if m > 1 else m
+
+    def texel(self, i, size):
+        if i < 0:
+            return size - 1 if self.wrap == "repeat" else 0
+        if i > size - 1:
+            return 0 if self.wrap == "repeat" else size - 1
+        return i
+
+    def at(self, u, v):
+        if self.kind == "checker":
+            i, j = math.floor(u * self.squares[0]), math.floor(v * self.squares[1])
+            return self.colors[(i + j) % 2]
+        x, y = self.wrap_coord(u) * self.w, (1 - self.wrap_coord(v)) * self.h
+        if self.filter == "nearest":
+            return self.rows[self.texel(math.floor(y), self.h)][self.texel(math.floor(x), self.w)]
+        x0, y0 = math.floor(x - 0.5), math.floor(y - 0.5)
+        fx, fy = x - 0.5 - x0, y - 0.5 - y0
+        out = BLACK
+        for dx, dy, wt in ((0, 0, (1 - fx) * (1 - fy)), (1, 0, fx * (1 - fy)),
+                           (0, 1, (1 - fx) * fy), (1, 1, fx * fy)):
+            c = self.rows[self.texel(y0 + dy, self.h)][self.texel(x0 + dx, self.w)]
+            out = add(out, scale(c, wt))
+        return out
+
+
+def texture_coords(ray, obj, point, outward):
+    """(u, v) of the hit: a triangle's corners' coordinates blended with its barycentrics (or
+    the barycentrics), a sphere's longitude and latitude, a plane's own coordinates."""
+    if obj.kind == "triangle":
+        p0, p1, p2 = obj.p
+        e1, e2 = sub(p1, p0), sub(p2, p0)
+        mq, tv = neg(ray.direction), sub(ray.origin, p0)
+        d0 = det3(mq, e1, e2)
+        u, v = det3(mq, tv, e2) / d0, det3(mq, e1, tv) / d0
+        if obj.uvs is None:
+            return u, v
+        t0, t1, t2 = obj.uvs
+        return tuple((1 - u - v) * t0[k] + u * t1[k] + v * t2[k] for k in range(2))
+    if obj.kind == "sphere":
+        d = outward
+        return ((math.atan2(-d[2], d[0]) + math.pi) / (2 * math.pi),
+                math.atan2(math.sqrt(d[0] ** 2 + d[2] ** 2), -d[1]) / math.pi)
+    n = obj.normal
+    if n in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)):
+        i, j = {0: (1, 2), 1: (0, 2), 2: (0, 1)}[n.index(1.0)]
+        return point[i], point[j]
+    sgn = 1.0 if n[2] >= 0 else -1.0
+    a = -1.0 / (sgn + n[2])
+    b = n[0] * n[1] * a
+    a1 = (1 + sgn * n[0] * n[0] * a, sgn * b, -sgn * n[0])
+    a2 = (b, sgn + n[1] * n[1] * a, -n[1])
+    return dot(point, a1), dot(point, a2)
 
 
 class Light:
@@ -270,10 +395,13 @@ def load_scene(path):
                                   vec(d.get("position", (-10, 10, -10))),
                                   vec(d.get("color", (1, 1, 1)))))
 
+    textures = {d.get("name", f"texture {i}"): Texture(d, os.path.dirname(path))
+                for i, d in enumerate(doc.get("texture", []))}
     materials = {}
     for i, d in enumerate(doc.get("material", [])):
         m = Material(d)
         m.name = d.get("name", f"material {i}")
+        m.texture = textures[d["texture"]] if "texture" in d else None
         materials[m.name] = m
     default = Material()
 
@@ -302,7 +430,8 @@ def load_scene(path):
         elif kind == "triangle":
             p = [vec(v) for v in d["vertices"]]
             n = tuple(normalize(vec(v)) for v in d["normals"]) if "normals" in d else None
-            scene.objects.append(Triangle(name, p[0], p[1], p[2], material(d), n))
+            uvs = tuple(tuple(float(c) for c in t) for t in d["uvs"]) if "uvs" in d else None
+            scene.objects.append(Triangle(name, p[0], p[1], p[2], material(d), n, uvs))
         else:
             obj = os.path.join(os.path.dirname(path), d["obj"])
             tris = load_obj(obj, vec(d.get("translate", (0, 0, 0))), float(d.get("scale", 1.0)),
@@ -511,6 +640,11 @@ def surface_at(ray, obj, t):
     # Lesson 17: a smooth triangle is lit with its vertex normals blended at the hit's u, v,
     # (1 − u − v)·n0 + u·n1 + v·n2 normalized, on the side of the (flipped) normal. Sides and
     # spawned rays keep the flat normal.
+    # Lesson 18: the surface's colour, the material's times its texture's at (u, v).
+    s.color = obj.material.color
+    if obj.material.texture is not None:
+        u, v = texture_coords(ray, obj, s.point, outward)
+        s.color = mul(s.color, obj.material.texture.at(u, v))
     s.shading = s.normal
     if obj.kind == "triangle" and obj.normals is not None:
         p0, p1, p2 = obj.p
@@ -575,7 +709,7 @@ def phong(m, light, s, in_shadow):
     ambient = c·I·k_a; diffuse = c·I·k_d·(l·n) when l·n ≥ 0;
     specular = I·k_s·(r·e)^shininess when r·e > 0, with r = reflect(−l, n);
     in shadow, ambient only."""
-    effective = mul(m.color, light.color)
+    effective = mul(s.color, light.color)
     l = normalize(sub(light.position, s.point))
     color = scale(effective, m.ambient)
     l_dot_n = dot(l, s.shading)
@@ -665,7 +799,7 @@ def trace(scene, ray, throughput=1.0, media=None):
 
     # Direct light: Phong from each light (ambient only when its shadow ray is blocked).
     if not scene.lights:
-        surface = scale(m.color, m.ambient)  # no lights: show the ambient colour
+        surface = scale(s.color, m.ambient)  # no lights: show the ambient colour
     else:
         surface = BLACK
         for light in scene.lights:
