@@ -213,8 +213,8 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
                 } => format!(
                     "\"{}\" image {width}×{height} {} {}",
                     t.name,
-                    value_name(filter),
-                    value_name(wrap)
+                    filter.name(),
+                    wrap.name()
                 ),
             })
             .collect();

@@ -9,11 +9,10 @@
 //! Then 40 students' f64 answers go through `raystep grade` as a class CSV: every one scores full
 //! marks.
 
-use raystep::lesson::{SceneSource, load_exercise_sheet, mark};
 use std::path::PathBuf;
 
 use crate::common::exact::{V, add, camera_ray, cross, dot, hit, mul, sub, unit, vec3};
-use crate::common::grades::assert_full_marks;
+use crate::common::grades::answer_every_variant;
 
 const STUDENTS: usize = 300;
 const CLASS: usize = 40;
@@ -126,43 +125,15 @@ fn root() -> PathBuf {
 #[test]
 fn every_variant_of_the_smooth_shading_sheet_is_true_and_keyed_right() {
     let path = root().join("lessons/exercises/17-smooth-shading.toml");
-    let sheet = load_exercise_sheet(&path).unwrap();
-    let dir = tempfile::tempdir().unwrap();
-    let mut class: Vec<Vec<String>> = vec![vec![]; CLASS];
-    for q in &sheet.questions {
-        for k in 0..STUDENTS {
-            let who = format!("s{k:04}");
-            let v = sheet.variant(q, &who);
-            let (text, base) = match (&q.scene, &v.scene_toml) {
-                (SceneSource::File(p), _) => (
-                    std::fs::read_to_string(p).unwrap(),
-                    p.parent().unwrap().to_path_buf(),
-                ),
-                (SceneSource::Inline(_), Some(t)) => (t.clone(), dir.path().to_path_buf()),
-                (SceneSource::Inline(_), None) => unreachable!(),
-            };
-            let scene: toml::Value = toml::from_str(&text).unwrap();
-            let (name, ns) = shading_normal(&scene, &base, v.pixel[0], v.pixel[1]);
-            // The premise: the text says which object the ray hits.
-            let expected = if q.id == "blend" {
-                "tri"
-            } else {
-                "smooth sphere"
-            };
-            assert_eq!(name, expected, "{} {who} {:?}", q.id, v.pixel);
-            let given = format!("{}, {}, {}", ns[0], ns[1], ns[2]);
-            let (key, _) = sheet.expected_and_mistakes(q, &v).unwrap();
-            let m = mark(&key, q.quantity.kind(), Some(&given), q.tolerance);
-            assert!(
-                m.right,
-                "{} {who} pixel {:?}: the f64 answer {given} is marked wrong against the key {key}: {:?}",
-                q.id, v.pixel, m.note
-            );
-            if let Some(row) = class.get_mut(k) {
-                row.push(given);
-            }
-        }
-    }
-    let ids: Vec<String> = sheet.questions.iter().map(|q| q.id.clone()).collect();
-    assert_full_marks(&path, &ids, &class, dir.path(), "17-smooth-shading");
+    answer_every_variant(&path, STUDENTS, CLASS, |q, v, scene, base| {
+        let (name, ns) = shading_normal(scene, base, v.pixel[0], v.pixel[1]);
+        // The premise: the text says which object the ray hits.
+        let expected = if q.id == "blend" {
+            "tri"
+        } else {
+            "smooth sphere"
+        };
+        assert_eq!(name, expected, "{} {:?}", q.id, v.pixel);
+        format!("{}, {}, {}", ns[0], ns[1], ns[2])
+    });
 }

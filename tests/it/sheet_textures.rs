@@ -9,11 +9,10 @@
 //! Then 40 students' f64 answers go through `raystep grade` as a class CSV: every one scores full
 //! marks.
 
-use raystep::lesson::{SceneSource, load_exercise_sheet, mark};
 use std::path::PathBuf;
 
 use crate::common::exact::{V, add, camera_ray, dot, hit, mul, sub, vec3};
-use crate::common::grades::assert_full_marks;
+use crate::common::grades::answer_every_variant;
 
 const STUDENTS: usize = 300;
 const CLASS: usize = 40;
@@ -93,53 +92,27 @@ fn root() -> PathBuf {
 #[test]
 fn every_variant_of_the_textures_sheet_is_true_and_keyed_right() {
     let path = root().join("lessons/exercises/18-textures.toml");
-    let sheet = load_exercise_sheet(&path).unwrap();
-    let dir = tempfile::tempdir().unwrap();
-    let mut class: Vec<Vec<String>> = vec![vec![]; CLASS];
-    for q in &sheet.questions {
-        for k in 0..STUDENTS {
-            let who = format!("s{k:04}");
-            let v = sheet.variant(q, &who);
-            let text = match (&q.scene, &v.scene_toml) {
-                (SceneSource::File(p), _) => std::fs::read_to_string(p).unwrap(),
-                (SceneSource::Inline(_), Some(t)) => t.clone(),
-                (SceneSource::Inline(_), None) => unreachable!(),
-            };
-            let scene: toml::Value = toml::from_str(&text).unwrap();
-            let [x, y] = v.pixel;
-            let at = format!("{} {who} pixel ({x}, {y})", q.id);
-            let given = match (q.id.as_str(), first_hit(&scene, x, y)) {
-                ("uv_u", Hit::Triangle(name, uv)) if name == "tri" => format!("{}", uv[0]),
-                ("uv_v", Hit::Triangle(name, uv)) if name == "tri" => format!("{}", uv[1]),
-                // The tiles: 8 × 8 texels, nearest: (⌊8u⌋, ⌊8(1 − v)⌋).
-                ("texel_column", Hit::Triangle(name, uv)) if name.starts_with("tiles") => {
-                    format!("{}", (uv[0] * 8.0).floor())
-                }
-                ("texel_row", Hit::Triangle(name, uv)) if name.starts_with("tiles") => {
-                    format!("{}", ((1.0 - uv[1]) * 8.0).floor())
-                }
-                // The floor's checker: one square per unit of (x, z).
-                ("checker", Hit::Other(name, p)) if name == "floor" => {
-                    let odd = (p[0].floor() + p[2].floor()).rem_euclid(2.0) == 1.0;
-                    let c = if odd { 0.15 } else { 0.9 };
-                    format!("{c}, {c}, {c}")
-                }
-                (id, Hit::Triangle(name, _) | Hit::Other(name, _)) => {
-                    panic!("{at}: the premise of {id} is false: the ray hits {name}")
-                }
-            };
-            let (key, _) = sheet.expected_and_mistakes(q, &v).unwrap();
-            let m = mark(&key, q.quantity.kind(), Some(&given), q.tolerance);
-            assert!(
-                m.right,
-                "{at}: the f64 answer {given} is marked wrong against the key {key}: {:?}",
-                m.note
-            );
-            if let Some(row) = class.get_mut(k) {
-                row.push(given);
+    answer_every_variant(&path, STUDENTS, CLASS, |q, v, scene, _| {
+        let [x, y] = v.pixel;
+        match (q.id.as_str(), first_hit(scene, x, y)) {
+            ("uv_u", Hit::Triangle(name, uv)) if name == "tri" => format!("{}", uv[0]),
+            ("uv_v", Hit::Triangle(name, uv)) if name == "tri" => format!("{}", uv[1]),
+            // The tiles: 8 × 8 texels, nearest: (⌊8u⌋, ⌊8(1 − v)⌋).
+            ("texel_column", Hit::Triangle(name, uv)) if name.starts_with("tiles") => {
+                format!("{}", (uv[0] * 8.0).floor())
+            }
+            ("texel_row", Hit::Triangle(name, uv)) if name.starts_with("tiles") => {
+                format!("{}", ((1.0 - uv[1]) * 8.0).floor())
+            }
+            // The floor's checker: one square per unit of (x, z).
+            ("checker", Hit::Other(name, p)) if name == "floor" => {
+                let odd = (p[0].floor() + p[2].floor()).rem_euclid(2.0) == 1.0;
+                let c = if odd { 0.15 } else { 0.9 };
+                format!("{c}, {c}, {c}")
+            }
+            (id, Hit::Triangle(name, _) | Hit::Other(name, _)) => {
+                panic!("{id} pixel ({x}, {y}): the premise is false: the ray hits {name}")
             }
         }
-    }
-    let ids: Vec<String> = sheet.questions.iter().map(|q| q.id.clone()).collect();
-    assert_full_marks(&path, &ids, &class, dir.path(), "18-textures");
+    });
 }

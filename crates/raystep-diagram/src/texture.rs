@@ -59,14 +59,23 @@ pub fn has_texture(trace: &Trace) -> bool {
 }
 
 /// The point in the window's units: the texel position for an image, (u·s₁, −v·s₂) for a checker.
+/// Held to ±1e15 (a far plane's coordinates, or a loaded trace's, may be any number): the
+/// window's integer cells then stay far from i64's range, and f32 has no fraction there anyway.
 fn point_of(uv: [f32; 2], lookup: &TexelLookup) -> [f64; 2] {
-    match lookup {
+    let p = match lookup {
         TexelLookup::Image { address, .. } => [f64::from(address[0]), f64::from(address[1])],
         TexelLookup::Checker { squares, .. } => [
             f64::from(uv[0]) * f64::from(squares[0]),
             -(f64::from(uv[1]) * f64::from(squares[1])),
         ],
-    }
+    };
+    p.map(|c| {
+        if c.is_nan() {
+            0.0
+        } else {
+            c.clamp(-1e15, 1e15)
+        }
+    })
 }
 
 /// Where everything goes.
@@ -204,11 +213,8 @@ fn panel_rows(step: &Step, c: &Canvas) -> (Rich, Vec<(String, Rgba)>) {
                     "{} × {} texels, {}, {} wrap",
                     size[0],
                     size[1],
-                    match filter {
-                        Filter::Nearest => "nearest",
-                        Filter::Bilinear => "bilinear",
-                    },
-                    format!("{wrap:?}").to_lowercase()
+                    filter.name(),
+                    wrap.name()
                 ),
                 th.muted,
             ));

@@ -327,8 +327,10 @@ fn shading_normal_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
 /// axes taken from the scene (which the GPU read, not computed).
 fn texture_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
     use crate::interface::texture as code;
-    use crate::record::texturing::{Texel, TexelLookup, UvMapping};
-    use crate::scene::{Shape, TextureKind};
+    use crate::record::texturing::UvMapping;
+    use crate::scene::Shape;
+    use crate::trace::texture::{Lookup, TexCoords, Texturing, texture_axes};
+    use glam::Vec3;
     let object = p.u()?;
     let barycentric = [p.f()?, p.f()?];
     let mapping = match p.u()? {
@@ -339,73 +341,52 @@ fn texture_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
         other => return Err(format!("a texture record with mapping code {other}")),
     };
     let uv = [p.f()?, p.f()?];
-    let direction = p.v()?;
+    let direction = Vec3::from(p.v()?);
     let cell = [p.f()?, p.f()?];
     let odd = p.b()?;
     let wrapped = [p.f()?, p.f()?];
     let address = [p.f()?, p.f()?];
-    let count = p.u()? as usize;
-    let mut texels = vec![];
-    for k in 0..4 {
+    let count = (p.u()? as usize).min(4);
+    let mut texels = [([0u32; 2], Vec3::ZERO, 0.0f32); 4];
+    for t in &mut texels {
         let at = [p.u()?, p.u()?];
-        let (color, weight) = (p.v()?, p.f()?);
-        if k < count {
-            texels.push(Texel { at, color, weight });
-        }
+        let (color, weight) = (Vec3::from(p.v()?), p.f()?);
+        *t = (at, color, weight);
     }
-    let (texel, color) = (p.v()?, p.v()?);
+    let (texel, color) = (Vec3::from(p.v()?), Vec3::from(p.v()?));
     let o = scene
         .objects
         .get(object as usize)
         .ok_or_else(|| format!("a texture on object {object}, which does not exist"))?;
-    let tex = scene
-        .texture_of(object)
+    let texture = scene
+        .material_of(object)
+        .texture
+        .filter(|t| (*t as usize) < scene.textures.len())
         .ok_or_else(|| format!("a texture on object {object}, whose material has none"))?;
-    let lookup = match &tex.kind {
-        TextureKind::Checker { squares, colors } => TexelLookup::Checker {
-            squares: *squares,
+    let t = Texturing {
+        texture,
+        coords: TexCoords {
+            mapping,
+            barycentric: matches!(o.shape, Shape::Triangle { .. }).then_some(barycentric),
+            vertex_uvs: (mapping == UvMapping::VertexUvs)
+                .then(|| scene.vertex_uvs_of(object).copied())
+                .flatten(),
+            direction: (mapping == UvMapping::Sphere).then_some(direction),
+            axes: texture_axes(&o.shape),
+            uv,
+        },
+        lookup: Lookup {
+            color: texel,
             cell,
             odd,
-            colors: colors.map(|c| c.to_array()),
-        },
-        TextureKind::Image {
-            width,
-            height,
-            filter,
-            wrap,
-            ..
-        } => TexelLookup::Image {
-            size: [*width, *height],
-            filter: *filter,
-            wrap: *wrap,
             wrapped,
             address,
             texels,
+            count,
         },
-    };
-    let triangle = matches!(o.shape, Shape::Triangle { .. });
-    Ok(Step::Texture {
-        texture: tex.name.clone(),
-        mapping,
-        barycentric: triangle.then_some(barycentric),
-        vertex_uvs: (mapping == UvMapping::VertexUvs)
-            .then(|| scene.vertex_uvs_of(object).copied())
-            .flatten(),
-        direction: (mapping == UvMapping::Sphere).then_some(direction),
-        axes: match o.shape {
-            Shape::Plane { normal, .. } => {
-                Some(crate::trace::texture::plane_axes(normal).map(|a| a.to_array()))
-            }
-            Shape::AxisPlane { axis, .. } => {
-                Some(crate::trace::texture::axis_plane_axes(axis).map(|a| a.to_array()))
-            }
-            _ => None,
-        },
-        uv,
-        lookup,
-        texel,
         color,
-    })
+    };
+    Ok(t.step(scene))
 }
 
 /// A node record as the CPU's node visit.

@@ -1,6 +1,7 @@
 //! A class graded through the command line: `raystep grade SHEET CLASS.csv -o GRADES.csv`, and
 //! the grades file read back.
 
+use raystep::lesson::{Question, SceneSource, Variant, load_exercise_sheet, mark};
 use std::path::Path;
 use std::process::Command;
 
@@ -65,6 +66,51 @@ pub fn assert_full_marks(
     for row in &rows {
         assert_eq!(row[score], row[out_of], "{row:?}");
     }
+}
+
+/// Answers every question of the sheet at `sheet` for `students` students with `answer` — a
+/// careful student's own computation, given the question, the student's variant, the variant's
+/// scene (parsed TOML) and the folder its files are relative to — and asserts that each answer
+/// is marked right against raystep's key. Then the first `class` students' answers are graded
+/// as a class CSV ([`assert_full_marks`]).
+pub fn answer_every_variant(
+    sheet: &Path,
+    students: usize,
+    class: usize,
+    answer: impl Fn(&Question, &Variant, &toml::Value, &Path) -> String,
+) {
+    let loaded = load_exercise_sheet(sheet).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let mut rows: Vec<Vec<String>> = vec![vec![]; class];
+    for q in &loaded.questions {
+        for k in 0..students {
+            let who = format!("s{k:04}");
+            let v = loaded.variant(q, &who);
+            let (text, base) = match (&q.scene, &v.scene_toml) {
+                (SceneSource::File(p), _) => (
+                    std::fs::read_to_string(p).unwrap(),
+                    p.parent().unwrap().to_path_buf(),
+                ),
+                (SceneSource::Inline(_), Some(t)) => (t.clone(), dir.path().to_path_buf()),
+                (SceneSource::Inline(_), None) => unreachable!(),
+            };
+            let scene: toml::Value = toml::from_str(&text).unwrap();
+            let given = answer(q, &v, &scene, &base);
+            let (key, _) = loaded.expected_and_mistakes(q, &v).unwrap();
+            let m = mark(&key, q.quantity.kind(), Some(&given), q.tolerance);
+            assert!(
+                m.right,
+                "{} {who} pixel {:?}: the f64 answer {given} is marked wrong against the key {key}: {:?}",
+                q.id, v.pixel, m.note
+            );
+            if let Some(row) = rows.get_mut(k) {
+                row.push(given);
+            }
+        }
+    }
+    let ids: Vec<String> = loaded.questions.iter().map(|q| q.id.clone()).collect();
+    let name = sheet.file_stem().unwrap().to_string_lossy().into_owned();
+    assert_full_marks(sheet, &ids, &rows, dir.path(), &name);
 }
 
 /// A minimal CSV reader for the grades file (quoted fields, doubled quotes).

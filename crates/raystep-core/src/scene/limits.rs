@@ -1,5 +1,5 @@
 //! The limits a scene's numbers are held to, and why (docs/NUMERICS.md): the loader
-//! (`load.rs`) checks the scene file's numbers, the OBJ reader (`obj.rs`) each mesh vertex.
+//! (`load/`) checks the scene file's numbers, the OBJ reader (`obj.rs`) each mesh vertex.
 
 /// The largest magnitude of any number in a scene (coordinates, radii, offsets, colours,
 /// coefficients), and of every mesh vertex after scaling. The tracer works in f32, and its

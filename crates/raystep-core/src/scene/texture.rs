@@ -40,6 +40,27 @@ pub enum Wrap {
     Mirror,
 }
 
+impl Filter {
+    /// The name a scene file gives it (`nearest`, `bilinear`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Filter::Nearest => "nearest",
+            Filter::Bilinear => "bilinear",
+        }
+    }
+}
+
+impl Wrap {
+    /// The name a scene file gives it (`repeat`, `clamp`, `mirror`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Wrap::Repeat => "repeat",
+            Wrap::Clamp => "clamp",
+            Wrap::Mirror => "mirror",
+        }
+    }
+}
+
 /// What a texture is.
 #[derive(Debug, Clone, PartialEq)]
 pub enum TextureKind {

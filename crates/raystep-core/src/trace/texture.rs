@@ -67,6 +67,15 @@ pub fn axis_plane_axes(axis: usize) -> [Vec3; 2] {
     a
 }
 
+/// A plane's texture axes ([`axis_plane_axes`], [`plane_axes`]); none for another shape.
+pub fn texture_axes(shape: &Shape) -> Option<[Vec3; 2]> {
+    match *shape {
+        Shape::AxisPlane { axis, .. } => Some(axis_plane_axes(axis)),
+        Shape::Plane { normal, .. } => Some(plane_axes(normal)),
+        _ => None,
+    }
+}
+
 /// The texture coordinates of the hit (README.md, *Textures*):
 /// - a triangle with vertex texture coordinates: (1 − b₁ − b₂)·t₀ + b₁·t₁ + b₂·t₂;
 /// - a triangle without: the barycentrics (b₁, b₂) themselves;
@@ -84,7 +93,8 @@ pub fn tex_coords(scene: &Scene, hit: &Hit, it: &Interaction) -> TexCoords {
         axes: None,
         uv: [0.0; 2],
     };
-    match scene.objects[hit.object as usize].shape {
+    let shape = &scene.objects[hit.object as usize].shape;
+    match *shape {
         Shape::Triangle { .. } => {
             c.barycentric = Some([hit.u, hit.v]);
             c.uv = [hit.u, hit.v];
@@ -110,11 +120,11 @@ pub fn tex_coords(scene: &Scene, hit: &Hit, it: &Interaction) -> TexCoords {
         Shape::AxisPlane { axis, .. } => {
             let (i, j) = axis_plane_coords(axis);
             c.mapping = UvMapping::Plane;
-            c.axes = Some(axis_plane_axes(axis));
+            c.axes = texture_axes(shape);
             c.uv = [it.point[i], it.point[j]];
         }
-        Shape::Plane { normal, .. } => {
-            let a = plane_axes(normal);
+        Shape::Plane { .. } => {
+            let a = texture_axes(shape).unwrap_or([Vec3::X, Vec3::Z]);
             c.mapping = UvMapping::Plane;
             c.axes = Some(a);
             c.uv = [it.point.dot(a[0]), it.point.dot(a[1])];

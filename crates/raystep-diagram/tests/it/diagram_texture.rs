@@ -152,3 +152,24 @@ fn every_size_and_a_trace_without_a_texture() {
     assert!(!available(&sky).contains(&DiagramKind::Texture));
     assert!(draw(&sky, DiagramKind::Texture, &ViewOptions::default()).is_err());
 }
+
+/// A loaded trace may hold any numbers: a texture step whose point is 1e30 texels or squares
+/// away, or not a number, still draws (the window is held to ±1e15).
+#[test]
+fn a_texture_step_with_absurd_numbers_still_draws() {
+    for (x, y) in [(95, 100), (160, 200)] {
+        for far in [1e30f32, -1e30, f32::NAN, f32::INFINITY] {
+            let mut t = trace(x, y);
+            for s in &mut t.root.steps {
+                if let Step::Texture { uv, lookup, .. } = &mut s.step {
+                    *uv = [far, far];
+                    if let TexelLookup::Image { address, .. } = lookup {
+                        *address = [far, far];
+                    }
+                }
+            }
+            let c = draw(&t, DiagramKind::Texture, &ViewOptions::default()).unwrap();
+            assert_eq!(c.width(), 800.0);
+        }
+    }
+}

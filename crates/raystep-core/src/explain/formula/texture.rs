@@ -177,7 +177,7 @@ impl Ctx<'_> {
                         wrap_formula,
                         "",
                         format!("({}, {})", num(wrapped[0]), num(wrapped[1])),
-                        Some(format!("{} wrap", words_wrap(*wrap))),
+                        Some(format!("{} wrap", wrap.name())),
                     ));
                 }
                 lines.push(line(
@@ -273,7 +273,7 @@ impl Ctx<'_> {
                         Filter::Nearest => "nearest texel",
                         Filter::Bilinear => "bilinear",
                     },
-                    words_wrap(*wrap),
+                    wrap.name(),
                     v3(*texel)
                 )
             }
@@ -299,13 +299,5 @@ impl Ctx<'_> {
             lines,
             conclusion: format!("{conclusion} The surface colour is {}.", v3(*color)),
         }
-    }
-}
-
-fn words_wrap(w: Wrap) -> &'static str {
-    match w {
-        Wrap::Repeat => "repeat",
-        Wrap::Clamp => "clamp",
-        Wrap::Mirror => "mirror",
     }
 }
