@@ -46,11 +46,13 @@ pub static ASSETS: &[Asset] = assets!(
     "scenes/icosahedron.obj",
     "scenes/leaky-edge.toml",
     "scenes/low-poly-sphere.obj",
+    "scenes/mipmap.toml",
     "scenes/mirror-glass.toml",
     "scenes/smooth-shading.toml",
     "scenes/soft-shadows.toml",
     "scenes/teapot-stadium.toml",
     "scenes/textures.toml",
+    "scenes/textures/checks-64x64.png",
     "scenes/textures/globe-64x32.png",
     "scenes/textures/tiles-8x8.png",
     "scenes/three-spheres.toml",
@@ -75,6 +77,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/16-multiple-importance-sampling.md",
     "lessons/17-smooth-shading.md",
     "lessons/18-textures.md",
+    "lessons/19-mipmap.md",
     "lessons/starter/README.md",
     "lessons/starter/sheet.toml",
     "lessons/starter/path-sheet.toml",
@@ -97,6 +100,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/exercises/16-mis.toml",
     "lessons/exercises/17-smooth-shading.toml",
     "lessons/exercises/18-textures.toml",
+    "lessons/exercises/19-mipmap.toml",
 );
 
 /// The names of the built-in scenes (`cornell`, `three-spheres`, …), sorted.
@@ -467,7 +471,7 @@ mod tests {
         // A scene is not a sheet, nor is the starter kit's grading sheet.
         assert!(builtin_sheet("cornell").is_none());
         assert!(builtin_sheet("sheet").is_none());
-        assert_eq!(sheet_names().len(), 18);
+        assert_eq!(sheet_names().len(), 19);
         assert_eq!(sheet_names()[0], "01-camera");
         // An existing file of that name wins over the built-in sheet.
         let dir = std::env::temp_dir().join(format!("raystep-sheet-{}", std::process::id()));

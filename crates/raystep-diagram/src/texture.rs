@@ -114,7 +114,7 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<TextureLayout> {
     // 5 × 5 squares around a checker's.
     let (first, cells) = match lookup {
         TexelLookup::Image { filter, .. } => match filter {
-            Filter::Bilinear => (
+            Filter::Bilinear | Filter::Trilinear => (
                 [
                     (p[0] - 0.5).floor() as i64 - 1,
                     (p[1] - 0.5).floor() as i64 - 1,
@@ -144,6 +144,17 @@ pub fn layout(trace: &Trace, opts: &ViewOptions) -> Option<TextureLayout> {
     };
     l.point_px = l.at(p[0], p[1]);
     Some(l)
+}
+
+/// A trilinear read's footprint in the texels of the level drawn: L / 2^level, the cone's
+/// footprint in level-0 texels scaled down to that level.
+pub fn footprint_side(lookup: &TexelLookup) -> Option<f64> {
+    let TexelLookup::Image { lod: Some(lod), .. } = lookup else {
+        return None;
+    };
+    let level = lod.levels.first()?.level;
+    let side = f64::from(lod.footprint) / 2f64.powi(level.min(60) as i32);
+    side.is_finite().then_some(side.max(0.0))
 }
 
 /// The colour to draw a linear texel with (sRGB-encoded, as the rendered image shows it).
@@ -207,6 +218,7 @@ fn panel_rows(step: &Step, c: &Canvas) -> (Rich, Vec<(String, Rgba)>) {
             wrapped,
             address,
             texels,
+            lod,
         } => {
             rows.push((
                 format!(
@@ -224,11 +236,53 @@ fn panel_rows(step: &Step, c: &Canvas) -> (Rich, Vec<(String, Rgba)>) {
                     th.ink,
                 ));
             }
-            rows.push((format!("x = u·w = {}", num(address[0])), th.ink));
+            if let Some(lod) = lod {
+                rows.push((
+                    format!(
+                        "cone W = γ·d = {}·{} = {}",
+                        num(lod.spread),
+                        num(lod.distance),
+                        num(lod.width)
+                    ),
+                    th.ink,
+                ));
+                rows.push((
+                    format!("footprint L = {} texels", num(lod.footprint)),
+                    th.ink,
+                ));
+                rows.push((format!("λ = log₂ L = {}", num(lod.lambda)), th.ink));
+                for m in &lod.levels {
+                    rows.push((
+                        format!(
+                            "level {} ({} × {}): weight {}",
+                            m.level,
+                            m.size[0],
+                            m.size[1],
+                            num(m.weight)
+                        ),
+                        th.muted,
+                    ));
+                }
+            }
+            let at_level = lod
+                .as_ref()
+                .and_then(|l| l.levels.first())
+                .map_or(String::new(), |m| format!(" (level {})", m.level));
+            rows.push((format!("x = u·w = {}{at_level}", num(address[0])), th.ink));
             rows.push((format!("y = (1 − v)·h = {}", num(address[1])), th.ink));
             for t in texels {
+                let level = if lod.is_some() {
+                    format!(" of level {}", t.level)
+                } else {
+                    String::new()
+                };
                 rows.push((
-                    format!("texel ({}, {}): w = {}", t.at[0], t.at[1], num(t.weight)),
+                    format!(
+                        "texel ({}, {}){level}: w = {}",
+                        t.at[0],
+                        t.at[1],
+                        num(t.weight)
+                    ),
                     th.ink,
                 ));
             }
@@ -326,14 +380,17 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
             }
             // The texels read, where they sit around the point (their indices may have wrapped).
             let p = point_of(*uv, lookup);
-            let (bx, by) = match filter {
-                Filter::Bilinear => ((p[0] - 0.5).floor() as i64, (p[1] - 0.5).floor() as i64),
-                Filter::Nearest => (p[0].floor() as i64, p[1].floor() as i64),
+            let bilinear = *filter != Filter::Nearest;
+            let (bx, by) = if bilinear {
+                ((p[0] - 0.5).floor() as i64, (p[1] - 0.5).floor() as i64)
+            } else {
+                (p[0].floor() as i64, p[1].floor() as i64)
             };
-            for (k, t) in texels.iter().enumerate() {
+            // A trilinear read: the first level's four texels (the panel lists the second's).
+            for (k, t) in texels.iter().take(4).enumerate() {
                 let (right, bottom) = (k & 1 == 1, k >> 1 == 1);
                 let (wi, wj) = (bx + i64::from(right), by + i64::from(bottom));
-                let weight = (*filter == Filter::Bilinear).then_some(t.weight);
+                let weight = bilinear.then_some(t.weight);
                 draw_texel(
                     &mut c,
                     cell_at(wi, wj),
@@ -344,7 +401,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                     small,
                 );
             }
-            if *filter == Filter::Bilinear {
+            if bilinear {
                 // The square of the four centres the point is blended between.
                 let a = l.at(bx as f64 + 0.5, by as f64 + 0.5);
                 c.rect_outline(a[0], a[1], cp, cp, th.ray, 2.0 * c.scale, true);
@@ -352,6 +409,14 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                     let q = l.at(bx as f64 + dx, by as f64 + dy);
                     c.circle(q, 3.0 * c.scale, Some(th.ray), None, 1.0);
                 }
+            }
+            if let Some(side) = footprint_side(lookup) {
+                // The ray cone's footprint at this level: L / 2^level texels across, about the
+                // point (held to the window).
+                let half = (side / 2.0).min(l.cells[0].max(l.cells[1]) as f64);
+                let a = l.at(p[0] - half, p[1] - half);
+                let px = (2.0 * half) as f32 * cp;
+                c.rect_outline(a[0], a[1], px, px, th.hit, 2.0 * c.scale, true);
             }
         }
     }
@@ -367,9 +432,15 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     c.circle(l.point_px, 2.5 * c.scale, Some(th.hit), None, 1.0);
     let below = l.origin[1] + l.cell_px * l.cells[1] as f32 + s * 0.4;
     let caption = match lookup {
-        TexelLookup::Image { address, .. } => {
+        TexelLookup::Image { address, lod, .. } => {
+            let level = lod
+                .as_ref()
+                .and_then(|l| l.levels.first())
+                .map_or(String::new(), |m| {
+                    format!(" of level {}; the cone's footprint dashed", m.level)
+                });
             format!(
-                "the point at (x, y) = ({}, {}) texels",
+                "the point at (x, y) = ({}, {}) texels{level}",
                 num(address[0]),
                 num(address[1])
             )

@@ -137,6 +137,7 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
                 height,
                 filter,
                 wrap,
+                levels,
                 ..
             } => {
                 objects.vec3(Vec3::ZERO).f32(0.0);
@@ -144,11 +145,12 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
                 objects
                     .f32(*width as f32)
                     .f32(*height as f32)
-                    .f32(0.0)
+                    .f32(levels.len() as f32)
                     .f32(0.0);
                 let filter = match filter {
                     Filter::Nearest => texture::FILTER_NEAREST,
                     Filter::Bilinear => texture::FILTER_BILINEAR,
+                    Filter::Trilinear => texture::FILTER_TRILINEAR,
                 };
                 let wrap = match wrap {
                     Wrap::Repeat => texture::WRAP_REPEAT,
@@ -295,7 +297,7 @@ pub(crate) fn params(
         .u32(trace_sample)
         .u32(pass[0])
         .u32(pass[1])
-        .u32(0)
+        .f32(cam.spread)
         .u32(0);
     debug_assert_eq!(b.0.len() as u64, PARAMS_SIZE);
     b.0

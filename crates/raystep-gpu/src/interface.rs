@@ -80,6 +80,8 @@ codes! {
         SHADING_NORMAL = 26,
         /// A texture read at the hit.
         TEXTURE = 27,
+        /// A trilinear texture's level of detail and second mip level (before its `TEXTURE`).
+        TEXTURE_LOD = 28,
     }
 }
 
@@ -95,6 +97,8 @@ codes! {
         FILTER_NEAREST = 0,
         /// Bilinear.
         FILTER_BILINEAR = 1,
+        /// Trilinear (mip-mapped, the level from the ray cone).
+        FILTER_TRILINEAR = 2,
         /// Repeat.
         WRAP_REPEAT = 0,
         /// Clamp.
@@ -226,7 +230,7 @@ codes! {
 /// Words of the trace log before its first record: the words written, the ran-out flag, two
 /// spare.
 pub const LOG_HEADER: u32 = 4;
-/// No trace-log record is longer than this (the longest, a triangle test, has 44 words).
+/// No trace-log record is longer than this (the longest, a texture lookup, has 47 words).
 pub const LOG_RECORD_MAX: u32 = 64;
 /// "No object" wherever an object index is stored.
 pub const NO_OBJECT: u32 = u32::MAX;

@@ -407,6 +407,10 @@ pub fn wgsl(config: &ShaderConfig) -> String {
             OffsetPolicy::Robust => pieces::OFFSET_ROBUST,
         });
     }
+    // The portable ln: a trilinear texture's level of detail, and the Monte Carlo sampling.
+    if config.textures || config.monte_carlo {
+        add(pieces::PORTABLE);
+    }
     if config.textures {
         add(pieces::ATAN);
         add(pieces::TEXTURE);
@@ -414,7 +418,6 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     add(pieces::CLOSEST_HIT);
     add(pieces::RANDOM);
     if config.monte_carlo {
-        add(pieces::PORTABLE);
         add(pieces::MC_SAMPLE);
         add(pieces::MC_INTEGRATOR);
         if config.trace {

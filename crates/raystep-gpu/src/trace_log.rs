@@ -325,11 +325,66 @@ fn shading_normal_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
 /// A texture record as the CPU's `Texture` step: the numbers the GPU computed, with the
 /// texture's name, kind and settings, a triangle's vertex texture coordinates and a plane's
 /// axes taken from the scene (which the GPU read, not computed).
-fn texture_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
+/// A trilinear lookup's level-of-detail record, kept for the `TEXTURE` record that follows it.
+struct PendingLod {
+    lod: crate::trace::texture::LevelOfDetail,
+    texels: [crate::trace::texture::TexelRead; 4],
+}
+
+/// Reads a `TEXTURE_LOD` record (wgsl/texture.wgsl `log_texture`).
+fn texture_lod(p: &mut Payload) -> Result<PendingLod, String> {
+    use crate::trace::texture::{Cone, LevelOfDetail, TexelRead};
+    use glam::Vec3;
+    let spread = p.f()?;
+    let distance = p.f()?;
+    let (width, cos, texels_per_area, footprint, lambda) = (p.f()?, p.f()?, p.f()?, p.f()?, p.f()?);
+    let levels = [p.u()?, p.u()?];
+    let count = (p.u()? as usize).clamp(1, 2);
+    let fraction = p.f()?;
+    let mut addresses = [[0.0f32; 2]; 2];
+    let mut colors = [Vec3::ZERO; 2];
+    for k in 0..2 {
+        addresses[k] = [p.f()?, p.f()?];
+        colors[k] = Vec3::from(p.v()?);
+    }
+    let mut texels = [TexelRead {
+        level: levels[1],
+        at: [0; 2],
+        color: Vec3::ZERO,
+        weight: 0.0,
+    }; 4];
+    for t in &mut texels {
+        t.at = [p.u()?, p.u()?];
+        t.color = Vec3::from(p.v()?);
+        t.weight = p.f()?;
+    }
+    Ok(PendingLod {
+        lod: LevelOfDetail {
+            cone: Cone { spread, distance },
+            width,
+            cos,
+            texels_per_area,
+            footprint,
+            lambda,
+            levels,
+            count,
+            fraction,
+            addresses,
+            colors,
+        },
+        texels,
+    })
+}
+
+fn texture_step(
+    scene: &Scene,
+    p: &mut Payload,
+    pending: Option<PendingLod>,
+) -> Result<Step, String> {
     use crate::interface::texture as code;
     use crate::record::texturing::UvMapping;
     use crate::scene::Shape;
-    use crate::trace::texture::{Lookup, TexCoords, Texturing, texture_axes};
+    use crate::trace::texture::{Lookup, TexCoords, TexelRead, Texturing, texture_axes};
     use glam::Vec3;
     let object = p.u()?;
     let barycentric = [p.f()?, p.f()?];
@@ -346,12 +401,24 @@ fn texture_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
     let odd = p.b()?;
     let wrapped = [p.f()?, p.f()?];
     let address = [p.f()?, p.f()?];
-    let count = (p.u()? as usize).min(4);
-    let mut texels = [([0u32; 2], Vec3::ZERO, 0.0f32); 4];
-    for t in &mut texels {
-        let at = [p.u()?, p.u()?];
-        let (color, weight) = (Vec3::from(p.v()?), p.f()?);
-        *t = (at, color, weight);
+    let mut count = (p.u()? as usize).min(4);
+    let first_level = pending.as_ref().map_or(0, |l| l.lod.levels[0]);
+    let mut texels = [TexelRead {
+        level: first_level,
+        at: [0; 2],
+        color: Vec3::ZERO,
+        weight: 0.0,
+    }; 8];
+    for t in texels.iter_mut().take(4) {
+        t.at = [p.u()?, p.u()?];
+        t.color = Vec3::from(p.v()?);
+        t.weight = p.f()?;
+    }
+    if let Some(l) = &pending
+        && l.lod.count == 2
+    {
+        texels[4..].copy_from_slice(&l.texels);
+        count += 4;
     }
     let (texel, color) = (Vec3::from(p.v()?), Vec3::from(p.v()?));
     let o = scene
@@ -383,6 +450,7 @@ fn texture_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
             address,
             texels,
             count,
+            lod: pending.map(|l| l.lod),
         },
         color,
     };
@@ -442,6 +510,7 @@ pub fn decode(
     let ran_out = words.get(1).copied().unwrap_or(0) != 0;
     let mut rays: HashMap<u32, Building> = HashMap::new();
     let mut open: Vec<u32> = vec![];
+    let mut pending_lod = None;
     let mut pixel_color = None;
     let mut at = LOG_HEADER.min(used);
     let mut steps = 0usize;
@@ -557,7 +626,8 @@ pub fn decode(
             tag::MISS => push(&mut rays, Step::Miss { background: p.v()? })?,
             tag::SURFACE => push(&mut rays, surface_step(&mut p)?)?,
             tag::SHADING_NORMAL => push(&mut rays, shading_normal_step(scene, &mut p)?)?,
-            tag::TEXTURE => push(&mut rays, texture_step(scene, &mut p)?)?,
+            tag::TEXTURE_LOD => pending_lod = Some(texture_lod(&mut p)?),
+            tag::TEXTURE => push(&mut rays, texture_step(scene, &mut p, pending_lod.take())?)?,
             tag::LENS => push(&mut rays, mc::lens(&mut p)?)?,
             tag::EMITTED => push(&mut rays, mc::emitted(scene, &mut p)?)?,
             tag::LIGHT_SAMPLE => {

@@ -180,6 +180,20 @@ fn read_quantity(trace: &Trace, q: &Question) -> A {
                 _ => None,
             })
             .unwrap_or(A::None),
+        "cone_width" | "mip_lambda" | "mip_level" => steps
+            .iter()
+            .find_map(|s| match s {
+                Step::Texture {
+                    lookup: raystep::record::texturing::TexelLookup::Image { lod: Some(l), .. },
+                    ..
+                } => Some(match q.quantity.name() {
+                    "cone_width" => A::Num(l.width as f64),
+                    "mip_lambda" => A::Num(l.lambda as f64),
+                    _ => A::Num(l.levels[0].level as f64),
+                }),
+                _ => None,
+            })
+            .unwrap_or(A::None),
         "hit_point" | "normal" => steps
             .iter()
             .find_map(|s| match s {

@@ -9,7 +9,7 @@ use raystep::trace::Tracer;
 use std::path::{Path, PathBuf};
 
 /// The number of lessons the course has.
-const LESSONS: usize = 18;
+const LESSONS: usize = 19;
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -371,6 +371,14 @@ fn the_lessons_cover_their_topics_in_order() {
             "nearest",
             "bilinear",
             "wrap",
+        ],
+        &[
+            "mip",
+            "ray cone",
+            "level of detail",
+            "footprint",
+            "trilinear",
+            "aliasing",
         ],
     ];
     let files = lesson_files();

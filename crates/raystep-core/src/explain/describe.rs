@@ -308,9 +308,27 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                     if *odd { "odd" } else { "even" }
                 ),
                 crate::record::texturing::TexelLookup::Image {
-                    texels, address, ..
+                    texels,
+                    address,
+                    lod,
+                    ..
                 } => format!(
-                    "texel position ({}, {}): {}",
+                    "{}texel position ({}, {}): {}",
+                    lod.as_ref().map_or(String::new(), |l| format!(
+                        "ray cone γ·d = {}·{} = {} wide, |n·d̂| = {}, footprint {} texels, \
+                         λ = {}: mip level {}; ",
+                        num(l.spread),
+                        num(l.distance),
+                        num(l.width),
+                        num(l.cos),
+                        num(l.footprint),
+                        num(l.lambda),
+                        l.levels
+                            .iter()
+                            .map(|m| format!("{} (weight {})", m.level, num(m.weight)))
+                            .collect::<Vec<_>>()
+                            .join(" and ")
+                    )),
                     num(address[0]),
                     num(address[1]),
                     match texels.as_slice() {
@@ -318,7 +336,11 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                         ts => format!(
                             "texels {} weighted {}",
                             ts.iter()
-                                .map(|t| format!("({}, {})", t.at[0], t.at[1]))
+                                .map(|t| if lod.is_some() {
+                                    format!("({}, {}) of level {}", t.at[0], t.at[1], t.level)
+                                } else {
+                                    format!("({}, {})", t.at[0], t.at[1])
+                                })
                                 .collect::<Vec<_>>()
                                 .join(", "),
                             ts.iter()

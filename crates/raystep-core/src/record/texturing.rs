@@ -33,15 +33,23 @@ impl UvMapping {
     }
 }
 
+fn is_zero(x: &u32) -> bool {
+    *x == 0
+}
+
 /// One texel read by an image lookup.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Texel {
+    /// The mip level it is in (0, the image itself, unless the lookup is trilinear).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub level: u32,
     /// Column and row (row 0 at the top of the image).
     pub at: [u32; 2],
     /// Its linear colour.
     #[serde(with = "crate::jsonf")]
     pub color: [f32; 3],
-    /// Its weight in the result (1 for the nearest texel; the bilinear weights sum to 1).
+    /// Its weight within its level (1 for the nearest texel; a level's bilinear weights sum to
+    /// 1).
     #[serde(with = "crate::jsonf")]
     pub weight: f32,
 }
@@ -74,12 +82,64 @@ pub enum TexelLookup {
         /// (u, v) after the wrap mode, in [0, 1].
         #[serde(with = "crate::jsonf")]
         wrapped: [f32; 2],
-        /// The point in texel units, x = u·width and y = (1 − v)·height (row 0 at the top);
-        /// texel (i, j)'s centre is at (i + ½, j + ½).
+        /// The point in texel units, x = u·width and y = (1 − v)·height (row 0 at the top),
+        /// at the level read (the first level a trilinear lookup read); texel (i, j)'s centre
+        /// is at (i + ½, j + ½).
         #[serde(with = "crate::jsonf")]
         address: [f32; 2],
         /// The texels read: one (nearest), or four with their bilinear weights, in the order
-        /// (x₀, y₀), (x₀ + 1, y₀), (x₀, y₀ + 1), (x₀ + 1, y₀ + 1).
+        /// (x₀, y₀), (x₀ + 1, y₀), (x₀, y₀ + 1), (x₀ + 1, y₀ + 1); a trilinear lookup's four
+        /// in its first level, then four in its second.
         texels: Vec<Texel>,
+        /// A trilinear lookup's level of detail from the ray cone.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        lod: Option<LodRecord>,
     },
+}
+
+/// How a trilinear lookup chose its mip levels from the ray cone (Akenine-Möller et al., *Ray
+/// Tracing Gems*, ch. 20).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct LodRecord {
+    /// γ, the angle one pixel subtends at the eye (radians).
+    #[serde(with = "crate::jsonf")]
+    pub spread: f32,
+    /// d, the path length from the eye to the hit.
+    #[serde(with = "crate::jsonf")]
+    pub distance: f32,
+    /// W = γ·d, the cone's width at the hit.
+    #[serde(with = "crate::jsonf")]
+    pub width: f32,
+    /// |n·d̂|, the geometric normal against the unit ray direction.
+    #[serde(with = "crate::jsonf")]
+    pub cos: f32,
+    /// Level-0 texels per unit of surface area at the hit.
+    #[serde(with = "crate::jsonf")]
+    pub texels_per_area: f32,
+    /// L = W·√(texels per area) / |n·d̂|, the footprint's side in level-0 texels.
+    #[serde(with = "crate::jsonf")]
+    pub footprint: f32,
+    /// λ = log₂ L.
+    #[serde(with = "crate::jsonf")]
+    pub lambda: f32,
+    /// The level(s) read: ⌊λ⌋ held to the pyramid, then ⌊λ⌋ + 1 where λ has a fraction.
+    pub levels: Vec<MipRead>,
+}
+
+/// One mip level a trilinear lookup read.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct MipRead {
+    /// The level (0 is the image; each halves the one below).
+    pub level: u32,
+    /// Its width and height in texels.
+    pub size: [u32; 2],
+    /// The point in its texels, (u·wₗ, (1 − v)·hₗ).
+    #[serde(with = "crate::jsonf")]
+    pub address: [f32; 2],
+    /// Its weight in the result: 1 − (λ − ⌊λ⌋) for the first, λ − ⌊λ⌋ for the second.
+    #[serde(with = "crate::jsonf")]
+    pub weight: f32,
+    /// Its bilinear colour.
+    #[serde(with = "crate::jsonf")]
+    pub color: [f32; 3],
 }

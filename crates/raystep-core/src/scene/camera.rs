@@ -23,6 +23,9 @@ pub struct CameraRays {
     pub width: u32,
     /// Image height.
     pub height: u32,
+    /// γ = atan(2·tan(fov/2) / height), the angle one pixel subtends at the eye: a ray cone's
+    /// spread (*Ray Tracing Gems*, ch. 20, eq. 20.30), computed in f64 and rounded once.
+    pub spread: f32,
 }
 
 impl CameraRays {
@@ -42,6 +45,7 @@ impl CameraRays {
             half_height,
             width: c.width,
             height: c.height,
+            spread: (2.0 * f64::from(half_height) / f64::from(c.height)).atan() as f32,
         }
     }
 

@@ -18,7 +18,7 @@ pub use features::Features;
 pub use limits::{MAX_COORD, MAX_MAGNITUDE, MAX_OBJECTS, MAX_VERTEX};
 pub use load::{LocatedError, SceneError, load_file, load_str};
 pub use model::SceneFile;
-pub use texture::{Filter, Texture, TextureKind, Wrap};
+pub use texture::{Filter, MipLevel, Texture, TextureKind, Wrap, mip_levels};
 
 use crate::shapes::{SphereMethod, TriangleMethod};
 use glam::Vec3;

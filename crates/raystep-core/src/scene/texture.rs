@@ -10,7 +10,8 @@ use std::sync::Arc;
 
 /// The most texels all of a scene's images may hold together (2048 × 2048): 48 MiB of linear
 /// RGB on the CPU, 64 MiB on the GPU (four texels in each 64-byte record of its objects buffer,
-/// well under WebGPU's 128 MiB guaranteed for one storage buffer).
+/// well under WebGPU's 128 MiB guaranteed for one storage buffer). A trilinear image's mip
+/// pyramid adds at most a third to its own (85 MiB on the GPU at most) and is not counted here.
 pub const MAX_TEXELS: u64 = 2048 * 2048;
 
 /// The largest image file a texture may name.
@@ -25,6 +26,10 @@ pub enum Filter {
     /// The four texels around the point, weighted by how near their centres are.
     #[default]
     Bilinear,
+    /// Mip-mapped: bilinear in the two levels of the image's pyramid whose texels are nearest
+    /// the size of the ray cone's footprint, blended by where its level of detail falls between
+    /// them (`trace::texture`, README.md *Mip-mapping and ray cones*).
+    Trilinear,
 }
 
 /// What texture coordinates outside [0, 1] read (`wrap`).
@@ -46,6 +51,7 @@ impl Filter {
         match self {
             Filter::Nearest => "nearest",
             Filter::Bilinear => "bilinear",
+            Filter::Trilinear => "trilinear",
         }
     }
 }
@@ -80,13 +86,104 @@ pub enum TextureKind {
         width: u32,
         /// Height in texels.
         height: u32,
-        /// Row-major texels, decoded from sRGB (the alpha channel is ignored).
+        /// Row-major texels, decoded from sRGB (the alpha channel is ignored): level 0 (the
+        /// image), then the mip pyramid's smaller levels where the filter is trilinear
+        /// ([`mip_levels`]).
         texels: Arc<Vec<Vec3>>,
+        /// The levels in `texels`: the image alone, or its whole pyramid down to 1 × 1.
+        levels: Arc<Vec<MipLevel>>,
         /// How it is read between texel centres.
         filter: Filter,
         /// What coordinates outside [0, 1] read.
         wrap: Wrap,
     },
+}
+
+/// One level of an image's mip pyramid.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MipLevel {
+    /// Width in texels.
+    pub width: u32,
+    /// Height in texels.
+    pub height: u32,
+    /// Where its first texel is in the image's texels.
+    pub offset: usize,
+}
+
+/// Builds an image's mip pyramid (level 0 is the image itself): each level halves the one below,
+/// rounded down and at least 1 (as OpenGL's `glGenerateMipmap`), and each of its texels is the
+/// mean of the 2 × 2 texels below it (2 × 1 or 1 × 2 once a side is 1), computed in f64 and
+/// rounded once. Where a side is odd its last row or column has no texel above it and is left
+/// out of the level above. Returns the levels and every level's texels, one after another.
+pub fn mip_levels(width: u32, height: u32, texels: Vec<Vec3>) -> (Vec<MipLevel>, Vec<Vec3>) {
+    let mut levels = vec![MipLevel {
+        width,
+        height,
+        offset: 0,
+    }];
+    let mut all = texels;
+    let (mut w, mut h) = (width, height);
+    while w > 1 || h > 1 {
+        let below = *levels.last().expect("level 0 is there");
+        let (nw, nh) = ((w / 2).max(1), (h / 2).max(1));
+        let (sx, sy) = (u32::from(w > 1) + 1, u32::from(h > 1) + 1);
+        let offset = all.len();
+        for j in 0..nh {
+            for i in 0..nw {
+                let mut sum = [0.0f64; 3];
+                for b in 0..sy {
+                    for a in 0..sx {
+                        let t = all[below.offset + ((j * sy + b) * w + i * sx + a) as usize];
+                        for (s, c) in sum.iter_mut().zip(t.to_array()) {
+                            *s += f64::from(c);
+                        }
+                    }
+                }
+                let n = f64::from(sx * sy);
+                all.push(Vec3::from(sum.map(|s| (s / n) as f32)));
+            }
+        }
+        levels.push(MipLevel {
+            width: nw,
+            height: nh,
+            offset,
+        });
+        (w, h) = (nw, nh);
+    }
+    (levels, all)
+}
+
+impl TextureKind {
+    /// An image texture from its decoded texels, with its mip pyramid built when the filter is
+    /// trilinear.
+    pub fn image(
+        file: String,
+        width: u32,
+        height: u32,
+        texels: Vec<Vec3>,
+        filter: Filter,
+        wrap: Wrap,
+    ) -> TextureKind {
+        let (levels, texels) = if filter == Filter::Trilinear {
+            mip_levels(width, height, texels)
+        } else {
+            let level = MipLevel {
+                width,
+                height,
+                offset: 0,
+            };
+            (vec![level], texels)
+        };
+        TextureKind::Image {
+            file,
+            width,
+            height,
+            texels: Arc::new(texels),
+            levels: Arc::new(levels),
+            filter,
+            wrap,
+        }
+    }
 }
 
 /// A texture of the scene, named so materials can refer to it.
@@ -102,14 +199,28 @@ impl Texture {
     /// The texel at column `x`, row `y` of an image (row 0 at the top); black for a checker or
     /// outside the image.
     pub fn texel(&self, x: u32, y: u32) -> Vec3 {
+        self.texel_at(0, x, y)
+    }
+
+    /// The texel at column `x`, row `y` of mip level `level` (0 is the image); black for a
+    /// checker, a level the image does not have, or outside the level.
+    pub fn texel_at(&self, level: u32, x: u32, y: u32) -> Vec3 {
         match &self.kind {
-            TextureKind::Image {
-                width,
-                height,
-                texels,
-                ..
-            } if x < *width && y < *height => texels[(y * width + x) as usize],
-            _ => Vec3::ZERO,
+            TextureKind::Image { texels, levels, .. } => match levels.get(level as usize) {
+                Some(l) if x < l.width && y < l.height => {
+                    texels[l.offset + (y * l.width + x) as usize]
+                }
+                _ => Vec3::ZERO,
+            },
+            TextureKind::Checker { .. } => Vec3::ZERO,
+        }
+    }
+
+    /// An image's mip levels (level 0 alone unless its filter is trilinear); none for a checker.
+    pub fn levels(&self) -> &[MipLevel] {
+        match &self.kind {
+            TextureKind::Image { levels, .. } => levels,
+            TextureKind::Checker { .. } => &[],
         }
     }
 }
@@ -192,5 +303,28 @@ mod tests {
         assert!((srgb_to_linear(10.0 / 255.0) - 0.003_035_27).abs() < 1e-8);
         assert!((srgb_to_linear(128.0 / 255.0) - 0.215_860_5).abs() < 1e-6);
         assert_eq!(srgb_to_linear(1.0), 1.0);
+    }
+
+    /// A 4 × 2 image's pyramid by hand: level 1 is 2 × 1, each texel the mean of a 2 × 2 block;
+    /// level 2 is 1 × 1, the mean of level 1's two texels (2 × 1, the height being 1 already).
+    /// A 3 × 3 image drops its last row and column: level 1 is its top-left texel's block.
+    #[test]
+    fn mip_levels_average_the_texels_below() {
+        let t = |r: f32| Vec3::new(r, 0.0, 1.0);
+        let image = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0].map(t).to_vec();
+        let (levels, all) = mip_levels(4, 2, image);
+        let sizes: Vec<_> = levels
+            .iter()
+            .map(|l| (l.width, l.height, l.offset))
+            .collect();
+        assert_eq!(sizes, [(4, 2, 0), (2, 1, 8), (1, 1, 10)]);
+        // (1 + 2 + 5 + 6)/4 = 3.5, (3 + 4 + 7 + 8)/4 = 5.5, (3.5 + 5.5)/2 = 4.5.
+        assert_eq!(&all[8..], &[t(3.5), t(5.5), t(4.5)]);
+        let (levels, all) = mip_levels(3, 3, (1..=9).map(|k| t(k as f32)).collect());
+        assert_eq!(levels.len(), 2);
+        // (1 + 2 + 4 + 5)/4 = 3.
+        assert_eq!(all[levels[1].offset], t(3.0));
+        let (levels, _) = mip_levels(64, 32, vec![Vec3::ZERO; 64 * 32]);
+        assert_eq!(levels.len(), 7, "64 × 32, 32 × 16, … 2 × 1, 1 × 1");
     }
 }

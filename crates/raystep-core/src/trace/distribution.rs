@@ -48,6 +48,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         let prev = Previous {
             bsdf_pdf: None,
             origin: it.point,
+            travelled: it.distance,
         };
         let li = self.mc_child(sampler, &ray, kind, depth + 1, bs.weight, next, prev, obs);
         bs.weight * li

@@ -36,6 +36,10 @@ pub struct Interaction {
     /// multiplies the material's colour (and a Monte Carlo BSDF's albedo or tint); `None` for
     /// an untextured material. Set by the tracer's `surface`, which records the lookup.
     pub texel: Option<Vec3>,
+    /// The path length from the eye to the point, over every bounce: the previous hit's plus
+    /// t·|Q| (a ray cone's width here is the camera's spread times it). Set by the tracer's
+    /// `surface`.
+    pub distance: f32,
 }
 
 /// Computes the interaction at `hit`. Each shape computes the point from its own parametrization
@@ -163,6 +167,7 @@ pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
         lifted: point,
         lifted_error: error,
         texel: None,
+        distance: 0.0,
     }
 }
 

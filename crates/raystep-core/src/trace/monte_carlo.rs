@@ -191,6 +191,8 @@ pub(super) struct Previous {
     pub(super) bsdf_pdf: Option<f32>,
     /// Where the ray left from.
     pub(super) origin: Vec3,
+    /// The path length from the eye to `origin` (a ray cone's distance, `trace::texture`).
+    pub(super) travelled: f32,
 }
 
 pub(super) fn arr(v: Vec3) -> [f32; 3] {
@@ -257,6 +259,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         let prev = Previous {
             bsdf_pdf: None,
             origin: ray.origin,
+            travelled: 0.0,
         };
         let (color, hit) = self.mc_shade_ray(&sampler, &ray, 0, Vec3::ONE, prev, obs);
         obs.end_ray(|| self.hit_record(hit), color);
@@ -295,7 +298,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         obs: &mut O,
     ) -> (Vec3, Option<Hit>) {
         self.closest_then(ray, obs, |hit, obs| {
-            let it = self.surface(hit, ray, obs);
+            let it = self.surface(hit, ray, prev.travelled, obs);
             match self.scene.settings.integrator {
                 Integrator::Path => self.path_at(sampler, hit, &it, depth, throughput, prev, obs),
                 Integrator::Distribution => {

@@ -107,6 +107,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         let prev = Previous {
             bsdf_pdf: bs.pdf,
             origin: it.point,
+            travelled: it.distance,
         };
         let li = self.mc_child(sampler, &ray, kind, depth + 1, weight, next, prev, obs);
         l + weight * li

@@ -5,9 +5,10 @@
 //! the same bits on both.
 
 use crate::accel::Hit;
-use crate::portable::math::atan2;
+use crate::math::Ray;
+use crate::portable::math::{atan2, ln};
 use crate::record::Step;
-use crate::record::texturing::{Texel, TexelLookup, UvMapping};
+use crate::record::texturing::{LodRecord, MipRead, Texel, TexelLookup, UvMapping};
 use crate::scene::{Filter, Scene, Shape, Texture, TextureKind, Wrap};
 use crate::trace::interaction::Interaction;
 use glam::Vec3;
@@ -161,6 +162,67 @@ fn wrap_index(wrap: Wrap, i: f32, n: u32) -> u32 {
     }
 }
 
+/// One texel a lookup read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TexelRead {
+    /// The mip level it is in (0: the image itself).
+    pub level: u32,
+    /// Column and row in its level.
+    pub at: [u32; 2],
+    /// Its colour.
+    pub color: Vec3,
+    /// Its weight within its level (bilinear's, or 1).
+    pub weight: f32,
+}
+
+const NO_TEXEL: TexelRead = TexelRead {
+    level: 0,
+    at: [0; 2],
+    color: Vec3::ZERO,
+    weight: 0.0,
+};
+
+/// The ray cone at a hit (Akenine-Möller et al., "Texture level of detail strategies for
+/// real-time ray tracing", *Ray Tracing Gems*, ch. 20): a cone around the ray whose half-width
+/// grows by the camera's pixel spread angle γ per unit of distance travelled, so at the hit its
+/// width is W = γ·d for the path length d from the eye.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Cone {
+    /// γ: the angle one pixel subtends at the eye (`CameraRays::spread`).
+    pub spread: f32,
+    /// d: the path length from the eye to the hit, over every bounce.
+    pub distance: f32,
+}
+
+/// How the level of detail was chosen and which levels were read (a trilinear lookup).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LevelOfDetail {
+    /// The cone at the hit.
+    pub cone: Cone,
+    /// W = γ·d, the cone's width at the hit.
+    pub width: f32,
+    /// |n·d̂|: the cosine between the geometric normal and the unit ray direction.
+    pub cos: f32,
+    /// Level-0 texels per unit of surface area at the hit (the texture's area over the
+    /// surface's, RTG's t_a / p_a).
+    pub texels_per_area: f32,
+    /// L = W·√(texels per area) / |n·d̂|: the footprint's side in level-0 texels.
+    pub footprint: f32,
+    /// λ = log₂ L.
+    pub lambda: f32,
+    /// The levels read (the second only where λ falls between two): ⌊λ⌋ and ⌊λ⌋ + 1, held to the
+    /// pyramid.
+    pub levels: [u32; 2],
+    /// How many levels were read (1 or 2).
+    pub count: usize,
+    /// The second level's weight, λ − ⌊λ⌋ (the first's is 1 minus it).
+    pub fraction: f32,
+    /// Each level's address, (u·wₗ, (1 − v)·hₗ).
+    pub addresses: [[f32; 2]; 2],
+    /// Each level's colour.
+    pub colors: [Vec3; 2],
+}
+
 /// The texels a lookup read, without allocating (the render reads, a trace records).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lookup {
@@ -172,29 +234,171 @@ pub struct Lookup {
     pub odd: bool,
     /// (u, v) after the wrap mode.
     pub wrapped: [f32; 2],
-    /// (u·width, (1 − v)·height).
+    /// (u·width, (1 − v)·height) at the (first) level read.
     pub address: [f32; 2],
-    /// The texels read (the first `count`).
-    pub texels: [([u32; 2], Vec3, f32); 4],
+    /// The texels read (the first `count`): a trilinear lookup's first level, then its second.
+    pub texels: [TexelRead; 8],
     /// How many texels were read (0 for a checker).
     pub count: usize,
+    /// A trilinear lookup's level of detail.
+    pub lod: Option<LevelOfDetail>,
+}
+
+/// 2π², the sphere's texture area factor (its (u, v) square covers 4πr² of surface, and at
+/// polar angle θ one unit of u is 2πr·sin θ long, one unit of v πr).
+const TWO_PI_SQUARED: f32 = 19.739_208;
+
+/// log₂ e, for log₂ x = ln x · log₂ e.
+const LOG2_E: f32 = std::f32::consts::LOG2_E;
+
+/// Level-0 texels per unit of surface area at the hit, for an image of `size`:
+/// - a triangle: w·h·|t₁ − t₀ × t₂ − t₀| / |(P₁ − P₀) × (P₂ − P₀)| (twice the uv triangle's area
+///   over twice its own; the barycentrics' uv triangle has twice-area 1);
+/// - a plane: w·h (its (u, v) are lengths along unit axes);
+/// - a sphere: w·h / (2π²·r²·sin θ), sin θ = √(d_x² + d_z²) (+∞ at a pole).
+#[inline(always)]
+pub fn texels_per_area(shape: &Shape, coords: &TexCoords, size: [u32; 2]) -> f32 {
+    let texels = size[0] as f32 * size[1] as f32;
+    match *shape {
+        Shape::Triangle { p } => {
+            let uv_area = coords.vertex_uvs.map_or(1.0, |t| {
+                let (a, b) = (
+                    [t[1][0] - t[0][0], t[1][1] - t[0][1]],
+                    [t[2][0] - t[0][0], t[2][1] - t[0][1]],
+                );
+                (a[0] * b[1] - a[1] * b[0]).abs()
+            });
+            let area = (p[1] - p[0]).cross(p[2] - p[0]).length();
+            texels * uv_area / area
+        }
+        Shape::Sphere { radius, .. } => {
+            let d = coords.direction.unwrap_or(Vec3::Y);
+            let sin = (d.x * d.x + d.z * d.z).sqrt();
+            texels / (TWO_PI_SQUARED * (radius * radius) * sin)
+        }
+        Shape::Plane { .. } | Shape::AxisPlane { .. } => texels,
+    }
+}
+
+/// The level of detail a ray cone picks (RTG ch. 20, eq. 20.21 with the texture's own area
+/// ratio): L = W·√(texels per area) / |n·d̂| level-0 texels across, λ = log₂ L (the portable
+/// `ln` times log₂ e), held to [0, last level]; the levels ⌊λ⌋ and ⌊λ⌋ + 1 are read and blended
+/// by λ − ⌊λ⌋. A NaN λ (a degenerate triangle) reads level 0.
+#[inline(always)]
+pub fn level_of_detail(
+    shape: &Shape,
+    coords: &TexCoords,
+    it: &Interaction,
+    ray: &Ray<f32>,
+    cone: Cone,
+    size: [u32; 2],
+    n_levels: u32,
+) -> LevelOfDetail {
+    let width = cone.spread * cone.distance;
+    let d = ray.dir / ray.dir.length();
+    let cos = it.normal.dot(d).abs();
+    let ratio = texels_per_area(shape, coords, size);
+    let footprint = width * ratio.sqrt() / cos;
+    let lambda = ln(footprint) * LOG2_E;
+    let last = (n_levels - 1) as f32;
+    let held = if lambda > 0.0 { lambda.min(last) } else { 0.0 };
+    let l0 = held.floor();
+    let fraction = held - l0;
+    let l0 = l0 as u32;
+    LevelOfDetail {
+        cone,
+        width,
+        cos,
+        texels_per_area: ratio,
+        footprint,
+        lambda,
+        levels: [l0, (l0 + 1).min(n_levels - 1)],
+        count: if fraction > 0.0 { 2 } else { 1 },
+        fraction,
+        addresses: [[0.0; 2]; 2],
+        colors: [Vec3::ZERO; 2],
+    }
+}
+
+/// Reads one level of an image, nearest or bilinear, at the wrapped (u, v); writes its texels
+/// into `out` from `first` and returns (address, colour, texels read).
+#[inline(always)]
+fn read_level(
+    tex: &Texture,
+    level: u32,
+    bilinear: bool,
+    wrap: Wrap,
+    uv: [f32; 2],
+    out: &mut [TexelRead; 8],
+    first: usize,
+) -> ([f32; 2], Vec3, usize) {
+    let l = tex.levels()[level as usize];
+    let (w, h) = (l.width as f32, l.height as f32);
+    let x = uv[0] * w;
+    let y = (1.0 - uv[1]) * h;
+    if !bilinear {
+        let at = [
+            wrap_index(wrap, x.floor(), l.width),
+            wrap_index(wrap, y.floor(), l.height),
+        ];
+        let c = tex.texel_at(level, at[0], at[1]);
+        out[first] = TexelRead {
+            level,
+            at,
+            color: c,
+            weight: 1.0,
+        };
+        return ([x, y], c, 1);
+    }
+    let (xs, ys) = (x - 0.5, y - 0.5);
+    let (x0, y0) = (xs.floor(), ys.floor());
+    let (fx, fy) = (xs - x0, ys - y0);
+    let cols = [
+        wrap_index(wrap, x0, l.width),
+        wrap_index(wrap, x0 + 1.0, l.width),
+    ];
+    let rows = [
+        wrap_index(wrap, y0, l.height),
+        wrap_index(wrap, y0 + 1.0, l.height),
+    ];
+    let weights = [
+        (1.0 - fx) * (1.0 - fy),
+        fx * (1.0 - fy),
+        (1.0 - fx) * fy,
+        fx * fy,
+    ];
+    let mut sum = Vec3::ZERO;
+    for (k, weight) in weights.into_iter().enumerate() {
+        let at = [cols[k & 1], rows[k >> 1]];
+        let c = tex.texel_at(level, at[0], at[1]);
+        out[first + k] = TexelRead {
+            level,
+            at,
+            color: c,
+            weight,
+        };
+        sum += c * weight;
+    }
+    ([x, y], sum, 4)
 }
 
 /// Reads `tex` at `uv`. A checker: the colour of square (⌊u·s₀⌋, ⌊v·s₁⌋), odd when
 /// i + j − 2⌊(i + j)/2⌋ ≠ 0. An image: (u, v) wrapped, the address x = u·w, y = (1 − v)·h; nearest
 /// reads texel (⌊x⌋, ⌊y⌋); bilinear reads the four texels whose centres surround the point,
 /// x₀ = ⌊x − ½⌋, f = (x − ½) − x₀ (likewise y), with weights (1 − f_x)(1 − f_y), f_x(1 − f_y),
-/// (1 − f_x)f_y, f_x·f_y, summed in that order.
+/// (1 − f_x)f_y, f_x·f_y, summed in that order. Trilinear: bilinear in each level `lod` names,
+/// at that level's size, then c₀·(1 − f) + c₁·f.
 #[inline(always)]
-pub fn lookup(tex: &Texture, uv: [f32; 2]) -> Lookup {
+pub fn lookup(tex: &Texture, uv: [f32; 2], lod: Option<LevelOfDetail>) -> Lookup {
     let mut out = Lookup {
         color: Vec3::ZERO,
         cell: [0.0; 2],
         odd: false,
         wrapped: uv,
         address: [0.0; 2],
-        texels: [([0; 2], Vec3::ZERO, 0.0); 4],
+        texels: [NO_TEXEL; 8],
         count: 0,
+        lod: None,
     };
     match &tex.kind {
         TextureKind::Checker { squares, colors } => {
@@ -205,58 +409,43 @@ pub fn lookup(tex: &Texture, uv: [f32; 2]) -> Lookup {
             out.odd = s - 2.0 * (s * 0.5).floor() != 0.0;
             out.color = colors[usize::from(out.odd)];
         }
-        TextureKind::Image {
-            width,
-            height,
-            filter,
-            wrap,
-            ..
-        } => {
-            let (w, h) = (*width as f32, *height as f32);
+        TextureKind::Image { filter, wrap, .. } => {
             let u = wrap_coord(*wrap, uv[0]);
             let v = wrap_coord(*wrap, uv[1]);
-            let x = u * w;
-            let y = (1.0 - v) * h;
             out.wrapped = [u, v];
-            out.address = [x, y];
-            match filter {
-                Filter::Nearest => {
-                    let at = [
-                        wrap_index(*wrap, x.floor(), *width),
-                        wrap_index(*wrap, y.floor(), *height),
-                    ];
-                    let c = tex.texel(at[0], at[1]);
-                    out.texels[0] = (at, c, 1.0);
-                    out.count = 1;
-                    out.color = c;
-                }
-                Filter::Bilinear => {
-                    let (xs, ys) = (x - 0.5, y - 0.5);
-                    let (x0, y0) = (xs.floor(), ys.floor());
-                    let (fx, fy) = (xs - x0, ys - y0);
-                    let cols = [
-                        wrap_index(*wrap, x0, *width),
-                        wrap_index(*wrap, x0 + 1.0, *width),
-                    ];
-                    let rows = [
-                        wrap_index(*wrap, y0, *height),
-                        wrap_index(*wrap, y0 + 1.0, *height),
-                    ];
-                    let weights = [
-                        (1.0 - fx) * (1.0 - fy),
-                        fx * (1.0 - fy),
-                        (1.0 - fx) * fy,
-                        fx * fy,
-                    ];
-                    let mut sum = Vec3::ZERO;
-                    for (k, weight) in weights.into_iter().enumerate() {
-                        let at = [cols[k & 1], rows[k >> 1]];
-                        let c = tex.texel(at[0], at[1]);
-                        out.texels[k] = (at, c, weight);
-                        sum += c * weight;
+            let bilinear = *filter != Filter::Nearest;
+            match (*filter, lod) {
+                (Filter::Trilinear, Some(mut lod)) => {
+                    let mut count = 0;
+                    for k in 0..lod.count {
+                        let (address, c, n) = read_level(
+                            tex,
+                            lod.levels[k],
+                            true,
+                            *wrap,
+                            [u, v],
+                            &mut out.texels,
+                            count,
+                        );
+                        lod.addresses[k] = address;
+                        lod.colors[k] = c;
+                        count += n;
                     }
-                    out.count = 4;
-                    out.color = sum;
+                    out.count = count;
+                    out.address = lod.addresses[0];
+                    out.color = if lod.count == 2 {
+                        lod.colors[0] * (1.0 - lod.fraction) + lod.colors[1] * lod.fraction
+                    } else {
+                        lod.colors[0]
+                    };
+                    out.lod = Some(lod);
+                }
+                _ => {
+                    let (address, c, n) =
+                        read_level(tex, 0, bilinear, *wrap, [u, v], &mut out.texels, 0);
+                    out.address = address;
+                    out.color = c;
+                    out.count = n;
                 }
             }
         }
@@ -278,14 +467,39 @@ pub struct Texturing {
     pub color: Vec3,
 }
 
-/// Texturing at a hit ([`tex_coords`], [`lookup`]), or `None` where the material has no texture.
+/// Texturing at a hit ([`tex_coords`], [`level_of_detail`] for a trilinear image, [`lookup`]),
+/// or `None` where the material has no texture.
 #[inline(always)]
-pub fn texture_at(scene: &Scene, hit: &Hit, it: &Interaction) -> Option<Texturing> {
+pub fn texture_at(
+    scene: &Scene,
+    hit: &Hit,
+    it: &Interaction,
+    ray: &Ray<f32>,
+    cone: Cone,
+) -> Option<Texturing> {
     let m = scene.material_of(hit.object);
     let index = m.texture?;
     let tex = &scene.textures[index as usize];
     let coords = tex_coords(scene, hit, it);
-    let lookup = lookup(tex, coords.uv);
+    let lod = match &tex.kind {
+        TextureKind::Image {
+            filter: Filter::Trilinear,
+            width,
+            height,
+            levels,
+            ..
+        } => Some(level_of_detail(
+            &scene.objects[hit.object as usize].shape,
+            &coords,
+            it,
+            ray,
+            cone,
+            [*width, *height],
+            levels.len() as u32,
+        )),
+        _ => None,
+    };
+    let lookup = lookup(tex, coords.uv, lod);
     Some(Texturing {
         texture: index,
         coords,
@@ -311,6 +525,7 @@ impl Texturing {
                 height,
                 filter,
                 wrap,
+                levels,
                 ..
             } => TexelLookup::Image {
                 size: [*width, *height],
@@ -320,12 +535,37 @@ impl Texturing {
                 address: l.address,
                 texels: l.texels[..l.count]
                     .iter()
-                    .map(|(at, c, w)| Texel {
-                        at: *at,
-                        color: c.to_array(),
-                        weight: *w,
+                    .map(|t| Texel {
+                        level: t.level,
+                        at: t.at,
+                        color: t.color.to_array(),
+                        weight: t.weight,
                     })
                     .collect(),
+                lod: l.lod.map(|d| LodRecord {
+                    spread: d.cone.spread,
+                    distance: d.cone.distance,
+                    width: d.width,
+                    cos: d.cos,
+                    texels_per_area: d.texels_per_area,
+                    footprint: d.footprint,
+                    lambda: d.lambda,
+                    levels: (0..d.count)
+                        .map(|k| {
+                            let level = d.levels[k];
+                            let size = levels
+                                .get(level as usize)
+                                .map_or([0; 2], |m| [m.width, m.height]);
+                            MipRead {
+                                level,
+                                size,
+                                address: d.addresses[k],
+                                weight: if k == 0 { 1.0 - d.fraction } else { d.fraction },
+                                color: d.colors[k].to_array(),
+                            }
+                        })
+                        .collect(),
+                }),
             },
         };
         let c = &self.coords;

@@ -218,16 +218,19 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         (color, Some(hit))
     }
 
-    /// The surface interaction at a hit, and its `Surface` step.
+    /// The surface interaction at a hit, and its `Surface` step. `travelled`: the path length
+    /// from the eye to the ray's origin (0 for a primary ray).
     #[inline(always)]
     pub(crate) fn surface<O: Observer>(
         &self,
         hit: &Hit,
         ray: &Ray<f32>,
+        travelled: f32,
         obs: &mut O,
     ) -> Interaction {
         let s = &self.scene.settings;
         let mut it = interact(self.scene, hit, ray);
+        it.distance = travelled + hit.t * ray.dir.length();
         obs.step(|| Step::Surface {
             point: it.point.to_array(),
             normal: it.normal.to_array(),
@@ -246,7 +249,11 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
                     .then(|| it.lifted.to_array()),
             });
         }
-        if let Some(t) = super::texture::texture_at(self.scene, hit, &it) {
+        let cone = super::texture::Cone {
+            spread: self.camera.spread,
+            distance: it.distance,
+        };
+        if let Some(t) = super::texture::texture_at(self.scene, hit, &it, ray, cone) {
             obs.step(|| t.step(self.scene));
             it.texel = Some(t.lookup.color);
         }

@@ -65,7 +65,7 @@ impl<A: Accelerator> Tracer<'_, A> {
             screen,
             direction: ray.dir.to_array(),
         });
-        let (color, hit) = self.shade_ray::<O, L, R, T>(&ray, 0, 1.0, Media::default(), obs);
+        let (color, hit) = self.shade_ray::<O, L, R, T>(&ray, 0, 1.0, 0.0, Media::default(), obs);
         obs.end_ray(|| self.hit_record(hit), color);
         color
     }
@@ -81,7 +81,16 @@ impl<A: Accelerator> Tracer<'_, A> {
         ray: &Ray<f32>,
         obs: &mut O,
     ) -> Vec3 {
-        self.trace_child::<O, L, R, T>(ray, RayKind::Primary, 0, 1.0, 1.0, Media::default(), obs)
+        self.trace_child::<O, L, R, T>(
+            ray,
+            RayKind::Primary,
+            0,
+            1.0,
+            1.0,
+            0.0,
+            Media::default(),
+            obs,
+        )
     }
 
     /// Traces a secondary ray as a child of the current one.
@@ -95,44 +104,50 @@ impl<A: Accelerator> Tracer<'_, A> {
         depth: u32,
         weight: f32,
         throughput: f32,
+        travelled: f32,
         media: Media,
         obs: &mut O,
     ) -> Vec3 {
         obs.begin_ray(kind, depth, ray, weight);
-        let (color, hit) = self.shade_ray::<O, L, R, T>(ray, depth, throughput, media, obs);
+        let (color, hit) =
+            self.shade_ray::<O, L, R, T>(ray, depth, throughput, travelled, media, obs);
         obs.end_ray(|| self.hit_record(hit), color);
         color
     }
 
     /// Finds the closest hit and shades it (the body of a colour ray). `throughput`: what the
-    /// ray's colour is multiplied by on its way to the pixel.
+    /// ray's colour is multiplied by on its way to the pixel; `travelled`: the path length from
+    /// the eye to the ray's origin (a ray cone's distance).
     fn shade_ray<O: Observer, const L: bool, const R: bool, const T: bool>(
         &self,
         ray: &Ray<f32>,
         depth: u32,
         throughput: f32,
+        travelled: f32,
         media: Media,
         obs: &mut O,
     ) -> (Vec3, Option<Hit>) {
         self.closest_then(ray, obs, |hit, obs| {
-            self.shade::<O, L, R, T>(hit, ray, depth, throughput, media, obs)
+            self.shade::<O, L, R, T>(hit, ray, depth, throughput, travelled, media, obs)
         })
     }
 
     /// Shades a hit. `L`, `R`, `T`: whether shadow rays, reflection and refraction are compiled in.
+    #[allow(clippy::too_many_arguments)]
     fn shade<O: Observer, const L: bool, const R: bool, const T: bool>(
         &self,
         hit: &Hit,
         ray: &Ray<f32>,
         depth: u32,
         throughput: f32,
+        travelled: f32,
         media: Media,
         obs: &mut O,
     ) -> Vec3 {
         let scene = self.scene;
         let s = &scene.settings;
         let m = scene.material_of(hit.object);
-        let it = self.surface(hit, ray, obs);
+        let it = self.surface(hit, ray, travelled, obs);
         let color = it.texel.map_or(m.color, |t| m.color * t);
 
         // Direct light: Phong from each light, ambient only where a shadow ray is blocked.
@@ -251,6 +266,7 @@ impl<A: Accelerator> Tracer<'_, A> {
                         depth + 1,
                         m.reflective,
                         throughput * share,
+                        it.distance,
                         media,
                         obs,
                     ) * m.reflective;
@@ -298,6 +314,7 @@ impl<A: Accelerator> Tracer<'_, A> {
                         depth + 1,
                         m.transparency,
                         throughput * share,
+                        it.distance,
                         inner,
                         obs,
                     ) * m.transparency;

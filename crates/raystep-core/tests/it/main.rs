@@ -5,12 +5,17 @@
 // A seeded generator, shared with the workspace's other tests.
 #[path = "../../../../tests/it/common/rng.rs"]
 mod rng;
+// The f64 arithmetic of the exercise-sheet tests (a camera ray, Möller–Trumbore).
+#[path = "../../../../tests/it/common/exact.rs"]
+#[allow(dead_code)]
+mod exact;
 mod common {
-    pub(crate) use super::rng;
+    pub(crate) use super::{exact, rng};
 }
 
 mod bvh;
 mod formula;
+mod mipmap;
 mod properties;
 mod render_bands;
 mod rtc_world;

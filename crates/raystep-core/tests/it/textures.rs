@@ -15,7 +15,6 @@ use raystep_core::trace::Tracer;
 use raystep_core::trace::interaction::interact;
 use raystep_core::trace::texture::{lookup, plane_axes, tex_coords};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 fn scenes_dir() -> PathBuf {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes")).to_path_buf()
@@ -31,14 +30,7 @@ fn image(w: u32, h: u32, texels: Vec<Vec3>, filter: Filter, wrap: Wrap) -> Textu
     assert_eq!(texels.len(), (w * h) as usize);
     Texture {
         name: "t".into(),
-        kind: TextureKind::Image {
-            file: "t.png".into(),
-            width: w,
-            height: h,
-            texels: Arc::new(texels),
-            filter,
-            wrap,
-        },
+        kind: TextureKind::image("t.png".into(), w, h, texels, filter, wrap),
     }
 }
 
@@ -69,7 +61,7 @@ fn checker_squares_by_hand() {
         ([1e7, 1e7], [2e7, 3e7], false),    // large: both even
     ];
     for (uv, cell, odd) in cases {
-        let l = lookup(&t, uv);
+        let l = lookup(&t, uv, None);
         assert_eq!((l.cell, l.odd), (cell, odd), "{uv:?}");
         assert_eq!(l.color, if odd { dark } else { light });
         assert_eq!(l.count, 0);
@@ -90,10 +82,10 @@ fn nearest_reads_the_texel_the_point_falls_in() {
         ([0.26, 0.74], [1, 0]), // x 1.04, y 0.52
         ([1.3, -0.2], [1, 0]),  // repeat: (0.3, 0.8): x 1.2, y 0.4
     ] {
-        let l = lookup(&t, uv);
+        let l = lookup(&t, uv, None);
         assert_eq!(l.count, 1);
-        assert_eq!(l.texels[0].0, at, "{uv:?}");
-        assert_eq!(l.texels[0].2, 1.0);
+        assert_eq!(l.texels[0].at, at, "{uv:?}");
+        assert_eq!(l.texels[0].weight, 1.0);
         assert_eq!(l.color, Vec3::new(at[0] as f32, at[1] as f32, 0.0));
     }
 }
@@ -109,7 +101,7 @@ fn bilinear_weights_by_hand_with_every_wrap_mode() {
     ];
     let mk = |wrap| image(2, 2, vec![a, b, c, d], Filter::Bilinear, wrap);
     // The centre: x = y = 1, x − ½ = 0.5: x₀ = y₀ = 0, f = ½: each weight ¼.
-    let l = lookup(&mk(Wrap::Repeat), [0.5, 0.5]);
+    let l = lookup(&mk(Wrap::Repeat), [0.5, 0.5], None);
     assert_eq!(l.address, [1.0, 1.0]);
     assert_eq!(l.count, 4);
     assert!(close(l.color, [0.5, 0.5, 0.5], 1e-7), "{:?}", l.color);
@@ -129,15 +121,19 @@ fn bilinear_weights_by_hand_with_every_wrap_mode() {
         (Wrap::Clamp, [0, 0], [0.9, 0.1, 0.0]),
         (Wrap::Mirror, [0, 0], [0.9, 0.1, 0.0]),
     ] {
-        let l = lookup(&mk(wrap), [0.3, 0.8]);
-        let at: Vec<[u32; 2]> = l.texels.iter().map(|t| t.0).collect();
+        let l = lookup(&mk(wrap), [0.3, 0.8], None);
+        let at: Vec<[u32; 2]> = l.texels[..l.count].iter().map(|t| t.at).collect();
         assert_eq!(
             at,
             vec![[0, rows[0]], [1, rows[0]], [0, rows[1]], [1, rows[1]]],
             "{wrap:?}"
         );
         for (t, w) in l.texels.iter().zip(w) {
-            assert!((f64::from(t.2) - w).abs() < 1e-6, "{wrap:?} {:?}", l.texels);
+            assert!(
+                (f64::from(t.weight) - w).abs() < 1e-6,
+                "{wrap:?} {:?}",
+                l.texels
+            );
         }
         assert!(
             close(l.color, want, 1e-6),
@@ -155,7 +151,11 @@ fn bilinear_weights_by_hand_with_every_wrap_mode() {
         (Wrap::Mirror, -0.25, 0.25),
         (Wrap::Mirror, 2.25, 0.25),
     ] {
-        assert_eq!(lookup(&mk(wrap), [u, 0.5]).wrapped[0], want, "{wrap:?} {u}");
+        assert_eq!(
+            lookup(&mk(wrap), [u, 0.5], None).wrapped[0],
+            want,
+            "{wrap:?} {u}"
+        );
     }
 }
 

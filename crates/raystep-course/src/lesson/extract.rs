@@ -104,6 +104,22 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
                 _ => None,
             })
             .unwrap_or(Answer::None),
+        Quantity::ConeWidth | Quantity::MipLambda | Quantity::MipLevel => steps()
+            .find_map(|s| match s {
+                Step::Texture {
+                    lookup: TexelLookup::Image { lod: Some(l), .. },
+                    ..
+                } => Some(match q.quantity {
+                    Quantity::ConeWidth => Answer::Number(f64::from(l.width)),
+                    Quantity::MipLambda => Answer::Number(f64::from(l.lambda)),
+                    _ => l
+                        .levels
+                        .first()
+                        .map_or(Answer::None, |m| Answer::Number(f64::from(m.level))),
+                }),
+                _ => None,
+            })
+            .unwrap_or(Answer::None),
         Quantity::TriangleU => num(triangle().and_then(|t| t.u)),
         Quantity::TriangleV => num(triangle().and_then(|t| t.v)),
         Quantity::BvhNodesVisited => {
@@ -208,7 +224,10 @@ pub fn explaining_step(trace: &Trace, q: &Question) -> Option<usize> {
         | Quantity::TextureV
         | Quantity::TexelColumn
         | Quantity::TexelRow
-        | Quantity::TextureColor => matches!(s, Step::Texture { .. }),
+        | Quantity::TextureColor
+        | Quantity::ConeWidth
+        | Quantity::MipLambda
+        | Quantity::MipLevel => matches!(s, Step::Texture { .. }),
         Quantity::BvhNodesVisited => matches!(s, Step::Node(_)),
         Quantity::ShadowBlocked => matches!(s, Step::Light { light, .. } if *light == q.light),
         Quantity::ReflectedDirection => matches!(s, Step::Reflect { .. }),

@@ -103,6 +103,12 @@ pub enum Quantity {
     TexelRow,
     /// The texture's colour T at the closest hit (linear RGB).
     TextureColor,
+    /// A trilinear texture's ray cone width W = γ·d at the closest hit.
+    ConeWidth,
+    /// A trilinear texture's level of detail λ = log₂ L at the closest hit.
+    MipLambda,
+    /// The (first) mip level a trilinear lookup read: ⌊λ⌋ held to the pyramid.
+    MipLevel,
     /// The barycentric u (weight of P1) of a triangle test.
     TriangleU,
     /// The barycentric v (weight of P2) of a triangle test.
@@ -154,6 +160,9 @@ impl Quantity {
             Quantity::TexelColumn => "texel_column",
             Quantity::TexelRow => "texel_row",
             Quantity::TextureColor => "texture_color",
+            Quantity::ConeWidth => "cone_width",
+            Quantity::MipLambda => "mip_lambda",
+            Quantity::MipLevel => "mip_level",
             Quantity::TriangleU => "triangle_u",
             Quantity::TriangleV => "triangle_v",
             Quantity::BvhNodesVisited => "bvh_nodes_visited",

@@ -61,6 +61,9 @@ impl PathVertex {
     }
 }
 
+/// How far from a whole number λ must be for a `mip_level` question to be asked.
+pub const MIP_MARGIN: f64 = 0.01;
+
 /// A question's premises (`require = { path = [...], sampled_light = "..." }`).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Premise {
@@ -135,8 +138,27 @@ impl Premise {
                 None => return Err(format!("no light sample aims at \"{light}\"")),
             }
         }
-        if super::extract(trace, q) == super::Answer::None {
+        let answer = super::extract(trace, q);
+        if answer == super::Answer::None {
             return Err(format!("the tracer computes no {}", q.quantity.name()));
+        }
+        // A mip level is ⌊λ⌋: where λ is nearly whole, a careful student's λ and the tracer's
+        // f32 one may fall on either side, so such pixels are not asked about.
+        if q.quantity == super::Quantity::MipLevel {
+            let lambda = super::extract(
+                trace,
+                &Question {
+                    quantity: super::Quantity::MipLambda,
+                    ..q.clone()
+                },
+            );
+            if let super::Answer::Number(l) = lambda
+                && (l - l.round()).abs() < MIP_MARGIN
+            {
+                return Err(format!(
+                    "λ = {l} is within {MIP_MARGIN} of a whole number: the level it picks is not clear-cut"
+                ));
+            }
         }
         Ok(())
     }

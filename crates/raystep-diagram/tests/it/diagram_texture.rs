@@ -173,3 +173,67 @@ fn a_texture_step_with_absurd_numbers_still_draws() {
         }
     }
 }
+
+/// A trilinear read (scenes/mipmap.toml's right-hand floor): the diagram shows the first level
+/// read, its four texels around the point at that level's texel position, and dashes the ray
+/// cone's footprint, L / 2^level texels across (between 1 and 2 where λ is inside the pyramid),
+/// centred on the point, in the hit colour.
+#[test]
+fn a_trilinear_read_dashes_the_cones_footprint_at_its_level() {
+    let path = Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/mipmap.toml"
+    ));
+    let scene = load_file(path).unwrap();
+    let (accel, _) = SceneAccel::build(&scene);
+    let t = Tracer::new(&scene, &accel).record(250, 150, 0);
+    let (_, step) = texture_step(&t);
+    let Step::Texture {
+        lookup:
+            lookup @ TexelLookup::Image {
+                address,
+                lod: Some(lod),
+                texels,
+                ..
+            },
+        ..
+    } = step
+    else {
+        panic!("{step:?}")
+    };
+    let level = lod.levels[0].level;
+    assert!(level >= 1, "{lod:?}");
+    assert_eq!(*address, lod.levels[0].address);
+    let side = raystep_diagram::texture::footprint_side(lookup).unwrap();
+    let want = f64::from(lod.footprint) / f64::from(1u32 << level);
+    assert!(
+        (side - want).abs() < 1e-9 && (1.0..2.0).contains(&side),
+        "{side}"
+    );
+    assert!(texels[..4].iter().all(|t| t.level == level));
+    let o = ViewOptions::default();
+    let l = layout(&t, &o).unwrap();
+    assert_eq!(
+        l.point_px,
+        l.at(f64::from(address[0]), f64::from(address[1]))
+    );
+    let c = draw(&t, DiagramKind::Texture, &o).unwrap();
+    // The footprint's left edge: the hit colour on some of its pixels (it is dashed).
+    let (x, y) = (f64::from(address[0]), f64::from(address[1]));
+    let top = l.at(x - side / 2.0, y - side / 2.0);
+    let bottom = l.at(x - side / 2.0, y + side / 2.0);
+    let hit = c.theme.hit;
+    let on_edge = (top[1] as u32..bottom[1] as u32)
+        .filter(|&py| {
+            (-1..=1).any(|dx| {
+                c.pixel((top[0] as i32 + dx) as u32, py)
+                    .is_some_and(|p| (0..3).all(|k| p[k].abs_diff(hit[k]) <= 8))
+            })
+        })
+        .count();
+    let len = (bottom[1] - top[1]) as usize;
+    assert!(
+        on_edge * 3 > len,
+        "{on_edge} of {len} edge pixels in the hit colour"
+    );
+}

@@ -133,8 +133,9 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
 //#endif
 //#if TEXTURES
     // The texture's colour multiplies the material's (Phong's ambient and diffuse terms use it).
+    let cone_d = cone_reach(task.depth, hit, r);
     if m.texture != NO_TEXTURE {
-        let th = texture_at(hit, it, m.texture);
+        let th = texture_at(hit, it, m.texture, r, cone_d);
         m.color = m.color * th.texel;
 //#if TRACE
         log_texture(hit, th, m.color);

@@ -29,7 +29,8 @@ struct Params {
     // each pixel's running sum (a progressive render); one pass of every sample otherwise.
     first_sample: u32,
     pass_samples: u32,
-    pad_p0: u32,
+    // γ, the angle one pixel subtends at the eye: a ray cone's spread (CameraRays::spread).
+    spread: f32,
     pad_p1: u32,
 }
 

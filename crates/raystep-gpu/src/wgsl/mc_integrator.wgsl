@@ -93,12 +93,14 @@ fn mc_material(object: u32) -> McMaterial {
 //#if TEXTURES
 // The texture's colour multiplies a diffuse BSDF's albedo and a mirror's or glossy BSDF's tint;
 // glass is not tinted (crates/raystep-core/src/scene/mod.rs Material::bsdf_textured).
-fn mc_texture(m: ptr<function, McMaterial>, hit: Hit, it: Interaction) {
+// `ray` and `depth`: the ray that hit, for a trilinear image's ray cone.
+fn mc_texture(m: ptr<function, McMaterial>, hit: Hit, it: Interaction, ray: Ray, depth: u32) {
+    let distance = cone_reach(depth, hit, ray);
     let mat = materials[objects[hit.object].material];
     if mat.texture == NO_TEXTURE {
         return;
     }
-    let th = texture_at(hit, it, mat.texture);
+    let th = texture_at(hit, it, mat.texture, ray, distance);
 //#if TRACE
     log_texture(hit, th, mat.color * th.texel);
 //#endif
@@ -566,7 +568,7 @@ fn mc_path(primary: Ray) -> vec3f {
 //#endif
         var m = mc_material(hit.object);
 //#if TEXTURES
-        mc_texture(&m, hit, it);
+        mc_texture(&m, hit, it, ray, depth);
 //#endif
         var l = mc_emitted(hit.object, it, m, has_prev, prev_pdf, prev_origin, throughput);
         if depth >= params.max_depth {
@@ -732,7 +734,7 @@ fn d_shade(ray: Ray, depth: u32, throughput: vec3f, slot: u32) -> DFrame {
 //#endif
     var m = mc_material(hit.object);
 //#if TEXTURES
-    mc_texture(&m, hit, it);
+    mc_texture(&m, hit, it, ray, depth);
 //#endif
     var l = mc_emitted(hit.object, it, m, false, 0.0, vec3f(0.0), throughput);
     if !is_delta(m) {

@@ -164,6 +164,7 @@ impl Ctx<'_> {
                 wrapped,
                 address,
                 texels,
+                lod,
             } => {
                 let [w, h] = *size;
                 let wrap_formula = match wrap {
@@ -180,24 +181,9 @@ impl Ctx<'_> {
                         Some(format!("{} wrap", wrap.name())),
                     ));
                 }
-                lines.push(line(
-                    "x",
-                    "u′·w",
-                    format!("{}·{w}", p(wrapped[0])),
-                    num(address[0]),
-                    Some(format!(
-                        "a {w} × {h} image; texel (i, j) has its centre at (i + ½, j + ½)"
-                    )),
-                ));
-                lines.push(line(
-                    "y",
-                    "(1 − v′)·h",
-                    format!("(1 − {})·{h}", p(wrapped[1])),
-                    num(address[1]),
-                    Some("rows count down from the top of the image, v up from its bottom".into()),
-                ));
-                match filter {
-                    Filter::Nearest => {
+                match (filter, lod) {
+                    (Filter::Nearest, _) => {
+                        address_lines(&mut lines, *wrapped, *address, [w, h], "");
                         if let Some(t) = texels.first() {
                             lines.push(line(
                                 "(i, j)",
@@ -209,61 +195,52 @@ impl Ctx<'_> {
                         }
                         lines.push(line("T", "texel(i, j)", "", v3(*texel), None));
                     }
-                    Filter::Bilinear => {
-                        let (xs, ys) = (address[0] - 0.5, address[1] - 0.5);
-                        let (x0, y0) = (xs.floor(), ys.floor());
-                        let (fx, fy) = (xs - x0, ys - y0);
-                        lines.push(line(
-                            "x₀, y₀",
-                            "⌊x − ½⌋, ⌊y − ½⌋",
-                            "",
-                            format!("{}, {}", num(x0), num(y0)),
-                            Some(
-                                "the texel whose centre is up and to the left of the point".into(),
-                            ),
-                        ));
-                        lines.push(line(
-                            "f_x, f_y",
-                            "(x − ½) − x₀, (y − ½) − y₀",
-                            "",
-                            format!("{}, {}", num(fx), num(fy)),
-                            Some("how far the point is towards the next texel centre".into()),
-                        ));
-                        let names = [
-                            "(1 − f_x)(1 − f_y)",
-                            "f_x(1 − f_y)",
-                            "(1 − f_x)f_y",
-                            "f_x·f_y",
-                        ];
-                        for (t, formula) in texels.iter().zip(names) {
+                    (Filter::Trilinear, Some(lod)) => {
+                        lod_lines(&mut lines, lod, [w, h]);
+                        let mut rest = &texels[..];
+                        for m in &lod.levels {
+                            let sub = format!("{}", m.level);
+                            address_lines(&mut lines, *wrapped, m.address, m.size, &sub);
+                            let n = rest.len().min(4);
+                            bilinear_lines(&mut lines, m.address, &rest[..n], m.color, &sub);
+                            rest = &rest[n..];
+                        }
+                        if let [a, b] = &lod.levels[..] {
                             lines.push(line(
-                                &format!("w({}, {})", t.at[0], t.at[1]),
-                                formula,
-                                "",
-                                num(t.weight),
-                                Some(format!(
-                                    "texel ({}, {}) = {}",
-                                    t.at[0],
-                                    t.at[1],
-                                    v3(t.color)
-                                )),
+                                "T",
+                                &format!("(1 − f)·T{} + f·T{}", sub(a.level), sub(b.level)),
+                                format!(
+                                    "{}·{} + {}·{}",
+                                    num(a.weight),
+                                    v3(a.color),
+                                    num(b.weight),
+                                    v3(b.color)
+                                ),
+                                v3(*texel),
+                                Some("f = λ − ⌊λ⌋: the levels blended by where λ falls".into()),
                             ));
                         }
-                        lines.push(line(
-                            "T",
-                            "Σ w·texel",
-                            texels
-                                .iter()
-                                .map(|t| format!("{}·{}", num(t.weight), v3(t.color)))
-                                .collect::<Vec<_>>()
-                                .join(" + "),
-                            v3(*texel),
-                            None,
-                        ));
+                    }
+                    _ => {
+                        address_lines(&mut lines, *wrapped, *address, [w, h], "");
+                        bilinear_lines(&mut lines, *address, texels, *texel, "");
                     }
                 }
+                let at = match lod.as_ref().map(|l| &l.levels[..]) {
+                    Some([a]) => {
+                        format!(" in mip level {} ({} × {})", a.level, a.size[0], a.size[1])
+                    }
+                    Some([a, b]) => format!(
+                        " in mip levels {} and {}, weighted {} and {}",
+                        a.level,
+                        b.level,
+                        num(a.weight),
+                        num(b.weight)
+                    ),
+                    _ => String::new(),
+                };
                 format!(
-                    "(u, v) = ({}, {}) reads \"{texture}\" at texel position ({}, {}) \
+                    "(u, v) = ({}, {}) reads \"{texture}\" at texel position ({}, {}){at} \
                      ({}, {} wrap): its colour is {}.",
                     num(u),
                     num(v),
@@ -272,6 +249,7 @@ impl Ctx<'_> {
                     match filter {
                         Filter::Nearest => "nearest texel",
                         Filter::Bilinear => "bilinear",
+                        Filter::Trilinear => "trilinear",
                     },
                     wrap.name(),
                     v3(*texel)
@@ -300,4 +278,178 @@ impl Ctx<'_> {
             conclusion: format!("{conclusion} The surface colour is {}.", v3(*color)),
         }
     }
+}
+
+/// A level number as a subscript (T₀, T₁₂).
+fn sub(level: u32) -> String {
+    level
+        .to_string()
+        .chars()
+        .map(|c| char::from_u32(0x2080 + c.to_digit(10).unwrap_or(0)).unwrap_or(c))
+        .collect()
+}
+
+/// The address lines, x = u′·w and y = (1 − v′)·h, at a level (`level` names it, or "" for the
+/// image itself).
+fn address_lines(
+    lines: &mut Vec<Formula>,
+    wrapped: [f32; 2],
+    address: [f32; 2],
+    [w, h]: [u32; 2],
+    level: &str,
+) {
+    let (x, y, note) = if level.is_empty() {
+        (
+            "x".to_string(),
+            "y".to_string(),
+            format!("a {w} × {h} image; texel (i, j) has its centre at (i + ½, j + ½)"),
+        )
+    } else {
+        let l = sub(level.parse().unwrap_or(0));
+        (
+            format!("x{l}"),
+            format!("y{l}"),
+            format!("mip level {level}, {w} × {h} texels"),
+        )
+    };
+    lines.push(line(
+        &x,
+        "u′·w",
+        format!("{}·{w}", p(wrapped[0])),
+        num(address[0]),
+        Some(note),
+    ));
+    lines.push(line(
+        &y,
+        "(1 − v′)·h",
+        format!("(1 − {})·{h}", p(wrapped[1])),
+        num(address[1]),
+        level
+            .is_empty()
+            .then(|| "rows count down from the top of the image, v up from its bottom".into()),
+    ));
+}
+
+/// Bilinear's lines: the corner texel, the fractions, the four weights and the sum.
+fn bilinear_lines(
+    lines: &mut Vec<Formula>,
+    address: [f32; 2],
+    texels: &[crate::record::texturing::Texel],
+    color: [f32; 3],
+    level: &str,
+) {
+    let (xs, ys) = (address[0] - 0.5, address[1] - 0.5);
+    let (x0, y0) = (xs.floor(), ys.floor());
+    let (fx, fy) = (xs - x0, ys - y0);
+    let l = if level.is_empty() {
+        String::new()
+    } else {
+        sub(level.parse().unwrap_or(0))
+    };
+    lines.push(line(
+        "x₀, y₀",
+        "⌊x − ½⌋, ⌊y − ½⌋",
+        "",
+        format!("{}, {}", num(x0), num(y0)),
+        Some("the texel whose centre is up and to the left of the point".into()),
+    ));
+    lines.push(line(
+        "f_x, f_y",
+        "(x − ½) − x₀, (y − ½) − y₀",
+        "",
+        format!("{}, {}", num(fx), num(fy)),
+        Some("how far the point is towards the next texel centre".into()),
+    ));
+    let names = [
+        "(1 − f_x)(1 − f_y)",
+        "f_x(1 − f_y)",
+        "(1 − f_x)f_y",
+        "f_x·f_y",
+    ];
+    for (t, formula) in texels.iter().zip(names) {
+        lines.push(line(
+            &format!("w({}, {})", t.at[0], t.at[1]),
+            formula,
+            "",
+            num(t.weight),
+            Some(format!(
+                "texel ({}, {}) = {}",
+                t.at[0],
+                t.at[1],
+                v3(t.color)
+            )),
+        ));
+    }
+    lines.push(line(
+        &format!("T{l}"),
+        "Σ w·texel",
+        texels
+            .iter()
+            .map(|t| format!("{}·{}", num(t.weight), v3(t.color)))
+            .collect::<Vec<_>>()
+            .join(" + "),
+        v3(color),
+        None,
+    ));
+}
+
+/// The ray cone's lines: its width, the texture's density, the footprint, λ and the levels.
+fn lod_lines(
+    lines: &mut Vec<Formula>,
+    lod: &crate::record::texturing::LodRecord,
+    [w, h]: [u32; 2],
+) {
+    lines.push(line(
+        "W",
+        "γ·d",
+        format!("{}·{}", p(lod.spread), p(lod.distance)),
+        num(lod.width),
+        Some(
+            "the ray cone's width: γ is the angle one pixel subtends at the eye, d the path's length from it"
+                .into(),
+        ),
+    ));
+    lines.push(line(
+        "|n·d̂|",
+        "",
+        "",
+        num(lod.cos),
+        Some("the geometric normal against the unit ray direction: a slanted view stretches the footprint".into()),
+    ));
+    lines.push(line(
+        "ρ",
+        "texels per unit area",
+        "",
+        num(lod.texels_per_area),
+        Some(format!(
+            "how densely the {w} × {h} image covers the surface here"
+        )),
+    ));
+    lines.push(line(
+        "L",
+        "W·√ρ / |n·d̂|",
+        format!(
+            "{}·√{} / {}",
+            p(lod.width),
+            p(lod.texels_per_area),
+            p(lod.cos)
+        ),
+        num(lod.footprint),
+        Some("the footprint's side in texels of the image".into()),
+    ));
+    let levels = lod
+        .levels
+        .iter()
+        .map(|m| m.level.to_string())
+        .collect::<Vec<_>>()
+        .join(" and ");
+    lines.push(line(
+        "λ",
+        "log₂ L",
+        format!("log₂ {}", p(lod.footprint)),
+        num(lod.lambda),
+        Some(format!(
+            "the level of detail: level {levels} (⌊λ⌋ and the next, held to the pyramid)"
+        )),
+    ));
 }

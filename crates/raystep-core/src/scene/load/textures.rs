@@ -83,24 +83,19 @@ impl Ctx<'_> {
                     let (width, height, texels) = texture::decode_image(&bytes, &path, budget)
                         .map_err(|m| loc.err("image", m))?;
                     budget -= u64::from(width) * u64::from(height);
-                    TextureKind::Image {
-                        file: file.clone(),
-                        width,
-                        height,
-                        texels: std::sync::Arc::new(texels),
-                        filter: d
-                            .filter
-                            .as_deref()
-                            .map(|x| loc.choice("filter", x))
-                            .transpose()?
-                            .unwrap_or_default(),
-                        wrap: d
-                            .wrap
-                            .as_deref()
-                            .map(|x| loc.choice("wrap", x))
-                            .transpose()?
-                            .unwrap_or_default(),
-                    }
+                    let filter = d
+                        .filter
+                        .as_deref()
+                        .map(|x| loc.choice("filter", x))
+                        .transpose()?
+                        .unwrap_or_default();
+                    let wrap = d
+                        .wrap
+                        .as_deref()
+                        .map(|x| loc.choice("wrap", x))
+                        .transpose()?
+                        .unwrap_or_default();
+                    TextureKind::image(file.clone(), width, height, texels, filter, wrap)
                 }
             };
             out.push(Texture { name, kind });

@@ -141,10 +141,10 @@ fn an_image_that_is_missing_unreadable_or_oddly_filtered_is_named() {
     // A real 1 × 1 PNG with a filter that does not exist.
     let w = write(
         &textured(&[
-            "[[texture]]",            // 4
-            "name = \"wood\"",        // 5
-            "image = \"wood.png\"",   // 6
-            "filter = \"trilinear\"", // 7
+            "[[texture]]",              // 4
+            "name = \"wood\"",          // 5
+            "image = \"wood.png\"",     // 6
+            "filter = \"anisotropic\"", // 7
         ]),
         &[],
     );
@@ -158,7 +158,12 @@ fn an_image_that_is_missing_unreadable_or_oddly_filtered_is_named() {
         (7, 1),
         "texture \"wood\"",
         "filter",
-        &["\"trilinear\"", "\"nearest\"", "\"bilinear\""],
+        &[
+            "\"anisotropic\"",
+            "\"nearest\"",
+            "\"bilinear\"",
+            "\"trilinear\"",
+        ],
     );
 }
 
