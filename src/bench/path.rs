@@ -48,9 +48,7 @@ fn mitsuba(scene: &Scene, spp: u32, seed: u32) -> Result<(f64, Vec<Vec3>), Strin
     let dir = std::env::temp_dir().join(format!("raystep-bench-mitsuba-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let m = crate::scene::mitsuba::to_mitsuba(scene, spp, "scene")?;
-    for (f, text) in &m.objs {
-        std::fs::write(dir.join(f), text).map_err(|e| e.to_string())?;
-    }
+    m.write_files(&dir)?;
     std::fs::write(dir.join("scene.xml"), &m.xml).map_err(|e| e.to_string())?;
     let script = "import sys, time, mitsuba as mi\nmi.set_variant('scalar_rgb')\nscene = mi.load_file(sys.argv[1])\nt = time.perf_counter()\nimg = mi.render(scene, seed=int(sys.argv[3]))\nprint(time.perf_counter() - t)\nmi.util.write_bitmap(sys.argv[2], img)\n";
     let exr = dir.join("out.exr");

@@ -86,14 +86,13 @@ fn mitsuba(
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(std::path::Path::new("."));
-    for (file, text) in &m.objs {
-        crate::io::write_atomic(&dir.join(file), text.as_bytes())?;
-    }
+    m.write_files(dir)?;
     crate::io::write_atomic(output, m.xml.as_bytes())?;
     super::emit(&format!(
-        "wrote {} ({} OBJ files beside it)\n",
+        "wrote {} ({} OBJ files and {} images beside it)\n",
         super::full_path(output),
-        m.objs.len()
+        m.objs.len(),
+        m.images.len()
     ))
 }
 

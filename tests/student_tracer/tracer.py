@@ -107,6 +107,17 @@ def mul(a, b):
     return (a[0] * b[0], a[1] * b[1], a[2] * b[2])
 
 
+def add_all(vs):
+    out = BLACK
+    for v in vs:
+        out = add(out, v)
+    return out
+
+
+def sub2(a, b):
+    return (a[0] - b[0], a[1] - b[1])
+
+
 def dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
@@ -183,6 +194,11 @@ class Triangle:
 # the wrap (repeat keeps the fraction, clamp holds to [0, 1], mirror folds), nearest at
 # (⌊x⌋, ⌊y⌋), bilinear from the four texels around (x − ½, y − ½); texels are sRGB, decoded
 # to linear light.
+# Lesson 19: trilinear images are mip-mapped: each level halves the one below (rounded down, at
+# least 1), each texel the mean of the 2 × 2 below it. A ray cone of spread
+# γ = atan(2·tan(fov/2)/height) is W = γ·d wide at a hit d along the path from the eye; the
+# footprint is L = W·√ρ / |n·d̂| texels (ρ: texels per unit of surface), λ = log₂ L, and levels
+# ⌊λ⌋ and ⌊λ⌋ + 1 (held to the pyramid) are read bilinearly and blended by λ − ⌊λ⌋.
 # ---------------------------------------------------------------------------------------------
 
 def srgb_to_linear(c):
@@ -236,6 +252,15 @@ class Texture:
             self.kind = "image"
             self.w, self.h, self.rows = read_png(os.path.join(base, d["image"]))
             self.filter, self.wrap = d.get("filter", "bilinear"), d.get("wrap", "repeat")
+            self.levels = [(self.w, self.h, self.rows)]
+            while self.filter == "trilinear" and (self.levels[-1][0] > 1 or self.levels[-1][1] > 1):
+                w, h, rows = self.levels[-1]
+                sx, sy = (2 if w > 1 else 1), (2 if h > 1 else 1)
+                nw, nh = max(w // 2, 1), max(h // 2, 1)
+                up = [[scale(add_all([rows[j * sy + b][i * sx + a] for b in range(sy)
+                                      for a in range(sx)]), 1.0 / (sx * sy))
+                       for i in range(nw)] for j in range(nh)]
+                self.levels.append((nw, nh, up))
 
     def wrap_coord(self, t):
         if self.wrap == "repeat":
@@ -252,21 +277,53 @@ class Texture:
             return 0 if self.wrap == "repeat" else size - 1
         return i
 
-    def at(self, u, v):
+    def at(self, u, v, footprint=None):
+        """The colour at (u, v); `footprint`: a trilinear read's L in level-0 texels."""
         if self.kind == "checker":
             i, j = math.floor(u * self.squares[0]), math.floor(v * self.squares[1])
             return self.colors[(i + j) % 2]
-        x, y = self.wrap_coord(u) * self.w, (1 - self.wrap_coord(v)) * self.h
+        u, v = self.wrap_coord(u), self.wrap_coord(v)
         if self.filter == "nearest":
+            x, y = u * self.w, (1 - v) * self.h
             return self.rows[self.texel(math.floor(y), self.h)][self.texel(math.floor(x), self.w)]
+        if self.filter != "trilinear" or footprint is None:
+            return self.bilinear(0, u, v)
+        last = len(self.levels) - 1
+        lam = math.log2(footprint) if footprint > 0 else -math.inf
+        lam = min(max(lam, 0.0), last) if lam == lam else 0.0
+        k, f = math.floor(lam), lam - math.floor(lam)
+        if f == 0:
+            return self.bilinear(k, u, v)
+        return add(scale(self.bilinear(k, u, v), 1 - f), scale(self.bilinear(k + 1, u, v), f))
+
+    def bilinear(self, level, u, v):
+        w, h, rows = self.levels[level]
+        x, y = u * w, (1 - v) * h
         x0, y0 = math.floor(x - 0.5), math.floor(y - 0.5)
         fx, fy = x - 0.5 - x0, y - 0.5 - y0
         out = BLACK
         for dx, dy, wt in ((0, 0, (1 - fx) * (1 - fy)), (1, 0, fx * (1 - fy)),
                            (0, 1, (1 - fx) * fy), (1, 1, fx * fy)):
-            c = self.rows[self.texel(y0 + dy, self.h)][self.texel(x0 + dx, self.w)]
+            c = rows[self.texel(y0 + dy, h)][self.texel(x0 + dx, w)]
             out = add(out, scale(c, wt))
         return out
+
+    def per_area(self, obj, outward):
+        """ρ: level-0 texels per unit of the surface at the hit."""
+        texels = self.w * self.h
+        if obj.kind == "triangle":
+            p0, p1, p2 = obj.p
+            area = length(cross(sub(p1, p0), sub(p2, p0)))
+            uv_area = 1.0
+            if obj.uvs is not None:
+                t0, t1, t2 = obj.uvs
+                a, b = sub2(t1, t0), sub2(t2, t0)
+                uv_area = abs(a[0] * b[1] - a[1] * b[0])
+            return texels * uv_area / area
+        if obj.kind == "sphere":
+            sin = math.sqrt(outward[0] ** 2 + outward[2] ** 2)
+            return texels / (2 * math.pi ** 2 * obj.radius ** 2 * sin) if sin > 0 else math.inf
+        return texels
 
 
 def texture_coords(ray, obj, point, outward):
@@ -454,9 +511,12 @@ def emit(record):
 class Ray:
     """P(t) = S + t·Q for t in (t_min, t_max)."""
 
-    def __init__(self, origin, direction, kind, depth, t_min=0.0, t_max=math.inf, light=None):
+    def __init__(self, origin, direction, kind, depth, t_min=0.0, t_max=math.inf, light=None,
+                 travelled=0.0):
         self.origin, self.direction = origin, direction
         self.kind, self.depth = kind, depth
+        # The path's length from the eye to the origin (lesson 19's ray cone).
+        self.travelled = travelled
         self.t_min, self.t_max = t_min, t_max
         self.light = light
 
@@ -620,10 +680,11 @@ class Surface:
     """Where a ray met an object: point P, unit normal n facing the ray, unit eye vector e."""
 
 
-def surface_at(ray, obj, t):
+def surface_at(ray, obj, t, scene=None):
     s = Surface()
     s.obj = obj
     s.point = ray.at(t)  # P = S + t·Q
+    s.distance = ray.travelled + t * length(ray.direction)
     if obj.kind == "sphere":
         outward = sub(s.point, obj.center)
         if BUG != "unnormalized-normal":
@@ -644,7 +705,14 @@ def surface_at(ray, obj, t):
     s.color = obj.material.color
     if obj.material.texture is not None:
         u, v = texture_coords(ray, obj, s.point, outward)
-        s.color = mul(s.color, obj.material.texture.at(u, v))
+        tex, footprint = obj.material.texture, None
+        if getattr(tex, "filter", None) == "trilinear" and scene is not None:
+            # Lesson 19: the ray cone's footprint in texels.
+            spread = math.atan(2 * math.tan(math.radians(scene.fov) / 2) / scene.height)
+            cos = abs(dot(outward, normalize(ray.direction)))
+            rho = tex.per_area(obj, outward)
+            footprint = spread * s.distance * math.sqrt(rho) / cos if cos > 0 else math.inf
+        s.color = mul(s.color, tex.at(u, v, footprint))
     s.shading = s.normal
     if obj.kind == "triangle" and obj.normals is not None:
         p0, p1, p2 = obj.p
@@ -792,7 +860,7 @@ def trace(scene, ray, throughput=1.0, media=None):
         emit({"type": "hit", "object": None, "depth": d})
         emit({"type": "color", "rgb": list(scene.background), "depth": d})
         return scene.background
-    s = surface_at(ray, obj, t)
+    s = surface_at(ray, obj, t, scene)
     emit({"type": "hit", "object": obj.name, "t": t, "point": list(s.point),
           "normal": list(s.normal), "depth": d})
     m = obj.material
@@ -825,7 +893,8 @@ def trace(scene, ray, throughput=1.0, media=None):
         direction = reflect(ray.direction, s.shading)
         share = m.reflective * reflectance if blend else m.reflective
         if throughput * share >= WEIGHT_CUTOFF:
-            child = Ray(spawn_origin(s, direction), direction, "reflection", d + 1)
+            child = Ray(spawn_origin(s, direction), direction, "reflection", d + 1,
+                        travelled=s.distance)
             reflected = scale(trace(scene, child, throughput * share, media), m.reflective)
 
     # Lesson 9: refraction, weighted by `transparency`.
@@ -834,7 +903,8 @@ def trace(scene, ray, throughput=1.0, media=None):
         direction = refract(s.eye, s.shading, n1, n2)
         share = m.transparency * (1 - reflectance) if blend else m.transparency
         if direction is not None and throughput * share >= WEIGHT_CUTOFF:
-            child = Ray(spawn_origin(s, direction), direction, "refraction", d + 1)
+            child = Ray(spawn_origin(s, direction), direction, "refraction", d + 1,
+                        travelled=s.distance)
             inner = media.crossed(obj, m.refractive_index)
             refracted = scale(trace(scene, child, throughput * share, inner), m.transparency)
 

@@ -10,17 +10,53 @@
 //! an `area` emitter, point lights as `point` emitters and the background as a `constant`
 //! environment, and a thin lens as Mitsuba's `thinlens` sensor. Infinite planes have no
 //! equivalent here: they are refused.
+//!
+//! Textures on triangles: a checker is Mitsuba's `checkerboard` (its `to_uv` scaled so that its
+//! half-unit checks are raystep's squares, and v turned back: Mitsuba's OBJ loader flips texture
+//! v), its colours multiplied by the BSDF's albedo or tint; an image (nearest or bilinear, any
+//! wrap) is a `bitmap` of an OpenEXR file holding raystep's own linear texels already multiplied
+//! by the albedo or tint (Mitsuba has no texture-times-colour), so both read the same numbers.
+//! Triangles carry their texture coordinates (`vt`; a triangle without them gets its
+//! barycentrics' corners (0, 0), (1, 0), (0, 1)). Refused: a textured sphere (Mitsuba maps a
+//! sphere's (u, v) in its own frame) and a trilinear image (Mitsuba 3's bitmap has no mip maps).
 
-use super::{Bsdf, Scene, Shape};
+use super::{Bsdf, Filter, Scene, Shape, TextureKind, Wrap};
 use std::fmt::Write;
 
-/// A scene in Mitsuba's format: the XML and the OBJ files it names (file name, contents).
+/// A scene in Mitsuba's format: the XML and the files it names (file name, contents).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MitsubaScene {
     /// The scene's XML.
     pub xml: String,
     /// OBJ files the XML refers to, by file name (to be written beside it).
     pub objs: Vec<(String, String)>,
+    /// OpenEXR images the XML's textures read, by file name (to be written beside it).
+    pub images: Vec<(String, Vec<u8>)>,
+}
+
+impl MitsubaScene {
+    /// Writes the OBJ files and the images into `dir` (each atomically), not the XML.
+    pub fn write_files(&self, dir: &std::path::Path) -> Result<(), String> {
+        for (f, text) in &self.objs {
+            crate::io::write_atomic(&dir.join(f), text.as_bytes())?;
+        }
+        for (f, bytes) in &self.images {
+            crate::io::write_atomic(&dir.join(f), bytes)?;
+        }
+        Ok(())
+    }
+}
+
+/// Linear RGB texels as a 32-bit float OpenEXR file's bytes.
+fn exr_bytes(width: u32, height: u32, texels: &[glam::Vec3]) -> Result<Vec<u8>, String> {
+    let data: Vec<f32> = texels.iter().flat_map(|p| p.to_array()).collect();
+    let img = image::Rgb32FImage::from_raw(width, height, data)
+        .ok_or_else(|| format!("a texture is not {width}×{height}"))?;
+    let mut bytes = std::io::Cursor::new(vec![]);
+    image::DynamicImage::ImageRgb32F(img)
+        .write_to(&mut bytes, image::ImageFormat::OpenExr)
+        .map_err(|e| format!("cannot encode OpenEXR: {e}"))?;
+    Ok(bytes.into_inner())
 }
 
 fn v(a: glam::Vec3) -> String {
@@ -60,22 +96,68 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
         c.width,
         c.height
     );
+    let mut images = vec![];
     for (i, m) in scene.materials.iter().enumerate() {
+        // The albedo or tint: a colour, or the material's texture times it.
+        let mut colour = |name: &str, c: glam::Vec3| -> Result<String, String> {
+            let Some(t) = m.texture.and_then(|t| scene.textures.get(t as usize)) else {
+                return Ok(format!("<rgb name=\"{name}\" value=\"{}\"/>", v(c)));
+            };
+            match &t.kind {
+                TextureKind::Checker { squares, colors } => Ok(format!(
+                    "<texture type=\"checkerboard\" name=\"{name}\"><rgb name=\"color0\" value=\"{}\"/><rgb name=\"color1\" value=\"{}\"/><transform name=\"to_uv\"><scale x=\"{:e}\" y=\"{:e}\"/><translate y=\"{:e}\"/></transform></texture>",
+                    v(c * colors[0]),
+                    v(c * colors[1]),
+                    f64::from(squares[0]) / 2.0,
+                    -f64::from(squares[1]) / 2.0,
+                    f64::from(squares[1]) / 2.0
+                )),
+                TextureKind::Image { filter: Filter::Trilinear, .. } => Err(format!(
+                    "texture \"{}\": Mitsuba 3's bitmap has no mip maps (use filter = \"bilinear\")",
+                    t.name
+                )),
+                TextureKind::Image {
+                    width,
+                    height,
+                    texels,
+                    filter,
+                    wrap,
+                    ..
+                } => {
+                    let file = format!("{prefix}-t{i}-{name}.exr");
+                    let scaled: Vec<glam::Vec3> = texels
+                        [..(*width as usize) * (*height as usize)]
+                        .iter()
+                        .map(|&x| x * c)
+                        .collect();
+                    images.push((file.clone(), exr_bytes(*width, *height, &scaled)?));
+                    Ok(format!(
+                        "<texture type=\"bitmap\" name=\"{name}\"><string name=\"filename\" value=\"{file}\"/><string name=\"filter_type\" value=\"{}\"/><string name=\"wrap_mode\" value=\"{}\"/><boolean name=\"raw\" value=\"true\"/></texture>",
+                        if *filter == Filter::Nearest { "nearest" } else { "bilinear" },
+                        match wrap {
+                            Wrap::Repeat => "repeat",
+                            Wrap::Clamp => "clamp",
+                            Wrap::Mirror => "mirror",
+                        }
+                    ))
+                }
+            }
+        };
         let body = match m.bsdf() {
             Bsdf::Diffuse { albedo } => format!(
-                "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"{}\"/></bsdf>",
-                v(albedo)
+                "<bsdf type=\"diffuse\">{}</bsdf>",
+                colour("reflectance", albedo)?
             ),
             Bsdf::Mirror { tint } => format!(
-                "<bsdf type=\"conductor\"><string name=\"material\" value=\"none\"/><rgb name=\"specular_reflectance\" value=\"{}\"/></bsdf>",
-                v(tint)
+                "<bsdf type=\"conductor\"><string name=\"material\" value=\"none\"/>{}</bsdf>",
+                colour("specular_reflectance", tint)?
             ),
             Bsdf::Glass { ior } => format!(
                 "<bsdf type=\"dielectric\"><float name=\"int_ior\" value=\"{ior:e}\"/><float name=\"ext_ior\" value=\"1\"/></bsdf>"
             ),
             Bsdf::Glossy { tint, alpha } => format!(
-                "<bsdf type=\"roughconductor\"><string name=\"material\" value=\"none\"/><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"{alpha:e}\"/><rgb name=\"specular_reflectance\" value=\"{}\"/></bsdf>",
-                v(tint)
+                "<bsdf type=\"roughconductor\"><string name=\"material\" value=\"none\"/><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"{alpha:e}\"/>{}</bsdf>",
+                colour("specular_reflectance", tint)?
             ),
         };
         // Mitsuba's `ref` needs an id on the BSDF: number them.
@@ -105,6 +187,12 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
         let e = emitter(scene.materials[m].emission);
         match first.shape {
             Shape::Sphere { center, radius } => {
+                if scene.materials[m].texture.is_some() {
+                    return Err(format!(
+                        "sphere \"{}\": a textured sphere does not map (Mitsuba's sphere has (u, v) of its own)",
+                        g.name
+                    ));
+                }
                 let _ = writeln!(
                     x,
                     "  <shape type=\"sphere\"><point name=\"center\" value=\"{}\"/><float name=\"radius\" value=\"{radius:e}\"/><ref id=\"m{m}\"/>{e}</shape>",
@@ -120,8 +208,28 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
                         }
                     }
                 }
+                // Texture coordinates where the material has a texture: the triangle's own, or
+                // its barycentrics' corners.
+                let textured = scene.materials[m].texture.is_some();
+                if textured {
+                    for o in objects {
+                        let t = if o.uvs == super::NO_UVS {
+                            [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]
+                        } else {
+                            scene.vertex_uvs[o.uvs as usize]
+                        };
+                        for q in t {
+                            let _ = writeln!(obj, "vt {:e} {:e}", q[0], q[1]);
+                        }
+                    }
+                }
                 for k in 0..objects.len() {
-                    let _ = writeln!(obj, "f {} {} {}", 3 * k + 1, 3 * k + 2, 3 * k + 3);
+                    let (a, b, c) = (3 * k + 1, 3 * k + 2, 3 * k + 3);
+                    let _ = if textured {
+                        writeln!(obj, "f {a}/{a} {b}/{b} {c}/{c}")
+                    } else {
+                        writeln!(obj, "f {a} {b} {c}")
+                    };
                 }
                 let name = format!("{prefix}-g{gi}.obj");
                 let _ = writeln!(
@@ -154,5 +262,9 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
         );
     }
     let _ = writeln!(x, "</scene>");
-    Ok(MitsubaScene { xml: x, objs })
+    Ok(MitsubaScene {
+        xml: x,
+        objs,
+        images,
+    })
 }

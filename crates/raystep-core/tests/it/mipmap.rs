@@ -263,3 +263,39 @@ fn trilinear_removes_the_far_floors_aliasing() {
         "bilinear {bilinear}, trilinear {trilinear}"
     );
 }
+
+/// A trilinear texture step reads back from JSON unchanged, and the math panel shows the cone,
+/// the footprint, λ and each level's numbers, with the recorded values substituted: λ's line
+/// holds log₂ L with L's value, and T's blend the two levels' weights.
+#[test]
+fn a_trilinear_step_reads_back_and_is_explained_level_by_level() {
+    let scene = load_file(&scene_path()).unwrap();
+    let trace = record(&scene, 250, 150);
+    let again = Trace::from_json(&trace.to_json(), "t.json").unwrap();
+    assert_eq!(again.root, trace.root);
+    let step = texture_step(&trace);
+    let Step::Texture {
+        lookup: TexelLookup::Image { lod: Some(lod), .. },
+        ..
+    } = &step
+    else {
+        panic!("{step:?}")
+    };
+    assert_eq!(lod.levels.len(), 2);
+    let e = raystep_core::explain::formula::explain(&trace, &trace.root, &step);
+    let names: Vec<&str> = e.lines.iter().map(|l| l.name.as_str()).collect();
+    for n in ["W", "|n·d̂|", "ρ", "L", "λ", "x₂", "y₂", "T₂", "x₃", "y₃", "T₃", "T", "C"] {
+        assert!(names.contains(&n), "no line {n} in {names:?}");
+    }
+    let line = |n: &str| e.lines.iter().find(|l| l.name == n).unwrap();
+    let num = raystep_core::record::number::num;
+    assert_eq!(line("λ").value, num(lod.lambda));
+    assert!(line("λ").substituted.contains(&num(lod.footprint)));
+    assert_eq!(line("W").value, num(lod.width));
+    let t = line("T").substituted.clone();
+    assert!(
+        t.contains(&num(lod.levels[0].weight)) && t.contains(&num(lod.levels[1].weight)),
+        "{t}"
+    );
+    assert!(e.conclusion.contains("mip levels 2 and 3"), "{}", e.conclusion);
+}
