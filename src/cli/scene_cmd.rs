@@ -208,11 +208,17 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
                     height,
                     filter,
                     wrap,
+                    levels,
                     ..
                 } => format!(
-                    "\"{}\" image {width}×{height} {} {}",
+                    "\"{}\" image {width}×{height} {}{} {}",
                     t.name,
                     filter.name(),
+                    if levels.len() > 1 {
+                        format!(" ({} mip levels)", levels.len())
+                    } else {
+                        String::new()
+                    },
                     wrap.name()
                 ),
             })

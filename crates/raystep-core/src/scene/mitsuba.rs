@@ -112,7 +112,10 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
                     -f64::from(squares[1]) / 2.0,
                     f64::from(squares[1]) / 2.0
                 )),
-                TextureKind::Image { filter: Filter::Trilinear, .. } => Err(format!(
+                TextureKind::Image {
+                    filter: Filter::Trilinear,
+                    ..
+                } => Err(format!(
                     "texture \"{}\": Mitsuba 3's bitmap has no mip maps (use filter = \"bilinear\")",
                     t.name
                 )),
@@ -125,15 +128,18 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
                     ..
                 } => {
                     let file = format!("{prefix}-t{i}-{name}.exr");
-                    let scaled: Vec<glam::Vec3> = texels
-                        [..(*width as usize) * (*height as usize)]
+                    let scaled: Vec<glam::Vec3> = texels[..(*width as usize) * (*height as usize)]
                         .iter()
                         .map(|&x| x * c)
                         .collect();
                     images.push((file.clone(), exr_bytes(*width, *height, &scaled)?));
                     Ok(format!(
                         "<texture type=\"bitmap\" name=\"{name}\"><string name=\"filename\" value=\"{file}\"/><string name=\"filter_type\" value=\"{}\"/><string name=\"wrap_mode\" value=\"{}\"/><boolean name=\"raw\" value=\"true\"/></texture>",
-                        if *filter == Filter::Nearest { "nearest" } else { "bilinear" },
+                        if *filter == Filter::Nearest {
+                            "nearest"
+                        } else {
+                            "bilinear"
+                        },
                         match wrap {
                             Wrap::Repeat => "repeat",
                             Wrap::Clamp => "clamp",

@@ -38,7 +38,7 @@ pub struct Interaction {
     pub texel: Option<Vec3>,
     /// The path length from the eye to the point, over every bounce: the previous hit's plus
     /// t·|Q| (a ray cone's width here is the camera's spread times it). Set by the tracer's
-    /// `surface`.
+    /// `surface` in a scene with textures (0 in one without: nothing reads it there).
     pub distance: f32,
 }
 

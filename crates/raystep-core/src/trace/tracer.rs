@@ -230,7 +230,10 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
     ) -> Interaction {
         let s = &self.scene.settings;
         let mut it = interact(self.scene, hit, ray);
-        it.distance = travelled + hit.t * ray.dir.length();
+        // The path's length so far, for a ray cone (only a textured scene reads it).
+        if self.scene.features.textured > 0 {
+            it.distance = travelled + hit.t * ray.dir.length();
+        }
         obs.step(|| Step::Surface {
             point: it.point.to_array(),
             normal: it.normal.to_array(),

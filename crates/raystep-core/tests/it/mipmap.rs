@@ -284,7 +284,9 @@ fn a_trilinear_step_reads_back_and_is_explained_level_by_level() {
     assert_eq!(lod.levels.len(), 2);
     let e = raystep_core::explain::formula::explain(&trace, &trace.root, &step);
     let names: Vec<&str> = e.lines.iter().map(|l| l.name.as_str()).collect();
-    for n in ["W", "|n·d̂|", "ρ", "L", "λ", "x₂", "y₂", "T₂", "x₃", "y₃", "T₃", "T", "C"] {
+    for n in [
+        "W", "|n·d̂|", "ρ", "L", "λ", "x₂", "y₂", "T₂", "x₃", "y₃", "T₃", "T", "C",
+    ] {
         assert!(names.contains(&n), "no line {n} in {names:?}");
     }
     let line = |n: &str| e.lines.iter().find(|l| l.name == n).unwrap();
@@ -297,5 +299,69 @@ fn a_trilinear_step_reads_back_and_is_explained_level_by_level() {
         t.contains(&num(lod.levels[0].weight)) && t.contains(&num(lod.levels[1].weight)),
         "{t}"
     );
-    assert!(e.conclusion.contains("mip levels 2 and 3"), "{}", e.conclusion);
+    assert!(
+        e.conclusion.contains("mip levels 2 and 3"),
+        "{}",
+        e.conclusion
+    );
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(256))]
+
+    /// Any trilinear read of any small image, at any (u, v) and level of detail: every level read
+    /// is in the pyramid, each level's weights sum to 1 and the two levels' to 1, and the colour
+    /// lies within the image's own range of texel values (every level's texels are means of
+    /// them, and a read is a weighted mean of those).
+    #[test]
+    fn a_trilinear_read_is_a_weighted_mean_of_the_images_texels(
+        w in 1u32..10,
+        h in 1u32..10,
+        values in proptest::collection::vec(0.0f32..1.0, 100),
+        u in -3.0f32..3.0,
+        v in -3.0f32..3.0,
+        lambda in -2.0f32..12.0,
+        wrap in proptest::sample::select(vec![Wrap::Repeat, Wrap::Clamp, Wrap::Mirror]),
+    ) {
+        let texels: Vec<Vec3> = (0..(w * h) as usize)
+            .map(|k| Vec3::new(values[k], 1.0 - values[k], 0.5))
+            .collect();
+        let (lo, hi) = texels.iter().fold((f32::MAX, f32::MIN), |(a, b), t| (a.min(t.x), b.max(t.x)));
+        let tex = Texture {
+            name: "t".into(),
+            kind: TextureKind::image("t.png".into(), w, h, texels, Filter::Trilinear, wrap),
+        };
+        let n = tex.levels().len() as u32;
+        let last = (n - 1) as f32;
+        let held = if lambda > 0.0 { lambda.min(last) } else { 0.0 };
+        let l0 = held.floor();
+        let fraction = held - l0;
+        let lod = LevelOfDetail {
+            cone: Cone { spread: 0.0, distance: 0.0 },
+            width: 0.0,
+            cos: 1.0,
+            texels_per_area: 1.0,
+            footprint: lambda.exp2(),
+            lambda,
+            levels: [l0 as u32, (l0 as u32 + 1).min(n - 1)],
+            count: if fraction > 0.0 { 2 } else { 1 },
+            fraction,
+            addresses: [[0.0; 2]; 2],
+            colors: [Vec3::ZERO; 2],
+        };
+        let l = lookup(&tex, [u, v], Some(lod));
+        proptest::prop_assert_eq!(l.count, 4 * lod.count);
+        for k in 0..lod.count {
+            let level = &l.texels[4 * k..4 * k + 4];
+            proptest::prop_assert!(level.iter().all(|t| t.level < n && t.level == lod.levels[k]));
+            let size = tex.levels()[lod.levels[k] as usize];
+            proptest::prop_assert!(level.iter().all(|t| t.at[0] < size.width && t.at[1] < size.height));
+            let sum: f32 = level.iter().map(|t| t.weight).sum();
+            proptest::prop_assert!((sum - 1.0).abs() < 1e-5, "weights sum to {}", sum);
+        }
+        let eps = 1e-5;
+        proptest::prop_assert!(l.color.x >= lo - eps && l.color.x <= hi + eps, "{} not in [{}, {}]", l.color.x, lo, hi);
+        proptest::prop_assert!((l.color.x + l.color.y - 1.0).abs() < 1e-5, "{:?}", l.color);
+        proptest::prop_assert!((l.color.z - 0.5).abs() < 1e-6, "{:?}", l.color);
+    }
 }

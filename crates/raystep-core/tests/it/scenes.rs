@@ -191,6 +191,23 @@ fn expected() -> Vec<(&'static str, Features)> {
             },
         ),
         (
+            // Two floors of two textured triangles each (bilinear, trilinear); the sun.
+            "mipmap.toml",
+            Features {
+                spheres: 0,
+                planes: 0,
+                triangles: 4,
+                smooth: 0,
+                textured: 4,
+                meshes: 0,
+                lights: 1,
+                reflective: false,
+                transparent: false,
+                emitters: 0,
+                primitives: 4,
+            },
+        ),
+        (
             // A checker floor, a textured globe and two textured triangles; one light.
             "textures.toml",
             Features {

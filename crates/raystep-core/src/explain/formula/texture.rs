@@ -411,7 +411,7 @@ fn lod_lines(
     ));
     lines.push(line(
         "|n·d̂|",
-        "",
+        "|n·Q| / |Q|",
         "",
         num(lod.cos),
         Some("the geometric normal against the unit ray direction: a slanted view stretches the footprint".into()),
