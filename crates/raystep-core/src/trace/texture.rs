@@ -9,7 +9,7 @@ use crate::math::Ray;
 use crate::portable::math::{atan2, ln};
 use crate::record::Step;
 use crate::record::texturing::{LodRecord, MipRead, Texel, TexelLookup, UvMapping};
-use crate::scene::{Filter, Scene, Shape, Texture, TextureKind, Wrap};
+use crate::scene::{Filter, MipLevel, Scene, Shape, Texture, TextureKind, Wrap};
 use crate::trace::interaction::Interaction;
 use glam::Vec3;
 
@@ -323,8 +323,11 @@ pub fn level_of_detail(
 /// Reads one level of an image, nearest or bilinear, at the wrapped (u, v); writes its texels
 /// into `out` from `first` and returns (address, colour, texels read).
 #[inline(always)]
+// The image's texels and levels are taken once per lookup: a texel fetch is then one index.
+#[allow(clippy::too_many_arguments)]
 fn read_level(
-    tex: &Texture,
+    texels: &[Vec3],
+    levels: &[MipLevel],
     level: u32,
     bilinear: bool,
     wrap: Wrap,
@@ -332,7 +335,16 @@ fn read_level(
     out: &mut [TexelRead; 8],
     first: usize,
 ) -> ([f32; 2], Vec3, usize) {
-    let l = tex.levels()[level as usize];
+    let Some(&l) = levels.get(level as usize) else {
+        return ([0.0; 2], Vec3::ZERO, 0);
+    };
+    // Indices come from `wrap_index`, inside the level; black past it, as `Texture::texel_at`.
+    let fetch = |x: u32, y: u32| {
+        texels
+            .get(l.offset + (y * l.width + x) as usize)
+            .copied()
+            .unwrap_or(Vec3::ZERO)
+    };
     let (w, h) = (l.width as f32, l.height as f32);
     let x = uv[0] * w;
     let y = (1.0 - uv[1]) * h;
@@ -341,7 +353,7 @@ fn read_level(
             wrap_index(wrap, x.floor(), l.width),
             wrap_index(wrap, y.floor(), l.height),
         ];
-        let c = tex.texel_at(level, at[0], at[1]);
+        let c = fetch(at[0], at[1]);
         out[first] = TexelRead {
             level,
             at,
@@ -370,7 +382,7 @@ fn read_level(
     let mut sum = Vec3::ZERO;
     for (k, weight) in weights.into_iter().enumerate() {
         let at = [cols[k & 1], rows[k >> 1]];
-        let c = tex.texel_at(level, at[0], at[1]);
+        let c = fetch(at[0], at[1]);
         out[first + k] = TexelRead {
             level,
             at,
@@ -409,7 +421,13 @@ pub fn lookup(tex: &Texture, uv: [f32; 2], lod: Option<LevelOfDetail>) -> Lookup
             out.odd = s - 2.0 * (s * 0.5).floor() != 0.0;
             out.color = colors[usize::from(out.odd)];
         }
-        TextureKind::Image { filter, wrap, .. } => {
+        TextureKind::Image {
+            filter,
+            wrap,
+            texels,
+            levels,
+            ..
+        } => {
             let u = wrap_coord(*wrap, uv[0]);
             let v = wrap_coord(*wrap, uv[1]);
             out.wrapped = [u, v];
@@ -419,7 +437,8 @@ pub fn lookup(tex: &Texture, uv: [f32; 2], lod: Option<LevelOfDetail>) -> Lookup
                     let mut count = 0;
                     for k in 0..lod.count {
                         let (address, c, n) = read_level(
-                            tex,
+                            texels,
+                            levels,
                             lod.levels[k],
                             true,
                             *wrap,
@@ -441,8 +460,16 @@ pub fn lookup(tex: &Texture, uv: [f32; 2], lod: Option<LevelOfDetail>) -> Lookup
                     out.lod = Some(lod);
                 }
                 _ => {
-                    let (address, c, n) =
-                        read_level(tex, 0, bilinear, *wrap, [u, v], &mut out.texels, 0);
+                    let (address, c, n) = read_level(
+                        texels,
+                        levels,
+                        0,
+                        bilinear,
+                        *wrap,
+                        [u, v],
+                        &mut out.texels,
+                        0,
+                    );
                     out.address = address;
                     out.color = c;
                     out.count = n;
