@@ -106,8 +106,29 @@ fn the_model_student_gets_full_marks() {
         };
         let v = grade(&scene, &px, "color", MODEL);
         assert_eq!(failures(&v), Vec::<String>::new(), "{name}");
-        assert_eq!(v["score"], 35.0, "{name}");
+        // Seven stages at each of the five pixels, and the surface stage at those whose hit is
+        // smooth-shaded or textured.
+        let surface = v["tests"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|t| t["name"].as_str().unwrap().ends_with(": surface"))
+            .count();
+        assert_eq!(v["score"], 35.0 + surface as f64, "{name}");
+        assert_eq!(v["max_score"], v["score"], "{name}");
+        if ["textures.toml", "mipmap.toml"].contains(&name.as_str()) {
+            assert!(surface >= 3, "{name}: {surface} surface tests");
+        }
     }
+    // The smooth sphere's pixels are graded at the surface stage too (its shading normal).
+    let v = grade(
+        &root().join("scenes/smooth-shading.toml"),
+        "215,120;200,130;230,110",
+        "color",
+        MODEL,
+    );
+    assert_eq!(failures(&v), Vec::<String>::new());
+    assert_eq!(v["score"], 24.0);
 }
 
 /// The first failing test of a grading, with the stage it belongs to.
@@ -219,6 +240,87 @@ fn planted_bugs_are_found_at_the_right_ray_and_named() {
     let text = all_output(&v);
     assert!(text.contains("(the refraction ray, depth"), "{text}");
     assert!(text.contains("Snell's ratio is inverted"), "{text}");
+}
+
+/// Lessons 17–19's classic mistakes, planted in the model student, are caught at the surface
+/// stage — the first stage that sees them — and named: the smooth normal's weights on the wrong
+/// vertices, v flipped, texel centres off by half, the image's sRGB values used as linear.
+#[test]
+fn planted_surface_mistakes_are_found_and_named() {
+    let scene = |s: &str| root().join("scenes").join(s);
+    let bug = |b: &str| format!("{MODEL} --bug {b}");
+    let cases = [
+        (
+            "smooth-shading.toml",
+            "230,110",
+            "normal-weights",
+            "your shading normal is",
+            "the weights are (1 − u − v, u, v) on (P0, P1, P2)",
+        ),
+        // The globe (64 × 32, bilinear): the row, then the colour.
+        (
+            "textures.toml",
+            "100,100",
+            "v-flipped",
+            "your texel (column, row) is (50, 19), raystep's is (50, 11)",
+            "v is flipped: row 0 is the top of the image",
+        ),
+        (
+            "textures.toml",
+            "110,90",
+            "half-texel",
+            "your texel (column, row) is (53, 9), raystep's is (52, 9)",
+            "texel centres are at (i + ½, j + ½)",
+        ),
+        // Here the same first texel, but other weights: named from the colour.
+        (
+            "textures.toml",
+            "90,110",
+            "half-texel",
+            "your texture colour is",
+            "that is bilinear with the texel centres at integers",
+        ),
+        (
+            "textures.toml",
+            "90,110",
+            "srgb-not-decoded",
+            "your texture colour is",
+            "that is the image's stored (sRGB) value: decode each texel to linear",
+        ),
+    ];
+    for (file, px, b, what, hint) in cases {
+        let v = grade(&scene(file), px, "color", &bug(b));
+        let (name, out) = first_failure(&v);
+        assert_eq!(
+            name,
+            format!("{file} ({}): surface", px.replace(',', ", ")),
+            "{b}"
+        );
+        assert!(
+            out.starts_with(&format!("ray 0 (the primary ray, depth 0): {what}")),
+            "{b}: {out}"
+        );
+        assert!(out.contains(hint), "{b}: {out}");
+        // The earlier stages pass: the mistake is in the surface's reading, not the hit.
+        let earlier = failures(&v)
+            .iter()
+            .filter(|f| {
+                ["camera", "sphere", "plane-triangle", "closest-hit"]
+                    .iter()
+                    .any(|s| f.contains(&format!("): {s}\"")))
+            })
+            .count();
+        assert_eq!(earlier, 0, "{b}: {}", all_output(&v));
+    }
+    // Graded only up to the closest hit, a textured pixel has no surface test.
+    let v = grade(
+        &scene("textures.toml"),
+        "100,100",
+        "closest-hit",
+        &bug("v-flipped"),
+    );
+    assert_eq!(failures(&v), Vec::<String>::new());
+    assert_eq!(v["score"], 4.0);
 }
 
 /// The example sheets shipped with the starter kit grade the model student full marks (their

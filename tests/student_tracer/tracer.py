@@ -19,7 +19,7 @@ The test suite runs it as the "student" of `raystep grade-tracer`:
         --run "python3 tests/student_tracer/tracer.py {scene} {x} {y}"
 
 raystep traces the same pixel, lines the two traces up ray by ray and test by test, and scores
-one test per pixel and stage (camera, sphere, plane-triangle, closest-hit, shadows, secondary,
+one test per pixel and stage (camera, sphere, plane-triangle, closest-hit, surface, shadows, secondary,
 color).  Without `--bug` this tracer gets full marks (but see "Known limits").  With
 `--bug NAME` it makes one classic student mistake, so the tests can check that the grader takes
 marks off and names the mistake:
@@ -31,6 +31,11 @@ marks off and names the mistake:
     reflect-sign         reflect(d, n) = d + 2(d·n)n instead of d − 2(d·n)n (the one helper is
                          used for mirror rays and for Phong's highlight, as in a student's code)
     snell-inverted       η = n2/n1 instead of n1/n2
+    normal-weights       a smooth triangle's vertex normals blended u·n0 + v·n1 + (1 − u − v)·n2
+    v-flipped            an image's row from v·h instead of (1 − v)·h (row 0 is the image's top)
+    half-texel           bilinear filtering from (⌊x⌋, ⌊y⌋) with f = x − ⌊x⌋: texel centres at
+                         integers instead of at i + ½
+    srgb-not-decoded     an image's 8-bit sRGB values used as linear (c/255)
 
 Usage:  python3 tracer.py SCENE.toml X Y [--bug NAME] [--epsilon E]
 
@@ -65,7 +70,8 @@ import sys
 import tomllib
 import zlib
 
-BUGS = ("half-b", "unnormalized-normal", "no-shadow-offset", "reflect-sign", "snell-inverted")
+BUGS = ("half-b", "unnormalized-normal", "no-shadow-offset", "reflect-sign", "snell-inverted",
+        "normal-weights", "v-flipped", "half-texel", "srgb-not-decoded")
 BUG = None  # set from --bug
 
 # How far spawned rays (shadow, reflection, refraction) start off the surface, along the normal,
@@ -203,6 +209,8 @@ class Triangle:
 
 def srgb_to_linear(c):
     c = c / 255.0
+    if BUG == "srgb-not-decoded":
+        return c  # BUG: the stored sRGB value used as linear
     return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
 
 
@@ -278,14 +286,16 @@ class Texture:
         return i
 
     def at(self, u, v, footprint=None):
-        """The colour at (u, v); `footprint`: a trilinear read's L in level-0 texels."""
+        """The colour at (u, v) and the texel read (an image's first texel, a checker's square);
+        `footprint`: a trilinear read's L in level-0 texels."""
         if self.kind == "checker":
             i, j = math.floor(u * self.squares[0]), math.floor(v * self.squares[1])
-            return self.colors[(i + j) % 2]
+            return self.colors[(i + j) % 2], (i, j)
         u, v = self.wrap_coord(u), self.wrap_coord(v)
         if self.filter == "nearest":
-            x, y = u * self.w, (1 - v) * self.h
-            return self.rows[self.texel(math.floor(y), self.h)][self.texel(math.floor(x), self.w)]
+            x, y = u * self.w, (v if BUG == "v-flipped" else 1 - v) * self.h
+            i, j = self.texel(math.floor(x), self.w), self.texel(math.floor(y), self.h)
+            return self.rows[j][i], (i, j)
         if self.filter != "trilinear" or footprint is None:
             return self.bilinear(0, u, v)
         last = len(self.levels) - 1
@@ -294,19 +304,22 @@ class Texture:
         k, f = math.floor(lam), lam - math.floor(lam)
         if f == 0:
             return self.bilinear(k, u, v)
-        return add(scale(self.bilinear(k, u, v), 1 - f), scale(self.bilinear(k + 1, u, v), f))
+        (c0, first), (c1, _) = self.bilinear(k, u, v), self.bilinear(k + 1, u, v)
+        return add(scale(c0, 1 - f), scale(c1, f)), first
 
     def bilinear(self, level, u, v):
+        """The bilinear colour of `level` at (u, v), and the first of its four texels."""
         w, h, rows = self.levels[level]
-        x, y = u * w, (1 - v) * h
-        x0, y0 = math.floor(x - 0.5), math.floor(y - 0.5)
-        fx, fy = x - 0.5 - x0, y - 0.5 - y0
+        x, y = u * w, (v if BUG == "v-flipped" else 1 - v) * h
+        half = 0.0 if BUG == "half-texel" else 0.5  # texel (i, j)'s centre is at (i + ½, j + ½)
+        x0, y0 = math.floor(x - half), math.floor(y - half)
+        fx, fy = x - half - x0, y - half - y0
         out = BLACK
         for dx, dy, wt in ((0, 0, (1 - fx) * (1 - fy)), (1, 0, fx * (1 - fy)),
                            (0, 1, (1 - fx) * fy), (1, 1, fx * fy)):
             c = rows[self.texel(y0 + dy, h)][self.texel(x0 + dx, w)]
             out = add(out, scale(c, wt))
-        return out
+        return out, (self.texel(x0, w), self.texel(y0, h))
 
     def per_area(self, obj, outward):
         """ρ: level-0 texels per unit of the surface at the hit."""
@@ -703,6 +716,7 @@ def surface_at(ray, obj, t, scene=None):
     # spawned rays keep the flat normal.
     # Lesson 18: the surface's colour, the material's times its texture's at (u, v).
     s.color = obj.material.color
+    s.record = {}  # the `surface` record: what the surface gives shading here
     if obj.material.texture is not None:
         u, v = texture_coords(ray, obj, s.point, outward)
         tex, footprint = obj.material.texture, None
@@ -712,7 +726,9 @@ def surface_at(ray, obj, t, scene=None):
             cos = abs(dot(outward, normalize(ray.direction)))
             rho = tex.per_area(obj, outward)
             footprint = spread * s.distance * math.sqrt(rho) / cos if cos > 0 else math.inf
-        s.color = mul(s.color, tex.at(u, v, footprint))
+        texture, texel = tex.at(u, v, footprint)
+        s.color = mul(s.color, texture)
+        s.record.update(uv=[u, v], texel=list(texel), texture=list(texture))
     s.shading = s.normal
     if obj.kind == "triangle" and obj.normals is not None:
         p0, p1, p2 = obj.p
@@ -721,10 +737,14 @@ def surface_at(ray, obj, t, scene=None):
         d0 = det3(mq, e1, e2)
         u, v = det3(mq, tv, e2) / d0, det3(mq, e1, tv) / d0
         n0, n1, n2 = obj.normals
-        blend = add(add(scale(n0, 1 - u - v), scale(n1, u)), scale(n2, v))
+        if BUG == "normal-weights":
+            blend = add(add(scale(n0, u), scale(n1, v)), scale(n2, 1 - u - v))  # BUG: weights
+        else:
+            blend = add(add(scale(n0, 1 - u - v), scale(n1, u)), scale(n2, v))
         if dot(blend, blend) > 0:
             ns = normalize(blend)
             s.shading = neg(ns) if dot(ns, s.normal) < 0 else ns
+        s.record["normal"] = list(s.shading)
     return s
 
 
@@ -863,6 +883,9 @@ def trace(scene, ray, throughput=1.0, media=None):
     s = surface_at(ray, obj, t, scene)
     emit({"type": "hit", "object": obj.name, "t": t, "point": list(s.point),
           "normal": list(s.normal), "depth": d})
+    if s.record:
+        # Lessons 17–19: the shading normal, and the texture's coordinates, texel and colour.
+        emit({"type": "surface", **s.record, "depth": d})
     m = obj.material
 
     # Direct light: Phong from each light (ambient only when its shadow ray is blocked).

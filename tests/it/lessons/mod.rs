@@ -768,11 +768,14 @@ impl Runner {
                 args.push("--out".into());
                 args.push(self.out_dir.path().join("converge").display().to_string());
             }
+            let start = std::time::Instant::now();
             let out = std::process::Command::new(env!("CARGO_BIN_EXE_raystep"))
                 .args(&args)
                 .current_dir(root())
                 .output()
                 .map_err(|e| format!("cannot run `{}`: {e}", q.line))?;
+            // What each command costs the suite (seen with --nocapture).
+            eprintln!("{:.1} s: {}", start.elapsed().as_secs_f64(), q.line);
             let text = String::from_utf8_lossy(&out.stdout).into_owned()
                 + &String::from_utf8_lossy(&out.stderr);
             if out.status.success() {

@@ -36,6 +36,7 @@ fn the_format_reads_every_record_where_it_belongs() {
 {"type":"ray","kind":"shadow","depth":1,"origin":[0,0,2.9],"direction":[1,1,-1],"light":"key"}
 {"type":"sphere","object":"ball","t":null}
 {"type":"shadow","light":"key","blocked":false}
+{"type":"surface","normal":[0,0.6,-0.8],"uv":[1.25,-0.5],"texel":[-1,7],"texture":[0.5,0.5,0.5],"depth":0}
 {"type":"color","rgb":[0.5,0.25,0],"depth":0}
 "#;
     let px = parse(text).unwrap();
@@ -67,6 +68,25 @@ fn the_format_reads_every_record_where_it_belongs() {
     );
     assert_eq!(primary.shadows, vec![("key".to_string(), Some(false))]);
     assert_eq!(primary.color, Some([0.5, 0.25, 0.0]));
+    // The `surface` record after the shadow ray goes, by its depth, to the primary ray.
+    assert_eq!(
+        primary.surface,
+        Some(raystep::student::format::Surface {
+            normal: Some([0.0, 0.6, -0.8]),
+            uv: Some([1.25, -0.5]),
+            texel: Some([-1, 7]),
+            texture: Some([0.5; 3]),
+        })
+    );
+    assert_eq!(shadow.surface, None);
+    // A texel is a pair of integers: 2.5 is refused, naming the record and its line.
+    let e = parse("{\"type\":\"ray\"}\n{\"type\":\"surface\",\"texel\":[2.5,1]}\n").unwrap_err();
+    assert_eq!(e.line, 2);
+    assert!(
+        e.message
+            .contains("a \"surface\" record the format cannot read"),
+        "{e}"
+    );
     assert_eq!(shadow.parent, Some(0));
     assert_eq!(shadow.light.as_deref(), Some("key"));
     assert_eq!(shadow.tests.len(), 1);
@@ -561,9 +581,12 @@ fn a_class_run_writes_the_grades_csv() {
     let rows: Vec<&str> = text.lines().collect();
     assert_eq!(
         rows[0],
-        "student,score,max_score,camera,sphere,plane-triangle,closest-hit,shadows,secondary,color,notes"
+        "student,score,max_score,camera,sphere,plane-triangle,closest-hit,surface,shadows,secondary,color,notes"
     );
-    assert!(rows[1].starts_with("ada,4,4,1/1,1/1,1/1,1/1,,,,"), "{text}");
+    assert!(
+        rows[1].starts_with("ada,4,4,1/1,1/1,1/1,1/1,,,,,"),
+        "{text}"
+    );
     assert!(rows[2].starts_with("bob,0,4,0/1,"), "{text}");
     assert!(rows[2].contains("ZeroDivisionError"), "{text}");
     assert!(rows[3].starts_with("cy,0,4,"), "{text}");

@@ -52,17 +52,17 @@ pub struct Check {
     pub step: Option<usize>,
 }
 
-fn len(v: [f64; 3]) -> f64 {
+pub(super) fn len(v: [f64; 3]) -> f64 {
     (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt()
 }
-fn unit(v: [f64; 3]) -> [f64; 3] {
+pub(super) fn unit(v: [f64; 3]) -> [f64; 3] {
     let l = len(v);
     if l > 0.0 { v.map(|x| x / l) } else { v }
 }
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(super) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
-fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+pub(super) fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
     len([a[0] - b[0], a[1] - b[1], a[2] - b[2]])
 }
 
@@ -76,10 +76,10 @@ fn yours_vs(name: &str, yours: f64, want: f64, hint: &str) -> String {
 }
 
 /// A number as feedback shows it.
-fn n(x: f64) -> String {
+pub(super) fn n(x: f64) -> String {
     crate::record::number::fmt64(x, crate::record::number::Style::Label)
 }
-fn v(x: [f64; 3]) -> String {
+pub(super) fn v(x: [f64; 3]) -> String {
     format!("({}, {}, {})", n(x[0]), n(x[1]), n(x[2]))
 }
 
@@ -101,11 +101,11 @@ impl TracerTolerances {
         Tolerance::abs_plus_rel(self.abs, self.rel)
     }
 
-    fn close(&self, yours: f64, want: f64) -> bool {
+    pub(super) fn close(&self, yours: f64, want: f64) -> bool {
         self.numbers().allows(yours, want)
     }
     /// Vectors: |yours − want| ≤ abs + rel·|want| with the absolute part given.
-    fn close3(&self, yours: [f64; 3], want: [f64; 3], abs: f64) -> bool {
+    pub(super) fn close3(&self, yours: [f64; 3], want: [f64; 3], abs: f64) -> bool {
         self.numbers()
             .with_abs(abs)
             .allows_distance(dist(yours, want), len(want))
@@ -161,13 +161,14 @@ pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &TracerTolerances)
     Stage::ALL
         .iter()
         .copied()
-        .filter(|st| *st <= upto)
+        .filter(|st| *st <= upto && e.judges(*st, upto))
         .map(|stage| {
             // A stage the program printed nothing for scores 0 (see `coverage`).
             let found = super::coverage::missing(e, s, &m, stage, upto).or_else(|| match stage {
                 Stage::Camera => camera(e, s, &m, tol),
                 Stage::Sphere | Stage::PlaneTriangle => tests(e, s, &m, stage, upto, tol),
                 Stage::ClosestHit => hits(e, s, &m, upto, tol),
+                Stage::Surface => super::surface::surface(e, s, &m, upto, tol),
                 Stage::Shadows => shadows(e, s, &m, tol),
                 Stage::Secondary => secondary(e, s, &m, tol),
                 Stage::Color => color(e, s, &m, tol),
@@ -192,7 +193,7 @@ pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &TracerTolerances)
         .collect()
 }
 
-type Divergence = Option<(String, Option<usize>)>;
+pub(super) type Divergence = Option<(String, Option<usize>)>;
 
 fn camera(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &TracerTolerances) -> Divergence {
     let step = e.ray_step.first().copied();
@@ -834,7 +835,7 @@ pub fn grade(
         None => Stage::ALL
             .iter()
             .copied()
-            .filter(|s| *s <= upto)
+            .filter(|s| *s <= upto && expected.judges(*s, upto))
             .map(|stage| Check {
                 stage,
                 pass: false,

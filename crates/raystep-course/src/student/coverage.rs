@@ -11,6 +11,7 @@
 //! | camera | the primary ray's `origin` and `direction` |
 //! | sphere, plane-triangle | at least one test of that kind for the pixel; on each test printed, the numbers raystep compares (`a`, `b`, `c`, `discriminant`, `t`; `denominator`, `t`; `det`, `u`, `v`, `t`) |
 //! | closest-hit | a `hit` record, and for a hit its `object`, `t`, `point` and `normal` |
+//! | surface | (where raystep's hit is smooth-shaded or textured) what closest-hit needs, and a `surface` record with the keys raystep has there: `normal` (smooth), `uv`, `texel` and `texture` (textured) |
 //! | shadows | what closest-hit needs (shadow rays start at the hit), a `shadow` record with `blocked` for each light; a shadow ray printed has its `origin` and `direction` |
 //! | secondary | what closest-hit needs (bounces start at the hit), each reflection and refraction ray, with its `origin` and `direction` |
 //! | color | the primary ray's `color` |
@@ -63,6 +64,20 @@ fn test_keys(t: &Test) -> (&'static str, Vec<(&'static str, bool)>) {
             ],
         ),
     }
+}
+
+/// The keys of raystep's `surface` record at a hit: `normal` where it is smooth-shaded, `uv`,
+/// `texel` and `texture` where it is textured.
+pub(super) fn surface_keys(s: &super::format::Surface) -> Vec<&'static str> {
+    [
+        ("normal", s.normal.is_some()),
+        ("uv", s.uv.is_some()),
+        ("texel", s.texel.is_some()),
+        ("texture", s.texture.is_some()),
+    ]
+    .into_iter()
+    .filter_map(|(k, has)| has.then_some(k))
+    .collect()
 }
 
 /// Does test `t` belong to `stage`?
@@ -276,12 +291,50 @@ pub(super) fn missing(
             }
             None
         }
-        // Shadow rays and reflections start at a ray's closest hit: these stages need that hit
-        // printed in full, also where raystep's ray has no light or bounce to judge there.
-        Stage::Shadows | Stage::Secondary
+        // Shadow rays and reflections start at a ray's closest hit, and a surface's reading is
+        // made there: these stages need that hit printed in full, also where raystep's ray has
+        // no light, bounce or texture to judge there.
+        Stage::Surface | Stage::Shadows | Stage::Secondary
             if let Some(gap) = missing(e, s, m, Stage::ClosestHit, upto) =>
         {
             Some(gap)
+        }
+        Stage::Surface => {
+            for (i, er) in e.pixel.rays.iter().enumerate() {
+                let Some(es) = &er.surface else { continue };
+                if !in_scope(&er.kind, upto) {
+                    continue;
+                }
+                let Some(sr) = student(i) else { continue };
+                let step = e.surface_step.get(i).copied().flatten().or(ray_step(i));
+                let Some(ss) = &sr.surface else {
+                    return Some((
+                        format!(
+                            "you printed no `surface` record for {}: print what the surface gives shading at its hit ({})",
+                            whose(e, i),
+                            surface_keys(es).join(", ")
+                        ),
+                        step,
+                    ));
+                };
+                let gaps = [
+                    ("normal", es.normal.is_some(), ss.normal.is_some()),
+                    ("uv", es.uv.is_some(), ss.uv.is_some()),
+                    ("texel", es.texel.is_some(), ss.texel.is_some()),
+                    ("texture", es.texture.is_some(), ss.texture.is_some()),
+                ];
+                if let Some((key, ..)) = gaps.iter().find(|(_, want, have)| *want && !*have) {
+                    return Some((
+                        format!(
+                            "your `surface` record of {} has no `{key}`: print {}",
+                            whose(e, i),
+                            surface_keys(es).join(", ")
+                        ),
+                        step,
+                    ));
+                }
+            }
+            None
         }
         Stage::Shadows => {
             for (i, er) in e.pixel.rays.iter().enumerate() {

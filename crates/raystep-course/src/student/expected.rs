@@ -7,7 +7,7 @@
 //! (lesson 4), computed in double precision from the recorded ray and vertices, whichever
 //! method raystep used.
 
-use super::format::{Hit, Pixel, Ray, Test};
+use super::format::{Hit, Pixel, Ray, Surface, Test};
 use crate::record::{RayRecord, Step, Trace};
 
 /// raystep's trace of one pixel in the student model, with where each part is in the trace's
@@ -22,24 +22,206 @@ pub struct Expected {
     pub test_step: Vec<Vec<usize>>,
     /// Per ray: the timeline index of its surface (hit point and normal), if any.
     pub hit_step: Vec<Option<usize>>,
+    /// Per ray: the timeline index of its surface reading (the texture's step, else the shading
+    /// normal's), if it has one.
+    pub surface_step: Vec<Option<usize>>,
+    /// Per ray: what raystep recorded about its surface reading, for naming mistakes.
+    pub surfaces: Vec<SurfaceFacts>,
     /// Per ray, per light: the timeline index of the light's step.
     pub light_step: Vec<Vec<usize>>,
     /// Per ray: the reflection's or refraction's recorded numbers, for spotting mistakes.
     pub bends: Vec<Bend>,
     /// The camera and the primary ray's point inside the pixel (for naming camera mistakes).
     pub camera: Option<(crate::scene::Camera, [f32; 2])>,
+    /// The textures met, by name ([`ImageRead::texture`] indexes it).
+    pub texture_names: Vec<String>,
     /// The name of every object of the scene (for telling a student that a name they printed
     /// is not one; empty: not checked). [`expected`] leaves it empty (a trace names only the
     /// objects it met); [`with_names`] fills it.
     pub names: Vec<String>,
 }
 
-/// `e` with the names of every object of `scene`.
+impl Expected {
+    /// Whether `stage` judges anything at this pixel up to `upto`: every stage does but
+    /// `surface`, which judges only a smooth-shaded or textured hit of a ray it looks at.
+    pub fn judges(&self, stage: super::stage::Stage, upto: super::stage::Stage) -> bool {
+        stage != super::stage::Stage::Surface
+            || self
+                .pixel
+                .rays
+                .iter()
+                .any(|r| r.surface.is_some() && super::stage::in_scope(&r.kind, upto))
+    }
+}
+
+/// `e` with the names of every object of `scene`, and the colours an image texture read with a
+/// classic mistake would give (for naming it).
 pub fn with_names(mut e: Expected, scene: &crate::scene::Scene) -> Expected {
     e.names = (0..scene.objects.len() as u32)
         .map(|i| scene.object_name(i))
         .collect();
+    for f in &mut e.surfaces {
+        let Some(r) = f.image else { continue };
+        let Some(name) = e.texture_names.get(r.texture) else {
+            continue;
+        };
+        let Some(tex) = scene.textures.iter().find(|t| &t.name == name) else {
+            continue;
+        };
+        // Level 0 only: a trilinear read's mistakes show in its first level's texel.
+        if r.filter == crate::scene::Filter::Trilinear {
+            continue;
+        }
+        let [w, h] = r.size.map(f64::from);
+        let [u, v] = r.wrapped;
+        let reads = [
+            (Misread::VFlipped, [u * w, v * h], r.filter, 0.5),
+            (
+                Misread::HalfTexel,
+                [u * w, (1.0 - v) * h],
+                crate::scene::Filter::Bilinear,
+                0.0,
+            ),
+            (
+                Misread::Nearest,
+                [u * w, (1.0 - v) * h],
+                crate::scene::Filter::Nearest,
+                0.5,
+            ),
+            (
+                Misread::Bilinear,
+                [u * w, (1.0 - v) * h],
+                crate::scene::Filter::Bilinear,
+                0.5,
+            ),
+        ];
+        f.misreads = reads
+            .into_iter()
+            .filter(|(m, _, filter, _)| {
+                *filter != r.filter || matches!(m, Misread::VFlipped | Misread::HalfTexel)
+            })
+            .filter(|(m, ..)| {
+                *m != Misread::HalfTexel || r.filter == crate::scene::Filter::Bilinear
+            })
+            .map(|(m, at, filter, half)| (m, read_image(tex, &r, at, filter, half, false)))
+            .collect();
+        let at = [u * w, (1.0 - v) * h];
+        f.misreads.push((
+            Misread::NotDecoded,
+            read_image(tex, &r, at, r.filter, 0.5, true),
+        ));
+    }
     e
+}
+
+/// sRGB's encoding of a linear value (IEC 61966-2-1): what the file stored.
+pub(super) fn to_srgb(c: f64) -> f64 {
+    if c <= 0.0031308 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// An image's colour at `at` (texel units of level 0), nearest or bilinear with the texel
+/// centres at `half` past the integers, in f64: an independent read, for naming mistakes.
+/// `encoded`: each texel as the file stores it (sRGB, not decoded to linear).
+fn read_image(
+    tex: &crate::scene::Texture,
+    r: &ImageRead,
+    at: [f64; 2],
+    filter: crate::scene::Filter,
+    half: f64,
+    encoded: bool,
+) -> [f64; 3] {
+    let [w, h] = r.size;
+    let index = |i: f64, n: u32| -> u32 {
+        let last = i64::from(n.max(1)) - 1;
+        let i = i.floor() as i64;
+        (match r.wrap {
+            crate::scene::Wrap::Repeat => i.rem_euclid(last + 1),
+            _ => i.clamp(0, last),
+        }) as u32
+    };
+    let texel = |x: f64, y: f64| {
+        let c = tex.texel_at(0, index(x, w), index(y, h));
+        [c.x, c.y, c.z]
+            .map(f64::from)
+            .map(|c| if encoded { to_srgb(c) } else { c })
+    };
+    if filter == crate::scene::Filter::Nearest {
+        return texel(at[0], at[1]);
+    }
+    let (xs, ys) = (at[0] - half, at[1] - half);
+    let (x0, y0) = (xs.floor(), ys.floor());
+    let (fx, fy) = (xs - x0, ys - y0);
+    let mut out = [0.0; 3];
+    for (dx, dy, wt) in [
+        (0.0, 0.0, (1.0 - fx) * (1.0 - fy)),
+        (1.0, 0.0, fx * (1.0 - fy)),
+        (0.0, 1.0, (1.0 - fx) * fy),
+        (1.0, 1.0, fx * fy),
+    ] {
+        let c = texel(x0 + dx, y0 + dy);
+        for k in 0..3 {
+            out[k] += wt * c[k];
+        }
+    }
+    out
+}
+
+/// What raystep recorded about a hit's shading normal and texture read, beyond what the
+/// student prints: what feedback needs to name a mistake.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SurfaceFacts {
+    /// The geometric normal, facing the ray.
+    pub geometric: Option<[f64; 3]>,
+    /// A smooth triangle's vertex normals n₀, n₁, n₂.
+    pub vertex_normals: Option<[[f64; 3]; 3]>,
+    /// A triangle's barycentrics (u, v): the weights of its second and third vertices.
+    pub barycentric: Option<[f64; 2]>,
+    /// A triangle's vertex texture coordinates.
+    pub vertex_uvs: Option<[[f64; 2]; 3]>,
+    /// An image texture's read.
+    pub image: Option<ImageRead>,
+    /// A checker's squares per unit of u and of v.
+    pub checker: Option<[u32; 2]>,
+    /// The texture's colour as a classic mistake would read it (filled by [`with_names`], which
+    /// has the image): v flipped, texel centres off by half, nearest for bilinear and the other
+    /// way round.
+    pub misreads: Vec<(Misread, [f64; 3])>,
+}
+
+/// A classic mistake in reading an image texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Misread {
+    /// The row from v·h instead of (1 − v)·h.
+    VFlipped,
+    /// Bilinear's four texels from (⌊x⌋, ⌊y⌋), f = x − ⌊x⌋: texel centres at integers.
+    HalfTexel,
+    /// The nearest texel where the texture is bilinear.
+    Nearest,
+    /// Bilinear where the texture is nearest.
+    Bilinear,
+    /// The file's 8-bit sRGB values used as linear (c/255, not decoded).
+    NotDecoded,
+}
+
+/// How raystep read an image texture at a hit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImageRead {
+    /// The texture's index in the scene.
+    pub texture: usize,
+    /// Width and height of the level first read.
+    pub size: [u32; 2],
+    /// The filter.
+    pub filter: crate::scene::Filter,
+    /// The wrap mode.
+    pub wrap: crate::scene::Wrap,
+    /// (u, v) after the wrap mode.
+    pub wrapped: [f64; 2],
+    /// The point in texel units of the level first read: (u·w, (1 − v)·h).
+    pub address: [f64; 2],
 }
 
 /// What raystep recorded about a ray's reflection and refraction.
@@ -70,6 +252,7 @@ pub fn expected(trace: &Trace) -> Expected {
         },
         ..Default::default()
     };
+    #[allow(clippy::too_many_lines)]
     fn walk(
         r: &RayRecord,
         parent: Option<usize>,
@@ -94,6 +277,18 @@ pub fn expected(trace: &Trace) -> Expected {
         let mut bend = Bend::default();
         let (o, d) = (v64(r.origin), v64(r.direction));
         let mut point_normal = None;
+        let mut surface: Option<Surface> = None;
+        let mut facts = SurfaceFacts::default();
+        let mut surface_step = None;
+        let mut texture_index = |name: &String| {
+            out.texture_names
+                .iter()
+                .position(|t| t == name)
+                .unwrap_or_else(|| {
+                    out.texture_names.push(name.clone());
+                    out.texture_names.len() - 1
+                })
+        };
         for s in &r.steps {
             let k = index_of(s).unwrap_or(0);
             match &s.step {
@@ -132,7 +327,66 @@ pub fn expected(trace: &Trace) -> Expected {
                 }
                 Step::Surface { point, normal, .. } => {
                     point_normal = Some((v64(*point), v64(*normal)));
+                    facts.geometric = Some(v64(*normal));
                     hit_step = Some(k);
+                }
+                Step::ShadingNormal {
+                    vertex_normals,
+                    u,
+                    v,
+                    normal,
+                    ..
+                } => {
+                    surface.get_or_insert_default().normal = Some(v64(*normal));
+                    facts.vertex_normals = Some(vertex_normals.map(v64));
+                    facts.barycentric = Some([f(*u), f(*v)]);
+                    surface_step = surface_step.or(Some(k));
+                }
+                Step::Texture {
+                    texture: texture_name,
+                    uv,
+                    lookup,
+                    texel,
+                    barycentric,
+                    vertex_uvs,
+                    ..
+                } => {
+                    use crate::record::texturing::TexelLookup;
+                    let sf = surface.get_or_insert_default();
+                    sf.uv = Some(uv.map(f));
+                    sf.texture = Some(v64(*texel));
+                    sf.texel = match lookup {
+                        TexelLookup::Checker { cell, .. } => Some(cell.map(|c| c as i64)),
+                        TexelLookup::Image { texels, .. } => {
+                            texels.first().map(|t| t.at.map(i64::from))
+                        }
+                    };
+                    if let TexelLookup::Image {
+                        size,
+                        filter,
+                        wrap,
+                        wrapped,
+                        address,
+                        ..
+                    } = lookup
+                    {
+                        facts.image = Some(ImageRead {
+                            texture: texture_index(texture_name),
+                            size: *size,
+                            filter: *filter,
+                            wrap: *wrap,
+                            wrapped: wrapped.map(f),
+                            address: address.map(f),
+                        });
+                    }
+                    if let TexelLookup::Checker { squares, .. } = lookup {
+                        facts.checker = Some(*squares);
+                    }
+                    if let Some(b) = barycentric {
+                        facts.barycentric = Some(b.map(f));
+                    }
+                    facts.vertex_uvs = vertex_uvs.map(|t| t.map(|p| p.map(f)));
+                    surface_step = Some(k);
                 }
                 Step::Light { name, blocked, .. } => {
                     ray.shadows.push((name.clone(), Some(*blocked)));
@@ -145,6 +399,7 @@ pub fn expected(trace: &Trace) -> Expected {
                 _ => {}
             }
         }
+        ray.surface = surface;
         ray.hit = Some(r.hit.as_ref().map(|h| Hit {
             object: Some(h.name.clone()),
             t: Some(f(h.t)),
@@ -163,6 +418,8 @@ pub fn expected(trace: &Trace) -> Expected {
             .push(r.steps.first().and_then(index_of).unwrap_or(0));
         out.test_step.push(tests);
         out.hit_step.push(hit_step);
+        out.surface_step.push(surface_step);
+        out.surfaces.push(facts);
         out.light_step.push(lights);
         out.bends.push(bend);
         let mut shadow_names = shadow_lights.into_iter();

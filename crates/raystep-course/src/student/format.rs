@@ -13,8 +13,8 @@ use serde::{Deserialize, Serialize};
 pub const FORMAT_VERSION: u32 = 1;
 
 /// The record types the format defines (others are skipped).
-pub const KNOWN_TYPES: [&str; 9] = [
-    "format", "pixel", "ray", "sphere", "plane", "triangle", "hit", "shadow", "color",
+pub const KNOWN_TYPES: [&str; 10] = [
+    "format", "pixel", "ray", "sphere", "plane", "triangle", "hit", "surface", "shadow", "color",
 ];
 
 /// One line of a student trace. Keys the format does not define are ignored.
@@ -125,6 +125,28 @@ pub enum Record {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         depth: Option<u32>,
     },
+    /// What the surface gives shading at the ray's closest hit (lessons 17–19): the shading
+    /// normal, the texture coordinates, the texel read and the texture's colour there.
+    Surface {
+        /// The unit shading normal on the ray's side: a smooth triangle's vertex normals
+        /// blended with the hit's barycentrics, (1 − u − v)·n₀ + u·n₁ + v·n₂, normalized.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        normal: Option<[f64; 3]>,
+        /// The texture coordinates (u, v) at the hit, before the wrap mode.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        uv: Option<[f64; 2]>,
+        /// The texel read: an image's column and row (row 0 at the top; a bilinear read's
+        /// first texel, (⌊x − ½⌋, ⌊y − ½⌋) wrapped), or a checker's square (⌊u·s₀⌋, ⌊v·s₁⌋).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        texel: Option<[i64; 2]>,
+        /// The texture's colour at (u, v), linear RGB (before the material's colour multiplies
+        /// it).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        texture: Option<[f64; 3]>,
+        /// The depth of the ray this belongs to (default: the latest ray).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        depth: Option<u32>,
+    },
     /// Whether a light is blocked from the ray's hit point.
     Shadow {
         /// The light's name.
@@ -177,6 +199,8 @@ pub struct Ray {
     pub tests: Vec<Test>,
     /// The closest hit: None = no record; Some(None) = a miss.
     pub hit: Option<Option<Hit>>,
+    /// What the surface gives shading at the closest hit (None: no `surface` record).
+    pub surface: Option<Surface>,
     /// Lights: (name, blocked).
     pub shadows: Vec<(String, Option<bool>)>,
     /// Colour.
@@ -239,6 +263,19 @@ pub struct Hit {
     pub point: Option<[f64; 3]>,
     /// Normal.
     pub normal: Option<[f64; 3]>,
+}
+
+/// A `surface` record: the shading normal and the texture's reading at a hit.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Surface {
+    /// The unit shading normal.
+    pub normal: Option<[f64; 3]>,
+    /// The texture coordinates (u, v).
+    pub uv: Option<[f64; 2]>,
+    /// The texel (column, row) or checker square read.
+    pub texel: Option<[i64; 2]>,
+    /// The texture's colour at (u, v).
+    pub texture: Option<[f64; 3]>,
 }
 
 /// One pixel's rays (the primary ray first; every other ray after its parent).
@@ -384,6 +421,7 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                 };
                 let depth_of = match &rec {
                     Record::Hit { depth, .. }
+                    | Record::Surface { depth, .. }
                     | Record::Shadow { depth, .. }
                     | Record::Color { depth, .. } => *depth,
                     _ => None,
@@ -446,6 +484,20 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                             }),
                         })
                     }
+                    Record::Surface {
+                        normal,
+                        uv,
+                        texel,
+                        texture,
+                        ..
+                    } => {
+                        ray.surface = Some(Surface {
+                            normal,
+                            uv,
+                            texel,
+                            texture,
+                        })
+                    }
                     Record::Shadow { light, blocked, .. } => {
                         ray.shadows.push((light.unwrap_or_default(), blocked))
                     }
@@ -493,6 +545,16 @@ fn numbers(rec: &Record) -> Vec<f64> {
             v.extend(t.iter());
             add3(point, &mut v);
             add3(normal, &mut v);
+        }
+        Record::Surface {
+            normal,
+            uv,
+            texture,
+            ..
+        } => {
+            add3(normal, &mut v);
+            v.extend(uv.iter().flatten());
+            add3(texture, &mut v);
         }
         Record::Color { rgb, .. } => add3(rgb, &mut v),
         _ => {}
@@ -565,6 +627,15 @@ pub fn write(px: &Pixel) -> String {
                     normal: h.normal,
                     depth: None,
                 },
+            });
+        }
+        if let Some(sf) = &r.surface {
+            out.push(Record::Surface {
+                normal: sf.normal,
+                uv: sf.uv,
+                texel: sf.texel,
+                texture: sf.texture,
+                depth: None,
             });
         }
         for (light, blocked) in &r.shadows {

@@ -32,6 +32,7 @@ pub mod run;
 mod sheet;
 mod stage;
 pub mod statistical;
+mod surface;
 
 pub use sheet::variant_text;
 pub use sheet::{TracerSheet, TracerSheetScene, Vary, load_tracer_sheet, parse_tracer_sheet};
@@ -226,7 +227,10 @@ pub fn grade_submission(
             let trace = job.prepared.record(x, y, 0);
             let exp = expected::with_names(expected::expected(&trace), job.prepared.scene());
             let name = |st: Stage| format!("{file} ({x}, {y}): {}", st.name());
-            let stages = Stage::graded(upto, false);
+            let stages: Vec<Stage> = Stage::graded(upto, false)
+                .into_iter()
+                .filter(|st| exp.judges(*st, upto))
+                .collect();
             let mut note = None;
             let mut copied = false;
             let out = run::run(template, dir, &job.path, x, y, limits)

@@ -9,7 +9,7 @@ use super::*;
 ///
 /// ```toml
 /// title = "Checkpoint 2: spheres and planes"
-/// upto = "closest-hit"          # camera, sphere, plane-triangle, closest-hit, shadows, secondary, color
+/// upto = "closest-hit"          # camera, sphere, plane-triangle, closest-hit, surface, shadows, secondary, color
 /// timeout_s = 10                # per run
 /// [[scene]]
 /// file = "../scenes/three-spheres.toml"   # relative to the sheet

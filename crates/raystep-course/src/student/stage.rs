@@ -29,6 +29,10 @@ pub enum Stage {
     PlaneTriangle,
     /// The closest hit: object, t, point, normal.
     ClosestHit,
+    /// What the surface gives shading (lessons 17–19): the shading normal, the texture
+    /// coordinates, the texel read and the texture's colour. Graded only where raystep's trace
+    /// has them (a smooth-shaded or textured hit).
+    Surface,
     /// Shadows: each light blocked or not (and the shadow rays' tests).
     Shadows,
     /// Reflection and refraction rays (and their tests and hits).
@@ -84,11 +88,12 @@ impl Stage {
     }
 
     /// Whitted's stages (format version 1), in order.
-    pub const ALL: [Stage; 7] = [
+    pub const ALL: [Stage; 8] = [
         Stage::Camera,
         Stage::Sphere,
         Stage::PlaneTriangle,
         Stage::ClosestHit,
+        Stage::Surface,
         Stage::Shadows,
         Stage::Secondary,
         Stage::Color,
@@ -101,6 +106,7 @@ impl Stage {
             Stage::Sphere => "sphere",
             Stage::PlaneTriangle => "plane-triangle",
             Stage::ClosestHit => "closest-hit",
+            Stage::Surface => "surface",
             Stage::Shadows => "shadows",
             Stage::Secondary => "secondary",
             Stage::Color => "color",
