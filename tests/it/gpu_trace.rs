@@ -27,6 +27,16 @@ fn scene_paths() -> Vec<std::path::PathBuf> {
     v
 }
 
+/// The shipped scenes traced under hardware ray queries (see
+/// `gpu_traces_equal_the_cpu_traces_on_every_shipped_scene`).
+const RAY_QUERY_SCENES: [&str; 5] = [
+    "three-spheres.toml",
+    "triangles.toml",
+    "mirror-glass.toml",
+    "smooth-shading.toml",
+    "textures.toml",
+];
+
 /// A shipped scene by file name, prepared, with its GPU tracer.
 fn shipped(ctx: GpuContext, name: &str) -> (Scene, PreparedScene, GpuTracer) {
     let file = scene_paths()
@@ -64,6 +74,15 @@ fn gpu_traces_equal_the_cpu_traces_on_every_shipped_scene() {
     let mut failures = vec![];
     let mut compared = 0usize;
     for file in scene_paths() {
+        // Under hardware ray queries only the hit is compared below, and the image test
+        // (gpu::gpu_matches_cpu_on_every_shipped_scene) compares every pixel of every scene
+        // there; each scene's ray-query trace shader costs tens of seconds to compile on Mesa's
+        // lavapipe (all sixteen: 280 s of CI's Mesa 25 run). So an adapter with ray queries
+        // traces the scenes that between them hold every shape, a mesh, smooth shading,
+        // textures, shadows, reflection and refraction.
+        if ctx.ray_query && !RAY_QUERY_SCENES.iter().any(|n| file.ends_with(n)) {
+            continue;
+        }
         let scene = load_whitted(&file);
         let prepared = PreparedScene::new(scene.clone());
         let mut gpu = GpuTracer::new(ctx.clone(), &prepared, ShaderVariant::Generated).unwrap();
