@@ -359,3 +359,72 @@ fn the_cli_traces_a_path_sample_on_the_gpu() {
         other => panic!("diff exited {other:?}: {out}"),
     }
 }
+
+/// A glossy BSDF's roughness texture on the GPU (tests/scenes/rough-glossy.toml: green 0.8 and
+/// 0.02 squares, a glossy floor and a mirror one): the compute path's image is the CPU's bit
+/// for bit under both Monte Carlo integrators, and the trace of a pixel on each kind of square
+/// is the CPU's, its roughness step included.
+#[test]
+fn a_roughness_texture_renders_and_traces_as_on_the_cpu() {
+    let _gpu = one_at_a_time();
+    let test = "a_roughness_texture_renders_and_traces_as_on_the_cpu";
+    let Some(ctx) = context(test) else {
+        return;
+    };
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/scenes/rough-glossy.toml");
+    let base = raystep::scene::load_file(&path).unwrap();
+    let mut failures = vec![];
+    for integrator in [Integrator::Path, Integrator::Distribution] {
+        let mut s = base.clone();
+        s.settings.integrator = integrator;
+        let prepared = PreparedScene::new(s.clone());
+        let mut gpu = GpuTracer::new(ctx.clone(), &prepared, ShaderVariant::Generated).unwrap();
+        if !gpu.exact(GpuPath::Compute) || gpu.hardware_ray_queries() {
+            eprintln!("SKIPPED {test}: the adapter's compute path is not exact");
+            return;
+        }
+        let cpu = raystep::render::render(
+            &prepared.tracer(),
+            &raystep::render::RenderOptions::default(),
+        )
+        .unwrap()
+        .pixels;
+        let frame = gpu.render(GpuPath::Compute).unwrap();
+        let differ = cpu
+            .iter()
+            .zip(&frame.pixels)
+            .filter(|(a, b)| a.to_array().map(f32::to_bits) != b.to_array().map(f32::to_bits))
+            .count();
+        if differ > 0 {
+            failures.push(format!("{integrator:?}: {differ} pixels differ"));
+        }
+        // An even square (roughness 0.4) and an odd one (0.01: a mirror).
+        for [x, y] in [[24, 32], [24, 26]] {
+            let want = prepared.record(x, y, 0);
+            let got = gpu.trace_pixel(x, y, 0, DEFAULT_LOG_WORDS).unwrap();
+            assert!(!got.truncated);
+            let read = steps(&got.trace).into_iter().any(|s| {
+                matches!(
+                    s,
+                    Step::Texture {
+                        roughness: Some(_),
+                        ..
+                    }
+                )
+            });
+            assert!(
+                read,
+                "{integrator:?} ({x}, {y}): no roughness step in the GPU's trace"
+            );
+            let cmp = compare(&want, &got.trace, Tolerance::EXACT);
+            if !cmp.is_equal() {
+                failures.push(format!(
+                    "{integrator:?} ({x}, {y}):\n{}",
+                    cmp.to_text(&want, &got.trace, ["cpu", "gpu"])
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

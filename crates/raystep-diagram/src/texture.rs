@@ -182,6 +182,7 @@ fn panel_rows(step: &Step, c: &Canvas) -> (Rich, Vec<(String, Rgba)>) {
         lookup,
         texel,
         color,
+        roughness,
         ..
     } = step
     else {
@@ -290,7 +291,19 @@ fn panel_rows(step: &Step, c: &Canvas) -> (Rich, Vec<(String, Rgba)>) {
     }
     rows.push((String::new(), th.ink));
     rows.push((format!("T = {}", v3(*texel)), th.hit));
-    rows.push((format!("C = colour × T = {}", v3(*color)), th.ink));
+    match roughness {
+        // A glossy BSDF's roughness texture: its green channel scales the roughness.
+        Some(r) => rows.push((
+            format!(
+                "r = roughness × T_g = {} × {} = {}",
+                num(r.material),
+                num(texel[1]),
+                num(r.roughness)
+            ),
+            th.ink,
+        )),
+        None => rows.push((format!("C = colour × T = {}", v3(*color)), th.ink)),
+    }
     (Rich::new("texture ").plain(&format!("\"{texture}\"")), rows)
 }
 
@@ -507,5 +520,43 @@ fn draw_texel(
     };
     for (k, text) in lines.iter().enumerate() {
         c.text(x, y0 + line_h * k as f32, size, text, ink, anchor);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::record::texturing::{RoughnessRead, UvMapping};
+
+    /// A roughness texture's panel says what its texel scales (the roughness), not a surface
+    /// colour; a colour texture's says C = colour × T.
+    #[test]
+    fn the_panel_names_what_the_texture_gives() {
+        let c = Canvas::new(64, 64, crate::Theme::LIGHT);
+        let step = |roughness| Step::Texture {
+            texture: "t".into(),
+            mapping: UvMapping::Plane,
+            barycentric: None,
+            vertex_uvs: None,
+            direction: None,
+            axes: None,
+            uv: [0.25, 0.5],
+            lookup: TexelLookup::Checker {
+                squares: [1, 1],
+                cell: [0.0, 0.0],
+                odd: false,
+                colors: [[1.0, 0.8, 1.0], [1.0, 0.02, 1.0]],
+            },
+            texel: [1.0, 0.8, 1.0],
+            color: [0.4; 3],
+            roughness,
+        };
+        let last = |s: &Step| panel_rows(s, &c).1.last().unwrap().0.clone();
+        assert_eq!(last(&step(None)), "C = colour × T = (0.4, 0.4, 0.4)");
+        let r = Some(RoughnessRead {
+            material: 0.5,
+            roughness: 0.4,
+        });
+        assert_eq!(last(&step(r)), "r = roughness × T_g = 0.5 × 0.8 = 0.4");
     }
 }

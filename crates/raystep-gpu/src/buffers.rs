@@ -190,7 +190,11 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
             .f32(m.transparency)
             .f32(m.refractive_index)
             .u32(m.texture.map_or(NO_TEXTURE, |t| textures_at + t))
-            .f32(0.0);
+            .u32(
+                m.roughness_texture
+                    .filter(|_| m.reads_roughness())
+                    .map_or(NO_TEXTURE, |t| textures_at + t),
+            );
     }
     let mut lights = Bytes::default();
     for l in &scene.lights {
@@ -369,6 +373,7 @@ pub(crate) fn mc_data(scene: &Scene) -> Vec<u8> {
         put(h::OFF_GROUP_CDF, off_group_cdf);
         put(h::APERTURE, scene.camera.aperture.to_bits());
         put(h::FOCUS_DISTANCE, scene.camera.focus_distance.to_bits());
+        put(h::MIN_ROUGHNESS, crate::scene::MIN_ROUGHNESS.to_bits());
     }
     let mut b = Bytes::default();
     for w in header {
@@ -381,7 +386,11 @@ pub(crate) fn mc_data(scene: &Scene) -> Vec<u8> {
             Bsdf::Glass { ior } => (bsdf_code::GLASS, Vec3::ZERO, ior),
             Bsdf::Glossy { tint, alpha } => (bsdf_code::GLOSSY, tint, alpha),
         };
-        b.u32(kind).vec3(c).f32(param).vec3(m.emission);
+        b.u32(kind)
+            .vec3(c)
+            .f32(param)
+            .vec3(m.emission)
+            .f32(m.roughness);
     }
     let mut by_object = vec![u32::MAX; scene.objects.len()];
     for (i, l) in lights.lights.iter().enumerate() {

@@ -82,6 +82,9 @@ codes! {
         TEXTURE = 27,
         /// A trilinear texture's level of detail and second mip level (before its `TEXTURE`).
         TEXTURE_LOD = 28,
+        /// The roughness a glossy BSDF's roughness texture gives (before that texture's
+        /// `TEXTURE`).
+        ROUGHNESS = 29,
     }
 }
 
@@ -168,10 +171,13 @@ codes! {
         APERTURE = 13,
         /// The focus distance (f32 bits).
         FOCUS_DISTANCE = 14,
-        /// Words in the header (the last one unused).
+        /// The glossy BSDF's least roughness, `scene::MIN_ROUGHNESS` (f32 bits): a roughness
+        /// texture's read below it makes a mirror.
+        MIN_ROUGHNESS = 15,
+        /// Words in the header.
         WORDS = 16,
-        /// Words per material: kind, colour, parameter, emission.
-        MATERIAL_WORDS = 8,
+        /// Words per material: kind, colour, parameter, emission, roughness.
+        MATERIAL_WORDS = 9,
         /// Words per light.
         LIGHT_WORDS = 20,
     }
@@ -234,7 +240,7 @@ pub const LOG_HEADER: u32 = 4;
 pub const LOG_RECORD_MAX: u32 = 64;
 /// "No object" wherever an object index is stored.
 pub const NO_OBJECT: u32 = u32::MAX;
-/// A material's `texture` word when it has none.
+/// A material's `texture` (or `roughness_texture`) word when it has none.
 pub const NO_TEXTURE: u32 = u32::MAX;
 
 /// The shared `u32` constants besides the code lists: (WGSL name, value).

@@ -339,6 +339,8 @@ pub fn decode(
     let mut rays: HashMap<u32, Building> = HashMap::new();
     let mut open: Vec<u32> = vec![];
     let mut pending_lod = None;
+    // A roughness texture's roughness, for the `TEXTURE` record after it.
+    let mut pending_roughness = None;
     let mut pixel_color = None;
     let mut at = LOG_HEADER.min(used);
     let mut steps = 0usize;
@@ -455,7 +457,11 @@ pub fn decode(
             tag::SURFACE => push(&mut rays, surface_step(&mut p)?)?,
             tag::SHADING_NORMAL => push(&mut rays, shading_normal_step(scene, &mut p)?)?,
             tag::TEXTURE_LOD => pending_lod = Some(texture_lod(&mut p)?),
-            tag::TEXTURE => push(&mut rays, texture_step(scene, &mut p, pending_lod.take())?)?,
+            tag::ROUGHNESS => pending_roughness = Some(p.f()?),
+            tag::TEXTURE => push(
+                &mut rays,
+                texture_step(scene, &mut p, pending_lod.take(), pending_roughness.take())?,
+            )?,
             tag::LENS => push(&mut rays, mc::lens(&mut p)?)?,
             tag::EMITTED => push(&mut rays, mc::emitted(scene, &mut p)?)?,
             tag::LIGHT_SAMPLE => {

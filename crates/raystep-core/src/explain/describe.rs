@@ -294,9 +294,11 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             uv,
             lookup,
             texel,
+            roughness,
             ..
         } => format!(
-            "texture \"{texture}\": (u, v) = ({}, {}) from {}, {}: colour {}",
+            "{}texture \"{texture}\": (u, v) = ({}, {}) from {}, {}: colour {}{}",
+            roughness.map_or(String::new(), |_| "roughness ".into()),
             num(uv[0]),
             num(uv[1]),
             mapping.name(),
@@ -351,7 +353,13 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                     }
                 ),
             },
-            v3(*texel)
+            v3(*texel),
+            roughness.map_or(String::new(), |r| format!(
+                "; roughness {} × green {} = {}",
+                num(r.material),
+                num(texel[1]),
+                num(r.roughness)
+            ))
         ),
         Step::ShadowRay { name, distance, .. } => {
             format!(

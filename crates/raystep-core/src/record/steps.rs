@@ -294,9 +294,13 @@ pub enum Step {
         /// The texture's colour at (u, v) (linear RGB).
         #[serde(with = "crate::jsonf")]
         texel: [f32; 3],
-        /// The surface colour: the material's colour × `texel`.
+        /// The surface colour: the material's colour × `texel` (a roughness texture's read:
+        /// the roughness, in all three).
         #[serde(with = "crate::jsonf")]
         color: [f32; 3],
+        /// Set where this is a glossy BSDF's roughness texture, not its colour.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        roughness: Option<crate::record::texturing::RoughnessRead>,
     },
     /// A shadow ray is about to be traced towards a light.
     ShadowRay {

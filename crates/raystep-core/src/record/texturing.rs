@@ -54,6 +54,19 @@ pub struct Texel {
     pub weight: f32,
 }
 
+/// A roughness texture's read (the `Texture` step of a glossy BSDF's `roughness_texture`): the
+/// roughness there is the material's times the texel's green channel.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct RoughnessRead {
+    /// The material's `roughness`.
+    #[serde(with = "crate::jsonf")]
+    pub material: f32,
+    /// The roughness at the hit: `material` × the texel's green channel (α = roughness², or a
+    /// mirror below the glossy BSDF's least roughness).
+    #[serde(with = "crate::jsonf")]
+    pub roughness: f32,
+}
+
 /// How a texture was read at (u, v).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]

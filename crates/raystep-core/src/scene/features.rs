@@ -56,7 +56,8 @@ impl Features {
             }
             f.smooth += usize::from(o.normals != super::NO_NORMALS);
             used[o.material as usize] = true;
-            f.textured += usize::from(materials[o.material as usize].texture.is_some());
+            let m = &materials[o.material as usize];
+            f.textured += usize::from(m.texture.is_some() || m.roughness_texture.is_some());
             f.emitters += usize::from(materials[o.material as usize].emission.max_element() > 0.0);
         }
         for (m, _) in materials.iter().zip(&used).filter(|(_, u)| **u) {

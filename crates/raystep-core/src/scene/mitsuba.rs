@@ -9,7 +9,7 @@
 //! `dielectric`; `glossy` as a `roughconductor` with GGX, the same α and no Fresnel), emission as
 //! an `area` emitter, point lights as `point` emitters and the background as a `constant`
 //! environment, and a thin lens as Mitsuba's `thinlens` sensor. Infinite planes have no
-//! equivalent here: they are refused.
+//! equivalent here: they are refused (so is a glossy material's roughness texture).
 //!
 //! Textures on triangles: a checker is Mitsuba's `checkerboard` (its `to_uv` scaled so that its
 //! half-unit checks are raystep's squares, and v turned back: Mitsuba's OBJ loader flips texture
@@ -97,6 +97,14 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
         c.height
     );
     let mut images = vec![];
+    // A roughness texture squares each read (α = (roughness × green)²): Mitsuba's `alpha`
+    // texture would need α itself per texel; refused rather than exported without it.
+    if let Some(m) = scene.materials.iter().find(|m| m.reads_roughness()) {
+        return Err(format!(
+            "material \"{}\": a roughness texture does not map (Mitsuba's alpha texture is α itself, raystep's is roughness × green, squared)",
+            m.name
+        ));
+    }
     for (i, m) in scene.materials.iter().enumerate() {
         // The albedo or tint: a colour, or the material's texture times it.
         let mut colour = |name: &str, c: glam::Vec3| -> Result<String, String> {

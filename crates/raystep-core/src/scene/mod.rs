@@ -341,6 +341,11 @@ pub struct Material {
     /// Monte Carlo BSDF's albedo or tint) at each hit.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<u32>,
+    /// Index into [`Scene::textures`] of the texture whose green channel multiplies a glossy
+    /// BSDF's `roughness` at each hit, under the Monte Carlo integrators (`[[material]]
+    /// roughness_texture`; green, as glTF's metallic-roughness textures keep it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub roughness_texture: Option<u32>,
 }
 
 /// Below this roughness a glossy BSDF is a mirror (GGX's α = roughness² would be a delta).
@@ -382,9 +387,20 @@ impl Material {
 impl Material {
     /// [`Material::bsdf`] with the texture's colour at the hit (`None`: untextured) multiplying
     /// a diffuse BSDF's albedo and a mirror's or glossy BSDF's tint; glass is not tinted.
+    ///
+    /// `roughness`: the roughness at the hit from a roughness texture (`roughness` × its green
+    /// channel, [`Material::roughness_at`]); a glossy BSDF takes α = roughness², or is a mirror
+    /// where it is below [`MIN_ROUGHNESS`].
     #[inline(always)]
-    pub fn bsdf_textured(&self, texel: Option<Vec3>) -> Bsdf {
-        let b = self.bsdf();
+    pub fn bsdf_textured(&self, texel: Option<Vec3>, roughness: Option<f32>) -> Bsdf {
+        let mut b = self.bsdf();
+        if let (Some(r), Bsdf::Glossy { tint, .. }) = (roughness, b) {
+            b = if r < MIN_ROUGHNESS {
+                Bsdf::Mirror { tint }
+            } else {
+                Bsdf::Glossy { tint, alpha: r * r }
+            };
+        }
         let Some(t) = texel else { return b };
         match b {
             Bsdf::Diffuse { albedo } => Bsdf::Diffuse { albedo: albedo * t },
@@ -395,6 +411,21 @@ impl Material {
             },
             glass => glass,
         }
+    }
+}
+
+impl Material {
+    /// Whether the material reads a roughness texture at a hit: it has one and its BSDF is
+    /// glossy (`bsdf = "glossy"` with `roughness` ≥ [`MIN_ROUGHNESS`]).
+    pub fn reads_roughness(&self) -> bool {
+        self.roughness_texture.is_some() && matches!(self.bsdf(), Bsdf::Glossy { .. })
+    }
+
+    /// The roughness at a hit whose roughness texture reads `texel`: `roughness` × its green
+    /// channel.
+    #[inline(always)]
+    pub fn roughness_at(&self, texel: Vec3) -> f32 {
+        self.roughness * texel.y
     }
 }
 
@@ -414,6 +445,7 @@ impl Default for Material {
             bsdf: None,
             roughness: 0.5,
             texture: None,
+            roughness_texture: None,
         }
     }
 }

@@ -160,6 +160,9 @@ pub struct MaterialDef {
     pub roughness: f64,
     /// The name of a `[[texture]]` whose colour multiplies `color` at each hit.
     pub texture: Option<String>,
+    /// The name of a `[[texture]]` whose green channel multiplies a glossy BSDF's `roughness`
+    /// at each hit (glTF's metallic-roughness convention).
+    pub roughness_texture: Option<String>,
 }
 
 impl Default for MaterialDef {
@@ -178,6 +181,7 @@ impl Default for MaterialDef {
             bsdf: None,
             roughness: 0.5,
             texture: None,
+            roughness_texture: None,
         }
     }
 }

@@ -68,7 +68,7 @@ impl<A: Accelerator> Tracer<'_, A> {
         let s = &self.scene.settings;
         let mut l = self.emitted(hit, it, throughput, None, obs);
         let m = self.scene.material_of(hit.object);
-        let b = m.bsdf_textured(it.texel);
+        let b = m.bsdf_textured(it.texel, it.roughness);
         let dim = |slot| dimension(depth, slot);
         // Direct light: every light group once (a diffuse surface); point lights only for glossy
         // (its area lights are found by its reflection ray).

@@ -36,6 +36,9 @@ pub struct Interaction {
     /// multiplies the material's colour (and a Monte Carlo BSDF's albedo or tint); `None` for
     /// an untextured material. Set by the tracer's `surface`, which records the lookup.
     pub texel: Option<Vec3>,
+    /// A glossy BSDF's roughness at the hit from the material's roughness texture
+    /// ([`crate::scene::Material::roughness_at`]); `None` without one (or under Whitted).
+    pub roughness: Option<f32>,
     /// The path length from the eye to the point, over every bounce: the previous hit's plus
     /// t·|Q| (a ray cone's width here is the camera's spread times it). Set by the tracer's
     /// `surface` in a scene with textures (0 in one without: nothing reads it there).
@@ -167,6 +170,7 @@ pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
         lifted: point,
         lifted_error: error,
         texel: None,
+        roughness: None,
         distance: 0.0,
     }
 }

@@ -39,7 +39,7 @@ impl<A: Accelerator> Tracer<'_, A> {
             return l;
         }
         let m = self.scene.material_of(hit.object);
-        let b = m.bsdf_textured(it.texel);
+        let b = m.bsdf_textured(it.texel, it.roughness);
         let dim = |slot| dimension(depth, slot);
         // Next-event estimation (not under BSDF sampling alone).
         if !bsdf::is_delta(&b) && !self.lights.is_empty() && s.strategy != Strategy::Bsdf {

@@ -504,9 +504,28 @@ pub fn texture_at(
     ray: &Ray<f32>,
     cone: Cone,
 ) -> Option<Texturing> {
+    read_texture(
+        scene,
+        hit,
+        it,
+        ray,
+        cone,
+        scene.material_of(hit.object).texture?,
+    )
+}
+
+/// Reads texture `index` at `hit` (as [`texture_at`] reads the material's colour texture; a
+/// roughness texture is read this way). Its `color` is the material's colour × the texel.
+pub fn read_texture(
+    scene: &Scene,
+    hit: &Hit,
+    it: &Interaction,
+    ray: &Ray<f32>,
+    cone: Cone,
+    index: u32,
+) -> Option<Texturing> {
     let m = scene.material_of(hit.object);
-    let index = m.texture?;
-    let tex = &scene.textures[index as usize];
+    let tex = scene.textures.get(index as usize)?;
     let coords = tex_coords(scene, hit, it);
     let lod = match &tex.kind {
         TextureKind::Image {
@@ -607,6 +626,7 @@ impl Texturing {
             lookup,
             texel: l.color.to_array(),
             color: self.color.to_array(),
+            roughness: None,
         }
     }
 }

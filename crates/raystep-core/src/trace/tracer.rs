@@ -260,6 +260,32 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             obs.step(|| t.step(self.scene));
             it.texel = Some(t.lookup.color);
         }
+        // A glossy BSDF's roughness texture, read where a Monte Carlo integrator samples it.
+        let m = self.scene.material_of(hit.object);
+        if s.integrator.is_monte_carlo()
+            && m.reads_roughness()
+            && let Some(index) = m.roughness_texture
+            && let Some(t) = super::texture::read_texture(self.scene, hit, &it, ray, cone, index)
+        {
+            let roughness = m.roughness_at(t.lookup.color);
+            obs.step(|| {
+                let mut step = t.step(self.scene);
+                if let Step::Texture {
+                    roughness: r,
+                    color,
+                    ..
+                } = &mut step
+                {
+                    *r = Some(crate::record::texturing::RoughnessRead {
+                        material: m.roughness,
+                        roughness,
+                    });
+                    *color = [roughness; 3];
+                }
+                step
+            });
+            it.roughness = Some(roughness);
+        }
         it
     }
 }

@@ -18,6 +18,7 @@ mod formula;
 mod mipmap;
 mod properties;
 mod render_bands;
+mod roughness;
 mod rtc_world;
 mod samplers;
 mod scene_edit;

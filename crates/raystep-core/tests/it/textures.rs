@@ -422,16 +422,16 @@ fn a_texture_multiplies_the_monte_carlo_bsdfs_albedo_and_tint_but_not_glass() {
         ..Material::default()
     };
     // Lambert from the Phong fields: albedo = colour × diffuse = (0.4, 0.3, 0.2), then × t.
-    let Bsdf::Diffuse { albedo } = m.bsdf_textured(Some(t)) else {
+    let Bsdf::Diffuse { albedo } = m.bsdf_textured(Some(t), None) else {
         panic!()
     };
     assert!(close(albedo, [0.2, 0.075, 0.2], 1e-7), "{albedo}");
-    assert_eq!(m.bsdf_textured(None), m.bsdf());
+    assert_eq!(m.bsdf_textured(None, None), m.bsdf());
     let mirror = Material {
         reflective: 0.8,
         ..m.clone()
     };
-    let Bsdf::Mirror { tint } = mirror.bsdf_textured(Some(t)) else {
+    let Bsdf::Mirror { tint } = mirror.bsdf_textured(Some(t), None) else {
         panic!()
     };
     assert!(close(tint, [0.4, 0.2, 0.8], 1e-7));
@@ -440,7 +440,7 @@ fn a_texture_multiplies_the_monte_carlo_bsdfs_albedo_and_tint_but_not_glass() {
         refractive_index: 1.5,
         ..m
     };
-    assert_eq!(glass.bsdf_textured(Some(t)), glass.bsdf());
+    assert_eq!(glass.bsdf_textured(Some(t), None), glass.bsdf());
 }
 
 #[test]

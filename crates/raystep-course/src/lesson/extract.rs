@@ -79,7 +79,12 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
         Quantity::TextureU | Quantity::TextureV | Quantity::TexelColumn | Quantity::TexelRow => {
             steps()
                 .find_map(|s| match s {
-                    Step::Texture { uv, lookup, .. } => Some(match q.quantity {
+                    Step::Texture {
+                        uv,
+                        lookup,
+                        roughness: None,
+                        ..
+                    } => Some(match q.quantity {
                         Quantity::TextureU => Answer::Number(f64::from(uv[0])),
                         Quantity::TextureV => Answer::Number(f64::from(uv[1])),
                         _ => {
@@ -100,7 +105,11 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
         }
         Quantity::TextureColor => steps()
             .find_map(|s| match s {
-                Step::Texture { texel, .. } => Some(v3(*texel)),
+                Step::Texture {
+                    texel,
+                    roughness: None,
+                    ..
+                } => Some(v3(*texel)),
                 _ => None,
             })
             .unwrap_or(Answer::None),
@@ -108,6 +117,7 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
             .find_map(|s| match s {
                 Step::Texture {
                     lookup: TexelLookup::Image { lod: Some(l), .. },
+                    roughness: None,
                     ..
                 } => Some(match q.quantity {
                     Quantity::ConeWidth => Answer::Number(f64::from(l.width)),

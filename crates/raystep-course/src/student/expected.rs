@@ -349,6 +349,7 @@ pub fn expected(trace: &Trace) -> Expected {
                     texel,
                     barycentric,
                     vertex_uvs,
+                    roughness: None,
                     ..
                 } => {
                     use crate::record::texturing::TexelLookup;

@@ -100,11 +100,13 @@ pub(super) fn texture_lod(p: &mut Payload) -> Result<PendingLod, String> {
 /// A texture record as the CPU's `Texture` step: the numbers the GPU computed, with the
 /// texture's name, kind and settings, a triangle's vertex texture coordinates and a plane's
 /// axes taken from the scene (which the GPU read, not computed); a trilinear lookup's level of
-/// detail from the `TEXTURE_LOD` record before it.
+/// detail from the `TEXTURE_LOD` record before it; a roughness texture's roughness from the
+/// `ROUGHNESS` record before it.
 pub(super) fn texture_step(
     scene: &Scene,
     p: &mut Payload,
     pending: Option<PendingLod>,
+    roughness: Option<f32>,
 ) -> Result<Step, String> {
     use crate::interface::texture as code;
     use crate::record::texturing::UvMapping;
@@ -150,11 +152,14 @@ pub(super) fn texture_step(
         .objects
         .get(object as usize)
         .ok_or_else(|| format!("a texture on object {object}, which does not exist"))?;
-    let texture = scene
-        .material_of(object)
-        .texture
-        .filter(|t| (*t as usize) < scene.textures.len())
-        .ok_or_else(|| format!("a texture on object {object}, whose material has none"))?;
+    let material = scene.material_of(object);
+    let texture = if roughness.is_some() {
+        material.roughness_texture
+    } else {
+        material.texture
+    }
+    .filter(|t| (*t as usize) < scene.textures.len())
+    .ok_or_else(|| format!("a texture on object {object}, whose material has none"))?;
     let t = Texturing {
         texture,
         coords: TexCoords {
@@ -179,5 +184,18 @@ pub(super) fn texture_step(
         },
         color,
     };
-    Ok(t.step(scene))
+    let mut step = t.step(scene);
+    if let (
+        Some(r),
+        Step::Texture {
+            roughness: read, ..
+        },
+    ) = (roughness, &mut step)
+    {
+        *read = Some(crate::record::texturing::RoughnessRead {
+            material: material.roughness,
+            roughness: r,
+        });
+    }
+    Ok(step)
 }

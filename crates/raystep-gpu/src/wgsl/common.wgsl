@@ -60,7 +60,8 @@ struct Material {
     refractive_index: f32,
     // The texture's record in the objects buffer (wgsl/texture.wgsl), or NO_TEXTURE.
     texture: u32,
-    pad1: f32,
+    // A glossy BSDF's roughness texture's record, or NO_TEXTURE (Material::roughness_texture).
+    roughness_texture: u32,
 }
 
 struct Light {

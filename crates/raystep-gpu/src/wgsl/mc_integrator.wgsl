@@ -83,11 +83,12 @@ struct McMaterial {
     c: vec3f,       // albedo or tint
     param: f32,     // ior or alpha
     emission: vec3f,
+    roughness: f32, // the material's, which a roughness texture scales
 }
 
 fn mc_material(object: u32) -> McMaterial {
     let i = mc[MC_H_OFF_MATERIALS] + MC_H_MATERIAL_WORDS * objects[object].material;
-    return McMaterial(mc[i], mcv(i + 1u), mcf(i + 4u), mcv(i + 5u));
+    return McMaterial(mc[i], mcv(i + 1u), mcf(i + 4u), mcv(i + 5u), mcf(i + 8u));
 }
 
 //#if TEXTURES
@@ -97,15 +98,34 @@ fn mc_material(object: u32) -> McMaterial {
 fn mc_texture(m: ptr<function, McMaterial>, hit: Hit, it: Interaction, ray: Ray, depth: u32) {
     let distance = cone_reach(depth, hit, ray);
     let mat = materials[objects[hit.object].material];
-    if mat.texture == NO_TEXTURE {
-        return;
-    }
-    let th = texture_at(hit, it, mat.texture, ray, distance);
+    var texel = vec3f(1.0);
+    if mat.texture != NO_TEXTURE {
+        let th = texture_at(hit, it, mat.texture, ray, distance);
 //#if TRACE
-    log_texture(hit, th, mat.color * th.texel);
+        log_texture(hit, th, mat.color * th.texel);
 //#endif
-    if (*m).kind != BSDF_GLASS {
-        (*m).c = (*m).c * th.texel;
+        texel = th.texel;
+    }
+    // A glossy BSDF's roughness texture: roughness × its green channel, α = roughness², a mirror
+    // below the least roughness (Material::bsdf_textured). Read after the colour's texture, as
+    // the CPU's tracer reads them.
+    if mat.roughness_texture != NO_TEXTURE && (*m).kind == BSDF_GLOSSY {
+        let tr = texture_at(hit, it, mat.roughness_texture, ray, distance);
+        let r = (*m).roughness * tr.texel.y;
+//#if TRACE
+        log_open();
+        log_f(r);
+        log_close(EV_ROUGHNESS);
+        log_texture(hit, tr, vec3f(r));
+//#endif
+        if r < mcf(MC_H_MIN_ROUGHNESS) {
+            (*m).kind = BSDF_MIRROR;
+        } else {
+            (*m).param = r * r;
+        }
+    }
+    if mat.texture != NO_TEXTURE && (*m).kind != BSDF_GLASS {
+        (*m).c = (*m).c * texel;
     }
 }
 //#endif

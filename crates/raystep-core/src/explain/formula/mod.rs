@@ -408,7 +408,11 @@ impl Ctx<'_> {
             .iter()
             .rev()
             .find_map(|s| match s.step {
-                Step::Texture { color, .. } => Some(color),
+                Step::Texture {
+                    color,
+                    roughness: None,
+                    ..
+                } => Some(color),
                 _ => None,
             })
             .or_else(|| {

@@ -18,6 +18,7 @@ impl Ctx<'_> {
             lookup,
             texel,
             color,
+            roughness,
         } = step
         else {
             return Explanation::default();
@@ -256,6 +257,38 @@ impl Ctx<'_> {
                 )
             }
         };
+        if let Some(r) = roughness {
+            lines.push(line(
+                "r",
+                "roughness × T_g",
+                format!("{} × {}", num(r.material), num(texel[1])),
+                num(r.roughness),
+                Some(
+                    "a roughness texture: its green channel scales the glossy BSDF's roughness (glTF keeps roughness in green)"
+                        .into(),
+                ),
+            ));
+            let mirror = r.roughness < crate::scene::MIN_ROUGHNESS;
+            lines.push(line(
+                "α",
+                "r²",
+                format!("{}²", num(r.roughness)),
+                if mirror {
+                    format!("a mirror (r < {})", num(crate::scene::MIN_ROUGHNESS))
+                } else {
+                    num(r.roughness * r.roughness)
+                },
+                Some("GGX's α; below the least roughness the BSDF is a perfect mirror".into()),
+            ));
+            return Explanation {
+                title: format!("Roughness texture \"{texture}\" from {}", mapping.name()),
+                lines,
+                conclusion: format!(
+                    "{conclusion} The glossy BSDF's roughness here is {}.",
+                    num(r.roughness)
+                ),
+            };
+        }
         let material = self
             .ray
             .hit

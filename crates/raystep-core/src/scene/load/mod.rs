@@ -264,6 +264,25 @@ impl<'a> Ctx<'a> {
                     format!("must be positive, got {}", d.refractive_index),
                 ));
             }
+            // A texture named by `field`, as its index.
+            let texture_named =
+                |field: &str, n: &Option<String>| -> Result<Option<u32>, SceneError> {
+                    let Some(n) = n else { return Ok(None) };
+                    textures
+                        .iter()
+                        .position(|t| &t.name == n)
+                        .map(|i| Some(i as u32))
+                        .ok_or_else(|| {
+                            let known: Vec<String> =
+                                textures.iter().map(|t| format!("\"{}\"", t.name)).collect();
+                            let known = if known.is_empty() {
+                                "no textures are defined: add a [[texture]]".to_string()
+                            } else {
+                                format!("known: {}", known.join(", "))
+                            };
+                            loc.err(field, format!("unknown texture \"{n}\" ({known})"))
+                        })
+                };
             by_name.insert(name.clone(), materials.len() as u32);
             materials.push(Material {
                 name,
@@ -282,19 +301,8 @@ impl<'a> Ctx<'a> {
                     .map(|b| loc.choice("bsdf", b))
                     .transpose()?,
                 roughness: loc.unit("roughness", d.roughness)?,
-                texture: match &d.texture {
-                    None => None,
-                    Some(n) => Some(textures.iter().position(|t| &t.name == n).ok_or_else(|| {
-                        let known: Vec<String> =
-                            textures.iter().map(|t| format!("\"{}\"", t.name)).collect();
-                        let known = if known.is_empty() {
-                            "no textures are defined: add a [[texture]]".to_string()
-                        } else {
-                            format!("known: {}", known.join(", "))
-                        };
-                        loc.err("texture", format!("unknown texture \"{n}\" ({known})"))
-                    })? as u32),
-                },
+                texture: texture_named("texture", &d.texture)?,
+                roughness_texture: texture_named("roughness_texture", &d.roughness_texture)?,
             });
         }
         let mut default_material = None;
