@@ -490,8 +490,11 @@ pub struct Texturing {
     pub coords: TexCoords,
     /// What was read.
     pub lookup: Lookup,
-    /// The material's colour × the texture's colour.
+    /// The material's colour × the texture's colour (a roughness texture's read: the roughness,
+    /// in all three).
     pub color: Vec3,
+    /// Set where this is a glossy BSDF's roughness texture.
+    pub roughness: Option<crate::record::texturing::RoughnessRead>,
 }
 
 /// Texturing at a hit ([`tex_coords`], [`level_of_detail`] for a trilinear image, [`lookup`]),
@@ -551,6 +554,7 @@ pub fn read_texture(
         coords,
         lookup,
         color: m.color * lookup.color,
+        roughness: None,
     })
 }
 
@@ -626,7 +630,7 @@ impl Texturing {
             lookup,
             texel: l.color.to_array(),
             color: self.color.to_array(),
-            roughness: None,
+            roughness: self.roughness,
         }
     }
 }

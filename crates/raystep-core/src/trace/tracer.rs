@@ -265,25 +265,17 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         if s.integrator.is_monte_carlo()
             && m.reads_roughness()
             && let Some(index) = m.roughness_texture
-            && let Some(t) = super::texture::read_texture(self.scene, hit, &it, ray, cone, index)
+            && let Some(mut t) =
+                super::texture::read_texture(self.scene, hit, &it, ray, cone, index)
         {
             let roughness = m.roughness_at(t.lookup.color);
-            obs.step(|| {
-                let mut step = t.step(self.scene);
-                if let Step::Texture {
-                    roughness: r,
-                    color,
-                    ..
-                } = &mut step
-                {
-                    *r = Some(crate::record::texturing::RoughnessRead {
-                        material: m.roughness,
-                        roughness,
-                    });
-                    *color = [roughness; 3];
-                }
-                step
+            // Its `Texture` step carries the roughness, in place of a surface colour.
+            t.color = glam::Vec3::splat(roughness);
+            t.roughness = Some(crate::record::texturing::RoughnessRead {
+                material: m.roughness,
+                roughness,
             });
+            obs.step(|| t.step(self.scene));
             it.roughness = Some(roughness);
         }
         it

@@ -183,19 +183,10 @@ pub(super) fn texture_step(
             lod: pending.map(|l| l.lod),
         },
         color,
-    };
-    let mut step = t.step(scene);
-    if let (
-        Some(r),
-        Step::Texture {
-            roughness: read, ..
-        },
-    ) = (roughness, &mut step)
-    {
-        *read = Some(crate::record::texturing::RoughnessRead {
+        roughness: roughness.map(|r| crate::record::texturing::RoughnessRead {
             material: material.roughness,
             roughness: r,
-        });
-    }
-    Ok(step)
+        }),
+    };
+    Ok(t.step(scene))
 }
