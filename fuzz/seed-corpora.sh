@@ -6,6 +6,7 @@
 #   corpus/student  `raystep trace --format student` of the pixels the target grades against and
 #                 of two pixels of every shipped scene, and the starter kit's and the model
 #                 student's Python tracers' output for the same pixels (when python3 is there)
+#   corpus/gltf   the GLB and glTF test models (tests/gltf/; JSON ones with their buffers inline)
 #   corpus/grade_sheet  the starter kit's grading sheet, a sheet per shipped scene, and one that
 #                 varies scenes per student (scene paths as seen from lessons/starter/)
 # Usage: fuzz/seed-corpora.sh [RAYSTEP]   (RAYSTEP: a raystep binary; default: cargo run)
@@ -13,7 +14,8 @@ set -euo pipefail
 cd "$(dirname "$0")"
 root=..
 if [ $# -ge 1 ]; then raystep=("$1"); else raystep=(cargo run --quiet --manifest-path "$root/Cargo.toml" --); fi
-mkdir -p corpus/scene corpus/trace corpus/sheet corpus/student corpus/grade_sheet
+mkdir -p corpus/scene corpus/trace corpus/sheet corpus/student corpus/grade_sheet corpus/gltf
+cp "$root"/tests/gltf/*.glb "$root"/tests/gltf/*.gltf corpus/gltf/
 
 # A fuzz input carries one OBJ file but no images: image textures become checkers.
 images_as_checkers() { sed -e 's/^image *= *".*"/checker = [8, 8]/' -e '/^filter *=/d' -e '/^wrap *=/d' "$1"; }

@@ -106,12 +106,16 @@ pub fn scene_input(data: &[u8]) -> Report {
         Ok(s) => s,
         Err(e) => return Report::rejected_naming(&e.to_string(), "fuzz.toml"),
     };
+    traced_middle_pixel(scene)
+}
+
+/// A loaded scene's middle pixel traced: what the tracer writes, the reader must accept and read
+/// back unchanged.
+fn traced_middle_pixel(scene: crate::scene::Scene) -> Report {
     let mut report = Report::accepted();
     let (x, y) = (scene.camera.width / 2, scene.camera.height / 2);
     let trace = PreparedScene::new(scene).record(x, y, 0);
-    // What the tracer writes, the reader must accept and read back unchanged.
-    let json = trace.to_json();
-    match Trace::from_json(&json, "fuzz.json") {
+    match Trace::from_json(&trace.to_json(), "fuzz.json") {
         Ok(back) => report.check(compare(&trace, &back, Tolerance::EXACT).is_equal(), || {
             "a recorded trace reads back different".into()
         }),
@@ -120,6 +124,26 @@ pub fn scene_input(data: &[u8]) -> Report {
         }),
     }
     report
+}
+
+/// Opens a glTF file (the input written as `fuzz.glb`: the reader tells GLB from JSON by its
+/// first bytes, whatever the name) as a scene; when it loads, records the trace of the middle
+/// pixel, which must read back the same; a file that does not load must be refused with a
+/// message naming it.
+pub fn gltf_input(data: &[u8]) -> Report {
+    let dir = match tempfile::tempdir() {
+        Ok(d) => d,
+        Err(_) => return Report::rejected(),
+    };
+    let path = dir.path().join("fuzz.glb");
+    if std::fs::write(&path, data).is_err() {
+        return Report::rejected();
+    }
+    let scene = match crate::scene::load_file(&path) {
+        Ok(s) => s,
+        Err(e) => return Report::rejected_naming(&e.to_string(), "fuzz.glb"),
+    };
+    traced_middle_pixel(scene)
 }
 
 /// Reads a trace from JSON; when it loads, prints its tree, compares it with itself and with a

@@ -43,6 +43,9 @@ pub static ASSETS: &[Asset] = assets!(
     "scenes/depth-of-field.toml",
     "scenes/far-sphere.toml",
     "scenes/first-sphere.toml",
+    "scenes/gltf-table.toml",
+    "scenes/gltf/table.bin",
+    "scenes/gltf/table.gltf",
     "scenes/icosahedron.obj",
     "scenes/leaky-edge.toml",
     "scenes/low-poly-sphere.obj",
@@ -293,13 +296,17 @@ pub fn resolve_sheet(arg: &Path) -> Result<PathBuf, String> {
 /// [`resolve_scene`]). A missing file's error lists the built-in names.
 pub fn load_scene(arg: &Path) -> Result<crate::scene::Scene, String> {
     let path = resolve_scene(arg)?;
-    crate::scene::load_file(&path).map_err(|e| {
+    let scene = crate::scene::load_file(&path).map_err(|e| {
         if path.exists() {
             e.to_string()
         } else {
             format!("{e} (built-in scenes: {})", scene_names().join(", "))
         }
-    })
+    })?;
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(scene)
 }
 
 /// Writes every built-in file under `dir` (`dir/scenes/…`, `dir/lessons/…`), each atomically.
@@ -403,6 +410,7 @@ mod tests {
         let mut on_disk = vec![];
         for sub in [
             "scenes",
+            "scenes/gltf",
             "scenes/textures",
             "lessons",
             "lessons/exercises",

@@ -14,6 +14,7 @@ fn examples_write_every_built_in_file_and_refuse_to_overwrite() {
     let mut count = 0;
     for sub in [
         "scenes",
+        "scenes/gltf",
         "scenes/textures",
         "lessons",
         "lessons/exercises",

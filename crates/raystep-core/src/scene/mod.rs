@@ -5,6 +5,7 @@
 pub mod camera;
 pub mod edit;
 mod features;
+mod gltf;
 mod limits;
 mod load;
 pub mod mitsuba;
@@ -15,8 +16,9 @@ pub mod texture;
 
 pub use crate::shapes::Shape;
 pub use features::Features;
+pub use gltf::{GltfError, MAX_GLTF_BYTES};
 pub use limits::{MAX_COORD, MAX_MAGNITUDE, MAX_OBJECTS, MAX_VERTEX};
-pub use load::{LocatedError, SceneError, load_file, load_str};
+pub use load::{LocatedError, SceneError, is_gltf, load_file, load_str};
 pub use model::SceneFile;
 pub use texture::{Filter, MipLevel, Texture, TextureKind, Wrap, mip_levels};
 
@@ -483,6 +485,21 @@ pub struct Group {
     pub count: u32,
 }
 
+/// A camera a glTF file names: where it stands and looks, and its vertical field of view.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedCamera {
+    /// The camera's name in the file (else its node's, else `camera i`).
+    pub name: String,
+    /// Eye position.
+    pub from: Vec3,
+    /// A point it looks at.
+    pub at: Vec3,
+    /// Its up direction.
+    pub up: Vec3,
+    /// Vertical field of view, degrees.
+    pub fov: f32,
+}
+
 /// A validated scene: everything the tracer needs, nothing unchecked.
 ///
 /// Load one from TOML with [`load_file`] or [`load_str`]; a bad scene is an error naming the
@@ -538,6 +555,12 @@ pub struct Scene {
     pub textures: Vec<Texture>,
     /// What the scene uses.
     pub features: Features,
+    /// The cameras of the scene's glTF files, by the files' own names (for `--camera NAME`,
+    /// [`Scene::use_camera`]).
+    pub cameras: Vec<NamedCamera>,
+    /// What loading left out or added, one line each (a glTF file's unread features, a
+    /// framed view or a headlight): printed by the commands, shown by the app.
+    pub warnings: Vec<String>,
 }
 
 impl Scene {
@@ -573,6 +596,31 @@ impl Scene {
     #[inline(always)]
     pub fn material_of(&self, id: u32) -> &Material {
         &self.materials[self.objects[id as usize].material as usize]
+    }
+    /// Looks through the glTF camera called `name` ([`Scene::cameras`]): the camera's position,
+    /// aim and field of view change, the image's size does not. An unknown name is an error
+    /// listing the known ones.
+    pub fn use_camera(&mut self, name: &str) -> Result<(), String> {
+        let Some(c) = self.cameras.iter().find(|c| c.name == name) else {
+            let known: Vec<String> = self
+                .cameras
+                .iter()
+                .map(|c| format!("\"{}\"", c.name))
+                .collect();
+            return Err(format!(
+                "the scene has no camera named \"{name}\" ({})",
+                if known.is_empty() {
+                    "it names none: cameras come from its glTF files".to_string()
+                } else {
+                    format!("known: {}", known.join(", "))
+                }
+            ));
+        };
+        self.camera.from = c.from;
+        self.camera.at = c.at;
+        self.camera.up = c.up;
+        self.camera.fov = c.fov;
+        Ok(())
     }
     /// Finds the objects of the group called `name`.
     pub fn find_group(&self, name: &str) -> Option<&Group> {

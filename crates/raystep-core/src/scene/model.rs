@@ -37,6 +37,9 @@ pub struct SceneFile {
     /// `[[texture]]`.
     #[serde(default)]
     pub texture: Vec<Spanned<TextureDef>>,
+    /// `[[gltf]]`.
+    #[serde(default)]
+    pub gltf: Vec<Spanned<GltfDef>>,
 }
 
 /// `[camera]`.
@@ -258,6 +261,43 @@ pub struct MeshDef {
     /// area-weighted average of the faces around each vertex). Default: smooth where the file
     /// gives every face its `vn`, flat otherwise.
     pub shading: Option<String>,
+}
+
+/// `[[gltf]]`: a glTF 2.0 file (`.gltf` or `.glb`, relative to the scene file), placed by `scale`,
+/// then `rotate` (degrees about x, then y, then z), then `translate`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct GltfDef {
+    pub name: Option<String>,
+    pub file: String,
+    #[serde(default, deserialize_with = "exact::vec3")]
+    pub translate: [f64; 3],
+    #[serde(default, deserialize_with = "exact::vec3")]
+    pub rotate: [f64; 3],
+    #[serde(default = "one")]
+    pub scale: f64,
+    /// A raystep material every primitive takes instead of the file's.
+    pub material: Option<String>,
+    /// `true`: the scene's camera is the file's first perspective camera; `"name"`: the one of
+    /// that name (its aspect ratio sets the width for the scene's height).
+    pub camera: Option<GltfCameraDef>,
+    /// Whether the file's `KHR_lights_punctual` point lights join the scene (default true).
+    #[serde(default = "yes")]
+    pub lights: bool,
+}
+
+/// `[[gltf]] camera`: `true`/`false`, or a camera's name.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+#[allow(missing_docs)]
+pub enum GltfCameraDef {
+    First(bool),
+    Named(String),
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// `[[texture]]`: a checker (`checker`, `colors`) or an image (`image`, `filter`, `wrap`).

@@ -244,6 +244,18 @@ pub fn decode_image(
     path: &Path,
     budget: u64,
 ) -> Result<(u32, u32, Vec<Vec3>), String> {
+    decode_image_as(bytes, path, budget, true)
+}
+
+/// [`decode_image`], with the channels read as sRGB-encoded colour (`srgb`) or as linear data
+/// (`c / 255`: glTF's metallic-roughness textures hold numbers, not colours).
+pub fn decode_image_as(
+    bytes: &[u8],
+    path: &Path,
+    budget: u64,
+    srgb: bool,
+) -> Result<(u32, u32, Vec<Vec3>), String> {
+    let decode_channel = |c: f64| if srgb { srgb_to_linear(c) } else { c as f32 };
     let unreadable = |e: &dyn std::fmt::Display| {
         format!(
             "cannot read image {}: {e} (raystep reads PNG and JPEG)",
@@ -277,11 +289,11 @@ pub fn decode_image(
     let texels = if img.color().bytes_per_pixel() / img.color().channel_count().max(1) > 1 {
         img.to_rgb16()
             .pixels()
-            .map(|p| Vec3::from(p.0.map(|c| srgb_to_linear(f64::from(c) / 65535.0))))
+            .map(|p| Vec3::from(p.0.map(|c| decode_channel(f64::from(c) / 65535.0))))
             .collect()
     } else {
         let table: Vec<f32> = (0..=255u8)
-            .map(|c| srgb_to_linear(f64::from(c) / 255.0))
+            .map(|c| decode_channel(f64::from(c) / 255.0))
             .collect();
         img.to_rgb8()
             .pixels()

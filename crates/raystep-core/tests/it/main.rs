@@ -15,6 +15,7 @@ mod common {
 
 mod bvh;
 mod formula;
+mod gltf;
 mod mipmap;
 mod properties;
 mod render_bands;

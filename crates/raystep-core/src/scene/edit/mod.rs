@@ -258,8 +258,16 @@ impl SceneDoc {
     /// Parses `text` (the file's contents). `file` names it in errors, `base` is the folder OBJ
     /// paths start from (as for [`load_str`]). Only the TOML syntax is checked here;
     /// [`SceneDoc::scene`] loads the scene.
+    ///
+    /// A scene that includes a glTF file is refused: its `[[gltf]]` table brings many objects,
+    /// and the editor edits one table per object.
     pub fn parse(text: &str, file: &str, base: Option<&Path>) -> Result<SceneDoc, String> {
         let doc: DocumentMut = text.parse().map_err(|e| format!("{file}: {e}"))?;
+        if doc.contains_key("gltf") {
+            return Err(format!(
+                "{file}: a scene that includes a glTF file ([[gltf]]) is edited in its text, not in the app"
+            ));
+        }
         Ok(SceneDoc {
             doc,
             text: text.to_string(),

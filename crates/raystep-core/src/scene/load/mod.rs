@@ -15,6 +15,7 @@ use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
+mod gltf;
 mod textures;
 mod values;
 mod view;
@@ -58,6 +59,9 @@ impl LocatedError {
 /// Loads a scene file (and the OBJ files it names, relative to it).
 pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
     let file = path.display().to_string();
+    if is_gltf(path) {
+        return load_gltf(path);
+    }
     let text = crate::io::read_text(path, crate::io::limits::SCENE, "scene file").map_err(|e| {
         SceneError {
             file: file.clone(),
@@ -72,9 +76,51 @@ pub fn load_file(path: &Path) -> Result<Scene, SceneError> {
     Ok(scene)
 }
 
+/// Whether a path names a glTF file (`.gltf`, `.glb`), which [`load_file`] opens as a scene.
+pub fn is_gltf(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gltf") || e.eq_ignore_ascii_case("glb"))
+}
+
+/// A glTF file opened as a scene: the scene of [`gltf::opening_text`] (the file included
+/// whole, its camera or a framed view, its lights or a headlight, the path tracer), named after
+/// the file, its hash the file's.
+fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
+    let file = path.display().to_string();
+    let name = path
+        .file_name()
+        .map_or(file.clone(), |n| n.to_string_lossy().into_owned());
+    let text = gltf::opening_text(&name);
+    let ctx = Ctx {
+        text: &text,
+        file: &file,
+        gltf_open: true,
+    };
+    let parsed: SceneFile = toml::from_str(&text).map_err(|e| SceneError {
+        file: file.clone(),
+        line: None,
+        column: None,
+        field: None,
+        message: format!("cannot open the glTF file: {e}"),
+    })?;
+    let mut scene = ctx.build(parsed, path.parent())?;
+    // The file's bytes name the scene (read once more: `build` has read it whole already).
+    if let Ok(bytes) = crate::io::read_input(path, crate::scene::gltf::MAX_GLTF_BYTES, "glTF file")
+    {
+        let hash = Sha256::digest(&bytes);
+        scene.source_hash = hash.iter().map(|b| format!("{b:02x}")).collect();
+    }
+    scene.path = Some(path.to_path_buf());
+    Ok(scene)
+}
+
 /// Loads a scene from TOML text. `file` names it in errors; `base` is where OBJ paths start from.
 pub fn load_str(text: &str, file: &str, base: Option<&Path>) -> Result<Scene, SceneError> {
-    let ctx = Ctx { text, file };
+    let ctx = Ctx {
+        text,
+        file,
+        gltf_open: false,
+    };
     let parsed: SceneFile = toml::from_str(text).map_err(|e| {
         let (line, column) = e.span().map(|s| ctx.line_col(s.start)).unzip();
         // Name the table and key the error sits in (serde reports only the position).
@@ -98,6 +144,8 @@ pub fn load_str(text: &str, file: &str, base: Option<&Path>) -> Result<Scene, Sc
 struct Ctx<'a> {
     text: &'a str,
     file: &'a str,
+    /// Whether the text is a glTF file's opening scene ([`gltf::opening_text`]).
+    gltf_open: bool,
 }
 
 impl<'a> Ctx<'a> {
@@ -215,7 +263,7 @@ impl<'a> Ctx<'a> {
     }
 
     fn build(&self, f: SceneFile, base: Option<&Path>) -> Result<Scene, SceneError> {
-        let camera = self.camera(f.camera.as_ref())?;
+        let mut camera = self.camera(f.camera.as_ref())?;
         let settings = self.settings(f.render.as_ref())?;
 
         let mut lights: Vec<Light> = vec![];
@@ -237,7 +285,7 @@ impl<'a> Ctx<'a> {
             });
         }
 
-        let textures = self.textures(&f, base)?;
+        let mut textures = self.textures(&f, base)?;
         let mut materials = vec![];
         let mut by_name: HashMap<String, u32> = HashMap::new();
         for (i, m) in f.material.iter().enumerate() {
@@ -305,6 +353,22 @@ impl<'a> Ctx<'a> {
                 roughness_texture: texture_named("roughness_texture", &d.roughness_texture)?,
             });
         }
+        let mut warnings = vec![];
+        let mut cameras = vec![];
+        let placed = self.gltf_files(
+            &f,
+            base,
+            gltf::Adding {
+                materials: &mut materials,
+                textures: &mut textures,
+                lights: &mut lights,
+                camera: &mut camera,
+                warnings: &mut warnings,
+                cameras: &mut cameras,
+            },
+        )?;
+        let gltf_parts: usize = placed.iter().map(|p| p.parts.len()).sum();
+        let mut placed = placed.into_iter();
         let mut default_material = None;
         let mut material = |loc: &Loc, name: &Option<String>| -> Result<u32, SceneError> {
             match name {
@@ -406,6 +470,7 @@ impl<'a> Ctx<'a> {
             Plane(&'d Spanned<PlaneDef>),
             Triangle(&'d Spanned<TriangleDef>),
             Mesh(&'d Spanned<MeshDef>),
+            Gltf(&'d Spanned<GltfDef>),
         }
         let mut defs: Vec<(usize, usize, Def)> = vec![];
         defs.extend(
@@ -431,6 +496,12 @@ impl<'a> Ctx<'a> {
                 .iter()
                 .enumerate()
                 .map(|(i, d)| (d.span().start, i, Def::Mesh(d))),
+        );
+        defs.extend(
+            f.gltf
+                .iter()
+                .enumerate()
+                .map(|(i, d)| (d.span().start, i, Def::Gltf(d))),
         );
         defs.sort_by_key(|(start, _, _)| *start);
         for (_, i, def) in defs {
@@ -567,9 +638,26 @@ impl<'a> Ctx<'a> {
                     let m = material(&loc, &d.material)?;
                     add_group(&loc, name, tris, normals, uvs, m)?;
                 }
+                Def::Gltf(g) => {
+                    let d = g.get_ref();
+                    let name = d.name.clone().unwrap_or_else(|| format!("gltf {i}"));
+                    let loc = self.loc(format!("gltf \"{name}\""), g);
+                    // `gltf_files` read the tables in file order, as this loop meets them.
+                    let Some(p) = placed.next() else { break };
+                    let instead = d
+                        .material
+                        .is_some()
+                        .then(|| material(&loc, &d.material))
+                        .transpose()?;
+                    for part in p.parts {
+                        let m = instead.unwrap_or(p.material_base + part.material as u32);
+                        add_group(&loc, part.name, part.triangles, part.normals, part.uvs, m)?;
+                    }
+                }
             }
         }
-        let features = Features::compute(&objects, &materials, lights.len(), f.mesh.len());
+        let meshes = f.mesh.len() + gltf_parts;
+        let features = Features::compute(&objects, &materials, lights.len(), meshes);
         let name = f.title.clone().unwrap_or_else(|| {
             Path::new(self.file)
                 .file_name()
@@ -590,6 +678,8 @@ impl<'a> Ctx<'a> {
             vertex_uvs,
             textures,
             features,
+            cameras,
+            warnings,
         })
     }
 }

@@ -3,8 +3,8 @@
 
 use super::*;
 
-const MAX_DIMENSION: i64 = 16384;
-const MAX_PIXELS: i64 = 40_000_000;
+pub(super) const MAX_DIMENSION: i64 = 16384;
+pub(super) const MAX_PIXELS: i64 = 40_000_000;
 
 impl Ctx<'_> {
     pub(super) fn camera(&self, c: Option<&Spanned<CameraDef>>) -> Result<Camera, SceneError> {

@@ -15,6 +15,11 @@ fn scenes_dir() -> PathBuf {
 }
 
 /// A shipped scene as a document (OBJ paths relative to scenes/).
+/// Whether a scene's text includes a glTF file (the editor refuses such a scene).
+fn text_includes_gltf(text: &str) -> bool {
+    text.lines().any(|l| l.trim() == "[[gltf]]")
+}
+
 fn shipped(name: &str) -> SceneDoc {
     let path = scenes_dir().join(name);
     let text = std::fs::read_to_string(&path).unwrap();

@@ -1,0 +1,783 @@
+//! glTF 2.0 scenes (`.gltf` and `.glb`), read through the `gltf` crate: its JSON and GLB
+//! parsing, and its validation, which names the JSON path of a problem.
+//!
+//! What raystep takes from a file (README.md, *glTF scenes*): the default scene's node
+//! hierarchy, each node's mesh placed by the product of the matrices from the root (its
+//! triangles in world space: raystep traces one level of geometry), positions, `NORMAL`
+//! (smooth shading) and `TEXCOORD_0`; the materials ([`materials`]); the perspective cameras;
+//! `KHR_lights_punctual` point lights. What it does not take is named in warnings, one line
+//! each, never silently dropped.
+//!
+//! Files are read through [`crate::io`] rather than the crate's own `import` (which opens them
+//! itself), so that the browser build reads them as it reads every other file. The crate's
+//! accessor reader assumes the accessor's data fits its buffer (a `debug_assert`, and an
+//! overflowing `count − 1` for an empty accessor); [`check_accessor`] checks that first, so a
+//! malformed file is an error naming its accessor, never a panic.
+
+mod materials;
+
+use super::limits::{MAX_OBJECTS, MAX_VERTEX};
+use super::{Light, Material, Shape, Texture};
+use glam::{DMat3, DMat4, DQuat, DVec3, Vec3};
+use gltf::accessor::{DataType, Dimensions};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// The most bytes a glTF file (or one of its buffers) may hold.
+pub const MAX_GLTF_BYTES: u64 = 512 << 20;
+
+/// The deepest node hierarchy read (a deeper one, or a node that is its own ancestor, is an
+/// error naming the node).
+const MAX_NODE_DEPTH: usize = 256;
+
+/// A glTF file that could not be read: the JSON path of the problem (e.g.
+/// `meshes[0].primitives[1].indices`) when there is one, the line and column of a JSON syntax
+/// error, and what is wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GltfError {
+    /// The JSON path, when the problem has one.
+    pub json_path: Option<String>,
+    /// 1-based line and column of a JSON syntax error.
+    pub line_col: Option<(usize, usize)>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl GltfError {
+    fn at(path: impl Into<String>, message: impl Into<String>) -> GltfError {
+        GltfError {
+            json_path: Some(path.into()),
+            line_col: None,
+            message: message.into(),
+        }
+    }
+    fn whole(message: impl Into<String>) -> GltfError {
+        GltfError {
+            json_path: None,
+            line_col: None,
+            message: message.into(),
+        }
+    }
+}
+
+/// One primitive of one node's mesh, in world space.
+#[derive(Debug, Clone)]
+pub(crate) struct Part {
+    /// The node's name (or `node i`), with `/p` for the mesh's p-th primitive when it has more
+    /// than one.
+    pub name: String,
+    /// Its triangles.
+    pub triangles: Vec<Shape>,
+    /// Per triangle: its unit vertex normals where the primitive has `NORMAL` (empty if not).
+    pub normals: Vec<Option<[Vec3; 3]>>,
+    /// Per triangle: its texture coordinates where it has `TEXCOORD_0` (empty if not), v
+    /// turned to raystep's convention (glTF's v runs down the image, raystep's up).
+    pub uvs: Vec<Option<[[f32; 2]; 3]>>,
+    /// Its material: an index into [`Imported::materials`].
+    pub material: usize,
+}
+
+/// A glTF perspective camera, placed.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct GltfCamera {
+    /// The camera's name, else its node's, else `camera i`.
+    pub name: String,
+    /// Eye, point looked at (one unit along −Z of the node) and up (+Y of the node).
+    pub from: DVec3,
+    /// The point one unit ahead.
+    pub at: DVec3,
+    /// The up direction.
+    pub up: DVec3,
+    /// Vertical field of view, degrees.
+    pub fov: f64,
+    /// Width over height, when the file gives it.
+    pub aspect: Option<f64>,
+}
+
+/// What a glTF file gave, ready for the scene: every name is prefixed by the include's.
+#[derive(Debug, Clone)]
+pub(crate) struct Imported {
+    /// The primitives, in the order of a depth-first walk of the scene's nodes.
+    pub parts: Vec<Part>,
+    /// The materials the parts use (the glTF default material last, if a primitive has none).
+    pub materials: Vec<Material>,
+    /// The textures the materials use (indices in the materials count from 0 here).
+    pub textures: Vec<Texture>,
+    /// `KHR_lights_punctual` point lights.
+    pub lights: Vec<Light>,
+    /// The perspective cameras, in walk order.
+    pub cameras: Vec<GltfCamera>,
+    /// What was not read, one line each.
+    pub warnings: Vec<String>,
+    /// The world-space box of every vertex (None: no triangles).
+    pub bounds: Option<(DVec3, DVec3)>,
+}
+
+/// Reads a glTF file (`.gltf`, `.glb`): its buffers and images (embedded, `data:` URIs, or
+/// files beside it), its default scene placed by `place`, every name prefixed by `prefix/`.
+/// `texel_budget`: how many texels the scene's images may still take.
+pub(crate) fn import(
+    path: &Path,
+    prefix: &str,
+    place: DMat4,
+    texel_budget: u64,
+) -> Result<Imported, GltfError> {
+    let bytes = crate::io::read_input(path, MAX_GLTF_BYTES, "glTF file").map_err(|e| {
+        GltfError::whole(if e.kind() == std::io::ErrorKind::NotFound {
+            format!("the glTF file {} does not exist", path.display())
+        } else {
+            format!("cannot read the glTF file {}: {e}", path.display())
+        })
+    })?;
+    import_bytes(&bytes, path, prefix, place, texel_budget)
+}
+
+/// [`import`] of a file's bytes (`path` names it and is where relative URIs start).
+pub(crate) fn import_bytes(
+    bytes: &[u8],
+    path: &Path,
+    prefix: &str,
+    place: DMat4,
+    texel_budget: u64,
+) -> Result<Imported, GltfError> {
+    let gltf = parse(bytes)?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let buffers = load_buffers(&gltf, &base)?;
+    let doc = &gltf.document;
+    let mut warnings = vec![];
+    for ext in doc.extensions_used() {
+        if !SUPPORTED_EXTENSIONS.contains(&ext) {
+            warnings.push(format!("extension {ext} is not read"));
+        }
+    }
+    let mut mats = materials::Materials::new(doc, &buffers, &base, prefix, texel_budget);
+    let mut out = Imported {
+        parts: vec![],
+        materials: vec![],
+        textures: vec![],
+        lights: vec![],
+        cameras: vec![],
+        warnings: vec![],
+        bounds: None,
+    };
+    let node_names = unique_names(doc.nodes().map(|n| n.name()), "node");
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(s) => s.nodes().collect(),
+        None => {
+            // No scene: every node that is nobody's child is a root.
+            let mut child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    child[c.index()] = true;
+                }
+            }
+            doc.nodes().filter(|n| !child[n.index()]).collect()
+        }
+    };
+    if doc.scenes().len() > 1 {
+        warnings.push(format!(
+            "the file holds {} scenes; raystep reads the default one",
+            doc.scenes().len()
+        ));
+    }
+    let mut visited = vec![false; doc.nodes().len()];
+    let mut stack: Vec<(gltf::Node, DMat4, usize)> =
+        roots.into_iter().rev().map(|n| (n, place, 0)).collect();
+    let mut triangles = 0usize;
+    let mut skipped = Skipped::default();
+    while let Some((node, parent, depth)) = stack.pop() {
+        let i = node.index();
+        if visited[i] {
+            return Err(GltfError::at(
+                format!("nodes[{i}]"),
+                "the node is reached twice (a node may have one parent, and no node is its own ancestor)",
+            ));
+        }
+        visited[i] = true;
+        if depth > MAX_NODE_DEPTH {
+            return Err(GltfError::at(
+                format!("nodes[{i}]"),
+                format!("the node hierarchy is deeper than {MAX_NODE_DEPTH} levels"),
+            ));
+        }
+        let world = parent * node_matrix(&node);
+        if !world.is_finite() {
+            return Err(GltfError::at(
+                format!("nodes[{i}]"),
+                "the node's transform is not finite",
+            ));
+        }
+        if let Some(mesh) = node.mesh() {
+            if node.skin().is_some() {
+                skipped.skins += 1;
+            }
+            if mesh.weights().is_some() || node.weights().is_some() {
+                skipped.morphs += 1;
+            }
+            let count = mesh.primitives().len();
+            for prim in mesh.primitives() {
+                let name = if count > 1 {
+                    format!("{prefix}/{}/{}", node_names[i], prim.index())
+                } else {
+                    format!("{prefix}/{}", node_names[i])
+                };
+                let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
+                if prim.mode() != gltf::mesh::Mode::Triangles {
+                    skipped.modes.push(format!("{at} ({:?})", prim.mode()));
+                    continue;
+                }
+                let material = mats.material(&prim.material())?;
+                let part = read_primitive(&prim, &at, &buffers, world, name, material)?;
+                triangles += part.triangles.len();
+                if triangles > MAX_OBJECTS {
+                    return Err(GltfError::at(
+                        at,
+                        format!(
+                            "the file's scene holds more than {MAX_OBJECTS} triangles (raystep's limit for a scene)"
+                        ),
+                    ));
+                }
+                for s in &part.triangles {
+                    if let Shape::Triangle { p } = s {
+                        for v in p {
+                            let v = v.as_dvec3();
+                            out.bounds = Some(match out.bounds {
+                                None => (v, v),
+                                Some((lo, hi)) => (lo.min(v), hi.max(v)),
+                            });
+                        }
+                    }
+                }
+                out.parts.push(part);
+            }
+        }
+        if let Some(camera) = node.camera() {
+            match camera.projection() {
+                gltf::camera::Projection::Perspective(p) => {
+                    let name = camera
+                        .name()
+                        .or(node.name())
+                        .map_or_else(|| format!("camera {}", camera.index()), str::to_string);
+                    out.cameras.push(GltfCamera {
+                        name,
+                        from: world.transform_point3(DVec3::ZERO),
+                        at: world.transform_point3(DVec3::ZERO)
+                            + world.transform_vector3(-DVec3::Z).normalize_or_zero(),
+                        up: world.transform_vector3(DVec3::Y).normalize_or_zero(),
+                        fov: f64::from(p.yfov()).to_degrees(),
+                        aspect: p.aspect_ratio().map(f64::from),
+                    });
+                }
+                gltf::camera::Projection::Orthographic(_) => skipped.orthographic += 1,
+            }
+        }
+        if let Some(light) = node.light() {
+            use gltf::khr_lights_punctual::Kind;
+            match light.kind() {
+                Kind::Point => {
+                    let name = light
+                        .name()
+                        .map_or_else(|| format!("light {}", light.index()), str::to_string);
+                    let color =
+                        DVec3::from(light.color().map(f64::from)) * f64::from(light.intensity());
+                    let position = world.transform_point3(DVec3::ZERO);
+                    if !color.is_finite() || color.min_element() < 0.0 {
+                        return Err(GltfError::at(
+                            format!("extensions.KHR_lights_punctual.lights[{}]", light.index()),
+                            "the light's colour times its intensity must be finite and not negative",
+                        ));
+                    }
+                    out.lights.push(Light {
+                        name: format!("{prefix}/{name}"),
+                        position: position.as_vec3(),
+                        color: color.as_vec3(),
+                    });
+                }
+                Kind::Directional => skipped.directional += 1,
+                Kind::Spot { .. } => skipped.spot += 1,
+            }
+        }
+        for c in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((c, world, depth + 1));
+        }
+    }
+    skipped.warn(&mut warnings);
+    let (materials, textures) = mats.finish(&mut warnings);
+    out.materials = materials;
+    out.textures = textures;
+    out.warnings = warnings;
+    Ok(out)
+}
+
+/// The extensions raystep reads (others in `extensionsUsed` are named in a warning; the crate
+/// refuses a file that *requires* one it cannot parse).
+const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_materials_ior",
+    "KHR_materials_transmission",
+    "KHR_materials_emissive_strength",
+];
+
+/// What the walk left out, counted, for one warning each.
+#[derive(Default)]
+struct Skipped {
+    modes: Vec<String>,
+    orthographic: usize,
+    directional: usize,
+    spot: usize,
+    skins: usize,
+    morphs: usize,
+}
+
+impl Skipped {
+    fn warn(self, w: &mut Vec<String>) {
+        if !self.modes.is_empty() {
+            w.push(format!(
+                "primitives that are not triangles are not drawn: {}",
+                self.modes.join(", ")
+            ));
+        }
+        let counted = [
+            (
+                self.orthographic,
+                "orthographic camera",
+                "raystep's camera is perspective",
+            ),
+            (
+                self.directional,
+                "directional light",
+                "raystep's lights are points and emitting surfaces",
+            ),
+            (
+                self.spot,
+                "spot light",
+                "raystep's lights are points and emitting surfaces",
+            ),
+            (self.skins, "skinned mesh", "drawn in its bind pose"),
+            (self.morphs, "mesh with morph targets", "drawn without them"),
+        ];
+        for (n, what, why) in counted {
+            if n > 0 {
+                w.push(format!(
+                    "{n} {what}{} not read ({why})",
+                    if n == 1 { "" } else { "s" }
+                ));
+            }
+        }
+    }
+}
+
+/// A name for each item: its own where it is given and unique, else `what i`.
+fn unique_names<'a>(names: impl Iterator<Item = Option<&'a str>>, what: &str) -> Vec<String> {
+    let names: Vec<Option<&str>> = names.collect();
+    let mut count: HashMap<&str, usize> = HashMap::new();
+    for n in names.iter().flatten() {
+        *count.entry(n).or_default() += 1;
+    }
+    names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| match n {
+            Some(n) if count[n] == 1 && !n.is_empty() => n.to_string(),
+            _ => format!("{what} {i}"),
+        })
+        .collect()
+}
+
+/// The node's local matrix, in f64 (a matrix as given; else T·R·S from its translation, unit
+/// quaternion and scale, as the glTF specification composes them).
+fn node_matrix(node: &gltf::Node) -> DMat4 {
+    match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => {
+            DMat4::from_cols_array_2d(&matrix.map(|c| c.map(f64::from)))
+        }
+        gltf::scene::Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            let q = DQuat::from_array(rotation.map(f64::from));
+            let q = if q.length_squared() > 0.0 {
+                q.normalize()
+            } else {
+                DQuat::IDENTITY
+            };
+            DMat4::from_scale_rotation_translation(
+                DVec3::from(scale.map(f64::from)),
+                q,
+                DVec3::from(translation.map(f64::from)),
+            )
+        }
+    }
+}
+
+/// The file parsed and validated. gltf-json 1.4.1's validation indexes the accessors with a
+/// primitive's POSITION before it checks that index (a panic on a file whose POSITION names an
+/// accessor that does not exist), so raystep checks every attribute's index first, and the
+/// images' sources (below).
+fn parse(bytes: &[u8]) -> Result<gltf::Gltf, GltfError> {
+    let unchecked = gltf::Gltf::from_slice_without_validation(bytes).map_err(parse_error)?;
+    let json = unchecked.document.as_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, index) in &prim.attributes {
+                if index.value() >= json.accessors.len() {
+                    let name = match semantic {
+                        gltf::json::validation::Checked::Valid(s) => s.to_string(),
+                        gltf::json::validation::Checked::Invalid => "?".into(),
+                    };
+                    return Err(GltfError::at(
+                        format!("meshes[{m}].primitives[{p}].attributes[\"{name}\"]"),
+                        format!(
+                            "accessor {} does not exist (the file has {})",
+                            index.value(),
+                            json.accessors.len()
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    // The crate's `Image::source` unwraps the `mimeType` of an image in a buffer view and the
+    // `uri` of one that is not: both required by the specification, neither validated.
+    for (i, image) in json.images.iter().enumerate() {
+        let missing = match (&image.buffer_view, &image.mime_type, &image.uri) {
+            (Some(_), None, _) => Some("mimeType"),
+            (None, _, None) => Some("uri"),
+            _ => None,
+        };
+        if let Some(field) = missing {
+            return Err(GltfError::at(
+                format!("images[{i}].{field}"),
+                "is required and missing (an image gives a uri, or a bufferView and its mimeType)",
+            ));
+        }
+    }
+    let gltf::Gltf { document, blob } = unchecked;
+    let document = gltf::Document::from_json(document.into_json()).map_err(parse_error)?;
+    Ok(gltf::Gltf { document, blob })
+}
+
+/// A JSON or GLB error as a [`GltfError`]: validation errors carry their JSON paths, syntax
+/// errors their line and column.
+fn parse_error(e: gltf::Error) -> GltfError {
+    match e {
+        gltf::Error::Validation(list) => {
+            let mut list = list.into_iter();
+            let Some((path, first)) = list.next() else {
+                return GltfError::whole("the file is not valid glTF");
+            };
+            let more = list.len();
+            let mut message = validation_words(&first);
+            if more > 0 {
+                message += &format!(
+                    " (and {more} more problem{})",
+                    if more == 1 { "" } else { "s" }
+                );
+            }
+            GltfError::at(path.to_string(), message)
+        }
+        gltf::Error::Deserialize(j) => GltfError {
+            json_path: None,
+            line_col: (j.line() > 0).then(|| (j.line(), j.column())),
+            message: format!("not valid glTF JSON: {j}"),
+        },
+        gltf::Error::Binary(b) => GltfError::whole(format!("not a valid GLB file: {b}")),
+        other => GltfError::whole(format!("cannot read the glTF: {other}")),
+    }
+}
+
+fn validation_words(e: &gltf::json::validation::Error) -> String {
+    use gltf::json::validation::Error as E;
+    match e {
+        E::IndexOutOfBounds => "refers to an item that does not exist".into(),
+        E::Invalid => "is not a valid value here".into(),
+        E::Missing => "is required and missing".into(),
+        E::Unsupported => {
+            "is not supported by raystep (an extension it cannot read is required)".into()
+        }
+        E::Oversize => "is larger than the crate reading it allows".into(),
+    }
+}
+
+/// Every buffer's bytes: the GLB's binary chunk, a `data:` URI, or a file beside the glTF.
+fn load_buffers(gltf: &gltf::Gltf, base: &Path) -> Result<Vec<Vec<u8>>, GltfError> {
+    let mut out = vec![];
+    for b in gltf.document.buffers() {
+        let at = format!("buffers[{}]", b.index());
+        let data = match b.source() {
+            gltf::buffer::Source::Bin => gltf.blob.clone().ok_or_else(|| {
+                GltfError::at(
+                    &at,
+                    "refers to the GLB's binary chunk, and the file has none",
+                )
+            })?,
+            gltf::buffer::Source::Uri(uri) => read_uri(uri, base, &format!("{at}.uri"), "buffer")?,
+        };
+        if data.len() < b.length() {
+            return Err(GltfError::at(
+                format!("{at}.byteLength"),
+                format!("says {} bytes; the data holds {}", b.length(), data.len()),
+            ));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// The bytes a URI names: a base64 `data:` URI, or a file relative to `base` (percent-decoded).
+pub(super) fn read_uri(uri: &str, base: &Path, at: &str, what: &str) -> Result<Vec<u8>, GltfError> {
+    use base64::Engine;
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let Some((_, data)) = rest.split_once(";base64,") else {
+            return Err(GltfError::at(
+                at,
+                "a data: URI must be base64 (`data:…;base64,…`)",
+            ));
+        };
+        return base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .map_err(|e| GltfError::at(at, format!("the base64 data does not decode: {e}")));
+    }
+    if uri.contains("://") {
+        return Err(GltfError::at(
+            at,
+            format!(
+                "{uri}: raystep reads files beside the glTF and data: URIs, nothing over a network"
+            ),
+        ));
+    }
+    let file = urlencoding::decode(uri).map_err(|e| GltfError::at(at, format!("{uri}: {e}")))?;
+    let path: PathBuf = base.join(file.as_ref());
+    crate::io::read_input(&path, MAX_GLTF_BYTES, what).map_err(|e| {
+        GltfError::at(
+            at,
+            if e.kind() == std::io::ErrorKind::NotFound {
+                format!("the {what} file {} does not exist", path.display())
+            } else {
+                format!("cannot read the {what} file {}: {e}", path.display())
+            },
+        )
+    })
+}
+
+/// Checks that an accessor's data lies inside its buffer view and buffer and has one of the
+/// expected shapes, so that the crate's reader (which assumes so) cannot fail.
+fn check_accessor(
+    acc: &gltf::Accessor,
+    buffers: &[Vec<u8>],
+    dims: Dimensions,
+    types: &[DataType],
+    at: &str,
+) -> Result<(), GltfError> {
+    let path = format!("accessors[{}]", acc.index());
+    let what = format!("{at} (accessor {})", acc.index());
+    if acc.dimensions() != dims || !types.contains(&acc.data_type()) {
+        return Err(GltfError::at(
+            format!("{path}.type"),
+            format!(
+                "{what}: expected {dims:?} of {}, found {:?} of {:?}",
+                types
+                    .iter()
+                    .map(|t| format!("{t:?}"))
+                    .collect::<Vec<_>>()
+                    .join(" or "),
+                acc.dimensions(),
+                acc.data_type()
+            ),
+        ));
+    }
+    if acc.sparse().is_some() {
+        return Err(GltfError::at(
+            format!("{path}.sparse"),
+            format!("{what}: sparse accessors are not read by raystep"),
+        ));
+    }
+    if acc.count() == 0 || acc.count() > 3 * MAX_OBJECTS {
+        return Err(GltfError::at(
+            format!("{path}.count"),
+            format!(
+                "{what}: count must lie in 1 … {}, got {}",
+                3 * MAX_OBJECTS,
+                acc.count()
+            ),
+        ));
+    }
+    let Some(view) = acc.view() else {
+        return Err(GltfError::at(
+            format!("{path}.bufferView"),
+            format!("{what}: an accessor without a bufferView (all zeros) is not read by raystep"),
+        ));
+    };
+    let elem = acc.data_type().size() * dims.multiplicity();
+    let stride = view.stride().unwrap_or(elem);
+    let end = (acc.count() - 1)
+        .checked_mul(stride)
+        .and_then(|x| x.checked_add(elem))
+        .and_then(|x| x.checked_add(acc.offset()));
+    let buffer_len = buffers.get(view.buffer().index()).map_or(0, Vec::len);
+    let view_end = view.offset().checked_add(view.length());
+    match (end, view_end) {
+        (Some(end), Some(view_end))
+            if stride >= elem && end <= view.length() && view_end <= buffer_len =>
+        {
+            Ok(())
+        }
+        _ => Err(GltfError::at(
+            format!("{path}.byteOffset"),
+            format!(
+                "{what}: {} items of {elem} bytes (stride {stride}) from byte {} do not fit in bufferView {} ({} bytes from byte {} of a {buffer_len}-byte buffer)",
+                acc.count(),
+                acc.offset(),
+                view.index(),
+                view.length(),
+                view.offset()
+            ),
+        )),
+    }
+}
+
+/// One primitive's triangles in world space.
+fn read_primitive(
+    prim: &gltf::Primitive,
+    at: &str,
+    buffers: &[Vec<u8>],
+    world: DMat4,
+    name: String,
+    material: usize,
+) -> Result<Part, GltfError> {
+    let get = |b: gltf::Buffer| buffers.get(b.index()).map(Vec::as_slice);
+    let reader = prim.reader(get);
+    let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
+        return Err(GltfError::at(
+            format!("{at}.attributes.POSITION"),
+            "a primitive needs POSITION",
+        ));
+    };
+    check_accessor(
+        &pos_acc,
+        buffers,
+        Dimensions::Vec3,
+        &[DataType::F32],
+        &format!("{at}.attributes.POSITION"),
+    )?;
+    let positions: Vec<[f32; 3]> = reader
+        .read_positions()
+        .map(Iterator::collect)
+        .unwrap_or_default();
+    let normals: Option<Vec<[f32; 3]>> = match prim.get(&gltf::Semantic::Normals) {
+        Some(acc) => {
+            check_accessor(
+                &acc,
+                buffers,
+                Dimensions::Vec3,
+                &[DataType::F32],
+                &format!("{at}.attributes.NORMAL"),
+            )?;
+            reader.read_normals().map(Iterator::collect)
+        }
+        None => None,
+    };
+    let uvs: Option<Vec<[f32; 2]>> = match prim.get(&gltf::Semantic::TexCoords(0)) {
+        Some(acc) => {
+            check_accessor(
+                &acc,
+                buffers,
+                Dimensions::Vec2,
+                &[DataType::F32, DataType::U8, DataType::U16],
+                &format!("{at}.attributes.TEXCOORD_0"),
+            )?;
+            reader.read_tex_coords(0).map(|t| t.into_f32().collect())
+        }
+        None => None,
+    };
+    let indices: Vec<u32> = match prim.indices() {
+        Some(acc) => {
+            check_accessor(
+                &acc,
+                buffers,
+                Dimensions::Scalar,
+                &[DataType::U8, DataType::U16, DataType::U32],
+                &format!("{at}.indices"),
+            )?;
+            reader
+                .read_indices()
+                .map(|i| i.into_u32().collect())
+                .unwrap_or_default()
+        }
+        None => (0..positions.len() as u32).collect(),
+    };
+    for (name, len) in [
+        ("NORMAL", normals.as_ref().map(Vec::len)),
+        ("TEXCOORD_0", uvs.as_ref().map(Vec::len)),
+    ] {
+        if let Some(len) = len
+            && len != positions.len()
+        {
+            return Err(GltfError::at(
+                format!("{at}.attributes.{name}"),
+                format!("holds {len} items; POSITION holds {}", positions.len()),
+            ));
+        }
+    }
+    let world_positions: Vec<Vec3> = positions
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let w = world.transform_point3(DVec3::from(p.map(f64::from)));
+            if !w.is_finite() || w.abs().max_element() > MAX_VERTEX {
+                return Err(GltfError::at(
+                    format!("{at}.attributes.POSITION"),
+                    format!("vertex {k} {p:?} is at {w:?} once placed: not finite, or past ±{MAX_VERTEX}"),
+                ));
+            }
+            Ok(w.as_vec3())
+        })
+        .collect::<Result<_, _>>()?;
+    // Normals go by the inverse transpose of the matrix's linear part (README.md, *glTF
+    // scenes*: a non-uniform scale would otherwise tilt them), renormalised in f64.
+    let normal_matrix = DMat3::from_mat4(world).inverse().transpose();
+    let world_normals: Option<Vec<Option<Vec3>>> = normals.map(|ns| {
+        ns.iter()
+            .map(|n| {
+                let w = (normal_matrix * DVec3::from(n.map(f64::from))).try_normalize()?;
+                Some(w.as_vec3())
+            })
+            .collect()
+    });
+    let mut part = Part {
+        name,
+        triangles: vec![],
+        normals: vec![],
+        uvs: vec![],
+        material,
+    };
+    let n = positions.len();
+    for (f, tri) in indices.chunks_exact(3).enumerate() {
+        let [a, b, c] = [tri[0] as usize, tri[1] as usize, tri[2] as usize];
+        if a >= n || b >= n || c >= n {
+            return Err(GltfError::at(
+                format!("{at}.indices"),
+                format!(
+                    "triangle {f} refers to vertex {}, and POSITION holds {n}",
+                    a.max(b).max(c)
+                ),
+            ));
+        }
+        part.triangles.push(Shape::Triangle {
+            p: [world_positions[a], world_positions[b], world_positions[c]],
+        });
+        if let Some(ns) = &world_normals {
+            part.normals.push(match (ns[a], ns[b], ns[c]) {
+                (Some(x), Some(y), Some(z)) => Some([x, y, z]),
+                _ => None,
+            });
+        }
+        if let Some(ts) = &uvs {
+            // glTF's (0, 0) is the image's top-left corner; raystep's v = 1 is its top row.
+            let t = |k: usize| [ts[k][0], 1.0 - ts[k][1]];
+            part.uvs.push(Some([t(a), t(b), t(c)]));
+        }
+    }
+    Ok(part)
+}
