@@ -76,7 +76,7 @@ pub enum Command {
     GradeTracer(grade_tracer_cmd::GradeTracerArgs),
     /// List the scenes, lessons and exercise sheets built into raystep, or write them to a folder.
     Examples(examples_cmd::ExamplesArgs),
-    /// Open the app on a scene (.toml), a built-in scene by name (`cornell`) or a saved trace
+    /// Open the app on a scene (.toml, or a glTF model: .gltf, .glb), a built-in scene by name (`cornell`) or a saved trace
     /// (.json).
     Open {
         /// The scene or trace file, or a built-in scene's name.
@@ -135,6 +135,10 @@ pub struct SettingsArgs {
     /// terminator) or hanika (Hanika's lift towards the smooth surface).
     #[arg(long, value_enum)]
     pub terminator: Option<crate::scene::Terminator>,
+    /// Look through a camera of the scene's glTF files, by its name in the file (the image's
+    /// size stays the scene's).
+    #[arg(long, value_name = "NAME")]
+    pub camera: Option<String>,
 }
 
 impl SettingsArgs {
@@ -156,7 +160,11 @@ impl SettingsArgs {
             terminator: self.terminator,
             ..Default::default()
         };
-        overrides.apply(scene)
+        overrides.apply(scene)?;
+        if let Some(name) = &self.camera {
+            scene.use_camera(name)?;
+        }
+        Ok(())
     }
 }
 

@@ -265,3 +265,30 @@ fn trace_with_each_offset_policy_parses() {
 }
 
 // ---------------------------------------------------------------------------------------------
+
+/// `--camera NAME` looks through a camera of the scene's glTF file: gltf-table.toml places
+/// gltf/table.gltf turned 180° about y, so its camera "front" at (0, 1.3, 2.6) stands at
+/// (0, 1.3, −2.6); the image keeps the scene's 256 × 256. An unknown name lists the known ones.
+#[test]
+fn camera_picks_a_gltf_camera_by_name() {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/gltf-table.toml");
+    let v = json_of(&Cli::with(
+        "trace @ --pixel 128,128 --camera front --integrator whitted --json",
+        &[&scene],
+    ));
+    let from = nums(&v["camera"]["from"]);
+    close(from[0], 0.0, 1e-6, "x");
+    close(from[1], 1.3, 1e-6, "y");
+    close(from[2], -2.6, 1e-6, "z");
+    assert_eq!(
+        (
+            v["camera"]["width"].as_u64(),
+            v["camera"]["height"].as_u64()
+        ),
+        (Some(256), Some(256))
+    );
+    fails(
+        &Cli::with("trace @ --pixel 1,1 --camera side", &[&scene]),
+        &["no camera named \"side\"", "known: \"front\""],
+    );
+}
