@@ -45,10 +45,11 @@ pub fn list_folder(dir: &Path) -> Result<(Vec<Entry>, bool), String> {
         let path = e.path();
         // Follows symbolic links, so a link to a folder is a folder.
         let is_dir = path.is_dir();
-        let wanted = path
-            .extension()
-            .and_then(|x| x.to_str())
-            .is_some_and(|x| x.eq_ignore_ascii_case("toml") || x.eq_ignore_ascii_case("json"));
+        let wanted = path.extension().and_then(|x| x.to_str()).is_some_and(|x| {
+            ["toml", "json", "gltf", "glb"]
+                .iter()
+                .any(|k| x.eq_ignore_ascii_case(k))
+        });
         if is_dir || wanted {
             out.push(Entry { is_dir, name, path });
         }

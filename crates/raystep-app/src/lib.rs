@@ -375,7 +375,12 @@ impl RaystepApp {
         let mut opened = false;
         for a in arrived {
             match a {
-                Ok(p) if !opened && p.extension().is_some_and(|e| e == "toml" || e == "json") => {
+                Ok(p)
+                    if !opened
+                        && p.extension().is_some_and(|e| {
+                            e == "toml" || e == "json" || e == "gltf" || e == "glb"
+                        }) =>
+                {
                     opened = true;
                     cmds.push(Command::Open(p));
                 }

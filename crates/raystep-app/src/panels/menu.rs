@@ -155,7 +155,7 @@ pub(super) fn menu_bar(
                 ui.label(line);
             }
             ui.label("Scroll on the render to zoom, drag to pan, double-click to fit.");
-            ui.label("Drop a scene (.toml) or a saved trace (.json) on the window to open it.");
+            ui.label("Drop a scene (.toml), a glTF model (.gltf, .glb) or a saved trace (.json) on the window to open it.");
         });
         let mut learn = state.prefs.show_learn;
         if toggle(ui, state, &mut learn, Action::Lessons) {

@@ -68,6 +68,11 @@ pub fn show(
     if let Some(e) = &state.load_error {
         egui::Panel::top("load-error").show(ui, |ui| status::error_banner(ui, state, e, cmds));
     }
+    if let Some(scene) = state.scene()
+        && !scene.warnings.is_empty()
+    {
+        egui::Panel::top("load-warnings").show(ui, |ui| load_warnings(ui, &scene.warnings));
+    }
     egui::Panel::bottom("status").show(ui, |ui| status::status_bar(ui, state, render));
     if state.stepping.is_some() {
         egui::Panel::bottom("steps").show(ui, |ui| steps::controls(ui, state, cmds));
@@ -87,6 +92,22 @@ pub fn show(
     }
     dialogs::show(ui, state, cmds);
     super::lab::window(ui.ctx(), state, &mut panels.lab, cmds);
+}
+
+/// What loading the scene left out or added (a glTF file's unread features, a framed view, a
+/// headlight), folded under one line.
+fn load_warnings(ui: &mut egui::Ui, warnings: &[String]) {
+    let n = warnings.len();
+    egui::CollapsingHeader::new(format!(
+        "⚠ {n} note{} on loading this scene",
+        if n == 1 { "" } else { "s" }
+    ))
+    .id_salt("load-warnings")
+    .show(ui, |ui| {
+        for w in warnings {
+            ui.label(w);
+        }
+    });
 }
 
 /// The side panels: the lessons, the settings and the trace tree on the left, the explain panel

@@ -75,7 +75,7 @@ pub const CONVERGE_PACE: Duration = Duration::from_millis(800);
 /// Everything a panel can ask for.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Command {
-    /// Open a scene (.toml) or a saved trace (.json).
+    /// Open a scene (.toml, .gltf, .glb) or a saved trace (.json).
     Open(PathBuf),
     /// Open the built-in scene.
     OpenBuiltin,

@@ -346,7 +346,7 @@ impl AppState {
         }
     }
 
-    /// Opens a scene (.toml) or saved trace (.json) file. A file that fails to load leaves what
+    /// Opens a scene (.toml, .gltf, .glb) or saved trace (.json) file. A file that fails to load leaves what
     /// was open in place and shows the error.
     pub fn open(&mut self, path: &Path) {
         self.open_keeping(path, None);

@@ -113,7 +113,7 @@ mod web {
         let input: web_sys::HtmlInputElement = document.create_element("input")?.dyn_into()?;
         input.set_type("file");
         input.set_multiple(true);
-        input.set_accept(".toml,.json,.obj,.mtl,.md,.csv,.txt");
+        input.set_accept(".toml,.json,.obj,.mtl,.gltf,.glb,.bin,.png,.jpg,.jpeg,.md,.csv,.txt");
         let picked = input.clone();
         let on_change = Closure::once_into_js(move || {
             let Some(list) = picked.files() else {
