@@ -14,7 +14,8 @@ nothing is downloaded. Run from the repository root:
   URI, a node with a 4 x 4 matrix; and its parent scaled non-uniformly, so that normals must go
   by the inverse transpose.
 
-Each file passes Khronos's glTF validator (`npx gltf-validator FILE`, README.md, *glTF scenes*).
+Each file passes Khronos's glTF validator with no error and no warning:
+`npm install gltf-validator && node tools/gltf-validate.mjs FILE...` (README.md, *glTF scenes*).
 """
 import base64
 import json

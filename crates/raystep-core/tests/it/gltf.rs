@@ -268,6 +268,50 @@ fn normals_go_by_the_inverse_transpose() {
     );
 }
 
+/// What a file holds and raystep does not read is named in one warning (with a second for the
+/// headlight this file, with no light raystep reads, is given).
+#[test]
+fn what_is_not_read_is_named_in_one_warning() {
+    let json = SHEARED
+        .replace(
+            r#""scene": 0, "scenes": [{"nodes": [0]}],"#,
+            r#""extensionsUsed": ["KHR_texture_transform", "KHR_lights_punctual"],
+ "extensions": {"KHR_lights_punctual": {"lights": [{"type": "spot", "spot": {}}, {"type": "directional"}]}},
+ "scene": 0, "scenes": [{"nodes": [0, 1, 2]}, {"nodes": [0]}],"#,
+        )
+        .replace(
+            r#""nodes": [{"name": "wide", "mesh": 0, "scale": [2, 1, 1]}],"#,
+            r#""nodes": [{"name": "wide", "mesh": 0}, {"extensions": {"KHR_lights_punctual": {"light": 0}}}, {"extensions": {"KHR_lights_punctual": {"light": 1}}}],"#,
+        )
+        .replace(
+            r#"{"attributes": {"POSITION": 0, "NORMAL": 1}}]"#,
+            r#"{"attributes": {"POSITION": 0, "NORMAL": 1}}, {"attributes": {"POSITION": 0}, "mode": 1}]"#,
+        );
+    let (_d, s) = load_text("odd.gltf", &gltf_text(&json, &sheared_bytes()));
+    let s = s.unwrap();
+    let not_read: Vec<&String> = s
+        .warnings
+        .iter()
+        .filter(|w| w.contains("not read"))
+        .collect();
+    assert_eq!(not_read.len(), 1, "{:?}", s.warnings);
+    for part in [
+        "not read: extension KHR_texture_transform",
+        "scenes other than the default (2 in the file)",
+        "primitives that are not triangles (meshes[0].primitives[1] (Lines))",
+        "1 directional light (",
+        "1 spot light (",
+    ] {
+        assert!(not_read[0].contains(part), "{part}: {}", not_read[0]);
+    }
+    assert_eq!(s.objects.len(), 1, "the triangles are read");
+    assert!(
+        s.warnings.iter().any(|w| w.contains("headlight")),
+        "{:?}",
+        s.warnings
+    );
+}
+
 /// A `[[gltf]]` table places the file by scale, rotate (x, then y, then z) and translate; its
 /// `material` replaces the file's; `camera = "front"` takes that camera.
 #[test]

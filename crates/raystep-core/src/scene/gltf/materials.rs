@@ -279,11 +279,9 @@ impl<'d> Materials<'d> {
         Ok(k)
     }
 
-    /// The materials and textures made, naming what was left out in one warning.
-    pub(super) fn finish(self, warnings: &mut Vec<String>) -> (Vec<Material>, Vec<Texture>) {
-        if !self.left_out.is_empty() {
-            warnings.push(format!("materials: not read: {}", self.left_out.join("; ")));
-        }
+    /// The materials and textures made; what was left out joins `not_read`.
+    pub(super) fn finish(self, not_read: &mut Vec<String>) -> (Vec<Material>, Vec<Texture>) {
+        not_read.extend(self.left_out);
         (self.out, self.textures)
     }
 }

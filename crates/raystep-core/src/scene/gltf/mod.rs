@@ -5,8 +5,8 @@
 //! hierarchy, each node's mesh placed by the product of the matrices from the root (its
 //! triangles in world space: raystep traces one level of geometry), positions, `NORMAL`
 //! (smooth shading) and `TEXCOORD_0`; the materials ([`materials`]); the perspective cameras;
-//! `KHR_lights_punctual` point lights. What it does not take is named in warnings, one line
-//! each, never silently dropped.
+//! `KHR_lights_punctual` point lights. What it does not take is named in one warning, never
+//! silently dropped.
 //!
 //! Files are read through [`crate::io`] rather than the crate's own `import` (which opens them
 //! itself), so that the browser build reads them as it reads every other file. The crate's
@@ -144,10 +144,11 @@ pub(crate) fn import_bytes(
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let buffers = load_buffers(&gltf, &base)?;
     let doc = &gltf.document;
-    let mut warnings = vec![];
+    // What is not read, named in one warning at the end.
+    let mut not_read = vec![];
     for ext in doc.extensions_used() {
         if !SUPPORTED_EXTENSIONS.contains(&ext) {
-            warnings.push(format!("extension {ext} is not read"));
+            not_read.push(format!("extension {ext}"));
         }
     }
     let mut mats = materials::Materials::new(doc, &buffers, &base, prefix, texel_budget);
@@ -175,8 +176,8 @@ pub(crate) fn import_bytes(
         }
     };
     if doc.scenes().len() > 1 {
-        warnings.push(format!(
-            "the file holds {} scenes; raystep reads the default one",
+        not_read.push(format!(
+            "scenes other than the default ({} in the file)",
             doc.scenes().len()
         ));
     }
@@ -301,11 +302,14 @@ pub(crate) fn import_bytes(
             stack.push((c, world, depth + 1));
         }
     }
-    skipped.warn(&mut warnings);
-    let (materials, textures) = mats.finish(&mut warnings);
+    skipped.name(&mut not_read);
+    let (materials, textures) = mats.finish(&mut not_read);
     out.materials = materials;
     out.textures = textures;
-    out.warnings = warnings;
+    if !not_read.is_empty() {
+        out.warnings
+            .push(format!("not read: {}", not_read.join("; ")));
+    }
     Ok(out)
 }
 
@@ -318,7 +322,7 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
 ];
 
-/// What the walk left out, counted, for one warning each.
+/// What the walk left out, counted, to be named in the file's warning.
 #[derive(Default)]
 struct Skipped {
     modes: Vec<String>,
@@ -330,10 +334,10 @@ struct Skipped {
 }
 
 impl Skipped {
-    fn warn(self, w: &mut Vec<String>) {
+    fn name(self, w: &mut Vec<String>) {
         if !self.modes.is_empty() {
             w.push(format!(
-                "primitives that are not triangles are not drawn: {}",
+                "primitives that are not triangles ({})",
                 self.modes.join(", ")
             ));
         }
@@ -359,7 +363,7 @@ impl Skipped {
         for (n, what, why) in counted {
             if n > 0 {
                 w.push(format!(
-                    "{n} {what}{} not read ({why})",
+                    "{n} {what}{} ({why})",
                     if n == 1 { "" } else { "s" }
                 ));
             }
