@@ -413,6 +413,15 @@ fn bad_gltf_files_name_the_json_path() {
         r#"{"asset": {"version": "2.0"}, "images": [{"bufferView": 0}], "bufferViews": [{"buffer": 0, "byteLength": 1}], "buffers": [{"byteLength": 1, "uri": "data:application/octet-stream;base64,AA=="}]}"#,
     );
     assert_eq!(e.field.as_deref(), Some("images[0].mimeType"), "{e}");
+    // A GLB whose header declares fewer bytes than the header itself (the fuzzer's find: the
+    // crate's subtraction overflowed).
+    let mut glb = b"glTF".to_vec();
+    glb.extend(2u32.to_le_bytes());
+    glb.extend(4u32.to_le_bytes());
+    glb.extend([0; 40]);
+    let (_d, r) = load_text("short.glb", &String::from_utf8(glb).unwrap());
+    let e = r.expect_err("a GLB of length 4");
+    assert!(e.message.contains("a length of 4 bytes"), "{e}");
     // An extension raystep cannot read, required.
     let e = gltf_fails(
         r#"{"asset": {"version": "2.0"}, "extensionsRequired": ["KHR_draco_mesh_compression"], "extensionsUsed": ["KHR_draco_mesh_compression"]}"#,

@@ -418,8 +418,19 @@ fn node_matrix(node: &gltf::Node) -> DMat4 {
 /// The file parsed and validated. gltf-json 1.4.1's validation indexes the accessors with a
 /// primitive's POSITION before it checks that index (a panic on a file whose POSITION names an
 /// accessor that does not exist), so raystep checks every attribute's index first, and the
-/// images' sources (below).
+/// images' sources (below); and a GLB's declared length.
 fn parse(bytes: &[u8]) -> Result<gltf::Gltf, GltfError> {
+    // The crate subtracts the 12-byte header from a GLB's declared length unchecked (an
+    // overflow where overflow checks are on, as in the debug build): found by the fuzzer.
+    if let Some(&[a, b, c, d]) = bytes.get(8..12)
+        && bytes.starts_with(b"glTF")
+        && u32::from_le_bytes([a, b, c, d]) < 12
+    {
+        return Err(GltfError::whole(format!(
+            "not a valid GLB file: its header gives a length of {} bytes, less than the header's own 12",
+            u32::from_le_bytes([a, b, c, d])
+        )));
+    }
     let unchecked = gltf::Gltf::from_slice_without_validation(bytes).map_err(parse_error)?;
     let json = unchecked.document.as_json();
     for (m, mesh) in json.meshes.iter().enumerate() {
