@@ -37,6 +37,16 @@ pub fn shorten_numbers(message: &str) -> String {
     out + rest
 }
 
+/// The SHA-256 of `bytes` in lower-case hex: how a saved trace names the scene file it came
+/// from.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    use sha2::{Digest, Sha256};
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::line_col;

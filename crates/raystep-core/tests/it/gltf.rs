@@ -47,6 +47,12 @@ fn the_table_reads_as_its_file_says() {
     let s = load("scenes/gltf/table.gltf");
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
     assert_eq!(s.settings.integrator, Integrator::Path);
+    // Named by the file's bytes (`sha256sum scenes/gltf/table.gltf`), not the text that
+    // includes it.
+    assert_eq!(
+        s.source_hash,
+        "13375f593336968c02e5e4bb107b8b8512de08cb7e70ae3d500e930f9de37773"
+    );
     // The camera node: at (0, 1.3, 2.6), turned −12° about x. Looking down −z turned by −12°
     // about x: (0, sin(−12°), −cos 12°) = (0, −0.2079117, −0.9781476). yfov 0.7 rad = 40.107°;
     // aspect 4/3 on the opening scene's 360 rows: 480 columns.

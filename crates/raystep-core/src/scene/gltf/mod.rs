@@ -94,6 +94,15 @@ pub(crate) struct GltfCamera {
     pub aspect: Option<f64>,
 }
 
+impl GltfCamera {
+    /// Whether a scene can look through it: a field of view strictly between 0° and 180°, and
+    /// an up direction not along the view.
+    pub(crate) fn usable(&self) -> bool {
+        let sideways = (self.at - self.from).cross(self.up).length();
+        self.fov > 0.0 && self.fov < 180.0 && sideways > 1e-9
+    }
+}
+
 /// What a glTF file gave, ready for the scene: every name is prefixed by the include's.
 #[derive(Debug, Clone)]
 pub(crate) struct Imported {
@@ -111,6 +120,9 @@ pub(crate) struct Imported {
     pub warnings: Vec<String>,
     /// The world-space box of every vertex (None: no triangles).
     pub bounds: Option<(DVec3, DVec3)>,
+    /// SHA-256 of the file's bytes (hex; empty from [`import_bytes`]), which names a glTF file
+    /// opened as a scene.
+    pub source_hash: String,
 }
 
 /// Reads a glTF file (`.gltf`, `.glb`): its buffers and images (embedded, `data:` URIs, or
@@ -129,7 +141,9 @@ pub(crate) fn import(
             format!("cannot read the glTF file {}: {e}", path.display())
         })
     })?;
-    import_bytes(&bytes, path, prefix, place, texel_budget)
+    let mut imported = import_bytes(&bytes, path, prefix, place, texel_budget)?;
+    imported.source_hash = crate::text::sha256_hex(&bytes);
+    Ok(imported)
 }
 
 /// [`import`] of a file's bytes (`path` names it and is where relative URIs start).
@@ -160,6 +174,7 @@ pub(crate) fn import_bytes(
         cameras: vec![],
         warnings: vec![],
         bounds: None,
+        source_hash: String::new(),
     };
     let node_names = unique_names(doc.nodes().map(|n| n.name()), "node");
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {

@@ -10,6 +10,8 @@ use glam::{DMat4, DQuat, DVec3};
 pub(super) struct Placed {
     pub(super) parts: Vec<Part>,
     pub(super) material_base: u32,
+    /// SHA-256 of the file's bytes.
+    pub(super) source_hash: String,
 }
 
 /// The parts of a scene [`Ctx::gltf_files`] adds to.
@@ -73,6 +75,7 @@ impl Ctx<'_> {
                 cameras,
                 warnings,
                 bounds,
+                source_hash,
             } = imported;
             add.warnings.extend(
                 warnings
@@ -132,12 +135,7 @@ impl Ctx<'_> {
             };
             for c in &cameras {
                 // The first of a name is the one `--camera` finds; a usable one only.
-                let sideways = (c.at - c.from).cross(c.up).length();
-                if c.fov > 0.0
-                    && c.fov < 180.0
-                    && sideways > 1e-9
-                    && !add.cameras.iter().any(|x| x.name == c.name)
-                {
+                if c.usable() && !add.cameras.iter().any(|x| x.name == c.name) {
                     add.cameras.push(NamedCamera {
                         name: c.name.clone(),
                         from: c.from.as_vec3(),
@@ -149,10 +147,7 @@ impl Ctx<'_> {
             }
             let opened = self.gltf_open && i == 0;
             if let Some(c) = chosen.or(if opened { cameras.first() } else { None }) {
-                let view = c.at - c.from;
-                let sideways = view.cross(c.up).length();
-                let usable = c.fov > 0.0 && c.fov < 180.0 && sideways > 1e-9;
-                if !usable {
+                if !c.usable() {
                     return Err(loc.err(
                         "camera",
                         format!("{}: camera \"{}\" cannot be used (field of view {}°, or its up is along its view)", path.display(), c.name, c.fov),
@@ -208,6 +203,7 @@ impl Ctx<'_> {
             out.push(Placed {
                 parts,
                 material_base,
+                source_hash,
             });
         }
         Ok(out)

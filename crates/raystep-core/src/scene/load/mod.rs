@@ -9,7 +9,6 @@ use super::limits::*;
 use super::model::*;
 use super::obj::{MeshShading, load_obj};
 use super::*;
-use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::Path;
@@ -104,12 +103,6 @@ fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
         message: format!("cannot open the glTF file: {e}"),
     })?;
     let mut scene = ctx.build(parsed, path.parent())?;
-    // The file's bytes name the scene (read once more: `build` has read it whole already).
-    if let Ok(bytes) = crate::io::read_input(path, crate::scene::gltf::MAX_GLTF_BYTES, "glTF file")
-    {
-        let hash = Sha256::digest(&bytes);
-        scene.source_hash = hash.iter().map(|b| format!("{b:02x}")).collect();
-    }
     scene.path = Some(path.to_path_buf());
     Ok(scene)
 }
@@ -368,6 +361,11 @@ impl<'a> Ctx<'a> {
             },
         )?;
         let gltf_parts: usize = placed.iter().map(|p| p.parts.len()).sum();
+        // A glTF file opened alone is named by its bytes, not by the text that includes it.
+        let opened_hash = placed
+            .first()
+            .filter(|_| self.gltf_open)
+            .map(|p| p.source_hash.clone());
         let mut placed = placed.into_iter();
         let mut default_material = None;
         let mut material = |loc: &Loc, name: &Option<String>| -> Result<u32, SceneError> {
@@ -663,11 +661,11 @@ impl<'a> Ctx<'a> {
                 .file_name()
                 .map_or(self.file.to_string(), |n| n.to_string_lossy().into_owned())
         });
-        let hash = Sha256::digest(self.text.as_bytes());
         Ok(Scene {
             name,
             path: None,
-            source_hash: hash.iter().map(|b| format!("{b:02x}")).collect(),
+            source_hash: opened_hash
+                .unwrap_or_else(|| crate::text::sha256_hex(self.text.as_bytes())),
             camera,
             settings,
             lights,
