@@ -322,6 +322,7 @@ fn node_step(p: &mut Payload) -> Result<Step, String> {
         leaf,
         children: (!leaf).then_some([first, first.wrapping_add(1)]),
         action,
+        instance: None,
     }))
 }
 
@@ -598,6 +599,7 @@ pub fn decode(
                         Some(Shape::Triangle { .. })
                     )
                     .then_some([u, v]),
+                    instance: None,
                 });
             }
             tag::PIXEL => {

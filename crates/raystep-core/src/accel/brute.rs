@@ -15,7 +15,7 @@ impl Accelerator for BruteForce {
     fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
         let mut best = None;
-        for id in 0..scene.objects.len() as u32 {
+        for id in 0..scene.world_objects {
             if let Some(h) = test_object(scene, id, &r, obs) {
                 accept(scene, &h, r.t_max, obs);
                 r.t_max = h.t;
@@ -27,7 +27,7 @@ impl Accelerator for BruteForce {
 
     #[inline]
     fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
-        for id in 0..scene.objects.len() as u32 {
+        for id in 0..scene.world_objects {
             if let Some(h) = test_object(scene, id, ray, obs) {
                 accept(scene, &h, ray.t_max, obs);
                 return Some(h);

@@ -85,7 +85,7 @@ impl Grid {
     pub fn build_with_lambda(scene: &Scene, lambda: f32) -> Grid {
         let mut outside = vec![];
         let mut boxes = vec![];
-        for (id, o) in scene.objects.iter().enumerate() {
+        for (id, o) in scene.world().iter().enumerate() {
             match shape_bounds(&o.shape) {
                 Some(b) => boxes.push((id as u32, b)),
                 None => outside.push(id as u32),

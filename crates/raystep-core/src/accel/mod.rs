@@ -9,11 +9,13 @@ mod brute;
 pub mod bvh;
 pub mod grid;
 pub mod spheres;
+pub mod two_level;
 
 pub use brute::BruteForce;
 pub use bvh::Bvh;
 pub use grid::Grid;
 pub use spheres::SphereTree;
+pub use two_level::TwoLevel;
 
 use crate::math::Ray;
 use crate::platform::{Duration, Instant};
@@ -33,6 +35,9 @@ pub struct Hit {
     pub u: f32,
     /// Barycentric v (weight of P2) for triangles, 0 otherwise.
     pub v: f32,
+    /// The instance the object was met through ([`crate::scene::Scene::instances`]), or
+    /// [`crate::scene::NO_INSTANCE`]: `object` is then a prototype's, in object space.
+    pub instance: u32,
 }
 
 /// Something that finds hits along a ray.
@@ -115,6 +120,7 @@ pub fn test_shape<O: Observer>(
                 t,
                 u: 0.0,
                 v: 0.0,
+                instance: crate::scene::NO_INSTANCE,
             })
         }
         Shape::Plane { normal, offset } => {
@@ -129,6 +135,7 @@ pub fn test_shape<O: Observer>(
                 t,
                 u: 0.0,
                 v: 0.0,
+                instance: crate::scene::NO_INSTANCE,
             })
         }
         Shape::AxisPlane { axis, offset } => {
@@ -143,6 +150,7 @@ pub fn test_shape<O: Observer>(
                 t,
                 u: 0.0,
                 v: 0.0,
+                instance: crate::scene::NO_INSTANCE,
             })
         }
         Shape::Triangle { p } => {
@@ -156,6 +164,7 @@ pub fn test_shape<O: Observer>(
                 t,
                 u: test.u.unwrap_or(0.0),
                 v: test.v.unwrap_or(0.0),
+                instance: crate::scene::NO_INSTANCE,
             })
         }
     }
@@ -339,6 +348,9 @@ pub enum SceneAccel {
     Spheres(Box<SphereTree>),
     /// A uniform grid.
     Grid(Box<Grid>),
+    /// The world's own accelerator (one of the above) with a TLAS over the scene's instances
+    /// and a BLAS per prototype.
+    TwoLevel(Box<TwoLevel>),
 }
 
 impl SceneAccel {
@@ -346,7 +358,13 @@ impl SceneAccel {
     pub fn resolve(scene: &Scene) -> AccelChoice {
         match scene.settings.accel {
             AccelChoice::Auto => {
-                let finite = scene.features.primitives - scene.features.planes;
+                // The world's own objects (instances have their two-level tree whatever this
+                // chooses).
+                let finite = scene
+                    .world()
+                    .iter()
+                    .filter(|o| !o.shape.is_infinite())
+                    .count();
                 if finite >= AUTO_BVH_THRESHOLD {
                     AccelChoice::Bvh
                 } else {
@@ -366,6 +384,11 @@ impl SceneAccel {
             AccelChoice::Grid => SceneAccel::Grid(Box::new(Grid::build(scene))),
             AccelChoice::None | AccelChoice::Auto => SceneAccel::Brute(BruteForce),
         };
+        let accel = if scene.instances.is_empty() {
+            accel
+        } else {
+            SceneAccel::TwoLevel(Box::new(TwoLevel::build(scene, accel)))
+        };
         (accel, start.elapsed())
     }
 }
@@ -379,6 +402,7 @@ impl SceneAccel {
             SceneAccel::Bvh(b) => b.memory(),
             SceneAccel::Spheres(s) => s.memory(),
             SceneAccel::Grid(g) => g.memory(),
+            SceneAccel::TwoLevel(t) => t.memory(),
         }
     }
 }
@@ -391,6 +415,7 @@ impl Accelerator for SceneAccel {
             SceneAccel::Bvh(b) => b.closest(scene, ray, obs),
             SceneAccel::Spheres(s) => s.closest(scene, ray, obs),
             SceneAccel::Grid(g) => g.closest(scene, ray, obs),
+            SceneAccel::TwoLevel(t) => t.closest(scene, ray, obs),
         }
     }
     #[inline]
@@ -400,6 +425,7 @@ impl Accelerator for SceneAccel {
             SceneAccel::Bvh(b) => b.any(scene, ray, obs),
             SceneAccel::Spheres(s) => s.any(scene, ray, obs),
             SceneAccel::Grid(g) => g.any(scene, ray, obs),
+            SceneAccel::TwoLevel(t) => t.any(scene, ray, obs),
         }
     }
     fn name(&self) -> &'static str {
@@ -408,17 +434,20 @@ impl Accelerator for SceneAccel {
             SceneAccel::Bvh(b) => b.name(),
             SceneAccel::Spheres(s) => s.name(),
             SceneAccel::Grid(g) => g.name(),
+            SceneAccel::TwoLevel(t) => t.name(),
         }
     }
     fn outline(&self, depth: u32) -> Option<Vec<crate::record::OutlineNode>> {
         match self {
             SceneAccel::Brute(_) | SceneAccel::Spheres(_) | SceneAccel::Grid(_) => None,
             SceneAccel::Bvh(b) => b.outline(depth),
+            SceneAccel::TwoLevel(t) => t.outline(depth),
         }
     }
     fn grid_outline(&self) -> Option<crate::record::GridOutline> {
         match self {
             SceneAccel::Grid(g) => g.grid_outline(),
+            SceneAccel::TwoLevel(t) => t.world.grid_outline(),
             _ => None,
         }
     }

@@ -115,6 +115,54 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
                 )
             }
         }
+        Step::TlasNode(n) => format!(
+            "TLAS node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
+            n.node,
+            n.depth,
+            if n.leaf { ", leaf of instances" } else { "" },
+            num(n.test.t_near),
+            num(n.test.t_far),
+            match n.action {
+                crate::record::NodeAction::TestPrimitives => "hit: enter its instances",
+                a => words::node_action(a, kind),
+            }
+        ),
+        Step::Instance {
+            name,
+            prototype,
+            origin,
+            direction,
+            ..
+        } => format!(
+            "into the object space of instance \"{name}\" ({prototype}): S′ = M⁻¹·S = {}, Q′ = M⁻¹·Q = {} → walk {prototype}'s BLAS",
+            v3(*origin),
+            v3(*direction)
+        ),
+        Step::InstanceHit {
+            name,
+            point,
+            normal,
+            world_point,
+            world_normal,
+            wrong_normal,
+            ..
+        } => format!(
+            "hit carried back from instance \"{name}\": P = M·P′ = M·{} = {}; n = M⁻ᵀ·n′ = M⁻ᵀ·{} → {} (M·n′ would give {})",
+            v3(*point),
+            v3(*world_point),
+            v3(*normal),
+            v3(*world_normal),
+            v3(*wrong_normal)
+        ),
+        Step::Node(n) if n.instance.is_some() => format!(
+            "BLAS node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
+            n.node,
+            n.depth,
+            if n.leaf { ", leaf" } else { "" },
+            num(n.test.t_near),
+            num(n.test.t_far),
+            words::node_action(n.action, kind)
+        ),
         Step::Node(n) => format!(
             "BVH node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
             n.node,

@@ -60,6 +60,10 @@ pub struct NodeVisit {
     pub children: Option<[u32; 2]>,
     /// What the traversal did with the node.
     pub action: NodeAction,
+    /// The instance whose bottom-level BVH (its prototype's tree, in object space) this node
+    /// belongs to; `None` for the world's own BVH.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instance: Option<u32>,
 }
 
 /// What the traversal did with a node after testing its box. Siblings are recorded in the order
@@ -608,6 +612,60 @@ pub enum Step {
         #[serde(with = "crate::jsonf")]
         throughput: [f32; 3],
     },
+    /// A node of the top-level BVH, the tree over the instances' world-space boxes: its box
+    /// tested with the world ray (a leaf's instances are entered next).
+    TlasNode(NodeVisit),
+    /// The ray carried into an instance's object space by its inverse matrix M⁻¹, before the
+    /// prototype's bottom-level BVH is walked: origin S′ = M⁻¹S (a point), direction
+    /// Q′ = M⁻¹Q (a vector, not renormalised, so that t means the same point in both spaces).
+    Instance {
+        /// Index into the scene's instances.
+        instance: u32,
+        /// The instance's name.
+        name: String,
+        /// The prototype's name (the mesh, triangle or sphere it places).
+        prototype: String,
+        /// M⁻¹, 3 × 4 by rows.
+        #[serde(with = "crate::jsonf")]
+        to_object: [[f32; 4]; 3],
+        /// S′, the origin in object space.
+        #[serde(with = "crate::jsonf")]
+        origin: [f32; 3],
+        /// Q′, the direction in object space.
+        #[serde(with = "crate::jsonf")]
+        direction: [f32; 3],
+    },
+    /// The closest hit lies on an instance: found in object space, carried back to the world —
+    /// the point by M, the normal by the inverse transpose M⁻ᵀ (a normal must stay
+    /// perpendicular to the carried surface; under a non-uniform scale M itself would tilt it).
+    InstanceHit {
+        /// Index into the scene's instances.
+        instance: u32,
+        /// The instance's name.
+        name: String,
+        /// M, 3 × 4 by rows.
+        #[serde(with = "crate::jsonf")]
+        to_world: [[f32; 4]; 3],
+        /// M⁻¹, 3 × 4 by rows (its transpose carries the normal).
+        #[serde(with = "crate::jsonf")]
+        to_object: [[f32; 4]; 3],
+        /// The hit point in object space.
+        #[serde(with = "crate::jsonf")]
+        point: [f32; 3],
+        /// The unit normal in object space (facing the object-space ray).
+        #[serde(with = "crate::jsonf")]
+        normal: [f32; 3],
+        /// M·point.
+        #[serde(with = "crate::jsonf")]
+        world_point: [f32; 3],
+        /// M⁻ᵀ·normal, renormalised.
+        #[serde(with = "crate::jsonf")]
+        world_normal: [f32; 3],
+        /// M·normal, renormalised: what the classic mistake computes (shown beside the right
+        /// answer; nothing uses it).
+        #[serde(with = "crate::jsonf")]
+        wrong_normal: [f32; 3],
+    },
     /// A child ray was traced here: index into the ray's `children`.
     Spawn {
         /// Index into `children`.
@@ -627,6 +685,8 @@ impl Step {
         match self {
             Step::Camera { .. } | Step::Lens { .. } => Stage::RayGeneration,
             Step::Node(_)
+            | Step::TlasNode(_)
+            | Step::Instance { .. }
             | Step::SphereNode { .. }
             | Step::Cell { .. }
             | Step::MailboxSkip { .. }

@@ -29,6 +29,10 @@ pub struct HitRecord {
     /// Triangle barycentric u, v (weights of P1 and P2).
     #[serde(with = "crate::jsonf")]
     pub uv: Option<[f32; 2]>,
+    /// The instance the object was met through (`object` is then a prototype's, in object
+    /// space); absent for an object of the world.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub instance: Option<u32>,
 }
 
 /// One ray of the trace tree.
@@ -83,6 +87,10 @@ pub struct TraceObject {
     pub transparency: f32,
     /// Index of refraction.
     pub refractive_index: f32,
+    /// Whether it is a prototype's object, whose `shape` lies in its object space (instances
+    /// place it in the world): diagrams of world space leave it out.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub prototype: bool,
 }
 
 /// One node of the top of a BVH.

@@ -499,6 +499,23 @@ impl<'a> Walk<'a> {
         })
     }
 
+    /// A node's depth bound and children, without the world tree's numbering.
+    fn shape_of(&mut self, at: &str, v: &NodeVisit) -> Check {
+        if v.depth > MAX_BVH_DEPTH {
+            return bad(
+                format!("{at}.depth"),
+                format!("must be at most {MAX_BVH_DEPTH}, got {}", v.depth),
+            );
+        }
+        if v.leaf != v.children.is_none() {
+            return bad(
+                format!("{at}.children"),
+                "a leaf has no children and an inner node has two",
+            );
+        }
+        Ok(())
+    }
+
     fn visit(&mut self, at: &str, v: &NodeVisit) -> Check {
         self.node(at, v.node, v.depth, v.children, v.leaf)
     }
@@ -525,6 +542,10 @@ impl<'a> Walk<'a> {
                 );
             }
             match &s.step {
+                // A BLAS's nodes (of a prototype's tree, numbered in it) and the TLAS's are
+                // checked for shape; the world tree's numbering does not apply to them.
+                Step::Node(v) if v.instance.is_some() => self.shape_of(&sat, v)?,
+                Step::TlasNode(v) => self.shape_of(&sat, v)?,
                 Step::Node(_) if self.trace.grid.is_some() => {
                     return bad(
                         sat,

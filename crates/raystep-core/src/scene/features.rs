@@ -31,6 +31,9 @@ pub struct Features {
     /// Primitives whose material emits: the Monte Carlo integrators' area lights.
     #[serde(default)]
     pub emitters: usize,
+    /// Instances (`[[instance]]`): placed copies of prototypes, traced by the two-level BVH.
+    #[serde(default)]
+    pub instances: usize,
 }
 
 impl Features {

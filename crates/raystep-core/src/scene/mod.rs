@@ -6,6 +6,7 @@ pub mod camera;
 pub mod edit;
 mod features;
 mod gltf;
+pub mod instance;
 mod limits;
 mod load;
 pub mod mitsuba;
@@ -17,6 +18,7 @@ pub mod texture;
 pub use crate::shapes::Shape;
 pub use features::Features;
 pub use gltf::{GltfError, MAX_GLTF_BYTES};
+pub use instance::{Affine, Instance, NO_INSTANCE, Prototype};
 pub use limits::{MAX_COORD, MAX_MAGNITUDE, MAX_OBJECTS, MAX_VERTEX};
 pub use load::{LocatedError, SceneError, is_gltf, load_file, load_str};
 pub use model::SceneFile;
@@ -561,6 +563,14 @@ pub struct Scene {
     /// What loading left out or added, one line each (a glTF file's unread features, a
     /// framed view or a headlight): printed by the commands, shown by the app.
     pub warnings: Vec<String>,
+    /// The placed copies of prototypes (`[[instance]]`), traced through the two-level BVH
+    /// ([`crate::accel::TwoLevel`]).
+    pub instances: Vec<Instance>,
+    /// The groups that instances place, each with its object-space box (one BLAS each).
+    pub prototypes: Vec<Prototype>,
+    /// How many of [`Scene::objects`] lie in the world: the first `world_objects`. The
+    /// prototypes' objects follow, in their own object space, reached only through instances.
+    pub world_objects: u32,
 }
 
 impl Scene {
@@ -621,6 +631,50 @@ impl Scene {
         self.camera.up = c.up;
         self.camera.fov = c.fov;
         Ok(())
+    }
+    /// The world's own objects (not the prototypes').
+    #[inline(always)]
+    pub fn world(&self) -> &[Object] {
+        self.objects
+            .get(..self.world_objects as usize)
+            .unwrap_or(&self.objects)
+    }
+    /// Every object as it stands in the world, for drawing: the world's own objects (with their
+    /// ids), then each instance's copies of its prototype's objects (with the prototype
+    /// object's id), carried by the instance's matrix ([`Instance::place`]).
+    pub fn placed(&self) -> impl Iterator<Item = (u32, Object)> + '_ {
+        let world = self
+            .world()
+            .iter()
+            .enumerate()
+            .map(|(id, o)| (id as u32, *o));
+        let copies = self.instances.iter().flat_map(move |inst| {
+            let g = &self.groups[inst.group as usize];
+            (g.first..g.first + g.count).filter_map(move |id| {
+                let o = self.objects.get(id as usize)?;
+                Some((
+                    id,
+                    Object {
+                        shape: inst.place(&o.shape),
+                        ..*o
+                    },
+                ))
+            })
+        });
+        world.chain(copies)
+    }
+    /// The instance a hit lies on, if it lies on one.
+    #[inline(always)]
+    pub fn instance_of(&self, hit: &crate::accel::Hit) -> Option<&Instance> {
+        self.instances.get(hit.instance as usize)
+    }
+    /// The readable name of what a hit lies on: [`Scene::object_name`], after the instance's
+    /// name and an arrow for an instanced object (`tree 3 → trunk[12]`).
+    pub fn hit_name(&self, hit: &crate::accel::Hit) -> String {
+        match self.instance_of(hit) {
+            Some(i) => format!("{} → {}", i.name, self.object_name(hit.object)),
+            None => self.object_name(hit.object),
+        }
     }
     /// Finds the objects of the group called `name`.
     pub fn find_group(&self, name: &str) -> Option<&Group> {

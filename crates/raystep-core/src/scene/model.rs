@@ -40,6 +40,9 @@ pub struct SceneFile {
     /// `[[gltf]]`.
     #[serde(default)]
     pub gltf: Vec<Spanned<GltfDef>>,
+    /// `[[instance]]`.
+    #[serde(default)]
+    pub instance: Vec<Spanned<InstanceDef>>,
 }
 
 /// `[camera]`.
@@ -319,6 +322,34 @@ pub struct TextureDef {
     pub wrap: Option<String>,
 }
 
+/// `[[instance]]`: the mesh, triangle or sphere called `of`, placed by `scale` (one number, or
+/// one per axis), then `rotate` (degrees about x, then y, then z), then `translate` — or by a
+/// `matrix` of 3 or 4 rows of 4 numbers (the fourth row must be 0, 0, 0, 1), not both. An object
+/// that an instance names is a prototype: it is drawn only where its instances place it.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+#[allow(missing_docs)]
+pub struct InstanceDef {
+    pub name: Option<String>,
+    pub of: String,
+    #[serde(default, deserialize_with = "exact::opt_vec3")]
+    pub translate: Option<[f64; 3]>,
+    #[serde(default, deserialize_with = "exact::opt_vec3")]
+    pub rotate: Option<[f64; 3]>,
+    pub scale: Option<InstanceScale>,
+    #[serde(default, deserialize_with = "exact::opt_matrix")]
+    pub matrix: Option<[[f64; 4]; 4]>,
+}
+
+/// `[[instance]] scale`: one number for every axis, or one per axis.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+#[allow(missing_docs)]
+pub enum InstanceScale {
+    Uniform(f64),
+    PerAxis([f64; 3]),
+}
+
 fn one() -> f64 {
     1.0
 }
@@ -387,6 +418,28 @@ mod exact {
         let mut out = [[0.0; 3]; 2];
         for (k, (p, o)) in v.into_iter().zip(out.iter_mut()).enumerate() {
             *o = three(p, &format!("3 numbers [r, g, b] in colour {}", k + 1))?;
+        }
+        Ok(Some(out))
+    }
+
+    /// Three or four rows of exactly four numbers, when present (three rows get 0, 0, 0, 1).
+    pub fn opt_matrix<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[[f64; 4]; 4]>, D::Error> {
+        let v = Vec::<Vec<f64>>::deserialize(d)?;
+        if !(3..=4).contains(&v.len()) {
+            return Err(D::Error::custom(format!(
+                "expected 3 or 4 rows [[a, b, c, d], …], found {} rows",
+                v.len()
+            )));
+        }
+        let mut out = [[0.0, 0.0, 0.0, 1.0]; 4];
+        for (k, (p, o)) in v.into_iter().zip(out.iter_mut()).enumerate() {
+            *o = <[f64; 4]>::try_from(p.as_slice()).map_err(|_| {
+                D::Error::custom(format!(
+                    "expected 4 numbers in row {}, found {} values",
+                    k + 1,
+                    p.len()
+                ))
+            })?;
         }
         Ok(Some(out))
     }

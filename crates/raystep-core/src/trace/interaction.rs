@@ -43,6 +43,11 @@ pub struct Interaction {
     /// t·|Q| (a ray cone's width here is the camera's spread times it). Set by the tracer's
     /// `surface` in a scene with textures (0 in one without: nothing reads it there).
     pub distance: f32,
+    /// The point in the object's own space: `point`, except on an instance, where it is the
+    /// point before M carried it to the world (a texture sticks to the object by it).
+    pub object_point: Vec3,
+    /// The normal (facing the ray) in the object's own space: `normal`, except on an instance.
+    pub object_normal: Vec3,
 }
 
 /// Computes the interaction at `hit`. Each shape computes the point from its own parametrization
@@ -50,8 +55,63 @@ pub struct Interaction {
 /// sphere — re-projected onto the sphere, bound γ₅|P − G| + γ₂|P|; triangle — from barycentrics,
 /// bound γ₇ Σ|bᵢPᵢ|; axis-aligned plane — the coordinate snapped exactly (zero error on that axis);
 /// general plane — re-projected, bound γ₇(|P| + |P·n||n| + |c||n|).
+///
+/// On an instance ([`Hit::instance`]) the interaction is computed in the prototype's object
+/// space, with the ray carried there by M⁻¹ as the traversal carried it, then taken back by
+/// [`to_world`].
 #[inline(always)]
 pub fn interact(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
+    match scene.instance_of(hit) {
+        None => interact_local(scene, hit, ray),
+        Some(inst) => to_world(
+            inst,
+            &interact_local(scene, hit, &inst.to_object.ray(ray)),
+            ray,
+        ),
+    }
+}
+
+/// An object-space interaction carried to the world by instance `inst`: points (the hit and
+/// the lifted point) by M with their error bounds carried too (as pbrt-v4 transforms a `Point3fi`), normals by the
+/// inverse transpose M⁻ᵀ and renormalised, the eye direction from the world ray.
+#[inline(always)]
+pub fn to_world(inst: &crate::scene::Instance, it: &Interaction, ray: &Ray<f32>) -> Interaction {
+    let m = &inst.to_world;
+    let normal = |n: Vec3| {
+        let w = inst.to_object.transpose_vector(n);
+        let len = w.length();
+        if len.is_normal() { w / len } else { n }
+    };
+    let point = m.point(it.point);
+    let error = m.point_error(it.point, it.error);
+    let (lifted, lifted_error) = if it.lifted == it.point {
+        (point, error)
+    } else {
+        (
+            m.point(it.lifted),
+            m.point_error(it.lifted, it.lifted_error),
+        )
+    };
+    Interaction {
+        point,
+        normal: normal(it.normal),
+        eye: -ray.dir / ray.dir.length(),
+        inside: it.inside,
+        error,
+        shading_normal: normal(it.shading_normal),
+        lifted,
+        lifted_error,
+        texel: it.texel,
+        roughness: it.roughness,
+        distance: it.distance,
+        object_point: it.point,
+        object_normal: it.normal,
+    }
+}
+
+/// [`interact`] in the hit object's own space (the world's, for an object not instanced).
+#[inline(always)]
+fn interact_local(scene: &Scene, hit: &Hit, ray: &Ray<f32>) -> Interaction {
     let shape = &scene.objects[hit.object as usize].shape;
     let mut it = interact_shape(shape, hit, ray);
     if let Some(n) = scene.vertex_normals_of(hit.object) {
@@ -172,6 +232,8 @@ pub fn interact_shape(shape: &Shape, hit: &Hit, ray: &Ray<f32>) -> Interaction {
         texel: None,
         roughness: None,
         distance: 0.0,
+        object_point: point,
+        object_normal: if inside { -outward } else { outward },
     }
 }
 

@@ -111,6 +111,10 @@ impl PreparedScene {
     pub fn bvh(&self) -> Option<&Bvh> {
         match self.accel.as_ref() {
             SceneAccel::Bvh(b) => Some(b),
+            SceneAccel::TwoLevel(t) => match &t.world {
+                SceneAccel::Bvh(b) => Some(b),
+                _ => None,
+            },
             SceneAccel::Brute(_) | SceneAccel::Spheres(_) | SceneAccel::Grid(_) => None,
         }
     }

@@ -110,7 +110,11 @@ pub fn tex_coords(scene: &Scene, hit: &Hit, it: &Interaction) -> TexCoords {
             }
         }
         Shape::Sphere { .. } => {
-            let d = if it.inside { -it.normal } else { it.normal };
+            let d = if it.inside {
+                -it.object_normal
+            } else {
+                it.object_normal
+            };
             c.mapping = UvMapping::Sphere;
             c.direction = Some(d);
             c.uv = [
@@ -122,13 +126,13 @@ pub fn tex_coords(scene: &Scene, hit: &Hit, it: &Interaction) -> TexCoords {
             let (i, j) = axis_plane_coords(axis);
             c.mapping = UvMapping::Plane;
             c.axes = texture_axes(shape);
-            c.uv = [it.point[i], it.point[j]];
+            c.uv = [it.object_point[i], it.object_point[j]];
         }
         Shape::Plane { .. } => {
             let a = texture_axes(shape).unwrap_or([Vec3::X, Vec3::Z]);
             c.mapping = UvMapping::Plane;
             c.axes = Some(a);
-            c.uv = [it.point.dot(a[0]), it.point.dot(a[1])];
+            c.uv = [it.object_point.dot(a[0]), it.object_point.dot(a[1])];
         }
     }
     c

@@ -185,9 +185,10 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             );
             HitRecord {
                 object: h.object,
-                name: self.scene.object_name(h.object),
+                name: self.scene.hit_name(&h),
                 t: h.t,
                 uv: tri.then_some([h.u, h.v]),
+                instance: (h.instance != crate::scene::NO_INSTANCE).then_some(h.instance),
             }
         })
     }
@@ -234,6 +235,22 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
         if self.scene.features.textured > 0 {
             it.distance = travelled + hit.t * ray.dir.length();
         }
+        if let Some(inst) = self.scene.instance_of(hit) {
+            obs.step(|| {
+                let wrong = inst.to_world.vector(it.object_normal);
+                Step::InstanceHit {
+                    instance: hit.instance,
+                    name: inst.name.clone(),
+                    to_world: inst.to_world.0,
+                    to_object: inst.to_object.0,
+                    point: it.object_point.to_array(),
+                    normal: it.object_normal.to_array(),
+                    world_point: it.point.to_array(),
+                    world_normal: it.normal.to_array(),
+                    wrong_normal: (wrong / wrong.length()).to_array(),
+                }
+            });
+        }
         obs.step(|| Step::Surface {
             point: it.point.to_array(),
             normal: it.normal.to_array(),
@@ -242,12 +259,23 @@ impl<'s, A: Accelerator> Tracer<'s, A> {
             over_point: spawn_origin(s.offset, s.epsilon, &it, it.normal).to_array(),
         });
         if let Some(n) = self.scene.vertex_normals_of(hit.object) {
+            // On an instance, the blend of the vertex normals in object space, as the
+            // interaction computed it before M⁻ᵀ carried it out.
+            let (shading, geometric) = if hit.instance == crate::scene::NO_INSTANCE {
+                (it.shading_normal, it.normal)
+            } else {
+                let g = it.object_normal;
+                (
+                    super::interaction::interpolate_normal(n, hit.u, hit.v, g),
+                    g,
+                )
+            };
             obs.step(|| Step::ShadingNormal {
                 vertex_normals: n.map(|v| v.to_array()),
                 u: hit.u,
                 v: hit.v,
-                normal: it.shading_normal.to_array(),
-                angle_deg: super::interaction::angle_deg(it.shading_normal, it.normal),
+                normal: shading.to_array(),
+                angle_deg: super::interaction::angle_deg(shading, geometric),
                 lifted: (s.terminator == crate::scene::Terminator::Hanika)
                     .then(|| it.lifted.to_array()),
             });
@@ -316,6 +344,7 @@ pub fn referenced_objects(scene: &Scene, root: &RayRecord) -> Vec<TraceObject> {
                 reflective: m.reflective,
                 transparency: m.transparency,
                 refractive_index: m.refractive_index,
+                prototype: id >= scene.world_objects,
             }
         })
         .collect()

@@ -16,6 +16,7 @@ mod common {
 mod bvh;
 mod formula;
 mod gltf;
+mod instances;
 mod mipmap;
 mod properties;
 mod render_bands;

@@ -37,6 +37,7 @@ fn hand_hit(x: f32, y: f32) -> (Ray<f32>, Hit) {
         t: 5.0,
         u: x,
         v: y,
+        instance: raystep_core::scene::NO_INSTANCE,
     };
     (ray, hit)
 }

@@ -197,6 +197,7 @@ fn sphere_coordinates_are_longitude_and_latitude() {
             t: 4.0,
             u: 0.0,
             v: 0.0,
+            instance: raystep_core::scene::NO_INSTANCE,
         };
         let it = interact(&scene, &hit, &ray);
         let c = tex_coords(&scene, &hit, &it);

@@ -434,7 +434,15 @@ fn rays_row<T: Real>(
 
 /// The renderer's default kernel for a shape (stable sphere, watertight triangle), f32.
 fn test_shape(shape: &Shape, ray: &Ray<f32>) -> Option<Hit> {
-    let hit = |t: Option<f32>, u: f32, v: f32| t.map(|t| Hit { object: 0, t, u, v });
+    let hit = |t: Option<f32>, u: f32, v: f32| {
+        t.map(|t| Hit {
+            object: 0,
+            t,
+            u,
+            v,
+            instance: raystep_core::scene::NO_INSTANCE,
+        })
+    };
     match *shape {
         Shape::Sphere { center, radius } => hit(sphere::stable(ray, center, radius).t, 0.0, 0.0),
         Shape::Plane { normal, offset } => hit(plane::general(ray, normal, offset).t, 0.0, 0.0),

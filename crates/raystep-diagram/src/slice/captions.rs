@@ -10,6 +10,24 @@ pub(super) fn step_caption(ray: &RayRecord, step: &Step) -> String {
         |t: Option<f32>| t.map_or("miss".to_string(), |t| format!("hit at t = {}", label(t)));
     match step {
         Step::Camera { .. } => "camera: the primary ray from the eye through the pixel".into(),
+        Step::TlasNode(n) => format!(
+            "{kind} ray: TLAS node {} (depth {}): {}",
+            n.node,
+            n.depth,
+            words::node_action(n.action, ray.kind)
+        ),
+        Step::Instance {
+            name, prototype, ..
+        } => format!("{kind} ray: into the object space of \"{name}\" (a {prototype})"),
+        Step::InstanceHit { name, .. } => {
+            format!("{kind} ray: the hit on \"{name}\" carried back to the world")
+        }
+        Step::Node(n) if n.instance.is_some() => format!(
+            "{kind} ray: BLAS node {} (depth {}): {}",
+            n.node,
+            n.depth,
+            words::node_action(n.action, ray.kind)
+        ),
         Step::Node(n) => format!(
             "{kind} ray: BVH node {} (depth {}): {}",
             n.node,

@@ -24,7 +24,11 @@ const OUTLINE_DEPTH: u32 = 6;
 /// obvhs's `builder::build_bvh2` step for step (PLOC, reinsertion, leaf collapse, reinsertion),
 /// with raystep's clock: obvhs times its build with `std::time::Instant`, which panics in a
 /// browser (see `platform`). `core` gains the time the steps took.
-fn build_bvh2<T: Boundable>(primitives: &[T], config: BvhBuildParams, core: &mut Duration) -> Bvh2 {
+pub(super) fn build_bvh2<T: Boundable>(
+    primitives: &[T],
+    config: BvhBuildParams,
+    core: &mut Duration,
+) -> Bvh2 {
     let start = Instant::now();
     let mut bvh2 = PlocBuilder::with_capacity(primitives.len()).build(
         config.ploc_search_distance,
@@ -52,7 +56,7 @@ fn build_bvh2<T: Boundable>(primitives: &[T], config: BvhBuildParams, core: &mut
 }
 
 #[derive(Clone, Copy)]
-struct PrimBox(Aabb);
+pub(super) struct PrimBox(pub(super) Aabb);
 
 impl Boundable for PrimBox {
     fn aabb(&self) -> Aabb {
@@ -87,7 +91,7 @@ const EMPTY_SHAPE: Shape = Shape::Sphere {
 };
 
 /// obvhs's preset for a build quality.
-fn build_params(quality: BvhQuality) -> BvhBuildParams {
+pub(super) fn build_params(quality: BvhQuality) -> BvhBuildParams {
     match quality {
         BvhQuality::Low => BvhBuildParams::very_fast_build(),
         BvhQuality::Medium => BvhBuildParams::medium_build(),
@@ -100,21 +104,29 @@ impl Bvh {
     /// [`BvhQuality`]. Objects whose boxes share a centre end in one leaf (see `Coincident`),
     /// and no node lies deeper than [`MAX_BVH_DEPTH`], the depth a trace may record.
     pub fn build(scene: &Scene) -> Bvh {
+        Bvh::build_over(scene, 0..scene.world().len())
+    }
+
+    /// [`Bvh::build`] over the objects `range` of the scene's list only: a prototype's, for the
+    /// bottom-level BVH of its instances ([`crate::accel::TwoLevel`]). Its leaves name the
+    /// objects by their ids in the scene.
+    pub fn build_over(scene: &Scene, range: std::ops::Range<usize>) -> Bvh {
         let start = Instant::now();
+        let objects = scene.objects.get(range.clone()).unwrap_or_default();
+        let base = range.start as u32;
         // Boxes, the tree's layout and the leaf-ordered shapes are computed in parallel on big
         // scenes (on a million triangles these steps took 100 ms of a 520 ms build serially);
         // the result does not depend on the thread count. A plane gets an empty box here, and
         // only a scene with planes pays for a second pass that leaves them out.
-        let all = map_in_order(&scene.objects, |o| match shape_bounds(&o.shape) {
+        let all = map_in_order(objects, |o| match shape_bounds(&o.shape) {
             Some((lo, hi)) => PrimBox(Aabb::new(Vec3A::from(lo), Vec3A::from(hi))),
             None => PrimBox(Aabb::INVALID),
         });
-        let planes: Vec<u32> = scene
-            .objects
+        let planes: Vec<u32> = objects
             .iter()
             .enumerate()
             .filter(|(_, o)| shape_bounds(&o.shape).is_none())
-            .map(|(id, _)| id as u32)
+            .map(|(id, _)| base + id as u32)
             .collect();
         // (the finite objects' ids, in the order obvhs sees them, when that is not 0, 1, 2, …)
         let (boxes, finite) = if planes.is_empty() {
@@ -122,10 +134,10 @@ impl Bvh {
         } else {
             let (finite, boxes): (Vec<u32>, Vec<PrimBox>) = all
                 .into_iter()
-                .zip(&scene.objects)
+                .zip(objects)
                 .enumerate()
                 .filter(|(_, (_, o))| shape_bounds(&o.shape).is_some())
-                .map(|(id, (b, _))| (id as u32, b))
+                .map(|(id, (b, _))| (base + id as u32, b))
                 .unzip();
             (boxes, Some(finite))
         };
@@ -172,7 +184,8 @@ impl Bvh {
                 },
                 || {
                     let leaf_objects = match &finite {
-                        None => bvh2.primitive_indices.clone(),
+                        None if base == 0 => bvh2.primitive_indices.clone(),
+                        None => map_in_order(&bvh2.primitive_indices, |&i| base + i),
                         Some(f) => map_in_order(&bvh2.primitive_indices, |&i| {
                             f.get(i as usize).copied().unwrap_or(0)
                         }),
@@ -433,7 +446,7 @@ fn centre_key(b: &PrimBox) -> [u32; 3] {
 /// scene seen; this is the bound should some other arrangement of boxes still chain. A tree
 /// within the limit is returned as it is; a deeper one is rewritten, its nodes in depth-first
 /// order (children after their parent) and its leaves' primitives side by side.
-fn cap_depth(tree: Bvh2, limit: u32) -> Bvh2 {
+pub(super) fn cap_depth(tree: Bvh2, limit: u32) -> Bvh2 {
     let nodes = &tree.nodes;
     let child = |n: &Bvh2Node, k: u32| nodes.get((n.first_index + k) as usize);
     // The depth, without recursion.
@@ -523,7 +536,7 @@ pub(super) const PREFETCH_FROM: usize = 16 << 20;
 /// Inner nodes get their children's new index; the leaves' object ranges do not move. One
 /// serial pass that writes the nodes in order (a parallel gather by a permutation took three
 /// times as long).
-fn depth_first(nodes: &[obvhs::bvh2::node::Bvh2Node]) -> Vec<Node> {
+pub(super) fn depth_first(nodes: &[obvhs::bvh2::node::Bvh2Node]) -> Vec<Node> {
     let convert = |n: &obvhs::bvh2::node::Bvh2Node| {
         let b = n.aabb();
         Node {

@@ -95,6 +95,7 @@ impl LaneHit {
             t: self.t,
             u: self.u,
             v: self.v,
+            instance: crate::scene::NO_INSTANCE,
         });
         if let Shape::Triangle { p } = *shape {
             let scalar = || triangle::watertight_sheared(ray, shear, p);

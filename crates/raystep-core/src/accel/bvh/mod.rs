@@ -77,10 +77,12 @@ mod build;
 mod leaf;
 mod parallel;
 mod ray_box;
+mod tlas;
 mod tri4;
 pub use build::shape_bounds;
 use leaf::{AnyHit, ClosestHit, LaneHit, LeafTest};
 use ray_box::FastRay;
+pub use tlas::Tlas;
 use tri4::{NO_PACK, Tri4};
 
 /// One node of the tree in raystep's own layout (box, and either two children or a leaf range).
@@ -323,6 +325,7 @@ impl Bvh {
             leaf: root.is_leaf(),
             children: (!root.is_leaf()).then_some([root.first, root.first + 1]),
             action: root_action,
+            instance: None,
         });
         match root_action {
             NodeAction::Culled => return,
@@ -405,6 +408,7 @@ impl Bvh {
                                 (true, false) if descend => NodeAction::Descend,
                                 (true, false) => NodeAction::Pushed,
                             },
+                            instance: None,
                         }
                     });
                     if hit {

@@ -66,7 +66,11 @@ impl Ctx<'_> {
         over_point: [f32; 3],
     ) -> Explanation {
         let hit = self.ray.hit.as_ref();
-        let obj = hit.and_then(|h| self.object(h.object));
+        // On an instance the point and normal were found in object space and carried back (the
+        // step before shows how): the object's own formulas do not apply to the world numbers.
+        let obj = hit
+            .filter(|h| h.instance.is_none())
+            .and_then(|h| self.object(h.object));
         let mut lines = vec![];
         if let Some(h) = hit {
             let raw = self.origin() + self.dir() * h.t;

@@ -34,6 +34,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 mod hit;
+mod instance;
 pub(crate) mod monte_carlo;
 mod plane;
 mod shading;
@@ -101,7 +102,35 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             screen,
             direction,
         } => cx.camera(*pixel, *sample, *offset, *screen, *direction),
-        Step::Node(n) => cx.node(n),
+        Step::Node(n) | Step::TlasNode(n) => cx.node(n),
+        Step::Instance {
+            name,
+            prototype,
+            to_object,
+            origin,
+            direction,
+            ..
+        } => cx.instance(name, prototype, to_object, *origin, *direction),
+        Step::InstanceHit {
+            name,
+            to_world,
+            to_object,
+            point,
+            normal,
+            world_point,
+            world_normal,
+            wrong_normal,
+            ..
+        } => cx.instance_hit(
+            name,
+            to_world,
+            to_object,
+            *point,
+            *normal,
+            *world_point,
+            *world_normal,
+            *wrong_normal,
+        ),
         Step::SphereNode { .. } | Step::Cell { .. } | Step::MailboxSkip { .. } => {
             cx.accel_step(step)
         }
@@ -307,11 +336,39 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
+    /// The ray's origin as this step's kernel saw it: in an instance's object space for the
+    /// steps of a BLAS walk ([`Ctx::local`]), else the ray's own.
     fn origin(&self) -> Vec3 {
-        Vec3::from(self.ray.origin)
+        Vec3::from(self.local().map_or(self.ray.origin, |l| l.0))
     }
+    /// The ray's direction as this step's kernel saw it (see [`Ctx::origin`]).
     fn dir(&self) -> Vec3 {
-        Vec3::from(self.ray.direction)
+        Vec3::from(self.local().map_or(self.ray.direction, |l| l.1))
+    }
+
+    /// The object-space ray (S′, Q′) of the instance whose BLAS walk this step belongs to: the
+    /// nearest `Instance` step before it with only that walk's steps (its nodes, primitive
+    /// tests and accepted hits) between. `None` for a step of the world.
+    fn local(&self) -> Option<([f32; 3], [f32; 3])> {
+        let idx = self.idx?;
+        let in_walk = |s: &Step| match s {
+            Step::Node(n) => n.instance.is_some(),
+            Step::Sphere { .. } | Step::Triangle { .. } | Step::Accept { .. } => true,
+            _ => false,
+        };
+        if !in_walk(&self.ray.steps.get(idx)?.step) {
+            return None;
+        }
+        for s in self.ray.steps[..idx].iter().rev() {
+            match &s.step {
+                Step::Instance {
+                    origin, direction, ..
+                } => return Some((*origin, *direction)),
+                other if in_walk(other) => {}
+                _ => return None,
+            }
+        }
+        None
     }
 
     /// The steps before this one (all of them when the step is not in the ray).

@@ -5,7 +5,7 @@ use super::*;
 impl Ctx<'_> {
     pub(super) fn node(&self, n: &crate::record::NodeVisit) -> Explanation {
         let test: &BoxTest<f32> = &n.test;
-        let o = self.ray.origin;
+        let o = self.origin().to_array();
         let t_max_tested = self.node_t_max(n.node);
         let t_max_now = self.t_max();
         let mut lines = vec![];
@@ -30,7 +30,7 @@ impl Ctx<'_> {
                 lines.push(line(
                     &format!("1/Q{a}"),
                     &format!("1/Q{a}"),
-                    format!("1/{}", p(self.ray.direction[i])),
+                    format!("1/{}", p(self.dir()[i])),
                     num(ax.inv_dir),
                     None,
                 ));
@@ -77,10 +77,10 @@ impl Ctx<'_> {
                         "sort(({} − {})/{}, ({} − {})/{})",
                         num(test.min[i]),
                         p(o[i]),
-                        p(self.ray.direction[i]),
+                        p(self.dir()[i]),
                         num(test.max[i]),
                         p(o[i]),
-                        p(self.ray.direction[i])
+                        p(self.dir()[i])
                     ),
                     format!("[{}, {}]", num(ax.t_entry), num(ax.t_exit)),
                     None,

@@ -15,6 +15,7 @@ use std::path::Path;
 use toml::Spanned;
 
 mod gltf;
+mod instances;
 mod textures;
 mod values;
 mod view;
@@ -654,8 +655,10 @@ impl<'a> Ctx<'a> {
                 }
             }
         }
+        let placed = self.instances(&f, &mut objects, &mut groups, &materials)?;
         let meshes = f.mesh.len() + gltf_parts;
-        let features = Features::compute(&objects, &materials, lights.len(), meshes);
+        let mut features = Features::compute(&objects, &materials, lights.len(), meshes);
+        features.instances = placed.instances.len();
         let name = f.title.clone().unwrap_or_else(|| {
             Path::new(self.file)
                 .file_name()
@@ -678,6 +681,9 @@ impl<'a> Ctx<'a> {
             features,
             cameras,
             warnings,
+            instances: placed.instances,
+            prototypes: placed.prototypes,
+            world_objects: placed.world_objects,
         })
     }
 }

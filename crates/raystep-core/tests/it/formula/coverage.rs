@@ -37,6 +37,12 @@ fn every_step_of_every_shipped_scene_is_explained() {
         let scene = shipped(name);
         let (w, h) = (scene.camera.width, scene.camera.height);
         check_all_steps(&record(&scene, w / 2, h / 2), &mut seen);
+        if name == "instances.toml" {
+            // a gem and the egg (lesson 20)
+            for (x, y) in [(186, 110), (75, 95)] {
+                check_all_steps(&record(&scene, x, y), &mut seen);
+            }
+        }
         // A coarse grid, with the BVH, and with a low recursion limit (depth-limit steps).
         for (x, y) in grid(&scene, 80) {
             check_all_steps(&record(&scene, x, y), &mut seen);
@@ -78,6 +84,10 @@ fn every_step_of_every_shipped_scene_is_explained() {
         "depth-limit",
         "spawn",
         "color",
+        "tlas-node",
+        "instance",
+        "blas-node",
+        "instance-hit",
     ];
     for v in all {
         assert!(seen.contains(v), "no {v} step seen: {seen:?}");

@@ -11,7 +11,7 @@ use raystep_core::shapes::{SphereMethod, TriangleMethod};
 use raystep_core::trace::Tracer;
 use std::path::Path;
 
-const SHIPPED: [&str; 7] = [
+const SHIPPED: [&str; 8] = [
     "first-sphere.toml",
     "three-spheres.toml",
     "triangles.toml",
@@ -19,6 +19,7 @@ const SHIPPED: [&str; 7] = [
     "textures.toml",
     "mirror-glass.toml",
     "cornell.toml",
+    "instances.toml",
 ];
 
 fn shipped(name: &str) -> Scene {
@@ -203,7 +204,11 @@ fn triangle_step(trace: &Trace) -> (&Step, Explanation) {
 fn variant(s: &Step) -> &'static str {
     match s {
         Step::Camera { .. } => "camera",
+        Step::Node(n) if n.instance.is_some() => "blas-node",
         Step::Node(_) => "node",
+        Step::TlasNode(_) => "tlas-node",
+        Step::Instance { .. } => "instance",
+        Step::InstanceHit { .. } => "instance-hit",
         Step::SphereNode { .. } => "sphere-node",
         Step::Cell { .. } => "cell",
         Step::MailboxSkip { .. } => "mailbox-skip",
