@@ -263,8 +263,13 @@ pub fn stages(scenes: &[Scene], reps: usize) {
         "| scene | accelerator | render (ms) | camera rays | traversal | primitive tests | shading and spawning | tests / ray |"
     );
     crate::io::outln!("|---|---|---|---|---|---|---|---|");
+    let mut two_level = vec![];
     for scene in scenes {
         let mut s = comparison_size(scene);
+        if !s.instances.is_empty() {
+            two_level.push(s);
+            continue;
+        }
         for choice in ACCELERATORS {
             s.settings.accel = choice;
             let (accel, _) = SceneAccel::build(&s);
@@ -277,6 +282,105 @@ pub fn stages(scenes: &[Scene], reps: usize) {
                 m.render * 1e3,
                 m.tests_per_ray,
             );
+        }
+    }
+    if !two_level.is_empty() {
+        two_levels(&two_level, reps);
+    }
+}
+
+/// The two levels of a scene with instances timed apart, by replaying one captured render's
+/// rays (one thread): the world's own objects alone; the TLAS walk alone (every instance box
+/// the ray reaches, none entered); the whole query. The BLAS walks (carrying the ray into each
+/// instance's object space, its tree and tests) are the whole minus the other two. Printed with
+/// the structures' build times and sizes.
+fn two_levels(scenes: &[Scene], reps: usize) {
+    crate::io::outln!();
+    crate::io::outln!(
+        "## The two levels apart, one thread, at most 160×120 pixels (share of the queries)"
+    );
+    crate::io::outln!(
+        "| scene | instances | prototypes | TLAS nodes | BLAS nodes | build TLAS / BLAS (ms) | memory (KiB) | queries (ms) | world | TLAS | BLAS | instances entered / ray |"
+    );
+    crate::io::outln!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for s in scenes {
+        let (accel, _) = SceneAccel::build(s);
+        let SceneAccel::TwoLevel(t) = &accel else {
+            continue;
+        };
+        let tracer = Tracer::new(s, &accel);
+        let mut cap = Capture::default();
+        for y in 0..s.camera.height {
+            for x in 0..s.camera.width {
+                tracer.trace_pixel(x, y, &mut cap);
+            }
+        }
+        let query = |f: &dyn Fn(RayKind, &Ray<f32>)| {
+            median_time(reps, || {
+                for (kind, ray) in &cap.rays {
+                    f(*kind, ray);
+                }
+            })
+            .as_secs_f64()
+        };
+        let whole = query(&|kind, ray| {
+            let h = if kind == RayKind::Shadow {
+                accel.any(s, ray, &mut Silent)
+            } else {
+                accel.closest(s, ray, &mut Silent)
+            };
+            std::hint::black_box(h);
+        });
+        let world = query(&|kind, ray| {
+            let h = if kind == RayKind::Shadow {
+                t.world.any(s, ray, &mut Silent)
+            } else {
+                t.world.closest(s, ray, &mut Silent)
+            };
+            std::hint::black_box(h);
+        });
+        let tlas = query(&|_, ray| {
+            std::hint::black_box(t.instances_reached(ray));
+        });
+        let mut entered = 0u64;
+        let mut counter = EnterCount(0);
+        for (kind, ray) in &cap.rays {
+            if *kind == RayKind::Shadow {
+                accel.any(s, ray, &mut counter);
+            } else {
+                accel.closest(s, ray, &mut counter);
+            }
+        }
+        entered += counter.0;
+        let blas = (whole - world - tlas).max(0.0);
+        let pct = |x: f64| format!("{:.0} %", 100.0 * x / whole.max(1e-12));
+        crate::io::outln!(
+            "| {} | {} | {} | {} | {} | {:.2} / {:.2} | {:.1} | {:.1} | {} | {} | {} | {:.2} |",
+            s.name,
+            s.instances.len(),
+            s.prototypes.len(),
+            t.tlas.nodes.len(),
+            t.blas.iter().map(|b| b.nodes.len()).sum::<usize>(),
+            t.tlas_time.as_secs_f64() * 1e3,
+            t.blas_time.as_secs_f64() * 1e3,
+            accel.memory() as f64 / 1024.0,
+            whole * 1e3,
+            pct(world),
+            pct(tlas),
+            pct(blas),
+            entered as f64 / cap.rays.len().max(1) as f64,
+        );
+    }
+}
+
+/// Counts the instances a query enters (their `Instance` steps), recording nothing.
+struct EnterCount(u64);
+
+impl crate::record::Observer for EnterCount {
+    const RECORDS: bool = false;
+    fn step(&mut self, step: impl FnOnce() -> crate::record::Step) {
+        if matches!(step(), crate::record::Step::Instance { .. }) {
+            self.0 += 1;
         }
     }
 }

@@ -111,6 +111,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             &out,
             match accel {
                 SceneAccel::Brute(_) | SceneAccel::Bvh(_) => "BVH nodes",
+                SceneAccel::TwoLevel(_) => "TLAS and BLAS nodes (and the world's)",
                 SceneAccel::Spheres(_) => "bounding spheres",
                 SceneAccel::Grid(_) => "grid cells",
             },
@@ -131,6 +132,13 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
             g.dims[1],
             g.dims[2],
             g.references()
+        ),
+        SceneAccel::TwoLevel(t) => format!(
+            "two-level BVH (TLAS of {} nodes over {} instances, {} BLAS of {} nodes in all)",
+            t.tlas.nodes.len(),
+            scene.instances.len(),
+            t.blas.len(),
+            t.blas.iter().map(|b| b.nodes.len()).sum::<usize>()
         ),
     };
     crate::io::outln!(
@@ -174,6 +182,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         SceneAccel::Bvh(_) => " and {} box tests",
         SceneAccel::Spheres(_) => " and {} bounding-sphere tests",
         SceneAccel::Grid(_) => " and {} cells walked",
+        SceneAccel::TwoLevel(_) => " and {} node visits",
     }
     .replace("{}", &format!("{:.1}", c.node_visits as f64 / rays));
     crate::io::outln!(

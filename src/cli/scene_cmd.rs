@@ -168,6 +168,34 @@ fn check(path: &PathBuf, json: bool) -> Result<(), String> {
         ));
     }
     let _ = writeln!(o, "  primitives {} ({})", f.primitives, kinds.join(", "));
+    if f.instances > 0 {
+        let protos: Vec<String> = scene
+            .prototypes
+            .iter()
+            .map(|p| {
+                let g = &scene.groups[p.group as usize];
+                let n = scene
+                    .instances
+                    .iter()
+                    .filter(|i| i.group == p.group)
+                    .count();
+                format!("\"{}\" ×{n}", g.name)
+            })
+            .collect();
+        let _ = writeln!(
+            o,
+            "  instances  {} of {} prototype{} ({}), {} primitives placed in all",
+            f.instances,
+            scene.prototypes.len(),
+            if scene.prototypes.len() == 1 { "" } else { "s" },
+            protos.join(", "),
+            scene
+                .instances
+                .iter()
+                .map(|i| scene.groups[i.group as usize].count as u64)
+                .sum::<u64>()
+        );
+    }
     let degenerate = scene
         .objects
         .iter()

@@ -47,6 +47,7 @@ pub static ASSETS: &[Asset] = assets!(
     "scenes/gltf/table.bin",
     "scenes/gltf/table.gltf",
     "scenes/icosahedron.obj",
+    "scenes/instances.toml",
     "scenes/leaky-edge.toml",
     "scenes/low-poly-sphere.obj",
     "scenes/mipmap.toml",
@@ -81,6 +82,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/17-smooth-shading.md",
     "lessons/18-textures.md",
     "lessons/19-mipmap.md",
+    "lessons/20-instances.md",
     "lessons/starter/README.md",
     "lessons/starter/sheet.toml",
     "lessons/starter/path-sheet.toml",
@@ -104,6 +106,7 @@ pub static ASSETS: &[Asset] = assets!(
     "lessons/exercises/17-smooth-shading.toml",
     "lessons/exercises/18-textures.toml",
     "lessons/exercises/19-mipmap.toml",
+    "lessons/exercises/20-instances.toml",
 );
 
 /// The names of the built-in scenes (`cornell`, `three-spheres`, …), sorted.
@@ -479,7 +482,7 @@ mod tests {
         // A scene is not a sheet, nor is the starter kit's grading sheet.
         assert!(builtin_sheet("cornell").is_none());
         assert!(builtin_sheet("sheet").is_none());
-        assert_eq!(sheet_names().len(), 19);
+        assert_eq!(sheet_names().len(), 20);
         assert_eq!(sheet_names()[0], "01-camera");
         // An existing file of that name wins over the built-in sheet.
         let dir = std::env::temp_dir().join(format!("raystep-sheet-{}", std::process::id()));

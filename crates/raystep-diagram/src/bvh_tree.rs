@@ -50,7 +50,8 @@ struct Visit {
 /// The node visit a step records, if it is one.
 fn visit(step: &Step) -> Option<Visit> {
     match step {
-        Step::Node(v) => Some(Visit {
+        // The world tree's visits; a BLAS's (numbered in its prototype's tree) are not.
+        Step::Node(v) if v.instance.is_none() => Some(Visit {
             node: v.node,
             depth: v.depth,
             leaf: v.leaf,
@@ -77,7 +78,7 @@ fn visit(step: &Step) -> Option<Visit> {
 
 /// Whether `step` is a visit of a tree node (BVH or sphere tree).
 pub fn is_node_visit(step: &Step) -> bool {
-    matches!(step, Step::Node(_) | Step::SphereNode { .. })
+    matches!(step, Step::Node(v) if v.instance.is_none()) || matches!(step, Step::SphereNode { .. })
 }
 
 /// The ray whose traversal the diagram shows: the one owning the focused step, else the first

@@ -212,7 +212,8 @@ fn whitted_kinds_for_step(step: &Step) -> Vec<DiagramKind> {
         Step::Sphere { .. } => vec![DiagramKind::Quadratic, DiagramKind::Slice],
         Step::Triangle { .. } => vec![DiagramKind::Barycentric, DiagramKind::Slice],
         Step::Texture { .. } => vec![DiagramKind::Texture, DiagramKind::Slice],
-        Step::Node(_) | Step::SphereNode { .. } => vec![DiagramKind::Bvh, DiagramKind::Slice],
+        Step::Node(n) if n.instance.is_none() => vec![DiagramKind::Bvh, DiagramKind::Slice],
+        Step::SphereNode { .. } => vec![DiagramKind::Bvh, DiagramKind::Slice],
         Step::Light { .. }
         | Step::ShadowRay { .. }
         | Step::Reflect { .. }

@@ -228,6 +228,12 @@ impl GpuTracer {
         variant: ShaderVariant,
     ) -> Result<Self, GpuError> {
         let scene = prepared.scene();
+        if !scene.instances.is_empty() {
+            return Err(GpuError::Scene(format!(
+                "the scene places {} instances: the GPU does not walk the two-level BVH yet (render it on the CPU)",
+                scene.instances.len()
+            )));
+        }
         let finite = scene.objects.iter().any(|o| !o.shape.is_infinite());
         let ray_query = finite
             && ctx

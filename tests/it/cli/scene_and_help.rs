@@ -100,7 +100,8 @@ fn scene_check_of_a_written_scene() {
         v,
         json!({
             "spheres": 1, "planes": 0, "triangles": 0, "smooth": 0, "textured": 0, "meshes": 0, "lights": 1,
-            "reflective": false, "transparent": false, "primitives": 1, "emitters": 0
+            "reflective": false, "transparent": false, "primitives": 1, "emitters": 0,
+            "instances": 0
         })
     );
     let out = ok(&Cli::with("scene check @", &[&scene]));

@@ -22,6 +22,16 @@ pub fn shipped() -> Vec<PathBuf> {
     v
 }
 
+/// The shipped scenes the GPU renders: all but those that place instances (`[[instance]]`),
+/// which the GPU does not trace yet (it says so instead of rendering).
+#[allow(dead_code)]
+pub fn shipped_for_gpu() -> Vec<PathBuf> {
+    shipped()
+        .into_iter()
+        .filter(|p| !std::fs::read_to_string(p).unwrap().contains("[[instance]]"))
+        .collect()
+}
+
 /// The shipped scenes rendered by Whitted's tracer (no `integrator =` line): the ones the student
 /// format, the grader and the camera-convention tests are about.
 #[allow(dead_code)]
@@ -34,5 +44,15 @@ pub fn shipped_whitted() -> Vec<PathBuf> {
                 .lines()
                 .any(|l| l.trim_start().starts_with("integrator"))
         })
+        .collect()
+}
+
+/// The Whitted scenes the starter kit's model tracer (lessons/starter/tracer.py) reads: all but
+/// those with instances, which the kit does not trace yet (it knows no `[[instance]]`).
+#[allow(dead_code)]
+pub fn shipped_for_students() -> Vec<PathBuf> {
+    shipped_whitted()
+        .into_iter()
+        .filter(|p| !std::fs::read_to_string(p).unwrap().contains("[[instance]]"))
         .collect()
 }

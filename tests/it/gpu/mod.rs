@@ -21,7 +21,7 @@ use gpu_common::{context, load_whitted, one_at_a_time};
 
 /// The shipped scenes (scenes/*.toml), sorted; there are several.
 fn scene_paths() -> Vec<std::path::PathBuf> {
-    let v = scenes::shipped();
+    let v = scenes::shipped_for_gpu();
     assert!(v.len() >= 6, "the shipped scenes are found");
     v
 }

@@ -348,7 +348,15 @@ fn drawn_rays_are_the_traced_rays_and_end_at_their_hits() {
                         }
                         Some(h) => {
                             blocked += 1;
-                            let end = drawn_end(d);
+                            let mut end = drawn_end(d);
+                            // An instance's blocker is measured in its object space, where its
+                            // shape is (the end carried there by M⁻¹, in f32 as the tracer
+                            // carries rays).
+                            if let Some(inst) =
+                                h.instance.and_then(|i| scene.instances.get(i as usize))
+                            {
+                                end = inst.to_object.point(end.as_vec3()).as_dvec3();
+                            }
                             let off =
                                 distance_to_surface(&scene.objects[h.object as usize].shape, end);
                             assert!(

@@ -114,6 +114,15 @@ pub(super) fn settings_panel(
             AccelChoice::Grid => "using a uniform grid",
             _ => "testing every primitive for every ray",
         });
+        let instances = p.scene().instances.len();
+        if instances > 0 {
+            // The world's objects take the choice above; the instances their own two levels.
+            ui.label(format!(
+                "and for the {instances} instance{}: a TLAS over their boxes, a BLAS per prototype ({})",
+                if instances == 1 { "" } else { "s" },
+                p.scene().prototypes.len()
+            ));
+        }
         if matches!(choice, AccelChoice::Bvh | AccelChoice::Spheres) {
             ui.horizontal_wrapped(|ui| {
                 ui.label("Tree quality");

@@ -56,8 +56,17 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
             } else {
                 String::new()
             };
+            let placed = if f.instances > 0 {
+                format!(
+                    ", {} instance{}",
+                    f.instances,
+                    if f.instances == 1 { "" } else { "s" }
+                )
+            } else {
+                String::new()
+            };
             ui.label(format!(
-                "{} primitive{} ({}), {} point light{}{area}",
+                "{} primitive{} ({}){placed}, {} point light{}{area}",
                 f.primitives,
                 if f.primitives == 1 { "" } else { "s" },
                 f.kinds().join(", "),

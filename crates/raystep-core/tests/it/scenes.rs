@@ -34,6 +34,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 2,
                 primitives: 14,
+                instances: 0,
             },
         ),
         (
@@ -54,6 +55,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: true,
                 emitters: 2,
                 primitives: 242,
+                instances: 0,
             },
         ),
         (
@@ -71,6 +73,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 2,
                 primitives: 4,
+                instances: 0,
             },
         ),
         (
@@ -88,6 +91,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 1,
                 primitives: 7,
+                instances: 0,
             },
         ),
         (
@@ -105,6 +109,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 4,
                 primitives: 13,
+                instances: 0,
             },
         ),
         (
@@ -122,6 +127,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 1,
+                instances: 0,
             },
         ),
         (
@@ -139,6 +145,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 134,
+                instances: 0,
             },
         ),
         (
@@ -156,6 +163,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 4,
+                instances: 0,
             },
         ),
         (
@@ -173,6 +181,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 1,
+                instances: 0,
             },
         ),
         (
@@ -190,6 +199,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: true,
                 emitters: 0,
                 primitives: 8,
+                instances: 0,
             },
         ),
         (
@@ -208,6 +218,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 161,
+                instances: 0,
             },
         ),
         (
@@ -225,6 +236,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 4,
+                instances: 0,
             },
         ),
         (
@@ -242,6 +254,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 4,
+                instances: 0,
             },
         ),
         (
@@ -259,6 +272,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 25,
+                instances: 0,
             },
         ),
         (
@@ -276,6 +290,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: true,
                 emitters: 0,
                 primitives: 7,
+                instances: 0,
             },
         ),
         (
@@ -293,6 +308,7 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 2,
+                instances: 0,
             },
         ),
         (
@@ -310,6 +326,26 @@ fn expected() -> Vec<(&'static str, Features)> {
                 transparent: false,
                 emitters: 0,
                 primitives: 4,
+                instances: 0,
+            },
+        ),
+        (
+            // One icosahedron (20 triangles) and one unit sphere, prototypes placed by seven
+            // instances, on the floor plane; two lights.
+            "instances.toml",
+            Features {
+                spheres: 1,
+                planes: 1,
+                triangles: 20,
+                smooth: 0,
+                textured: 0,
+                meshes: 1,
+                lights: 2,
+                reflective: false,
+                transparent: false,
+                emitters: 0,
+                primitives: 22,
+                instances: 7,
             },
         ),
     ]

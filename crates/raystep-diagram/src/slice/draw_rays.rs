@@ -503,7 +503,9 @@ impl Drawer<'_, '_> {
                     marks.push((ts, format!("t* = {}", label(ts))));
                 }
             }
-            Step::Node(v) => {
+            // A box's interval along the ray: t means the same point in an instance's object
+            // space, so a BLAS node's interval is drawn on the world ray as it is.
+            Step::Node(v) | Step::TlasNode(v) => {
                 if v.test.t_near.is_finite()
                     && v.test.t_far.is_finite()
                     && v.test.t_near <= v.test.t_far

@@ -201,6 +201,8 @@ pub struct SliceText {
 
 /// Computes where everything goes, without drawing.
 pub fn layout(trace: &Trace, opts: &ViewOptions) -> SliceLayout {
+    let world = world_only(trace);
+    let trace = world.as_ref().unwrap_or(trace);
     let c = Canvas::for_view(opts);
     let info = RayInfos::new(trace, opts.focus);
     let legend = fitting_legend(&c, trace, &info, opts);
@@ -216,6 +218,8 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
 /// Draws the slice, and says which texts it drew where (for tests and for the app). Labels that
 /// found no free place are left out, so the list holds only what can be read.
 pub fn draw_annotated(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<SliceText>) {
+    let world = world_only(trace);
+    let trace = world.as_ref().unwrap_or(trace);
     let mut c = Canvas::for_view(opts);
     let info = RayInfos::new(trace, opts.focus);
     let legend = fitting_legend(&c, trace, &info, opts);
@@ -226,6 +230,20 @@ pub fn draw_annotated(trace: &Trace, opts: &ViewOptions) -> (Canvas, Vec<SliceTe
     d.chrome(opts, &legend);
     let texts = std::mem::take(&mut d.texts);
     (c, texts)
+}
+
+/// The trace without its prototypes' objects, when it has any: they lie in their object space,
+/// and the slice is a cut through the world (the rays, which are drawn, reach the instances).
+fn world_only(trace: &Trace) -> Option<Trace> {
+    trace.objects.iter().any(|o| o.prototype).then(|| Trace {
+        objects: trace
+            .objects
+            .iter()
+            .filter(|o| !o.prototype)
+            .cloned()
+            .collect(),
+        ..trace.clone()
+    })
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -651,7 +669,10 @@ fn node_visits<'t>(info: &RayInfos<'t>, i: usize, shown_only: bool) -> Vec<(usiz
         .enumerate()
         .filter(|(j, _)| !shown_only || info.shown(i, *j))
         .filter_map(|(j, s)| match &s.step {
-            Step::Node(n) => Some((j, n)),
+            // World-space boxes: the world tree's and the TLAS's (a BLAS's are in its
+            // prototype's object space).
+            Step::Node(n) if n.instance.is_none() => Some((j, n)),
+            Step::TlasNode(n) => Some((j, n)),
             _ => None,
         })
         .collect()

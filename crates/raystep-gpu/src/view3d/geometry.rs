@@ -161,7 +161,7 @@ pub fn scene_box(scene: &Scene) -> (Vec3, Vec3) {
             hi = hi.max(p);
         }
     };
-    for o in &scene.objects {
+    for (_, o) in scene.placed() {
         match o.shape {
             Shape::Sphere { center, radius } => {
                 add(center - Vec3::splat(radius));
@@ -293,13 +293,12 @@ fn tested_object(t: &Trace, step: Option<usize>) -> Option<u32> {
 fn objects(scene: &Scene, options: &Options, testing: Option<u32>, g: &mut Geometry) {
     let theme = &options.theme;
     let finite_tris = scene
-        .objects
-        .iter()
-        .filter(|o| matches!(o.shape, Shape::Triangle { .. }))
+        .placed()
+        .filter(|(_, o)| matches!(o.shape, Shape::Triangle { .. }))
         .count();
     let keep_every = finite_tris.div_ceil(MAX_DRAWN_TRIANGLES).max(1);
     let mut tri_index = 0usize;
-    for (id, o) in scene.objects.iter().enumerate() {
+    for (id, o) in scene.placed() {
         let m = scene.materials.get(o.material as usize);
         let base = m.map_or([0.8, 0.8, 0.8], |m| linear_to_display(m.color));
         let transparency = m.map_or(0.0, |m| m.transparency);
@@ -311,7 +310,7 @@ fn objects(scene: &Scene, options: &Options, testing: Option<u32>, g: &mut Geome
         if options.selected == Some(o.group) {
             color = mix(color, rgba(theme.hit), 0.45);
         }
-        if testing == Some(id as u32) {
+        if testing == Some(id) {
             color = mix(color, rgba(theme.ray), 0.55);
             color[3] = color[3].max(0.6);
         }
