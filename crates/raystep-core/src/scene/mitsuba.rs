@@ -192,6 +192,7 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
         }
     };
     let mut objs = vec![];
+    let is_prototype = |gi: usize| scene.prototypes.iter().any(|p| p.group as usize == gi);
     for (gi, g) in scene.groups.iter().enumerate() {
         let objects = &scene.objects[g.first as usize..(g.first + g.count) as usize];
         let Some(first) = objects.first() else {
@@ -199,6 +200,8 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
         };
         let m = first.material as usize;
         let e = emitter(scene.materials[m].emission);
+        // A prototype is written once, as Mitsuba's `shapegroup`, which its instances place.
+        let shapes_start = x.len();
         match first.shape {
             Shape::Sphere { center, radius } => {
                 if scene.materials[m].texture.is_some() {
@@ -259,6 +262,34 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
                 ));
             }
         }
+        if is_prototype(gi) {
+            let shape = x.split_off(shapes_start);
+            let _ = writeln!(
+                x,
+                "  <shape type=\"shapegroup\" id=\"g{gi}\">\n  {}  </shape>",
+                shape.trim_start()
+            );
+        }
+    }
+    for inst in &scene.instances {
+        let m = inst.to_world.0;
+        let _ = writeln!(
+            x,
+            "  <shape type=\"instance\"><ref id=\"g{}\"/><transform name=\"to_world\"><matrix value=\"{:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} {:e} 0 0 0 1\"/></transform></shape>",
+            inst.group,
+            m[0][0],
+            m[0][1],
+            m[0][2],
+            m[0][3],
+            m[1][0],
+            m[1][1],
+            m[1][2],
+            m[1][3],
+            m[2][0],
+            m[2][1],
+            m[2][2],
+            m[2][3],
+        );
     }
     for l in &scene.lights {
         let _ = writeln!(
