@@ -32,6 +32,7 @@ mod monkey;
 mod monte_carlo;
 mod outputs_safe;
 mod render_gpu_limits;
+mod sheet_instances;
 mod sheet_mipmap;
 mod sheet_smooth;
 mod sheet_textures;

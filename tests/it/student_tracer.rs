@@ -10,7 +10,7 @@ use serde_json::Value;
 use std::path::Path;
 
 use crate::common::scenes;
-use scenes::{root, shipped_whitted as shipped};
+use scenes::{root, shipped_for_students as shipped};
 
 /// Grades `run` on `scene` at `pixels` up to `upto`; the Gradescope JSON.
 fn grade(scene: &Path, pixels: &str, upto: &str, run: &str) -> Value {

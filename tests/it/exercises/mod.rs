@@ -275,6 +275,28 @@ fn read_quantity(trace: &Trace, q: &Question) -> A {
                 _ => None,
             })
             .unwrap_or(A::None),
+        // The ray carried into the object space of the instance it hit: the `Instance` step
+        // whose BLAS walk accepted the closest hit (the last one before the last `Accept`).
+        "object_origin" | "object_direction" => {
+            let last_accept = steps
+                .iter()
+                .rposition(|s| matches!(s, Step::Accept { .. }))
+                .unwrap_or(0);
+            steps[..last_accept]
+                .iter()
+                .rev()
+                .find_map(|s| match s {
+                    Step::Instance {
+                        origin, direction, ..
+                    } => Some(if q.quantity.name() == "object_origin" {
+                        vec(*origin)
+                    } else {
+                        vec(*direction)
+                    }),
+                    _ => None,
+                })
+                .unwrap_or(A::None)
+        }
         other => panic!("the test reads no {other}: add it"),
     }
 }

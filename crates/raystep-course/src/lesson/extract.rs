@@ -25,6 +25,25 @@ pub(super) fn ray(trace: &Trace, sel: RaySel) -> Option<&RayRecord> {
     trace.rays().into_iter().find(|r| r.kind == kind)
 }
 
+/// A ray in an instance's object space: origin S′, direction Q′, and M⁻¹ (3 × 4, rows).
+pub(super) type ObjectRay = ([f32; 3], [f32; 3], [[f32; 4]; 3]);
+
+/// The ray `r` carried into the object space of the instance its closest hit lies on: the
+/// origin S′, the direction Q′ and M⁻¹ from that instance's (last) `Instance` step.
+pub(super) fn instance_step(r: &RayRecord) -> Option<ObjectRay> {
+    let i = r.hit.as_ref()?.instance?;
+    r.steps.iter().rev().find_map(|s| match &s.step {
+        Step::Instance {
+            instance,
+            origin,
+            direction,
+            to_object,
+            ..
+        } if *instance == i => Some((*origin, *direction, *to_object)),
+        _ => None,
+    })
+}
+
 /// The question's quantity in `trace` ([`Answer::None`] where the tracer never computed it).
 pub fn extract(trace: &Trace, q: &Question) -> Answer {
     let Some(r) = ray(trace, q.ray) else {
@@ -130,6 +149,15 @@ pub fn extract(trace: &Trace, q: &Question) -> Answer {
                 _ => None,
             })
             .unwrap_or(Answer::None),
+        Quantity::ObjectOrigin | Quantity::ObjectDirection => {
+            instance_step(r).map_or(Answer::None, |(origin, direction, _)| {
+                v3(if q.quantity == Quantity::ObjectOrigin {
+                    origin
+                } else {
+                    direction
+                })
+            })
+        }
         Quantity::TriangleU => num(triangle().and_then(|t| t.u)),
         Quantity::TriangleV => num(triangle().and_then(|t| t.v)),
         Quantity::BvhNodesVisited => {
@@ -252,6 +280,11 @@ pub fn explaining_step(trace: &Trace, q: &Question) -> Option<usize> {
             matches!(s, Step::LightSample { .. })
         }
         Quantity::RouletteProbability => matches!(s, Step::RussianRoulette { .. }),
+        Quantity::ObjectOrigin | Quantity::ObjectDirection => matches!(
+            s,
+            Step::Instance { instance, .. }
+                if Some(*instance) == r.hit.as_ref().and_then(|h| h.instance)
+        ),
     };
     // The last matching step (a ray tests each object once; the last node is where the count
     // ends); the ray's last step when nothing matches (its colour, or where it missed).

@@ -1,4 +1,4 @@
-//! The classic mistakes of the Monte Carlo questions, each with the answer it gives for a
+//! The classic mistakes of the Monte Carlo and instance questions, each with the answer it gives for a
 //! student's pixel: a wrong answer that matches one is named in the feedback and in the grades
 //! file, and a question that lists one (`mistakes = [...]`) draws only pixels where that mistake's
 //! answer is at least [`MIN_APART`] from the right one, so that the question tells them apart.
@@ -39,10 +39,17 @@ pub enum Mistake {
     NoMisWeight,
     /// A light sample counted although its shadow ray is blocked.
     IgnoredShadow,
+    /// An instance's normal carried by the matrix M instead of its inverse transpose M⁻ᵀ.
+    NormalByMatrix,
+    /// The ray's origin carried into object space by M⁻¹'s linear part alone (no translation).
+    OriginNotTranslated,
+    /// The ray's direction carried into object space as a point (translated by M⁻¹'s
+    /// translation).
+    DirectionTranslated,
 }
 
 /// Every mistake, for lookups.
-pub const ALL: [Mistake; 10] = [
+pub const ALL: [Mistake; 13] = [
     Mistake::BalanceHeuristic,
     Mistake::NoMis,
     Mistake::PdfNoCosine,
@@ -53,6 +60,9 @@ pub const ALL: [Mistake; 10] = [
     Mistake::NoCosine,
     Mistake::NoMisWeight,
     Mistake::IgnoredShadow,
+    Mistake::NormalByMatrix,
+    Mistake::OriginNotTranslated,
+    Mistake::DirectionTranslated,
 ];
 
 impl Mistake {
@@ -69,6 +79,9 @@ impl Mistake {
             Mistake::NoCosine => "no-cosine",
             Mistake::NoMisWeight => "no-mis-weight",
             Mistake::IgnoredShadow => "ignored-shadow",
+            Mistake::NormalByMatrix => "normal-by-matrix",
+            Mistake::OriginNotTranslated => "origin-not-translated",
+            Mistake::DirectionTranslated => "direction-translated",
         }
     }
 
@@ -104,6 +117,15 @@ impl Mistake {
             Mistake::IgnoredShadow => {
                 "that counts the light although the shadow ray to it is blocked"
             }
+            Mistake::NormalByMatrix => {
+                "that is the normal carried by M itself; a normal goes by the inverse transpose M⁻ᵀ (then normalise)"
+            }
+            Mistake::OriginNotTranslated => {
+                "that leaves out the translation: the origin is a point, so M⁻¹ moves it too"
+            }
+            Mistake::DirectionTranslated => {
+                "that translates the direction: a direction is a difference of points, so only M⁻¹'s linear part applies"
+            }
         }
     }
 
@@ -118,6 +140,9 @@ impl Mistake {
             Mistake::NoCosine | Mistake::NoMisWeight | Mistake::IgnoredShadow => {
                 q == Quantity::LightContribution
             }
+            Mistake::NormalByMatrix => q == Quantity::Normal,
+            Mistake::OriginNotTranslated => q == Quantity::ObjectOrigin,
+            Mistake::DirectionTranslated => q == Quantity::ObjectDirection,
         }
     }
 
@@ -133,7 +158,33 @@ impl Mistake {
         let light = || steps().find(|s| matches!(s, Step::LightSample { .. }));
         let f = f64::from;
         let v = |a: [f32; 3]| a.map(f64::from);
+        // M⁻¹ (3 × 4, rows) applied in f64 to `p`, with or without its translation.
+        let apply = |m: &[[f32; 4]; 3], p: [f64; 3], translate: bool| {
+            [0, 1, 2].map(|i| {
+                let row = m[i].map(f64::from);
+                row[0] * p[0] + row[1] * p[1] + row[2] * p[2] + if translate { row[3] } else { 0.0 }
+            })
+        };
         match self {
+            Mistake::OriginNotTranslated | Mistake::DirectionTranslated => {
+                let (_, _, inv) = super::extract::instance_step(r)?;
+                Some(Answer::Vector(if self == Mistake::OriginNotTranslated {
+                    apply(&inv, v(r.origin), false)
+                } else {
+                    apply(&inv, v(r.direction), true)
+                }))
+            }
+            Mistake::NormalByMatrix => {
+                let (to_world, normal) = steps().find_map(|s| match s {
+                    Step::InstanceHit {
+                        to_world, normal, ..
+                    } => Some((*to_world, *normal)),
+                    _ => None,
+                })?;
+                let w = apply(&to_world, v(normal), false);
+                let len = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
+                (len > 0.0).then(|| Answer::Vector(w.map(|c| c / len)))
+            }
             Mistake::BalanceHeuristic | Mistake::NoMis => {
                 let Some(Step::LightSample { pdf, bsdf_pdf, .. }) = light() else {
                     return None;

@@ -141,6 +141,12 @@ pub enum Quantity {
     LightContribution,
     /// Monte Carlo: the probability that Russian roulette lets the path go on at the ray's hit.
     RouletteProbability,
+    /// Instances: the ray's origin carried into the object space of the instance its closest
+    /// hit lies on, S′ = M⁻¹·S.
+    ObjectOrigin,
+    /// Instances: the ray's direction carried into that object space, Q′ = M⁻¹·Q (not
+    /// renormalised).
+    ObjectDirection,
 }
 
 impl Quantity {
@@ -178,6 +184,8 @@ impl Quantity {
             Quantity::MisWeight => "mis_weight",
             Quantity::LightContribution => "light_contribution",
             Quantity::RouletteProbability => "roulette_probability",
+            Quantity::ObjectOrigin => "object_origin",
+            Quantity::ObjectDirection => "object_direction",
         }
     }
 
@@ -203,7 +211,9 @@ impl Quantity {
             | Quantity::Color
             | Quantity::SampleDirection
             | Quantity::Throughput
-            | Quantity::LightContribution => AnswerKind::Vector,
+            | Quantity::LightContribution
+            | Quantity::ObjectOrigin
+            | Quantity::ObjectDirection => AnswerKind::Vector,
             _ => AnswerKind::Number,
         }
     }

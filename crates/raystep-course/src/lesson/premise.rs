@@ -20,10 +20,12 @@ pub enum PathVertex {
     Material(String),
     /// An object whose Monte Carlo BSDF is of this kind (`diffuse`, `glossy`, `mirror`, `glass`).
     Bsdf(String),
+    /// Any object of the instance of this name (`[[instance]] name`).
+    Instance(String),
 }
 
 impl PathVertex {
-    /// Reads `any`, `object:NAME`, `material:NAME` or `bsdf:KIND`.
+    /// Reads `any`, `object:NAME`, `material:NAME`, `bsdf:KIND` or `instance:NAME`.
     pub fn parse(s: &str) -> Result<PathVertex, String> {
         let s = s.trim();
         if s == "any" {
@@ -31,12 +33,13 @@ impl PathVertex {
         }
         let Some((kind, value)) = s.split_once(':') else {
             return Err(format!(
-                "\"{s}\": expected \"any\", \"object:NAME\", \"material:NAME\" or \"bsdf:KIND\""
+                "\"{s}\": expected \"any\", \"object:NAME\", \"material:NAME\", \"bsdf:KIND\" or \"instance:NAME\""
             ));
         };
         let value = value.trim().to_string();
         match kind.trim() {
             "object" => Ok(PathVertex::Object(value)),
+            "instance" => Ok(PathVertex::Instance(value)),
             "material" => Ok(PathVertex::Material(value)),
             "bsdf" if ["diffuse", "glossy", "mirror", "glass"].contains(&value.as_str()) => {
                 Ok(PathVertex::Bsdf(value))
@@ -45,7 +48,7 @@ impl PathVertex {
                 "\"{value}\" is not a BSDF kind: expected diffuse, glossy, mirror or glass"
             )),
             other => Err(format!(
-                "\"{other}:\" is not a kind of vertex: expected object:, material: or bsdf:"
+                "\"{other}:\" is not a kind of vertex: expected object:, material:, bsdf: or instance:"
             )),
         }
     }
@@ -57,6 +60,7 @@ impl PathVertex {
             PathVertex::Object(o) => format!("the object \"{o}\""),
             PathVertex::Material(m) => format!("an object of material \"{m}\""),
             PathVertex::Bsdf(b) => format!("a {b} surface"),
+            PathVertex::Instance(i) => format!("the instance \"{i}\""),
         }
     }
 }
@@ -103,6 +107,10 @@ impl Premise {
             let ok = match want {
                 PathVertex::Any => true,
                 PathVertex::Object(o) => hit.name == *o,
+                // An instanced hit is named "instance → object".
+                PathVertex::Instance(i) => {
+                    hit.instance.is_some() && hit.name.split(" → ").next() == Some(i.as_str())
+                }
                 PathVertex::Material(m) => object.is_some_and(|o| o.material == *m),
                 PathVertex::Bsdf(b) => trace
                     .monte_carlo
