@@ -154,17 +154,10 @@ pub fn describe(step: &Step, kind: RayKind) -> String {
             v3(*world_normal),
             v3(*wrong_normal)
         ),
-        Step::Node(n) if n.instance.is_some() => format!(
-            "BLAS node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
-            n.node,
-            n.depth,
-            if n.leaf { ", leaf" } else { "" },
-            num(n.test.t_near),
-            num(n.test.t_far),
-            words::node_action(n.action, kind)
-        ),
+        // A BLAS's nodes (an instance's prototype tree) read as the world tree's.
         Step::Node(n) => format!(
-            "BVH node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
+            "{} node {} (depth {}{}): slabs give t_near = {}, t_far = {} → {}",
+            if n.instance.is_some() { "BLAS" } else { "BVH" },
             n.node,
             n.depth,
             if n.leaf { ", leaf" } else { "" },
