@@ -117,11 +117,14 @@ pub(super) fn settings_panel(
         let instances = p.scene().instances.len();
         if instances > 0 {
             // The world's objects take the choice above; the instances their own two levels.
+            let prototypes = p.scene().prototypes.len();
             ui.label(format!(
-                "and for the {instances} instance{}: a TLAS over their boxes, a BLAS per prototype ({})",
+                "{instances} instance{}: a TLAS over them, {prototypes} BLAS (one per prototype)",
                 if instances == 1 { "" } else { "s" },
-                p.scene().prototypes.len()
-            ));
+            ))
+            .on_hover_text(
+                "the two-level BVH: the ray walks a tree over the instances' boxes in the world, then each prototype's own tree in its object space",
+            );
         }
         if matches!(choice, AccelChoice::Bvh | AccelChoice::Spheres) {
             ui.horizontal_wrapped(|ui| {
