@@ -256,6 +256,17 @@ pub(crate) fn profile_size(scene: &Scene) -> Scene {
 /// queries. (Replayed tests see the ray's whole interval, not the shrinking t_max of the real
 /// run, so they can cost a little more: the test share is an upper bound.)
 pub fn stages(scenes: &[Scene], reps: usize) {
+    // Scenes with instances get a table of their own, first (the SPD scenes' brute-force rows
+    // below take minutes).
+    let two_level: Vec<Scene> = scenes
+        .iter()
+        .filter(|s| !s.instances.is_empty())
+        .map(comparison_size)
+        .collect();
+    if !two_level.is_empty() {
+        two_levels(&two_level, reps);
+        crate::io::outln!();
+    }
     crate::io::outln!(
         "## Where the time goes, one thread, at most 160×120 pixels (share of the render)"
     );
@@ -263,11 +274,9 @@ pub fn stages(scenes: &[Scene], reps: usize) {
         "| scene | accelerator | render (ms) | camera rays | traversal | primitive tests | shading and spawning | tests / ray |"
     );
     crate::io::outln!("|---|---|---|---|---|---|---|---|");
-    let mut two_level = vec![];
     for scene in scenes {
         let mut s = comparison_size(scene);
         if !s.instances.is_empty() {
-            two_level.push(s);
             continue;
         }
         for choice in ACCELERATORS {
@@ -284,9 +293,6 @@ pub fn stages(scenes: &[Scene], reps: usize) {
             );
         }
     }
-    if !two_level.is_empty() {
-        two_levels(&two_level, reps);
-    }
 }
 
 /// The two levels of a scene with instances timed apart, by replaying one captured render's
@@ -295,7 +301,6 @@ pub fn stages(scenes: &[Scene], reps: usize) {
 /// instance's object space, its tree and tests) are the whole minus the other two. Printed with
 /// the structures' build times and sizes.
 fn two_levels(scenes: &[Scene], reps: usize) {
-    crate::io::outln!();
     crate::io::outln!(
         "## The two levels apart, one thread, at most 160×120 pixels (share of the queries)"
     );
