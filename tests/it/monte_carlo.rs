@@ -494,58 +494,7 @@ fn instanced_cornell_box_agrees_with_mitsuba() {
     if !mitsuba_available() {
         return;
     }
-    let mut text = std::fs::read_to_string(shipped("cornell-area.toml")).unwrap();
-    text = text.replace(
-        "name = \"mirror ball\"\ncenter = [0.45, 0.3, -0.25]\nradius = 0.3\nmaterial = \"mirror\"",
-        "name = \"mirror ball\"\ncenter = [0, 0, 0]\nradius = 0.3\nmaterial = \"white\"",
-    );
-    text += r#"
-[[texture]]
-name = "check"
-checker = [4, 4]
-colors = [[0.9, 0.8, 0.3], [0.2, 0.3, 0.6]]
-
-[[material]]
-name = "gem"
-bsdf = "diffuse"
-color = [1, 1, 1]
-texture = "check"
-
-[[mesh]]
-name = "gem"
-obj = "icosahedron.obj"
-material = "gem"
-
-[[instance]]
-name = "gem a"
-of = "gem"
-scale = 0.15
-rotate = [0, 30, 0]
-translate = [0.55, 0.29, 0.6]
-
-[[instance]]
-name = "gem b"
-of = "gem"
-scale = [0.12, 0.3, 0.12]
-rotate = [15, 0, 20]
-translate = [-0.02, 0.62, 0.75]
-
-[[instance]]
-name = "gem c"
-of = "gem"
-matrix = [[0.1, 0, 0.05, -0.3], [0, 0.12, 0, 1.3], [-0.05, 0, 0.1, 0.3]]
-
-[[instance]]
-name = "ball"
-of = "mirror ball"
-translate = [0.45, 0.3, -0.25]
-
-[[instance]]
-name = "egg"
-of = "mirror ball"
-scale = [1.4, 0.6, 1]
-translate = [-0.35, 0.19, -0.55]
-"#;
+    let text = crate::common::scenes::instanced_cornell("white");
     let s = load_str(&text, "instanced-cornell.toml", Some(&shipped(""))).unwrap();
     assert_eq!((s.instances.len(), s.prototypes.len()), (5, 2));
     agrees_with_mitsuba("instanced-cornell", s);

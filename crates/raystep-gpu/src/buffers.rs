@@ -2,7 +2,7 @@
 //! layout rules: a `vec3f` is 16-byte aligned, so each one is followed by a scalar that fills its
 //! fourth slot). Written by hand, little-endian, so no unsafe casting is needed.
 
-use crate::accel::Bvh;
+use crate::accel::{Bvh, TwoLevel};
 use crate::interface::{NO_TEXTURE, texture};
 use crate::scene::camera::CameraRays;
 use crate::scene::{Filter, NO_UVS, Scene, Shape, TextureKind, Wrap};
@@ -34,7 +34,7 @@ impl Bytes {
 }
 
 /// Size of `Params` in bytes.
-pub(crate) const PARAMS_SIZE: u64 = 144;
+pub(crate) const PARAMS_SIZE: u64 = 160;
 /// Size of `DebugRecord` in bytes.
 pub(crate) const DEBUG_SIZE: u64 = 48;
 
@@ -50,10 +50,19 @@ pub(crate) struct SceneData {
     pub mc: Vec<u8>,
     pub n_nodes: u32,
     pub n_planes: u32,
+    /// The objects the world's own accelerator holds (all but the prototypes').
+    pub n_world: u32,
+    /// The instances, and where their records, the TLAS's nodes and its leaves' lists start
+    /// (`wgsl/traversal_instances.wgsl`).
+    pub n_instances: u32,
+    pub inst_at: u32,
+    pub tlas_at: u32,
+    pub tlas_leaves: u32,
 }
 
-/// Flattens the scene (and its BVH, when it has one).
-pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
+/// Flattens the scene (and its BVH, when it has one; with instances, `two` the TLAS and each
+/// prototype's BLAS, after the world's tree).
+pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>, two: Option<&TwoLevel>) -> SceneData {
     // Records after the objects (each the size of an Object): the smooth triangles' vertex
     // normals, the triangles' texture coordinates, the textures, the images' texels.
     let n = |len: usize| len as u32;
@@ -204,24 +213,50 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
     let mut leaf_objects = Bytes::default();
     let mut planes = Bytes::default();
     let (mut n_nodes, mut n_planes) = (0, 0);
+    let tree = |nodes: &mut Bytes, list: &[crate::accel::bvh::Node]| {
+        for n in list {
+            nodes
+                .vec3(Vec3::from(n.min))
+                .u32(n.first)
+                .vec3(Vec3::from(n.max))
+                .u32(n.count);
+        }
+    };
     if let Some(bvh) = bvh {
-        {
-            for n in &bvh.nodes {
-                nodes
-                    .vec3(Vec3::from(n.min))
-                    .u32(n.first)
-                    .vec3(Vec3::from(n.max))
-                    .u32(n.count);
-            }
-            for &id in &bvh.leaf_objects {
+        tree(&mut nodes, &bvh.nodes);
+        for &id in &bvh.leaf_objects {
+            leaf_objects.u32(id);
+        }
+        for &id in &bvh.planes {
+            planes.u32(id);
+        }
+        n_nodes = bvh.nodes.len() as u32;
+        n_planes = bvh.planes.len() as u32;
+    }
+    // Each prototype's BLAS after the world's tree (its nodes' `first` counting from its own
+    // root, as on the CPU), then the TLAS; the instances' records after every other record.
+    let (mut tlas_at, mut tlas_leaves) = (0, 0);
+    let mut inst_at = 0;
+    if let Some(two) = two.filter(|_| !scene.instances.is_empty()) {
+        let mut roots = vec![];
+        for b in &two.blas {
+            roots.push((
+                (nodes.0.len() / 32) as u32,
+                (leaf_objects.0.len() / 4) as u32,
+            ));
+            tree(&mut nodes, &b.nodes);
+            for &id in &b.leaf_objects {
                 leaf_objects.u32(id);
             }
-            for &id in &bvh.planes {
-                planes.u32(id);
-            }
-            n_nodes = bvh.nodes.len() as u32;
-            n_planes = bvh.planes.len() as u32;
         }
+        tlas_at = (nodes.0.len() / 32) as u32;
+        tlas_leaves = (leaf_objects.0.len() / 4) as u32;
+        tree(&mut nodes, &two.tlas.nodes);
+        for &i in &two.tlas.leaf_instances {
+            leaf_objects.u32(i);
+        }
+        inst_at = (objects.0.len() / 64) as u32;
+        instance_records(scene, &mut objects, &roots);
     }
     SceneData {
         objects: objects.non_empty(64),
@@ -233,22 +268,58 @@ pub(crate) fn scene_data(scene: &Scene, bvh: Option<&Bvh>) -> SceneData {
         mc: mc_data(scene),
         n_nodes,
         n_planes,
+        n_world: scene.world_objects,
+        n_instances: scene.instances.len() as u32,
+        inst_at,
+        tlas_at,
+        tlas_leaves,
     }
 }
 
-/// The scene for hardware ray queries: every finite object a procedural primitive (its box, in
-/// `aabbs`, six f32 each), `leaf_objects` mapping primitive index to object id, `n_nodes` their
-/// count; planes apart, as with the BVH.
-pub(crate) fn ray_query_data(scene: &Scene) -> (SceneData, Vec<u8>) {
-    let mut data = scene_data(scene, None);
-    let mut aabbs = Bytes::default();
+/// Two records per instance (`wgsl/traversal_instances.wgsl`): M⁻¹'s rows with the BLAS's root
+/// node and first leaf entry (`roots`, by prototype: for ray queries, the first entry of its
+/// primitives' object ids), then M's rows.
+fn instance_records(scene: &Scene, objects: &mut Bytes, roots: &[(u32, u32)]) {
+    for inst in &scene.instances {
+        let (root, leaves) = roots
+            .get(inst.prototype as usize)
+            .copied()
+            .unwrap_or_default();
+        for row in inst.to_object.0 {
+            objects.f32(row[0]).f32(row[1]).f32(row[2]).f32(row[3]);
+        }
+        objects.u32(root).u32(leaves).u32(inst.prototype).u32(0);
+        for row in inst.to_world.0 {
+            objects.f32(row[0]).f32(row[1]).f32(row[2]).f32(row[3]);
+        }
+        objects.u32(0).u32(0).u32(0).u32(0);
+    }
+}
+
+/// One bottom-level structure for hardware ray queries: its procedural primitives' boxes (six
+/// f32 each) and their count.
+pub(crate) struct RqBlas {
+    pub aabbs: Vec<u8>,
+    pub count: u32,
+}
+
+/// The scene for hardware ray queries: every finite world object a procedural primitive of the
+/// world's BLAS (its box), and each prototype's objects one BLAS in object space (their boxes
+/// widened a little: the hardware carries the ray into object space with its own arithmetic,
+/// and a box must not turn away a hit raystep's arithmetic finds on its edge).
+/// `leaf_objects` maps a primitive to its object id: the world's from 0 (`n_nodes` of them),
+/// each prototype's from the first entry its instances' records name. Planes apart, as with
+/// the BVH.
+pub(crate) fn ray_query_data(scene: &Scene) -> (SceneData, Vec<RqBlas>) {
+    let mut data = scene_data(scene, None, None);
+    let mut world = Bytes::default();
     let mut ids = Bytes::default();
     let mut planes = Bytes::default();
     let (mut n, mut n_planes) = (0, 0);
-    for (id, o) in scene.objects.iter().enumerate() {
+    for (id, o) in scene.world().iter().enumerate() {
         match crate::accel::bvh::shape_bounds(&o.shape) {
             Some((lo, hi)) => {
-                aabbs.vec3(lo).vec3(hi);
+                world.vec3(lo).vec3(hi);
                 ids.u32(id as u32);
                 n += 1;
             }
@@ -258,11 +329,48 @@ pub(crate) fn ray_query_data(scene: &Scene) -> (SceneData, Vec<u8>) {
             }
         }
     }
+    let mut blas = vec![RqBlas {
+        aabbs: world.0,
+        count: n,
+    }];
+    let mut roots = vec![];
+    for p in &scene.prototypes {
+        let g = &scene.groups[p.group as usize];
+        roots.push((0, (ids.0.len() / 4) as u32));
+        let mut aabbs = Bytes::default();
+        let mut count = 0;
+        for id in g.first..g.first + g.count {
+            let Some((lo, hi)) = scene
+                .objects
+                .get(id as usize)
+                .and_then(|o| crate::accel::bvh::shape_bounds(&o.shape))
+            else {
+                continue;
+            };
+            let pad = (hi - lo).max_element() * 1e-4
+                + lo.abs().max(hi.abs()).max_element() * 8.0 * f32::EPSILON;
+            aabbs
+                .vec3(lo - Vec3::splat(pad))
+                .vec3(hi + Vec3::splat(pad));
+            ids.u32(id);
+            count += 1;
+        }
+        blas.push(RqBlas {
+            aabbs: aabbs.0,
+            count,
+        });
+    }
+    if !scene.instances.is_empty() {
+        data.inst_at = (data.objects.len() / 64) as u32;
+        let mut objects = Bytes(std::mem::take(&mut data.objects));
+        instance_records(scene, &mut objects, &roots);
+        data.objects = objects.0;
+    }
     data.leaf_objects = ids.non_empty(4);
     data.planes = planes.non_empty(4);
     data.n_nodes = n;
     data.n_planes = n_planes;
-    (data, aabbs.0)
+    (data, blas)
 }
 
 /// The uniform `Params` for a camera.
@@ -302,7 +410,11 @@ pub(crate) fn params(
         .u32(pass[0])
         .u32(pass[1])
         .f32(cam.spread)
-        .u32(0);
+        .u32(data.n_world)
+        .u32(data.n_instances)
+        .u32(data.inst_at)
+        .u32(data.tlas_at)
+        .u32(data.tlas_leaves);
     debug_assert_eq!(b.0.len() as u64, PARAMS_SIZE);
     b.0
 }

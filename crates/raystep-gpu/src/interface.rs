@@ -85,6 +85,12 @@ codes! {
         /// The roughness a glossy BSDF's roughness texture gives (before that texture's
         /// `TEXTURE`).
         ROUGHNESS = 29,
+        /// A node of the top-level BVH (over the instances).
+        TLAS_NODE = 30,
+        /// The ray carried into an instance's object space.
+        INSTANCE = 31,
+        /// A hit on an instance carried back to the world.
+        INSTANCE_HIT = 32,
     }
 }
 
@@ -249,6 +255,7 @@ fn scalars() -> Vec<(&'static str, u32)> {
         ("LOG_HEADER", LOG_HEADER),
         ("LOG_RECORD_MAX", LOG_RECORD_MAX),
         ("NO_OBJECT", NO_OBJECT),
+        ("NO_INSTANCE", crate::scene::NO_INSTANCE),
         ("NO_NORMALS", crate::scene::NO_NORMALS),
         ("NO_UVS", crate::scene::NO_UVS),
         ("NO_TEXTURE", NO_TEXTURE),
@@ -327,11 +334,12 @@ mod tests {
         let prepared = crate::trace::PreparedScene::new(crate::scene::default_scene());
         let base = ShaderConfig::for_scene(&prepared);
         let mut checked = 0;
-        // Every combination of the features a scene switches on, then the Monte Carlo, trace,
+        // Every combination of the features a scene switches on (instances too), then the Monte Carlo, trace,
         // ray-query, terminator-fix and texture shaders with every feature (smooth shading included).
-        for bits in 0u32..128 {
+        for bits in 0u32..256 {
             let b = |k: u32| bits & (1 << k) != 0;
             let c = ShaderConfig {
+                instances: b(7),
                 spheres: b(0),
                 planes: b(1),
                 triangles: b(2),
@@ -381,6 +389,6 @@ mod tests {
                 checked += 1;
             }
         }
-        assert_eq!(checked, 164);
+        assert_eq!(checked, 292);
     }
 }

@@ -40,6 +40,9 @@ pub struct ShaderConfig {
     pub bvh: bool,
     /// The brute-force loop.
     pub brute: bool,
+    /// Instances (`wgsl/traversal_instances.wgsl`): the TLAS walk after the world's objects, each
+    /// entered instance's BLAS walked in its object space (the scene has `[[instance]]`s).
+    pub instances: bool,
     /// Hardware ray queries instead of `bvh` and `brute` (only on a device with
     /// `EXPERIMENTAL_RAY_QUERY`; the tracer sets it).
     pub ray_query: bool,
@@ -61,7 +64,10 @@ pub struct ShaderConfig {
     pub max_depth: u32,
     /// Entries of the BVH traversal stack: the tree's depth + 2. Sized per scene because a
     /// software rasterizer (lavapipe) pays for every entry of a dynamically indexed array.
+    /// With instances: the deepest of the world's tree and the prototypes' BLAS.
     pub bvh_stack: u32,
+    /// Entries of the TLAS walk's stack: the TLAS's depth + 2 (see [`ShaderConfig::two_level`]).
+    pub tlas_stack: u32,
     /// The arithmetic variant (division, square root, fma), decided per device by the probe
     /// ([`super::exact`]); the default (plain operations, emulated fma) until a tracer sets it.
     pub arith: ArithConfig,
@@ -95,7 +101,27 @@ pub enum ShaderVariant {
 impl ShaderConfig {
     /// The shader a prepared scene needs (its BVH, when it uses one, sets the stack depth).
     pub fn for_scene(prepared: &PreparedScene) -> ShaderConfig {
-        ShaderConfig::for_scene_with(prepared.scene(), prepared.bvh())
+        let c = ShaderConfig::for_scene_with(prepared.scene(), prepared.bvh());
+        match prepared.accel() {
+            crate::accel::SceneAccel::TwoLevel(t) => c.two_level(t),
+            _ => c,
+        }
+    }
+
+    /// This config with the stacks sized for a two-level structure's trees: the TLAS's, and the
+    /// BVH walk's for the deepest BLAS (or the world's tree, if deeper).
+    pub fn two_level(self, t: &crate::accel::TwoLevel) -> ShaderConfig {
+        let blas = t
+            .blas
+            .iter()
+            .map(|b| b.max_depth as u32 + 2)
+            .max()
+            .unwrap_or(2);
+        ShaderConfig {
+            bvh_stack: self.bvh_stack.max(blas),
+            tlas_stack: tree_depth(&t.tlas.nodes) + 2,
+            ..self
+        }
     }
 
     /// The shader a scene needs, given the BVH already built for it (None: brute force).
@@ -113,6 +139,7 @@ impl ShaderConfig {
             textures: f.textured > 0,
             bvh,
             brute: !bvh,
+            instances: !scene.instances.is_empty(),
             ray_query: false,
             // The Monte Carlo integrators cast shadow rays to area lights too.
             shadows: f.lights > 0 || monte_carlo,
@@ -124,6 +151,7 @@ impl ShaderConfig {
             offset: s.offset,
             max_depth: s.max_depth,
             bvh_stack: tree.map_or(2, |t| t.max_depth as u32 + 2),
+            tlas_stack: 2,
             arith: ArithConfig::default(),
             monte_carlo,
             path: s.integrator == Integrator::Path,
@@ -149,6 +177,7 @@ impl ShaderConfig {
             textures: true,
             bvh: !self.ray_query,
             brute: !self.ray_query,
+            instances: true,
             shadows: true,
             reflection: true,
             refraction: true,
@@ -188,6 +217,8 @@ impl ShaderConfig {
             "TEXTURES" => self.textures,
             "BVH" => self.bvh,
             "BRUTE" => self.brute,
+            "INSTANCES" => self.instances,
+            "TLAS_WALK" => self.instances && !self.ray_query,
             "SHADOWS" => self.shadows,
             "REFLECTION" => self.reflection,
             "REFRACTION" => self.refraction,
@@ -223,6 +254,7 @@ pub(crate) mod pieces {
     pub const TRAVERSAL_PLANES: &str = include_str!("wgsl/traversal_planes.wgsl");
     pub const TRAVERSAL_BVH: &str = include_str!("wgsl/traversal_bvh.wgsl");
     pub const TRAVERSAL_RAY_QUERY: &str = include_str!("wgsl/traversal_ray_query.wgsl");
+    pub const TRAVERSAL_INSTANCES: &str = include_str!("wgsl/traversal_instances.wgsl");
     pub const MISS: &str = include_str!("wgsl/miss.wgsl");
     pub const INTERACTION: &str = include_str!("wgsl/interaction.wgsl");
     pub const OFFSET_NONE: &str = include_str!("wgsl/offset_none.wgsl");
@@ -256,6 +288,7 @@ pub(crate) mod pieces {
         ("traversal_planes.wgsl", TRAVERSAL_PLANES),
         ("traversal_bvh.wgsl", TRAVERSAL_BVH),
         ("traversal_ray_query.wgsl", TRAVERSAL_RAY_QUERY),
+        ("traversal_instances.wgsl", TRAVERSAL_INSTANCES),
         ("miss.wgsl", MISS),
         ("interaction.wgsl", INTERACTION),
         ("offset_none.wgsl", OFFSET_NONE),
@@ -350,9 +383,10 @@ pub fn wgsl(config: &ShaderConfig) -> String {
         out += &format!("const {name}: f32 = {v:?};\n");
     }
     out += &format!(
-        "const RAY_STACK: u32 = {}u;\nconst BVH_STACK: u32 = {}u;\n\n",
+        "const RAY_STACK: u32 = {}u;\nconst BVH_STACK: u32 = {}u;\nconst TLAS_STACK: u32 = {}u;\n\n",
         config.max_depth + 2,
-        config.bvh_stack.clamp(2, MAX_BVH_STACK)
+        config.bvh_stack.clamp(2, MAX_BVH_STACK),
+        config.tlas_stack.clamp(2, MAX_BVH_STACK)
     );
     out += &crate::interface::wgsl();
     out += &arith_wgsl(config.arith);
@@ -388,11 +422,17 @@ pub fn wgsl(config: &ShaderConfig) -> String {
     if config.brute {
         add(pieces::TRAVERSAL_BRUTE);
     }
-    if config.bvh || config.ray_query {
+    // The compute path walks each instance's BLAS with the BVH walk, whatever the world's
+    // accelerator.
+    let blas_walk = config.instances && !config.ray_query;
+    if config.bvh || config.ray_query || blas_walk {
         add(pieces::TRAVERSAL_PLANES);
     }
-    if config.bvh {
+    if config.bvh || blas_walk {
         add(pieces::TRAVERSAL_BVH);
+    }
+    if config.instances {
+        add(pieces::TRAVERSAL_INSTANCES);
     }
     if config.ray_query {
         add(pieces::TRAVERSAL_RAY_QUERY);
@@ -474,15 +514,47 @@ fn traversal_dispatch(c: &ShaderConfig) -> String {
     let mut s = String::from(
         "// ---- traversal: finding the closest hit (and any hit, for shadows) ----\n\n",
     );
-    s += "fn traversal_closest(r: Ray) -> Hit {\n";
+    // With instances (compute path), the world's accelerator is asked first, then the TLAS;
+    // under ray queries the hardware walks both levels in one query.
+    let two_level = c.instances && !c.ray_query;
+    s += if two_level {
+        "fn world_closest(r: Ray) -> Hit {\n"
+    } else {
+        "fn traversal_closest(r: Ray) -> Hit {\n"
+    };
     s += &pick("closest");
     s += "}\n";
+    if two_level {
+        s += "\nfn traversal_closest(r: Ray) -> Hit {\n    return tlas_closest(world_closest(r), r);\n}\n";
+    }
     if c.shadows {
-        s += "\nfn traversal_any(r: Ray) -> bool {\n";
+        s += if two_level {
+            "\nfn world_any(r: Ray) -> bool {\n"
+        } else {
+            "\nfn traversal_any(r: Ray) -> bool {\n"
+        };
         s += &pick("any");
         s += "}\n";
+        if two_level {
+            s += "\nfn traversal_any(r: Ray) -> bool {\n    return world_any(r) || tlas_any(r);\n}\n";
+        }
     }
     s
+}
+
+/// The depth of a tree in raystep's node layout (a leaf alone: 0).
+fn tree_depth(nodes: &[crate::accel::bvh::Node]) -> u32 {
+    let mut deepest = 0;
+    let mut todo = vec![(0usize, 0u32)];
+    while let Some((n, d)) = todo.pop() {
+        let Some(node) = nodes.get(n) else { continue };
+        deepest = deepest.max(d);
+        if !node.is_leaf() {
+            todo.push((node.first as usize, d + 1));
+            todo.push((node.first as usize + 1, d + 1));
+        }
+    }
+    deepest
 }
 
 /// Keeps or drops the `//#if NAME` / `//#else` / `//#endif` blocks of a piece.

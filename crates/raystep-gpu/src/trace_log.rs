@@ -40,6 +40,7 @@ pub const DEFAULT_LOG_WORDS: usize = 1 << 22;
 /// A scratch slot the kernel did not reach.
 const NOT_COMPUTED: u32 = 0x7fc0_dead;
 use crate::interface::NO_OBJECT;
+use crate::scene::NO_INSTANCE;
 
 use crate::interface::{ray_kind, tag};
 
@@ -285,8 +286,9 @@ fn test_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
     })
 }
 
-/// A node record as the CPU's node visit.
-fn node_step(p: &mut Payload) -> Result<Step, String> {
+/// A node record as the CPU's node visit: a BVH's ([`Step::Node`], marked with the instance
+/// whose BLAS it belongs to) or the TLAS's ([`Step::TlasNode`]).
+fn node_step(p: &mut Payload, tlas: bool) -> Result<Step, String> {
     let node = p.u()?;
     let depth = p.u()?;
     let (min, max, inv) = (p.v()?, p.v()?, p.v()?);
@@ -301,13 +303,14 @@ fn node_step(p: &mut Payload) -> Result<Step, String> {
         3 => NodeAction::TestPrimitives,
         a => return Err(format!("node action {a} is not one raystep has")),
     };
+    let instance = p.u()?;
     let axes = [0, 1, 2].map(|i| SlabAxis {
         inv_dir: inv[i],
         planes: Some([t0[i], t1[i]]),
         t_entry: entry[i],
         t_exit: exit[i],
     });
-    Ok(Step::Node(NodeVisit {
+    let visit = NodeVisit {
         node,
         depth,
         test: BoxTest {
@@ -322,8 +325,57 @@ fn node_step(p: &mut Payload) -> Result<Step, String> {
         leaf,
         children: (!leaf).then_some([first, first.wrapping_add(1)]),
         action,
-        instance: None,
-    }))
+        instance: (instance != NO_INSTANCE).then_some(instance),
+    };
+    Ok(if tlas {
+        Step::TlasNode(visit)
+    } else {
+        Step::Node(visit)
+    })
+}
+
+/// An `INSTANCE` record: the instance and the ray in its object space (its name, prototype and
+/// M⁻¹ from the scene).
+fn instance_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
+    let instance = p.u()?;
+    let (origin, direction) = (p.v()?, p.v()?);
+    let inst = scene
+        .instances
+        .get(instance as usize)
+        .ok_or_else(|| format!("instance {instance} is not one of the scene's"))?;
+    Ok(Step::Instance {
+        instance,
+        name: inst.name.clone(),
+        prototype: scene
+            .groups
+            .get(inst.group as usize)
+            .map_or_else(String::new, |g| g.name.clone()),
+        to_object: inst.to_object.0,
+        origin,
+        direction,
+    })
+}
+
+/// An `INSTANCE_HIT` record: the hit carried back from the instance's object space.
+fn instance_hit_step(scene: &Scene, p: &mut Payload) -> Result<Step, String> {
+    let instance = p.u()?;
+    let (point, normal, world_point, world_normal, wrong_normal) =
+        (p.v()?, p.v()?, p.v()?, p.v()?, p.v()?);
+    let inst = scene
+        .instances
+        .get(instance as usize)
+        .ok_or_else(|| format!("instance {instance} is not one of the scene's"))?;
+    Ok(Step::InstanceHit {
+        instance,
+        name: inst.name.clone(),
+        to_world: inst.to_world.0,
+        to_object: inst.to_object.0,
+        point,
+        normal,
+        world_point,
+        world_normal,
+        wrong_normal,
+    })
 }
 
 /// Reads the log `words` of the trace shader that traced sample `sample` of `pixel` of `scene`.
@@ -439,7 +491,10 @@ pub fn decode(
                     },
                 )?;
             }
-            tag::NODE => push(&mut rays, node_step(&mut p)?)?,
+            tag::NODE => push(&mut rays, node_step(&mut p, false)?)?,
+            tag::TLAS_NODE => push(&mut rays, node_step(&mut p, true)?)?,
+            tag::INSTANCE => push(&mut rays, instance_step(scene, &mut p)?)?,
+            tag::INSTANCE_HIT => push(&mut rays, instance_hit_step(scene, &mut p)?)?,
             tag::TEST => push(&mut rays, test_step(scene, &mut p)?)?,
             tag::ACCEPT => {
                 let object = p.u()?;
@@ -588,18 +643,28 @@ pub fn decode(
             tag::END => {
                 let object = p.u()?;
                 let (t, u, v) = (p.f()?, p.f()?, p.f()?);
+                let instance = p.u()?;
+                if instance != NO_INSTANCE && scene.instances.get(instance as usize).is_none() {
+                    return Err(format!("instance {instance} is not one of the scene's"));
+                }
                 let id = open.pop().ok_or("a ray ends that never began")?;
                 let r = rays.get_mut(&id).ok_or("a ray ends that never began")?;
                 r.record.hit = (object != NO_OBJECT).then(|| HitRecord {
                     object,
-                    name: scene.object_name(object),
+                    name: scene.hit_name(&crate::accel::Hit {
+                        object,
+                        t,
+                        u,
+                        v,
+                        instance,
+                    }),
                     t,
                     uv: matches!(
                         scene.objects.get(object as usize).map(|o| o.shape),
                         Some(Shape::Triangle { .. })
                     )
                     .then_some([u, v]),
-                    instance: None,
+                    instance: (instance != NO_INSTANCE).then_some(instance),
                 });
             }
             tag::PIXEL => {
@@ -607,7 +672,18 @@ pub fn decode(
                 // Then the summaries of the pixel's samples (Monte Carlo).
                 summarising = mc_scene.is_some();
             }
-            tag::HARDWARE => push(&mut rays, Step::HardwareTraversal { primitives: p.u()? })?,
+            tag::HARDWARE => {
+                // The world's boxes (the shader's count), and each instance's prototype's
+                // boxes, which the hardware may test through that instance's transform.
+                let placed: u64 = scene
+                    .instances
+                    .iter()
+                    .filter_map(|i| scene.groups.get(i.group as usize))
+                    .map(|g| u64::from(g.count))
+                    .sum();
+                let primitives = u32::try_from(u64::from(p.u()?) + placed).unwrap_or(u32::MAX);
+                push(&mut rays, Step::HardwareTraversal { primitives })?
+            }
             other => return Err(format!("record kind {other} is not one raystep writes")),
         }
     }

@@ -2,7 +2,7 @@
 //! `tracer/setup.rs`, the device is in `context.rs`, reading
 //! the images and the debug pixel back in `tracer/readback.rs`).
 
-use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, SceneData};
+use super::buffers::{self, DEBUG_SIZE, PARAMS_SIZE, RqBlas, SceneData};
 use super::error::GpuError;
 use super::exact::Arithmetic;
 use super::shader::{self, MAX_BVH_STACK, ShaderConfig, ShaderVariant};
@@ -116,7 +116,7 @@ struct Built {
     debug: wgpu::Buffer,
     debug_readback: wgpu::Buffer,
     target: Target,
-    acceleration: Option<(wgpu::Blas, wgpu::Tlas)>,
+    acceleration: Option<(Vec<wgpu::Blas>, wgpu::Tlas)>,
     /// The compute pipelines run SPIR-V with `NoContraction` (passthrough).
     spirv: bool,
 }
@@ -207,7 +207,7 @@ pub struct GpuTracer {
     display_pipeline: wgpu::RenderPipeline,
     target: Target,
     /// The BLAS and TLAS when tracing with hardware ray queries (kept alive while bound).
-    acceleration: Option<(wgpu::Blas, wgpu::Tlas)>,
+    acceleration: Option<(Vec<wgpu::Blas>, wgpu::Tlas)>,
     /// The device's arithmetic (the probe's answers) the shader was generated for.
     arithmetic: Arithmetic,
     /// The compute path runs SPIR-V with `NoContraction` (passthrough).
@@ -228,12 +228,12 @@ impl GpuTracer {
         variant: ShaderVariant,
     ) -> Result<Self, GpuError> {
         let scene = prepared.scene();
-        if !scene.instances.is_empty() {
-            return Err(GpuError::Scene(format!(
-                "the scene places {} instances: the GPU does not walk the two-level BVH yet (render it on the CPU)",
-                scene.instances.len()
-            )));
-        }
+        // With instances: the TLAS and each prototype's BLAS the CPU built (the compute path
+        // walks them as the CPU does; ray queries build the hardware's own).
+        let two = match prepared.accel() {
+            crate::accel::SceneAccel::TwoLevel(t) => Some(t.as_ref()),
+            _ => None,
+        };
         let finite = scene.objects.iter().any(|o| !o.shape.is_infinite());
         let ray_query = finite
             && ctx
@@ -249,13 +249,30 @@ impl GpuTracer {
                 b.max_depth
             )));
         }
-        let (data, aabbs) = if ray_query {
-            let (d, a) = buffers::ray_query_data(scene);
-            (d, Some(a))
+        if let Some(t) = two.filter(|_| !ray_query) {
+            let deepest = t.blas.iter().map(|b| b.max_depth).max().unwrap_or(0);
+            if deepest + 2 > MAX_BVH_STACK as usize {
+                return Err(GpuError::Scene(format!(
+                    "a prototype's BLAS is {deepest} levels deep; the GPU traversal's stack holds {MAX_BVH_STACK}"
+                )));
+            }
+        }
+        let (data, blas) = if ray_query {
+            let (d, b) = buffers::ray_query_data(scene);
+            (d, Some(b))
         } else {
-            (buffers::scene_data(scene, bvh), None)
+            (buffers::scene_data(scene, bvh, two), None)
         };
         let mut config = ShaderConfig::variant(scene, bvh, variant);
+        if let Some(t) = two {
+            config = config.two_level(t);
+            if config.instances && !ray_query && config.tlas_stack > MAX_BVH_STACK {
+                return Err(GpuError::Scene(format!(
+                    "the scene's TLAS is {} levels deep; the GPU traversal's stack holds {MAX_BVH_STACK}",
+                    config.tlas_stack - 2
+                )));
+            }
+        }
         if ray_query {
             config = config.with_ray_query();
         }
@@ -278,7 +295,8 @@ impl GpuTracer {
                 &device,
                 &queue,
                 &data,
-                aabbs.as_deref(),
+                blas.as_deref(),
+                scene,
                 scene.camera.width,
                 scene.camera.height,
             )

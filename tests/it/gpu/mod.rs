@@ -857,3 +857,5 @@ fn prep(s: &Scene) -> PreparedScene {
 mod exact_arithmetic;
 
 mod monte_carlo;
+
+mod instances;

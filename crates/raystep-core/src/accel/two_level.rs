@@ -10,7 +10,7 @@
 //! instance); a hit there becomes the closest so far and shortens the world ray, which the
 //! next TLAS boxes are tested against.
 
-use super::{Accelerator, Bvh, Hit, SceneAccel, bvh::Tlas};
+use super::{Accelerator, Bvh, Hit, SceneAccel, bvh::Tlas, bvh::Todo};
 use crate::math::Ray;
 use crate::platform::{Duration, Instant};
 use crate::record::{HitRecord, NodeAction, NodeVisit, Observer, RayKind, Step};
@@ -67,9 +67,10 @@ impl TwoLevel {
     /// whose boxes `ray` reaches (its whole interval, no hit shortening it), none entered.
     pub fn instances_reached(&self, ray: &Ray<f32>) -> u32 {
         let inv = Vec3::ONE / ray.dir;
-        let mut stack: Vec<u32> = vec![0];
+        let mut stack = Todo::new();
+        stack.push(0, 0, false);
         let mut reached = 0;
-        while let Some(n) = stack.pop() {
+        while let Some((n, _)) = stack.pop(false) {
             let Some(node) = self.tlas.nodes.get(n as usize) else {
                 continue;
             };
@@ -79,8 +80,8 @@ impl TwoLevel {
             if node.is_leaf() {
                 reached += node.count;
             } else {
-                stack.push(node.first + 1);
-                stack.push(node.first);
+                stack.push(node.first + 1, 0, false);
+                stack.push(node.first, 0, false);
             }
         }
         reached
@@ -101,9 +102,11 @@ impl TwoLevel {
             return;
         }
         let inv = Vec3::ONE / r.dir;
-        // (node, depth)
-        let mut stack: Vec<(u32, u32)> = vec![(0, 0)];
-        while let Some((n, depth)) = stack.pop() {
+        // (node, depth): the BVH's own list of subtrees to visit, on the machine stack (no
+        // allocation per ray); the depths are kept only when the observer records them.
+        let mut stack = Todo::new();
+        stack.push(0, 0, O::RECORDS);
+        while let Some((n, depth)) = stack.pop(O::RECORDS) {
             let Some(node) = self.tlas.nodes.get(n as usize) else {
                 continue;
             };
@@ -135,11 +138,11 @@ impl TwoLevel {
                     };
                     // The nearer on top, so it is taken next; ties: `a` first.
                     if along(a) <= along(b) {
-                        stack.push((b, depth + 1));
-                        stack.push((a, depth + 1));
+                        stack.push(b, depth + 1, O::RECORDS);
+                        stack.push(a, depth + 1, O::RECORDS);
                     } else {
-                        stack.push((a, depth + 1));
-                        stack.push((b, depth + 1));
+                        stack.push(a, depth + 1, O::RECORDS);
+                        stack.push(b, depth + 1, O::RECORDS);
                     }
                 }
                 NodeAction::TestPrimitives => {

@@ -480,7 +480,8 @@ pub enum Step {
     /// the boxes it tested are not revealed to the shader, only the primitives whose boxes the
     /// ray entered (their tests follow). Only in GPU traces.
     HardwareTraversal {
-        /// Primitives in the hardware's structure.
+        /// Primitive boxes in the hardware's structures (a prototype's counted once for each
+        /// instance that places it).
         primitives: u32,
     },
     /// The thin lens: where on the lens the primary ray starts, and the point in focus it aims

@@ -4,58 +4,96 @@
 
 use super::*;
 
-/// Builds the acceleration structures for hardware ray queries: one BLAS whose `count`
-/// procedural primitives are the finite objects' boxes (`aabbs`: min xyz, max xyz as f32), one TLAS
-/// with a single identity instance of it.
+/// Builds the acceleration structures for hardware ray queries, as the ray-tracing APIs' course
+/// notes build them: one BLAS per bottom-level list of procedural primitives (`blas[0]` the
+/// world's finite objects, then one per prototype in its object space; each primitive's box as
+/// min xyz, max xyz in f32), and one TLAS of instances: the world's BLAS once with the identity
+/// (custom index 0), then each scene instance of its prototype's BLAS with its matrix M (3 × 4
+/// rows, as `VkTransformMatrixKHR`) and custom index i + 1, by which the shader finds its records.
 fn build_acceleration(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    aabbs: &[u8],
-    count: u32,
-) -> (wgpu::Blas, wgpu::Tlas) {
+    blas_data: &[RqBlas],
+    scene: &Scene,
+) -> (Vec<wgpu::Blas>, wgpu::Tlas) {
     use wgpu::util::DeviceExt;
-    let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("raystep aabbs"),
-        contents: aabbs,
-        usage: wgpu::BufferUsages::BLAS_INPUT,
-    });
-    let size = wgpu::BlasAABBGeometrySizeDescriptor {
-        primitive_count: count,
-        flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
-    };
-    let blas = device.create_blas(
-        &wgpu::CreateBlasDescriptor {
-            label: Some("raystep blas"),
-            flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
-            update_mode: wgpu::AccelerationStructureUpdateMode::Build,
-        },
-        wgpu::BlasGeometrySizeDescriptors::AABBs {
-            descriptors: vec![size.clone()],
-        },
-    );
+    let mut built = vec![];
+    for (k, b) in blas_data.iter().enumerate() {
+        if b.count == 0 {
+            built.push(None);
+            continue;
+        }
+        let buffer = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("raystep aabbs"),
+            contents: &b.aabbs,
+            usage: wgpu::BufferUsages::BLAS_INPUT,
+        });
+        let size = wgpu::BlasAABBGeometrySizeDescriptor {
+            primitive_count: b.count,
+            flags: wgpu::AccelerationStructureGeometryFlags::OPAQUE,
+        };
+        let blas = device.create_blas(
+            &wgpu::CreateBlasDescriptor {
+                label: Some(if k == 0 {
+                    "raystep world blas"
+                } else {
+                    "raystep prototype blas"
+                }),
+                flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
+                update_mode: wgpu::AccelerationStructureUpdateMode::Build,
+            },
+            wgpu::BlasGeometrySizeDescriptors::AABBs {
+                descriptors: vec![size.clone()],
+            },
+        );
+        built.push(Some((blas, size, buffer)));
+    }
+    let world = built.first().and_then(Option::as_ref).is_some() as usize;
+    let count = world + scene.instances.len();
     let mut tlas = device.create_tlas(&wgpu::CreateTlasDescriptor {
         label: Some("raystep tlas"),
-        max_instances: 1,
+        max_instances: count.max(1) as u32,
         flags: wgpu::AccelerationStructureFlags::PREFER_FAST_TRACE,
         update_mode: wgpu::AccelerationStructureUpdateMode::Build,
     });
-    let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
-    tlas[0] = Some(wgpu::TlasInstance::new(&blas, identity, 0, 0xff));
-    let mut encoder = device.create_command_encoder(&Default::default());
-    encoder.build_acceleration_structures(
-        std::iter::once(&wgpu::BlasBuildEntry {
-            blas: &blas,
+    if let Some(Some((blas, _, _))) = built.first() {
+        let identity = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+        tlas[0] = Some(wgpu::TlasInstance::new(blas, identity, 0, 0xff));
+    }
+    for (i, inst) in scene.instances.iter().enumerate() {
+        if let Some(Some((blas, _, _))) = built.get(inst.prototype as usize + 1) {
+            let m = inst.to_world.0;
+            let rows = [
+                m[0][0], m[0][1], m[0][2], m[0][3], m[1][0], m[1][1], m[1][2], m[1][3], m[2][0],
+                m[2][1], m[2][2], m[2][3],
+            ];
+            tlas[world + i] = Some(wgpu::TlasInstance::new(blas, rows, i as u32 + 1, 0xff));
+        }
+    }
+    let entries: Vec<_> = built
+        .iter()
+        .flatten()
+        .map(|(blas, size, buffer)| (blas, vec![size.clone()], buffer))
+        .collect();
+    let builds: Vec<_> = entries
+        .iter()
+        .map(|(blas, sizes, buffer)| wgpu::BlasBuildEntry {
+            blas,
             geometry: wgpu::BlasGeometries::AabbGeometries(vec![wgpu::BlasAabbGeometry {
-                size: &size,
+                size: &sizes[0],
                 stride: wgpu::AABB_GEOMETRY_MIN_STRIDE,
-                aabb_buffer: &buffer,
+                aabb_buffer: buffer,
                 primitive_offset: 0,
             }]),
-        }),
-        std::iter::once(&tlas),
-    );
+        })
+        .collect();
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.build_acceleration_structures(builds.iter(), std::iter::once(&tlas));
     queue.submit([encoder.finish()]);
-    (blas, tlas)
+    (
+        built.into_iter().flatten().map(|(b, _, _)| b).collect(),
+        tlas,
+    )
 }
 
 impl GpuTracer {
@@ -67,7 +105,8 @@ impl GpuTracer {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         data: &SceneData,
-        aabbs: Option<&[u8]>,
+        blas: Option<&[RqBlas]>,
+        scene: &Scene,
         width: u32,
         height: u32,
     ) -> Built {
@@ -96,7 +135,7 @@ impl GpuTracer {
         // The Monte Carlo data: binding 7, or 8 after the ray queries' TLAS (no gap: the
         // passthrough SPIR-V reads the bindings as numbered, and Vulkan's are packed).
         let mc_buffer = storage("monte carlo", &data.mc);
-        let mc_binding = if aabbs.is_some() { 8 } else { 7 };
+        let mc_binding = if blas.is_some() { 8 } else { 7 };
         let both = wgpu::ShaderStages::FRAGMENT | wgpu::ShaderStages::COMPUTE;
         let mut entries = vec![wgpu::BindGroupLayoutEntry {
             binding: 0,
@@ -130,7 +169,7 @@ impl GpuTracer {
             },
             count: None,
         });
-        let acceleration = aabbs.map(|a| build_acceleration(device, queue, a, data.n_nodes));
+        let acceleration = blas.map(|b| build_acceleration(device, queue, b, scene));
         if acceleration.is_some() {
             entries.push(wgpu::BindGroupLayoutEntry {
                 binding: 7,

@@ -120,6 +120,9 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
     var m = materials[objects[hit.object].material];
     let it = interact(hit, r);
 //#if TRACE
+//#if INSTANCES
+    log_instance_hit(hit, it);
+//#endif
     log_open();
     log_v(it.point);
     log_v(it.normal);
@@ -174,7 +177,7 @@ fn closest_hit(hit: Hit, task: Task) -> vec3f {
                 next_ray_id += 1u;
                 log_spawn(sid);
                 log_ray(sid, parent, KIND_SHADOW, task.depth + 1u, Ray(o, d, 0.0, SHADOW_T_MAX), 0.0);
-                blocker = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
+                blocker = no_hit();
                 current_ray = sid;
 //#endif
                 blocked = traversal_any(Ray(o, d, 0.0, SHADOW_T_MAX));

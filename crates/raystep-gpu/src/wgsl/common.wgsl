@@ -31,7 +31,15 @@ struct Params {
     pass_samples: u32,
     // γ, the angle one pixel subtends at the eye: a ray cone's spread (CameraRays::spread).
     spread: f32,
-    pad_p1: u32,
+    // The objects the world's own accelerator holds (brute force loops over these): every object
+    // but the prototypes' (crates/raystep-core/src/scene/load/instances.rs moves those last).
+    n_world: u32,
+    // Instances (wgsl/traversal_instances.wgsl): their count, the first of their two records each
+    // in `objects`, the TLAS's root in `nodes` and its first leaf entry in `leaf_objects`.
+    n_instances: u32,
+    inst_at: u32,
+    tlas_at: u32,
+    tlas_leaves: u32,
 }
 
 // kind: 0 sphere (a = centre, radius), 1 plane (a = normal, offset), 2 axis plane (axis, a.x =
@@ -107,13 +115,19 @@ struct Cand {
 }
 
 
-// The closest hit so far.
+// The closest hit so far. instance: the instance the object was met through (its object is then
+// a prototype's, in object space), or NO_INSTANCE.
 struct Hit {
     object: u32,
     t: f32,
     u: f32,
     v: f32,
     aux: f32,
+    instance: u32,
+}
+
+fn no_hit() -> Hit {
+    return Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0, NO_INSTANCE);
 }
 
 fn no_cand(aux: f32) -> Cand {

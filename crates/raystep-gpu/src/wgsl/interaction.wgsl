@@ -11,6 +11,8 @@ struct Interaction {
     shading: vec3f,   // unit shading normal: `normal`, or a smooth triangle's blended vertex normals
     lifted: vec3f,    // where rays on the side of `shading` leave from: `point`, or Hanika's P′
     lifted_error: vec3f,
+    object_point: vec3f,  // the point in the object's own space: `point`, except on an instance
+    object_normal: vec3f, // the normal (facing the ray) in the object's own space
 }
 
 //#if TRIANGLES
@@ -68,7 +70,8 @@ fn lift_point(o: Object, nv: Object, u: f32, v: f32, point: vec3f, side: f32) ->
 }
 //#endif
 
-fn interact(hit: Hit, r: Ray) -> Interaction {
+// In the hit object's own space (the world's, for an object not instanced).
+fn interact_local(hit: Hit, r: Ray) -> Interaction {
     let raw = r.origin + r.dir * hit.t;
     let o = objects[hit.object];
     var point = raw;
@@ -143,5 +146,55 @@ fn interact(hit: Hit, r: Ray) -> Interaction {
 //#endif
     }
 //#endif
-    return Interaction(point, normal, eye, inside, error, shading, lifted, lifted_error);
+    return Interaction(point, normal, eye, inside, error, shading, lifted, lifted_error, point, normal);
 }
+
+// On an instance the interaction is computed in the prototype's object space, with the ray
+// carried there by M⁻¹ as the traversal carried it, then taken back (`to_world`).
+fn interact(hit: Hit, r: Ray) -> Interaction {
+//#if INSTANCES
+    if hit.instance != NO_INSTANCE {
+        return to_world(hit.instance, interact_local(hit, instance_ray(hit.instance, r)), r);
+    }
+//#endif
+    return interact_local(hit, r);
+}
+
+//#if INSTANCES
+// M⁻ᵀ·n renormalised; n itself where the product's length is zero, subnormal or not finite.
+fn normal_to_world(inv: Affine, n: vec3f) -> vec3f {
+    let w = aff_transpose_vector(inv, n);
+    let len = flen(w);
+    if is_finite_f(len) && len >= 1.17549435e-38 {
+        return fdiv3(w, len);
+    }
+    return n;
+}
+
+// crates/raystep-core/src/trace/interaction.rs to_world: the points by M with their error bounds
+// carried, the normals by M⁻ᵀ, the eye direction from the world ray.
+fn to_world(i: u32, it: Interaction, r: Ray) -> Interaction {
+    let m = instance_to_world(i);
+    let inv = instance_to_object(i);
+    let point = aff_point(m, it.point);
+    let error = aff_point_error(m, it.point, it.error);
+    var lifted = point;
+    var lifted_error = error;
+    if any(it.lifted != it.point) {
+        lifted = aff_point(m, it.lifted);
+        lifted_error = aff_point_error(m, it.lifted, it.lifted_error);
+    }
+    return Interaction(
+        point,
+        normal_to_world(inv, it.normal),
+        fdiv3(-r.dir, flen(r.dir)),
+        it.inside,
+        error,
+        normal_to_world(inv, it.shading),
+        lifted,
+        lifted_error,
+        it.point,
+        it.normal,
+    );
+}
+//#endif

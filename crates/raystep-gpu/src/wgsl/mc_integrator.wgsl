@@ -519,7 +519,7 @@ fn mc_light_sample(it: Interaction, m: McMaterial, index: u32, select_pdf: f32, 
             next_ray_id += 1u;
             log_spawn(sid);
             log_ray(sid, parent, KIND_SHADOW, depth + 1u, Ray(o, d, 0.0, SHADOW_T_MAX), 0.0);
-            blocker = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
+            blocker = no_hit();
             current_ray = sid;
 //#endif
             blocked = traversal_any(Ray(o, d, 0.0, SHADOW_T_MAX));

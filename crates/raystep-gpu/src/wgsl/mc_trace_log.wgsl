@@ -50,6 +50,10 @@ fn log_mc_surface(it: Interaction, hit: Hit, depth: u32) {
     if depth == 0u {
         sum_object = hit.object;
     }
+//#if INSTANCES
+    // Not in a sample's summary: only the traced sample's steps.
+    log_instance_hit(hit, it);
+//#endif
     let g = sum_open(depth);
     log_open();
     log_v(it.point);

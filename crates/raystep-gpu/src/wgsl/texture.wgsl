@@ -201,9 +201,9 @@ fn texture_at(hit: Hit, it: Interaction, header: u32, r: Ray, distance: f32) -> 
     // The texture coordinates.
     switch o.kind {
         case 0u: {
-            var d = it.normal;
+            var d = it.object_normal;
             if it.inside {
-                d = -it.normal;
+                d = -it.object_normal;
             }
             th.mapping = UV_SPHERE;
             th.direction = d;
@@ -215,16 +215,16 @@ fn texture_at(hit: Hit, it: Interaction, header: u32, r: Ray, distance: f32) -> 
         case 1u: {
             let a = tex_plane_axes(o.a.xyz);
             th.mapping = UV_PLANE;
-            th.uv = vec2f(fdot(it.point, a[0]), fdot(it.point, a[1]));
+            th.uv = vec2f(fdot(it.object_point, a[0]), fdot(it.object_point, a[1]));
         }
         case 2u: {
             th.mapping = UV_PLANE;
             if o.axis == 0u {
-                th.uv = it.point.yz;
+                th.uv = it.object_point.yz;
             } else if o.axis == 1u {
-                th.uv = it.point.xz;
+                th.uv = it.object_point.xz;
             } else {
-                th.uv = it.point.xy;
+                th.uv = it.object_point.xy;
             }
         }
         default: {

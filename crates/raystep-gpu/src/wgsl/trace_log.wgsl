@@ -32,6 +32,9 @@ var<private> scratch: array<f32, 32>;
 var<private> next_ray_id: u32;
 var<private> current_ray: u32;
 
+// The instance whose BLAS is being walked (its node visits and hits name it), or NO_INSTANCE.
+var<private> current_instance: u32 = NO_INSTANCE;
+
 fn scratch_clear() {
     for (var i = 0u; i < 32u; i++) {
         scratch[i] = bitcast<f32>(NOT_COMPUTED);
@@ -116,6 +119,7 @@ fn log_end(hit: Hit) {
     log_f(hit.t);
     log_f(hit.u);
     log_f(hit.v);
+    log_u(hit.instance);
     log_close(EV_END);
 }
 
@@ -130,7 +134,7 @@ var<private> blocker: Hit;
 
 fn log_blocker(id: u32, c: Cand, t_max: f32) {
     log_accept(id, c.t, t_max);
-    blocker = Hit(id, c.t, c.u, c.v, c.aux);
+    blocker = Hit(id, c.t, c.u, c.v, c.aux, current_instance);
 }
 
 //#if SMOOTH
@@ -141,13 +145,41 @@ fn log_shading_normal(hit: Hit, it: Interaction) {
     if objects[hit.object].normals == NO_NORMALS {
         return;
     }
+    // On an instance, the blend in object space, as the interaction computed it before M⁻ᵀ
+    // carried it out (crates/raystep-core/src/trace/tracer.rs `surface`).
+    var shading = it.shading;
+    var geometric = it.normal;
+    if hit.instance != NO_INSTANCE {
+        geometric = it.object_normal;
+        shading = blend_normals(objects[params.n_objects + objects[hit.object].normals], hit.u, hit.v, geometric).xyz;
+    }
     log_open();
     log_u(hit.object);
     log_f(hit.u);
     log_f(hit.v);
-    log_v(it.shading);
-    log_v(it.normal);
+    log_v(shading);
+    log_v(geometric);
     log_v(it.lifted);
     log_close(EV_SHADING_NORMAL);
+}
+//#endif
+
+//#if INSTANCES
+// The hit carried back from an instance's object space (before the surface's record): the
+// instance, the point and normal in object space, M·point, M⁻ᵀ·normal renormalised, and M·normal
+// renormalised (the classic mistake, shown beside it).
+fn log_instance_hit(hit: Hit, it: Interaction) {
+    if hit.instance == NO_INSTANCE {
+        return;
+    }
+    let wrong = aff_vector(instance_to_world(hit.instance), it.object_normal);
+    log_open();
+    log_u(hit.instance);
+    log_v(it.object_point);
+    log_v(it.object_normal);
+    log_v(it.point);
+    log_v(it.normal);
+    log_v(fdiv3(wrong, flen(wrong)));
+    log_close(EV_INSTANCE_HIT);
 }
 //#endif

@@ -2,15 +2,15 @@
 
 fn brute_closest(ray: Ray) -> Hit {
     var r = ray;
-    var best = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
-    for (var id = 0u; id < params.n_objects; id++) {
+    var best = no_hit();
+    for (var id = 0u; id < params.n_world; id++) {
         let c = intersection(id, r);
         if any_hit(c) {
 //#if TRACE
             log_accept(id, c.t, r.t_max);
 //#endif
             r.t_max = c.t;
-            best = Hit(id, c.t, c.u, c.v, c.aux);
+            best = Hit(id, c.t, c.u, c.v, c.aux, NO_INSTANCE);
         }
     }
     return best;
@@ -18,7 +18,7 @@ fn brute_closest(ray: Ray) -> Hit {
 
 //#if SHADOWS
 fn brute_any(r: Ray) -> bool {
-    for (var id = 0u; id < params.n_objects; id++) {
+    for (var id = 0u; id < params.n_world; id++) {
         let c = intersection(id, r);
         if any_hit(c) {
 //#if TRACE

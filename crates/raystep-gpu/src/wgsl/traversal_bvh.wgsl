@@ -45,7 +45,9 @@ const ACTION_DESCEND: u32 = 1u;
 const ACTION_PUSHED: u32 = 2u;
 const ACTION_TEST: u32 = 3u;
 
-fn log_node(s: SlabRay, id: u32, depth: u32, n: Node, b: BoxLog, interval: vec2f, action: u32) {
+// tag: EV_NODE (a BVH's node: the world's, or an instance's BLAS, named by current_instance) or
+// EV_TLAS_NODE.
+fn log_node(tag: u32, s: SlabRay, id: u32, depth: u32, n: Node, b: BoxLog, interval: vec2f, action: u32) {
     log_open();
     log_u(id);
     log_u(depth);
@@ -61,7 +63,8 @@ fn log_node(s: SlabRay, id: u32, depth: u32, n: Node, b: BoxLog, interval: vec2f
     log_b(n.count > 0u);
     log_u(n.first);
     log_u(action);
-    log_close(EV_NODE);
+    log_u(select(current_instance, NO_INSTANCE, tag == EV_TLAS_NODE));
+    log_close(tag);
 }
 //#endif
 
@@ -85,15 +88,15 @@ fn box_interval(s: SlabRay, node: Node, t_min: f32, t_max: f32) -> vec2f {
 
 // Tests a leaf's objects in leaf order. Closest hit: a hit shrinks t_max and becomes the best so
 // far. Any hit (a shadow ray): the first hit is kept and ends the walk (returns false).
-fn bvh_leaf(r: ptr<function, Ray>, best: ptr<function, Hit>, n: Node, any: bool) -> bool {
+fn bvh_leaf(r: ptr<function, Ray>, best: ptr<function, Hit>, n: Node, leaves: u32, any: bool) -> bool {
     for (var k = n.first; k < n.first + n.count; k++) {
-        let id = leaf_objects[k];
+        let id = leaf_objects[leaves + k];
         let c = intersection(id, *r);
         if any_hit(c) {
 //#if TRACE
             log_accept(id, c.t, (*r).t_max);
 //#endif
-            *best = Hit(id, c.t, c.u, c.v, c.aux);
+            *best = Hit(id, c.t, c.u, c.v, c.aux, NO_INSTANCE);
             if any {
                 return false;
             }
@@ -105,28 +108,27 @@ fn bvh_leaf(r: ptr<function, Ray>, best: ptr<function, Hit>, n: Node, any: bool)
 
 // The CPU's walk (crates/raystep-core/src/accel/bvh/mod.rs): the root box, then both children of a node at a time,
 // the nearer visited first (for a shadow ray, `any`, the farther: as the CPU's AnyHit), the other
-// visited next or pushed on a small stack.
-fn bvh_walk(ray: Ray, start: Hit, any: bool) -> Hit {
+// visited next or pushed on a small stack. The tree's nodes start at nodes[base] and its leaves'
+// entries at leaf_objects[leaves] (the world's tree at 0 and 0; an instance's BLAS after them):
+// a node's `first` counts from there, as in the CPU's own tree.
+fn bvh_walk(base: u32, leaves: u32, ray: Ray, start: Hit, any: bool) -> Hit {
     var r = ray;
     var best = start;
     if best.object != NO_OBJECT {
         r.t_max = best.t;
     }
-    if params.n_nodes == 0u {
-        return best;
-    }
     let s = slab_ray(r);
-    let root = nodes[0];
+    let root = nodes[base];
     let ir = box_interval(s, root, r.t_min, r.t_max);
     let root_hit = ir.x <= ir.y;
 //#if TRACE
-    log_node(s, 0u, 0u, root, last_box, ir, select(ACTION_CULLED, select(ACTION_DESCEND, ACTION_TEST, root.count > 0u), root_hit));
+    log_node(EV_NODE, s, 0u, 0u, root, last_box, ir, select(ACTION_CULLED, select(ACTION_DESCEND, ACTION_TEST, root.count > 0u), root_hit));
 //#endif
     if !root_hit {
         return best;
     }
     if root.count > 0u {
-        bvh_leaf(&r, &best, root, any);
+        bvh_leaf(&r, &best, root, leaves, any);
         return best;
     }
     var stack: array<u32, BVH_STACK>;
@@ -137,8 +139,8 @@ fn bvh_walk(ray: Ray, start: Hit, any: bool) -> Hit {
     var depth = 1u;
 //#endif
     loop {
-        let a = nodes[current];
-        let b = nodes[current + 1u];
+        let a = nodes[base + current];
+        let b = nodes[base + current + 1u];
         let ia = box_interval(s, a, r.t_min, r.t_max);
 //#if TRACE
         let box_a = last_box;
@@ -167,11 +169,11 @@ fn bvh_walk(ray: Ray, start: Hit, any: bool) -> Hit {
         // The nearer child.
         let near_hit = near_t.x <= near_t.y && near_t.x <= r.t_max;
 //#if TRACE
-        log_node(s, near_id, depth, near, near_box, near_t, select(ACTION_CULLED, select(ACTION_DESCEND, ACTION_TEST, near.count > 0u), near_hit));
+        log_node(EV_NODE, s, near_id, depth, near, near_box, near_t, select(ACTION_CULLED, select(ACTION_DESCEND, ACTION_TEST, near.count > 0u), near_hit));
 //#endif
         if near_hit {
             if near.count > 0u {
-                if !bvh_leaf(&r, &best, near, any) {
+                if !bvh_leaf(&r, &best, near, leaves, any) {
                     return best;
                 }
             } else {
@@ -182,11 +184,11 @@ fn bvh_walk(ray: Ray, start: Hit, any: bool) -> Hit {
         // The farther child, re-checked against t_max (the nearer leaf may have shrunk it).
         let far_hit = far_t.x <= far_t.y && far_t.x <= r.t_max;
 //#if TRACE
-        log_node(s, far_id, depth, far, far_box, far_t, select(ACTION_CULLED, select(select(ACTION_PUSHED, ACTION_DESCEND, !has_next), ACTION_TEST, far.count > 0u), far_hit));
+        log_node(EV_NODE, s, far_id, depth, far, far_box, far_t, select(ACTION_CULLED, select(select(ACTION_PUSHED, ACTION_DESCEND, !has_next), ACTION_TEST, far.count > 0u), far_hit));
 //#endif
         if far_hit {
             if far.count > 0u {
-                if !bvh_leaf(&r, &best, far, any) {
+                if !bvh_leaf(&r, &best, far, leaves, any) {
                     return best;
                 }
             } else if !has_next {
@@ -219,7 +221,11 @@ fn bvh_walk(ray: Ray, start: Hit, any: bool) -> Hit {
 }
 
 fn bvh_closest(r: Ray) -> Hit {
-    return bvh_walk(r, planes_closest(r), false);
+    let planes = planes_closest(r);
+    if params.n_nodes == 0u {
+        return planes;
+    }
+    return bvh_walk(0u, 0u, r, planes, false);
 }
 
 //#if SHADOWS
@@ -227,7 +233,10 @@ fn bvh_any(r: Ray) -> bool {
     if planes_any(r) {
         return true;
     }
-    let found = bvh_walk(r, Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0), true);
+    if params.n_nodes == 0u {
+        return false;
+    }
+    let found = bvh_walk(0u, 0u, r, no_hit(), true);
 //#if TRACE
     if found.object != NO_OBJECT {
         blocker = found;

@@ -3,7 +3,7 @@
 
 fn planes_closest(ray: Ray) -> Hit {
     var r = ray;
-    var best = Hit(NO_OBJECT, 0.0, 0.0, 0.0, 0.0);
+    var best = no_hit();
     for (var i = 0u; i < params.n_planes; i++) {
         let id = planes[i];
         let c = intersection(id, r);
@@ -12,7 +12,7 @@ fn planes_closest(ray: Ray) -> Hit {
             log_accept(id, c.t, r.t_max);
 //#endif
             r.t_max = c.t;
-            best = Hit(id, c.t, c.u, c.v, c.aux);
+            best = Hit(id, c.t, c.u, c.v, c.aux, NO_INSTANCE);
         }
     }
     return best;

@@ -27,7 +27,7 @@ use std::time::Duration;
 /// (a tree deeper than 32 levels on a ray that defers a subtree at every level) in a vector.
 /// Written out rather than a `SmallVec` because its push and pop are the traversal's inner loop;
 /// `records` (the observer's constant) keeps the depths, in a vector, only when they are recorded.
-struct Todo {
+pub(crate) struct Todo {
     first: [u32; 32],
     len: usize,
     spill: Vec<u32>,
@@ -36,7 +36,7 @@ struct Todo {
 
 impl Todo {
     #[inline(always)]
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Todo {
             first: [0; 32],
             len: 0,
@@ -46,7 +46,7 @@ impl Todo {
     }
 
     #[inline(always)]
-    fn push(&mut self, first: u32, depth: u32, records: bool) {
+    pub(crate) fn push(&mut self, first: u32, depth: u32, records: bool) {
         if records {
             self.depth.push(depth);
         }
@@ -60,7 +60,7 @@ impl Todo {
     }
 
     #[inline(always)]
-    fn pop(&mut self, records: bool) -> Option<(u32, u32)> {
+    pub(crate) fn pop(&mut self, records: bool) -> Option<(u32, u32)> {
         let first = match self.spill.pop() {
             Some(top) => top,
             None => {
