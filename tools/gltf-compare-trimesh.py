@@ -2,13 +2,15 @@
 """Checks raystep's reading of a glTF file against an independent reader, trimesh (PyPI):
 every triangle trimesh places in world space (each node's mesh by its world transform) must be
 one of raystep's, in any vertex order, within `--tol`. raystep's triangles are read from the OBJ
-files its Mitsuba export writes (`raystep scene mitsuba`). Not part of CI (it needs trimesh):
+files its Mitsuba export writes (`raystep scene mitsuba`): a mesh that several nodes place is
+one `shapegroup` there (the prototype, in the mesh's own space), carried to the world by each
+`instance` shape's matrix. Not part of CI (it needs trimesh):
 
     python3 -m pip install trimesh
     python3 tools/gltf-compare-trimesh.py scenes/gltf/table.gltf [--raystep target/debug/raystep]
 """
 import argparse
-import glob
+import xml.etree.ElementTree as ET
 import itertools
 import os
 import subprocess
@@ -27,10 +29,25 @@ a = ap.parse_args()
 with tempfile.TemporaryDirectory() as d:
     subprocess.run([a.raystep, "scene", "mitsuba", a.gltf, "-o", os.path.join(d, "scene.xml")],
                    check=True, stdout=subprocess.DEVNULL)
-    ours = []
-    for f in sorted(glob.glob(os.path.join(d, "scene-g*.obj"))):
-        vs = [list(map(float, l.split()[1:4])) for l in open(f) if l.startswith("v ")]
-        ours += [vs[i:i + 3] for i in range(0, len(vs), 3)]
+    def triangles(f):
+        vs = [list(map(float, l.split()[1:4])) for l in open(os.path.join(d, f))
+              if l.startswith("v ")]
+        return [vs[i:i + 3] for i in range(0, len(vs), 3)]
+
+    root = ET.parse(os.path.join(d, "scene.xml")).getroot()
+    ours, groups = [], {}
+    for shape in root.findall("shape"):
+        kind = shape.get("type")
+        if kind == "obj":
+            ours += triangles(shape.find("string[@name='filename']").get("value"))
+        elif kind == "shapegroup":
+            groups[shape.get("id")] = [t for s in shape.findall("shape")
+                                       for t in triangles(s.find("string[@name='filename']").get("value"))]
+        elif kind == "instance":
+            m = np.array(list(map(float, shape.find("transform/matrix").get("value").split())))
+            m = m.reshape(4, 4)
+            for t in groups[shape.find("ref").get("id")]:
+                ours.append([list(m[:3, :3] @ np.array(v) + m[:3, 3]) for v in t])
 ours = np.array(ours)
 
 scene = trimesh.load(a.gltf, force="scene", process=False)

@@ -30,6 +30,22 @@ fn triangles(s: &Scene, name: &str) -> Vec<[Vec3; 3]> {
         .collect()
 }
 
+/// The triangles an instance places: its prototype's, carried to the world by its matrix.
+fn placed(s: &Scene, name: &str) -> Vec<[Vec3; 3]> {
+    let inst = s
+        .instances
+        .iter()
+        .find(|i| i.name == name)
+        .unwrap_or_else(|| panic!("no instance {name}"));
+    let g = &s.groups[inst.group as usize];
+    (g.first..g.first + g.count)
+        .map(|i| match s.objects[i as usize].shape {
+            Shape::Triangle { p } => p.map(|v| inst.to_world.point(v)),
+            other => panic!("{other:?}"),
+        })
+        .collect()
+}
+
 fn bounds(tris: &[[Vec3; 3]]) -> (Vec3, Vec3) {
     let all = tris.iter().flatten();
     let lo = all.clone().fold(Vec3::INFINITY, |a, &b| a.min(b));
@@ -71,20 +87,26 @@ fn the_table_reads_as_its_file_says() {
     assert_eq!(s.lights[0].name, "table/lamp");
     assert!(close(s.lights[0].position, Vec3::new(1.0, 2.2, 1.5), 1e-6));
     assert!(close(s.lights[0].color, Vec3::new(6.0, 5.7, 5.4), 1e-5));
+    // One box mesh, five nodes: one prototype of 12 triangles (the unit box, in the mesh's own
+    // space) and five instances; the 12 × 8 sphere 168 triangles; the pane 2.
+    let unit = triangles(&s, "table/box");
+    assert_eq!(unit.len(), 12);
+    let (lo, hi) = bounds(&unit);
+    assert!(close(lo, Vec3::splat(-0.5), 0.0) && close(hi, Vec3::splat(0.5), 0.0));
+    assert_eq!(s.objects.len(), 12 + 168 + 2);
+    assert_eq!(s.features.meshes, 3);
+    assert_eq!((s.instances.len(), s.prototypes.len()), (5, 1));
     // The top: the unit box scaled (1.2, 0.08, 0.8), moved up 0.74 (its parent, "table", has no
     // transform): x ∈ ±0.6, y ∈ 0.74 ± 0.04, z ∈ ±0.4. Its 6 faces are 12 triangles.
-    let top = triangles(&s, "table/top");
+    let top = placed(&s, "table/top");
     assert_eq!(top.len(), 12);
     let (lo, hi) = bounds(&top);
     assert!(close(lo, Vec3::new(-0.6, 0.70, -0.4), 1e-6), "{lo}");
     assert!(close(hi, Vec3::new(0.6, 0.78, 0.4), 1e-6), "{hi}");
     // A leg: scaled (0.08, 0.7, 0.08), at (0.5, 0.35, 0.3).
-    let (lo, hi) = bounds(&triangles(&s, "table/leg +1+1"));
+    let (lo, hi) = bounds(&placed(&s, "table/leg +1+1"));
     assert!(close(lo, Vec3::new(0.46, 0.0, 0.26), 1e-6), "{lo}");
     assert!(close(hi, Vec3::new(0.54, 0.7, 0.34), 1e-6), "{hi}");
-    // One box mesh, five nodes: 60 triangles; the 12 × 8 sphere 168; the pane 2.
-    assert_eq!(s.objects.len(), 60 + 168 + 2);
-    assert_eq!(s.features.meshes, 7);
     // The pane: the unit quad scaled (0.35, 0.4, 1), turned 30° about y, at (−0.25, 0.98, 0).
     // Its corner (0.5, 0.5, 0) → (0.175, 0.2, 0) → (0.175·cos 30°, 0.2, −0.175·sin 30°) + t.
     let pane = triangles(&s, "table/pane");
@@ -497,4 +519,109 @@ proptest! {
         std::fs::write(&path, &bytes).unwrap();
         let _ = load_file(&path);
     }
+}
+
+/// The sheared triangle's mesh placed by four nodes: "wide" (its mesh's name too), "up" (moved
+/// up 3), "flat" (scaled to nothing in z… and in y: no inverse) and "lit" (a second mesh of the
+/// same triangle whose material emits). Two instances of one prototype, named after the nodes;
+/// the flattened node and the emitting mesh's two nodes copied into the world.
+const SHARED: &str = r#"{
+ "asset": {"version": "2.0"},
+ "scene": 0, "scenes": [{"nodes": [0, 1, 2, 3, 4]}],
+ "nodes": [
+  {"name": "wide", "mesh": 0, "scale": [2, 1, 1]},
+  {"name": "up", "mesh": 0, "translation": [0, 3, 0]},
+  {"name": "flat", "mesh": 0, "scale": [1, 0, 0]},
+  {"name": "lit", "mesh": 1, "translation": [5, 0, 0]},
+  {"name": "lit too", "mesh": 1, "translation": [7, 0, 0]}
+ ],
+ "meshes": [
+  {"name": "wide", "primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}}]},
+  {"name": "lamp", "primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}
+ ],
+ "materials": [{"name": "glow", "emissiveFactor": [1, 1, 1]}],
+ "accessors": [
+  {"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0,0,0], "max": [1,1,0]},
+  {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"}
+ ],
+ "bufferViews": [{"buffer": 0, "byteLength": 72}],
+ "buffers": [{"byteLength": 72, "uri": "BUFFER"}]
+}"#;
+
+#[test]
+fn a_mesh_that_several_nodes_place_becomes_instances() {
+    let (_d, s) = load_text("shared.gltf", &gltf_text(SHARED, &sheared_bytes()));
+    let s = s.unwrap();
+    // The prototype, named after its mesh and set apart from the node "wide".
+    assert_eq!(s.prototypes.len(), 1);
+    let proto = &s.groups[s.prototypes[0].group as usize];
+    assert_eq!(proto.name, "shared/wide (mesh)");
+    let names: Vec<&str> = s.instances.iter().map(|i| i.name.as_str()).collect();
+    assert_eq!(names, ["shared/wide", "shared/up"]);
+    // Placed as the nodes say: the wide one's far corner at (2, 0, 0), the other's top at (0, 4, 0).
+    assert!(placed(&s, "shared/wide")[0].contains(&Vec3::new(2.0, 0.0, 0.0)));
+    assert!(placed(&s, "shared/up")[0].contains(&Vec3::new(0.0, 4.0, 0.0)));
+    // In object space the vertex normals are the file's; M⁻ᵀ carries them when a ray hits.
+    let n = s.vertex_normals_of(proto.first).unwrap();
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    assert!(close(n[0], Vec3::new(h, h, 0.0), 1e-6));
+    // Copied into the world: the node with no inverse, and both nodes of the emitting mesh.
+    assert_eq!(triangles(&s, "shared/flat").len(), 1);
+    assert_eq!(triangles(&s, "shared/lit")[0][0], Vec3::new(5.0, 0.0, 0.0));
+    assert_eq!(
+        triangles(&s, "shared/lit too")[0][0],
+        Vec3::new(7.0, 0.0, 0.0)
+    );
+    assert_eq!(s.objects.len(), 4);
+}
+
+/// The table placed by instances renders as the table copied into the world: the same file
+/// with its box mesh's five nodes given five meshes of their own (no mesh shared) is the
+/// world-copy placement, raystep's reading before instances; the two images agree but for
+/// pixels where the object-space and world-space arithmetic round an edge differently.
+#[test]
+fn the_instanced_table_renders_as_its_world_copies() {
+    let text = std::fs::read_to_string(root().join("scenes/gltf/table.gltf")).unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let box_mesh = json["meshes"][0].clone();
+    let mut meshes = json["meshes"].as_array().unwrap().clone();
+    let nodes = json["nodes"].as_array_mut().unwrap();
+    for n in nodes.iter_mut().filter(|n| n["mesh"] == 0).skip(1) {
+        n["mesh"] = serde_json::json!(meshes.len());
+        meshes.push(box_mesh.clone());
+    }
+    json["meshes"] = serde_json::Value::Array(meshes);
+    // Beside its buffer and its texture, as in scenes/.
+    let dir = TempDir::new().unwrap();
+    for f in ["gltf/table.bin", "textures/tiles-8x8.png"] {
+        let to = dir.path().join(f);
+        std::fs::create_dir_all(to.parent().unwrap()).unwrap();
+        std::fs::copy(root().join("scenes").join(f), to).unwrap();
+    }
+    let copies_path = dir.path().join("gltf/table.gltf");
+    std::fs::write(&copies_path, json.to_string()).unwrap();
+    let mut copies = load_file(&copies_path).unwrap();
+    let mut shared = load("scenes/gltf/table.gltf");
+    assert_eq!((shared.instances.len(), copies.instances.len()), (5, 0));
+    for s in [&mut copies, &mut shared] {
+        s.camera.width = 96;
+        s.camera.height = 72;
+        s.settings.integrator = Integrator::Whitted;
+    }
+    let render = |s: &Scene| {
+        let (accel, _) = raystep_core::accel::SceneAccel::build(s);
+        let tracer = raystep_core::trace::Tracer::new(s, &accel);
+        raystep_core::render::render(&tracer, &raystep_core::render::RenderOptions::default())
+            .unwrap()
+            .pixels
+    };
+    let (a, b) = (render(&shared), render(&copies));
+    let off = a
+        .iter()
+        .zip(&b)
+        .filter(|(x, y)| (**x - **y).abs().max_element() > 2.0 / 255.0)
+        .count();
+    let mean = |v: &[Vec3]| v.iter().copied().sum::<Vec3>() / v.len() as f32;
+    assert!(off * 100 <= a.len(), "{off} of {} pixels differ", a.len());
+    assert!(close(mean(&a), mean(&b), 1e-3), "{} {}", mean(&a), mean(&b));
 }

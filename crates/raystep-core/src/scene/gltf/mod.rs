@@ -75,6 +75,22 @@ pub(crate) struct Part {
     pub uvs: Vec<Option<[[f32; 2]; 3]>>,
     /// Its material: an index into [`Imported::materials`].
     pub material: usize,
+    /// A prototype: the primitive of a mesh that several nodes place, in the mesh's own space
+    /// (drawn only where [`Imported::instances`] place it).
+    pub prototype: bool,
+}
+
+/// A node's placement of a mesh that several nodes place: an instance of one of its primitives.
+#[derive(Debug, Clone)]
+pub(crate) struct GltfInstance {
+    /// The node's name (or `node i`), with `/p` for the mesh's p-th primitive when it has more
+    /// than one: the name its triangles would have had, copied into the world.
+    pub name: String,
+    /// The prototype: an index into [`Imported::parts`].
+    pub part: usize,
+    /// The node's world matrix (its ancestors' and the including table's placement composed, in
+    /// f64).
+    pub matrix: DMat4,
 }
 
 /// A glTF perspective camera, placed.
@@ -106,8 +122,11 @@ impl GltfCamera {
 /// What a glTF file gave, ready for the scene: every name is prefixed by the include's.
 #[derive(Debug, Clone)]
 pub(crate) struct Imported {
-    /// The primitives, in the order of a depth-first walk of the scene's nodes.
+    /// The primitives, in the order of a depth-first walk of the scene's nodes (a mesh that
+    /// several nodes place: once, as prototypes, where its first node is met).
     pub parts: Vec<Part>,
+    /// The nodes' placements of the meshes that several nodes place.
+    pub instances: Vec<GltfInstance>,
     /// The materials the parts use (the glTF default material last, if a primitive has none).
     pub materials: Vec<Material>,
     /// The textures the materials use (indices in the materials count from 0 here).
@@ -127,12 +146,15 @@ pub(crate) struct Imported {
 
 /// Reads a glTF file (`.gltf`, `.glb`): its buffers and images (embedded, `data:` URIs, or
 /// files beside it), its default scene placed by `place`, every name prefixed by `prefix/`.
-/// `texel_budget`: how many texels the scene's images may still take.
+/// `texel_budget`: how many texels the scene's images may still take. `share`: a mesh that
+/// several nodes place becomes prototypes and instances (else every node's copy is placed in
+/// the world, as for a `[[gltf]]` whose `material` emits light).
 pub(crate) fn import(
     path: &Path,
     prefix: &str,
     place: DMat4,
     texel_budget: u64,
+    share: bool,
 ) -> Result<Imported, GltfError> {
     let bytes = crate::io::read_input(path, MAX_GLTF_BYTES, "glTF file").map_err(|e| {
         GltfError::whole(if e.kind() == std::io::ErrorKind::NotFound {
@@ -141,7 +163,7 @@ pub(crate) fn import(
             format!("cannot read the glTF file {}: {e}", path.display())
         })
     })?;
-    let mut imported = import_bytes(&bytes, path, prefix, place, texel_budget)?;
+    let mut imported = import_bytes(&bytes, path, prefix, place, texel_budget, share)?;
     imported.source_hash = crate::text::sha256_hex(&bytes);
     Ok(imported)
 }
@@ -153,6 +175,7 @@ pub(crate) fn import_bytes(
     prefix: &str,
     place: DMat4,
     texel_budget: u64,
+    share: bool,
 ) -> Result<Imported, GltfError> {
     let gltf = parse(bytes)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -168,6 +191,7 @@ pub(crate) fn import_bytes(
     let mut mats = materials::Materials::new(doc, &buffers, &base, prefix, texel_budget);
     let mut out = Imported {
         parts: vec![],
+        instances: vec![],
         materials: vec![],
         textures: vec![],
         lights: vec![],
@@ -197,9 +221,10 @@ pub(crate) fn import_bytes(
         ));
     }
     let mut visited = vec![false; doc.nodes().len()];
+    // (node, mesh, the node's world matrix) of every node with a mesh, in walk order.
+    let mut placed_meshes: Vec<(usize, usize, DMat4)> = vec![];
     let mut stack: Vec<(gltf::Node, DMat4, usize)> =
         roots.into_iter().rev().map(|n| (n, place, 0)).collect();
-    let mut triangles = 0usize;
     let mut skipped = Skipped::default();
     while let Some((node, parent, depth)) = stack.pop() {
         let i = node.index();
@@ -230,42 +255,7 @@ pub(crate) fn import_bytes(
             if mesh.weights().is_some() || node.weights().is_some() {
                 skipped.morphs += 1;
             }
-            let count = mesh.primitives().len();
-            for prim in mesh.primitives() {
-                let name = if count > 1 {
-                    format!("{prefix}/{}/{}", node_names[i], prim.index())
-                } else {
-                    format!("{prefix}/{}", node_names[i])
-                };
-                let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
-                if prim.mode() != gltf::mesh::Mode::Triangles {
-                    skipped.modes.push(format!("{at} ({:?})", prim.mode()));
-                    continue;
-                }
-                let material = mats.material(&prim.material())?;
-                let part = read_primitive(&prim, &at, &buffers, world, name, material)?;
-                triangles += part.triangles.len();
-                if triangles > MAX_OBJECTS {
-                    return Err(GltfError::at(
-                        at,
-                        format!(
-                            "the file's scene holds more than {MAX_OBJECTS} triangles (raystep's limit for a scene)"
-                        ),
-                    ));
-                }
-                for s in &part.triangles {
-                    if let Shape::Triangle { p } = s {
-                        for v in p {
-                            let v = v.as_dvec3();
-                            out.bounds = Some(match out.bounds {
-                                None => (v, v),
-                                Some((lo, hi)) => (lo.min(v), hi.max(v)),
-                            });
-                        }
-                    }
-                }
-                out.parts.push(part);
-            }
+            placed_meshes.push((i, mesh.index(), world));
         }
         if let Some(camera) = node.camera() {
             match camera.projection() {
@@ -317,6 +307,121 @@ pub(crate) fn import_bytes(
             stack.push((c, world, depth + 1));
         }
     }
+    // The meshes, placed: a mesh that one node places becomes world triangles; a mesh that
+    // several place (the table's box: a top and four legs) becomes prototypes in its own space,
+    // read once, and an instance per node, as a scene's `[[instance]]`s (lesson 20). A mesh with
+    // an emitting material stays copied into the world (an instance cannot be an area light),
+    // and so does a node whose matrix flattens it (an instance needs an inverse).
+    let mut uses = vec![0usize; doc.meshes().len()];
+    for &(_, m, world) in &placed_meshes {
+        if instanceable(world) {
+            uses[m] += 1;
+        }
+    }
+    let mesh_names = unique_names(doc.meshes().map(|m| m.name()), "mesh");
+    // The first part of each mesh read as prototypes.
+    let mut prototypes: Vec<Option<usize>> = vec![None; doc.meshes().len()];
+    let mut triangles = 0usize;
+    for (i, m, world) in placed_meshes {
+        let Some(mesh) = doc.meshes().nth(m) else {
+            continue;
+        };
+        let count = mesh.primitives().len();
+        let emits = mesh
+            .primitives()
+            .any(|p| p.material().emissive_factor().iter().any(|&e| e > 0.0));
+        let shared = share && uses[m] > 1 && !emits && instanceable(world);
+        if shared && prototypes[m].is_none() {
+            prototypes[m] = Some(out.parts.len());
+            // Named after the mesh (and set apart from a node of that name).
+            let mut base = format!("{prefix}/{}", mesh_names[m]);
+            if node_names.iter().any(|n| format!("{prefix}/{n}") == base) {
+                base += " (mesh)";
+            }
+            for prim in mesh.primitives() {
+                let name = if count > 1 {
+                    format!("{base}/{}", prim.index())
+                } else {
+                    base.clone()
+                };
+                if let Some(part) = read_part(
+                    &prim,
+                    &mesh,
+                    &buffers,
+                    DMat4::IDENTITY,
+                    name,
+                    &mut mats,
+                    &mut skipped,
+                )? {
+                    triangles += part.triangles.len();
+                    check_triangles(triangles, &mesh, &prim)?;
+                    out.parts.push(Part {
+                        prototype: true,
+                        ..part
+                    });
+                }
+            }
+        }
+        let node_name = |prim: &gltf::Primitive| {
+            if count > 1 {
+                format!("{prefix}/{}/{}", node_names[i], prim.index())
+            } else {
+                format!("{prefix}/{}", node_names[i])
+            }
+        };
+        if shared {
+            let Some(first) = prototypes[m] else {
+                continue;
+            };
+            // One instance per primitive read (the prototypes' parts lie side by side).
+            let protos = out.parts[first..]
+                .iter()
+                .take_while(|p| p.prototype)
+                .count();
+            let read: Vec<gltf::Primitive> = mesh
+                .primitives()
+                .filter(|p| p.mode() == gltf::mesh::Mode::Triangles)
+                .collect();
+            for (k, prim) in read.iter().enumerate().take(protos) {
+                out.instances.push(GltfInstance {
+                    name: node_name(prim),
+                    part: first + k,
+                    matrix: world,
+                });
+                let part = &out.parts[first + k];
+                if let Some((lo, hi)) = part_bounds(part) {
+                    for c in 0..8 {
+                        let corner = DVec3::new(
+                            if c & 1 == 0 { lo.x } else { hi.x },
+                            if c & 2 == 0 { lo.y } else { hi.y },
+                            if c & 4 == 0 { lo.z } else { hi.z },
+                        );
+                        grow(&mut out.bounds, world.transform_point3(corner));
+                    }
+                }
+            }
+            continue;
+        }
+        for prim in mesh.primitives() {
+            if let Some(part) = read_part(
+                &prim,
+                &mesh,
+                &buffers,
+                world,
+                node_name(&prim),
+                &mut mats,
+                &mut skipped,
+            )? {
+                triangles += part.triangles.len();
+                check_triangles(triangles, &mesh, &prim)?;
+                if let Some((lo, hi)) = part_bounds(&part) {
+                    grow(&mut out.bounds, lo);
+                    grow(&mut out.bounds, hi);
+                }
+                out.parts.push(part);
+            }
+        }
+    }
     skipped.name(&mut not_read);
     let (materials, textures) = mats.finish(&mut not_read);
     out.materials = materials;
@@ -326,6 +431,72 @@ pub(crate) fn import_bytes(
             .push(format!("not read: {}", not_read.join("; ")));
     }
     Ok(out)
+}
+
+/// Whether a node's matrix can place an instance: finite, with an inverse (a node scaled to
+/// nothing is copied into the world instead, where its triangles simply cannot be hit).
+fn instanceable(m: DMat4) -> bool {
+    let det = m.determinant();
+    det.is_finite() && det.abs() >= 1e-30 && m.inverse().is_finite()
+}
+
+/// A primitive read (placed by `world`), or None for one that is not made of triangles (named
+/// in the warning).
+fn read_part(
+    prim: &gltf::Primitive,
+    mesh: &gltf::Mesh,
+    buffers: &[Vec<u8>],
+    world: DMat4,
+    name: String,
+    mats: &mut materials::Materials,
+    skipped: &mut Skipped,
+) -> Result<Option<Part>, GltfError> {
+    let at = format!("meshes[{}].primitives[{}]", mesh.index(), prim.index());
+    if prim.mode() != gltf::mesh::Mode::Triangles {
+        if !skipped.modes.contains(&format!("{at} ({:?})", prim.mode())) {
+            skipped.modes.push(format!("{at} ({:?})", prim.mode()));
+        }
+        return Ok(None);
+    }
+    let material = mats.material(&prim.material())?;
+    read_primitive(prim, &at, buffers, world, name, material).map(Some)
+}
+
+/// The scene's limit on triangles, checked as a primitive is added.
+fn check_triangles(
+    triangles: usize,
+    mesh: &gltf::Mesh,
+    prim: &gltf::Primitive,
+) -> Result<(), GltfError> {
+    if triangles > MAX_OBJECTS {
+        return Err(GltfError::at(
+            format!("meshes[{}].primitives[{}]", mesh.index(), prim.index()),
+            format!(
+                "the file's scene holds more than {MAX_OBJECTS} triangles (raystep's limit for a scene)"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// The box of a part's vertices (None: no triangles).
+fn part_bounds(part: &Part) -> Option<(DVec3, DVec3)> {
+    let mut b = None;
+    for s in &part.triangles {
+        if let Shape::Triangle { p } = s {
+            for v in p {
+                grow(&mut b, v.as_dvec3());
+            }
+        }
+    }
+    b
+}
+
+fn grow(b: &mut Option<(DVec3, DVec3)>, v: DVec3) {
+    *b = Some(match *b {
+        None => (v, v),
+        Some((lo, hi)) => (lo.min(v), hi.max(v)),
+    });
 }
 
 /// The extensions raystep reads (others in `extensionsUsed` are named in a warning; the crate
@@ -781,6 +952,7 @@ fn read_primitive(
         normals: vec![],
         uvs: vec![],
         material,
+        prototype: false,
     };
     let n = positions.len();
     for (f, tri) in indices.chunks_exact(3).enumerate() {

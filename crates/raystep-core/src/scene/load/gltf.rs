@@ -3,12 +3,14 @@
 //! taken where asked.
 
 use super::*;
-use crate::scene::gltf::{GltfError, Imported, Part, import};
+use crate::scene::gltf::{GltfError, GltfInstance, Imported, Part, import};
 use glam::{DMat4, DQuat, DVec3};
 
 /// One `[[gltf]]` read: its primitives, and where its materials start in the scene's.
 pub(super) struct Placed {
     pub(super) parts: Vec<Part>,
+    /// The nodes' instances of the prototypes among `parts`.
+    pub(super) instances: Vec<GltfInstance>,
     pub(super) material_base: u32,
     /// SHA-256 of the file's bytes.
     pub(super) source_hash: String,
@@ -65,10 +67,17 @@ impl Ctx<'_> {
                 })
                 .sum();
             let budget = texture::MAX_TEXELS.saturating_sub(used);
-            let imported =
-                import(&path, &name, place, budget).map_err(|e| self.gltf_error(&loc, &path, e))?;
+            // A `material` that emits light is every part's: then no part may be instanced.
+            let share = !d.material.as_ref().is_some_and(|m| {
+                add.materials
+                    .iter()
+                    .any(|x| &x.name == m && x.emission.max_element() > 0.0)
+            });
+            let imported = import(&path, &name, place, budget, share)
+                .map_err(|e| self.gltf_error(&loc, &path, e))?;
             let Imported {
                 parts,
+                instances,
                 materials,
                 textures,
                 lights,
@@ -202,6 +211,7 @@ impl Ctx<'_> {
             }
             out.push(Placed {
                 parts,
+                instances,
                 material_base,
                 source_hash,
             });

@@ -9,6 +9,16 @@ use glam::{DMat4, DQuat, DVec3};
 /// The most instances a scene may hold.
 pub const MAX_INSTANCES: usize = 1_000_000;
 
+/// A glTF node's placement of a shared mesh's primitive, to become an instance: its name, its
+/// prototype's group, its world matrix, and the `[[gltf]]` table it came from (for errors).
+pub(super) struct Placement {
+    pub(super) name: String,
+    pub(super) group: u32,
+    pub(super) matrix: DMat4,
+    pub(super) what: String,
+    pub(super) span: Option<Range<usize>>,
+}
+
 /// What the instance tables add to a scene.
 pub(super) struct Placed {
     pub(super) instances: Vec<Instance>,
@@ -17,11 +27,13 @@ pub(super) struct Placed {
 }
 
 impl Ctx<'_> {
-    /// Reads the `[[instance]]` tables, and reorders `objects` (updating `groups`) so that the
-    /// prototypes' objects come last.
+    /// Reads the `[[instance]]` tables (then places `gltf`, the glTF files' nodes that place a
+    /// shared mesh), and reorders `objects` (updating `groups`) so that the prototypes' objects
+    /// come last.
     pub(super) fn instances(
         &self,
         f: &SceneFile,
+        gltf: Vec<Placement>,
         objects: &mut Vec<Object>,
         groups: &mut [Group],
         materials: &[Material],
@@ -39,42 +51,98 @@ impl Ctx<'_> {
                 ),
             ));
         }
-        for (i, t) in f.instance.iter().enumerate() {
-            let d = t.get_ref();
-            let name = d.name.clone().unwrap_or_else(|| format!("instance {i}"));
-            let loc = self.loc(format!("instance \"{name}\""), t);
-            if instances.iter().any(|x| x.name == name) {
-                return Err(loc.err(
-                    "name",
-                    format!("an instance named \"{name}\" is already defined"),
-                ));
+        if let Some(p) = gltf.get(MAX_INSTANCES.saturating_sub(f.instance.len())) {
+            return Err(Loc {
+                what: p.what.clone(),
+                span: p.span.clone(),
+                ctx: self,
             }
-            let Some(g) = groups.iter().position(|g| g.name == d.of) else {
-                let mut known: Vec<String> = groups
-                    .iter()
-                    .filter(|g| !is_plane_group(objects, g))
-                    .take(12)
-                    .map(|g| format!("\"{}\"", g.name))
-                    .collect();
-                if known.is_empty() {
-                    known.push("none: define a [[mesh]], [[triangle]] or [[sphere]]".into());
+            .err(
+                "file",
+                format!(
+                    "a scene holds at most {MAX_INSTANCES} instances, this one {} (its glTF files' nodes place {} of them)",
+                    f.instance.len() + gltf.len(),
+                    gltf.len()
+                ),
+            ));
+        }
+        enum Source<'t> {
+            Table(usize, &'t toml::Spanned<InstanceDef>),
+            Gltf(Placement),
+        }
+        let sources = f
+            .instance
+            .iter()
+            .enumerate()
+            .map(|(i, t)| Source::Table(i, t))
+            .chain(gltf.into_iter().map(Source::Gltf));
+        for source in sources {
+            // The instance's name, where it is written, its prototype's group, its matrix, and
+            // the field a bad matrix is reported on.
+            let (name, loc, g, m, field) = match source {
+                Source::Table(i, t) => {
+                    let d = t.get_ref();
+                    let name = d.name.clone().unwrap_or_else(|| format!("instance {i}"));
+                    let loc = self.loc(format!("instance \"{name}\""), t);
+                    if instances.iter().any(|x| x.name == name) {
+                        return Err(loc.err(
+                            "name",
+                            format!("an instance named \"{name}\" is already defined"),
+                        ));
+                    }
+                    let Some(g) = groups.iter().position(|g| g.name == d.of) else {
+                        let mut known: Vec<String> = groups
+                            .iter()
+                            .filter(|g| !is_plane_group(objects, g))
+                            .take(12)
+                            .map(|g| format!("\"{}\"", g.name))
+                            .collect();
+                        if known.is_empty() {
+                            known
+                                .push("none: define a [[mesh]], [[triangle]] or [[sphere]]".into());
+                        }
+                        return Err(loc.err(
+                            "of",
+                            format!(
+                                "no mesh, triangle or sphere is named \"{}\" (known: {})",
+                                d.of,
+                                known.join(", ")
+                            ),
+                        ));
+                    };
+                    let m = self.instance_matrix(&loc, d)?;
+                    let field = if d.matrix.is_some() {
+                        ["matrix", "matrix"]
+                    } else {
+                        ["scale", "translate"]
+                    };
+                    (name, loc, g, m, field)
                 }
-                return Err(loc.err(
-                    "of",
-                    format!(
-                        "no mesh, triangle or sphere is named \"{}\" (known: {})",
-                        d.of,
-                        known.join(", ")
-                    ),
-                ));
+                Source::Gltf(p) => {
+                    let loc = Loc {
+                        what: p.what,
+                        span: p.span,
+                        ctx: self,
+                    };
+                    if instances.iter().any(|x| x.name == p.name) {
+                        return Err(loc.err(
+                            "name",
+                            format!(
+                                "an instance named \"{}\" is already defined (a node of the glTF file places one of that name: give the [[gltf]] another `name`)",
+                                p.name
+                            ),
+                        ));
+                    }
+                    (p.name, loc, p.group as usize, p.matrix, ["file", "file"])
+                }
             };
+            let of = &groups[g].name;
             let group = &groups[g];
             if is_plane_group(objects, group) {
                 return Err(loc.err(
                     "of",
                     format!(
-                        "\"{}\" is a plane: an instance places a mesh, a triangle or a sphere (a plane is infinite, and has no box for the top-level BVH)",
-                        d.of
+                        "\"{of}\" is a plane: an instance places a mesh, a triangle or a sphere (a plane is infinite, and has no box for the top-level BVH)"
                     ),
                 ));
             }
@@ -86,20 +154,15 @@ impl Ctx<'_> {
                 return Err(loc.err(
                     "of",
                     format!(
-                        "\"{}\" emits light (material \"{}\"): an instanced object cannot be an area light (the Monte Carlo integrators sample lights in world space); place a copy without instancing it",
-                        d.of, materials[o.material as usize].name
+                        "\"{of}\" emits light (material \"{}\"): an instanced object cannot be an area light (the Monte Carlo integrators sample lights in world space); place a copy without instancing it",
+                        materials[o.material as usize].name
                     ),
                 ));
             }
-            let m = self.instance_matrix(&loc, d)?;
             let det = m.determinant();
             if !det.is_finite() || det.abs() < 1e-30 {
                 return Err(loc.err(
-                    if d.matrix.is_some() {
-                        "matrix"
-                    } else {
-                        "scale"
-                    },
+                    field[0],
                     format!("the matrix is singular (determinant {det:e}): it flattens the object"),
                 ));
             }
@@ -110,11 +173,7 @@ impl Ctx<'_> {
                 || to_world.0.iter().flatten().any(|x| !x.is_finite())
             {
                 return Err(loc.err(
-                    if d.matrix.is_some() {
-                        "matrix"
-                    } else {
-                        "scale"
-                    },
+                    field[0],
                     "the matrix or its inverse does not fit in single precision (f32)",
                 ));
             }
@@ -140,10 +199,9 @@ impl Ctx<'_> {
                 || !max.is_finite()
             {
                 return Err(loc.err(
-                    if d.matrix.is_some() { "matrix" } else { "translate" },
+                    field[1],
                     format!(
-                        "it places \"{}\" beyond ±{MAX_COORD:e}, where single-precision (f32) tracing stays finite",
-                        d.of
+                        "it places \"{of}\" beyond ±{MAX_COORD:e}, where single-precision (f32) tracing stays finite"
                     ),
                 ));
             }

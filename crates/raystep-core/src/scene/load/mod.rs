@@ -368,6 +368,8 @@ impl<'a> Ctx<'a> {
             .filter(|_| self.gltf_open)
             .map(|p| p.source_hash.clone());
         let mut placed = placed.into_iter();
+        // The glTF files' nodes that place a shared mesh, as instances (after every table).
+        let mut gltf_instances: Vec<instances::Placement> = vec![];
         let mut default_material = None;
         let mut material = |loc: &Loc, name: &Option<String>| -> Result<u32, SceneError> {
             match name {
@@ -408,7 +410,7 @@ impl<'a> Ctx<'a> {
                              normals: Vec<Option<[Vec3; 3]>>,
                              uvs: Vec<Option<[[f32; 2]; 3]>>,
                              mat: u32|
-         -> Result<(), SceneError> {
+         -> Result<u32, SceneError> {
             // Keep the byte offset; the line is counted only when a duplicate is reported (counting
             // lines for every object made loading quadratic in the file's size).
             if let Some(first) = names.get(&name) {
@@ -459,7 +461,7 @@ impl<'a> Ctx<'a> {
                     uvs: t,
                 });
             }
-            Ok(())
+            Ok(g)
         };
 
         // Objects are processed in file order (whatever their kind), so ids follow the file and a
@@ -648,14 +650,34 @@ impl<'a> Ctx<'a> {
                         .is_some()
                         .then(|| material(&loc, &d.material))
                         .transpose()?;
+                    // The group each part becomes (the prototypes' for the instances below).
+                    let mut group_of = vec![];
                     for part in p.parts {
                         let m = instead.unwrap_or(p.material_base + part.material as u32);
-                        add_group(&loc, part.name, part.triangles, part.normals, part.uvs, m)?;
+                        group_of.push(add_group(
+                            &loc,
+                            part.name,
+                            part.triangles,
+                            part.normals,
+                            part.uvs,
+                            m,
+                        )?);
+                    }
+                    for inst in p.instances {
+                        if let Some(&group) = group_of.get(inst.part) {
+                            gltf_instances.push(instances::Placement {
+                                name: inst.name,
+                                group,
+                                matrix: inst.matrix,
+                                what: loc.what.clone(),
+                                span: loc.span.clone(),
+                            });
+                        }
                     }
                 }
             }
         }
-        let placed = self.instances(&f, &mut objects, &mut groups, &materials)?;
+        let placed = self.instances(&f, gltf_instances, &mut objects, &mut groups, &materials)?;
         let meshes = f.mesh.len() + gltf_parts;
         let mut features = Features::compute(&objects, &materials, lights.len(), meshes);
         features.instances = placed.instances.len();
