@@ -35,6 +35,7 @@ pub mod samples;
 pub mod slice;
 mod text;
 pub mod texture;
+pub mod two_level;
 
 pub use canvas::{Anchor, Canvas, MAX_SIDE, Theme};
 
@@ -53,6 +54,9 @@ pub enum DiagramKind {
     Barycentric,
     /// The BVH (or the bounding-sphere tree) as a node-link tree with the visited path.
     Bvh,
+    /// Instances: the TLAS walk above, each entered instance's BLAS below it (after AMD's Radeon
+    /// Raytracing Analyzer), every visit numbered across both levels.
+    Tlas,
     /// Primary → shadow / reflection / refraction rays with weights and colours (and a Monte
     /// Carlo sample's path: diffuse and glossy bounces, light samples).
     Raytree,
@@ -71,12 +75,13 @@ pub enum DiagramKind {
 
 impl DiagramKind {
     /// All kinds, in menu order.
-    pub const ALL: [DiagramKind; 9] = [
+    pub const ALL: [DiagramKind; 10] = [
         DiagramKind::Slice,
         DiagramKind::Quadratic,
         DiagramKind::Barycentric,
         DiagramKind::Texture,
         DiagramKind::Bvh,
+        DiagramKind::Tlas,
         DiagramKind::Raytree,
         DiagramKind::Hemisphere,
         DiagramKind::AreaLight,
@@ -90,6 +95,7 @@ impl DiagramKind {
             DiagramKind::Quadratic => "quadratic",
             DiagramKind::Barycentric => "barycentric",
             DiagramKind::Bvh => "bvh",
+            DiagramKind::Tlas => "tlas",
             DiagramKind::Raytree => "raytree",
             DiagramKind::Hemisphere => "hemisphere",
             DiagramKind::AreaLight => "area-light",
@@ -165,6 +171,9 @@ pub fn available(trace: &Trace) -> Vec<DiagramKind> {
     if has(&bvh_tree::is_node_visit) {
         out.push(DiagramKind::Bvh);
     }
+    if two_level::has_two_level(trace) {
+        out.push(DiagramKind::Tlas);
+    }
     out.push(DiagramKind::Raytree);
     if hemisphere::has_hemisphere(trace) {
         out.push(DiagramKind::Hemisphere);
@@ -214,6 +223,9 @@ fn whitted_kinds_for_step(step: &Step) -> Vec<DiagramKind> {
         Step::Texture { .. } => vec![DiagramKind::Texture, DiagramKind::Slice],
         Step::Node(n) if n.instance.is_none() => vec![DiagramKind::Bvh, DiagramKind::Slice],
         Step::SphereNode { .. } => vec![DiagramKind::Bvh, DiagramKind::Slice],
+        Step::TlasNode(_) | Step::Instance { .. } | Step::Node(_) | Step::InstanceHit { .. } => {
+            vec![DiagramKind::Tlas, DiagramKind::Slice]
+        }
         Step::Light { .. }
         | Step::ShadowRay { .. }
         | Step::Reflect { .. }
@@ -246,6 +258,7 @@ pub fn draw(trace: &Trace, kind: DiagramKind, opts: &ViewOptions) -> Result<Canv
         DiagramKind::Quadratic => quadratic::draw(trace, opts),
         DiagramKind::Barycentric => barycentric::draw(trace, opts),
         DiagramKind::Bvh => bvh_tree::draw(trace, opts),
+        DiagramKind::Tlas => two_level::draw(trace, opts),
         DiagramKind::Raytree => ray_tree::draw(trace, opts),
         DiagramKind::Hemisphere => hemisphere::draw(trace, opts),
         DiagramKind::AreaLight => area_light::draw(trace, opts),

@@ -228,7 +228,9 @@ fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuState
     let nodes = cpu.map(|r| {
         r.steps
             .iter()
-            .filter(|s| matches!(s.step, Step::Node(_)))
+            // The world's tree, and with instances the TLAS and each BLAS entered: every box
+            // the GPU's walk tests counts in its debug buffer.
+            .filter(|s| matches!(s.step, Step::Node(_) | Step::TlasNode(_)))
             .count()
     });
     let opt = |x: Option<f32>| x.map_or("—".to_string(), num);

@@ -292,6 +292,7 @@ fn diagram_label(k: DiagramKind) -> &'static str {
         DiagramKind::Quadratic => "Quadratic",
         DiagramKind::Barycentric => "Barycentric",
         DiagramKind::Bvh => "BVH",
+        DiagramKind::Tlas => "TLAS/BLAS",
         DiagramKind::Raytree => "Ray tree",
         DiagramKind::Hemisphere => "Hemisphere",
         DiagramKind::AreaLight => "Area light",

@@ -39,23 +39,24 @@ fn expected() -> Vec<(&'static str, Features)> {
         ),
         (
             // The Cornell box's 12 triangles around scenes/gltf/table.gltf: one box mesh of 12
-            // triangles at five nodes (60, textured), a 12 × 8 sphere (12 + 12 + 6 × 24 = 168)
-            // and a pane (2), all with NORMAL (smooth); steel reflects, the pane is glass; the
-            // file's point light left out (`lights = false`).
+            // triangles (textured) that five nodes place — one prototype, five instances —, a
+            // 12 × 8 sphere (12 + 12 + 6 × 24 = 168) and a pane (2), all with NORMAL (smooth);
+            // steel reflects, the pane is glass; the file's point light left out
+            // (`lights = false`). Three meshes read: the box once.
             "gltf-table.toml",
             Features {
                 spheres: 0,
                 planes: 0,
-                triangles: 242,
-                smooth: 230,
-                textured: 60,
-                meshes: 7,
+                triangles: 194,
+                smooth: 182,
+                textured: 12,
+                meshes: 3,
                 lights: 0,
                 reflective: true,
                 transparent: true,
                 emitters: 2,
-                primitives: 242,
-                instances: 0,
+                primitives: 194,
+                instances: 5,
             },
         ),
         (

@@ -16,3 +16,4 @@ mod accelerators;
 mod diagram_quadratic_barycentric;
 mod diagram_slice;
 mod diagram_texture;
+mod diagram_two_level;
