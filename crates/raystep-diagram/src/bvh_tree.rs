@@ -84,23 +84,9 @@ pub fn is_node_visit(step: &Step) -> bool {
 /// The ray whose traversal the diagram shows: the one owning the focused step, else the first
 /// ray with node visits.
 fn shown_ray(trace: &Trace, focus: Option<usize>) -> Option<(&RayRecord, Option<usize>)> {
-    let tl = trace.timeline();
-    if let Some(k) = focus
-        && let Some((r, _)) = tl.get(k)
-        && r.steps.iter().any(|s| is_node_visit(&s.step))
-    {
-        // Visits of this ray up to and including the focused step.
-        let upto = tl[..=k]
-            .iter()
-            .filter(|(rr, _)| std::ptr::eq(*rr, *r))
-            .count();
-        return Some((r, Some(upto)));
-    }
-    trace
-        .rays()
-        .into_iter()
-        .find(|r| r.steps.iter().any(|s| is_node_visit(&s.step)))
-        .map(|r| (r, None))
+    super::shown_ray(trace, focus, |r| {
+        r.steps.iter().any(|s| is_node_visit(&s.step))
+    })
 }
 
 /// Lays the tree out in a `width`×`height` area below `top`, its deepest level at 86 % of the

@@ -39,7 +39,7 @@ pub mod two_level;
 
 pub use canvas::{Anchor, Canvas, MAX_SIDE, Theme};
 
-use crate::record::{Step, Trace};
+use crate::record::{RayRecord, Step, Trace};
 use serde::{Deserialize, Serialize};
 
 /// The kinds of diagram.
@@ -265,6 +265,32 @@ pub fn draw(trace: &Trace, kind: DiagramKind, opts: &ViewOptions) -> Result<Canv
         DiagramKind::Samples => samples::draw(trace, opts),
         DiagramKind::Texture => texture::draw(trace, opts),
     })
+}
+
+/// The ray a diagram of one ray's walk shows: the one owning the focused step if `walked`
+/// accepts it, else the first ray that `walked` accepts; with the number of its steps up to and
+/// including the focused one (None: all of them).
+pub(crate) fn shown_ray(
+    trace: &Trace,
+    focus: Option<usize>,
+    walked: impl Fn(&RayRecord) -> bool,
+) -> Option<(&RayRecord, Option<usize>)> {
+    let tl = trace.timeline();
+    if let Some(k) = focus
+        && let Some((r, _)) = tl.get(k)
+        && walked(r)
+    {
+        let upto = tl[..=k]
+            .iter()
+            .filter(|(rr, _)| std::ptr::eq(*rr, *r))
+            .count();
+        return Some((r, Some(upto)));
+    }
+    trace
+        .rays()
+        .into_iter()
+        .find(|r| walked(r))
+        .map(|r| (r, None))
 }
 
 /// The step of `trace` a focused diagram of some kind should explain: the step at `focus` if

@@ -149,22 +149,7 @@ fn count(w: &mut Walk, hit: bool) {
 /// The ray whose walk is shown: the focused step's, if it walked a TLAS; else the first that
 /// did. With the number of its steps up to and including the focus.
 fn shown_ray(trace: &Trace, focus: Option<usize>) -> Option<(&RayRecord, Option<usize>)> {
-    let tl = trace.timeline();
-    if let Some(k) = focus
-        && let Some((r, _)) = tl.get(k)
-        && walked(r)
-    {
-        let upto = tl[..=k]
-            .iter()
-            .filter(|(rr, _)| std::ptr::eq(*rr, *r))
-            .count();
-        return Some((r, Some(upto)));
-    }
-    trace
-        .rays()
-        .into_iter()
-        .find(|r| walked(r))
-        .map(|r| (r, None))
+    super::shown_ray(trace, focus, walked)
 }
 
 /// A node as drawn: its position, and its visit if the walk made one.
