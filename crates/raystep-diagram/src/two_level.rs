@@ -301,21 +301,30 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         )
         .max();
     let legend_top = h - ts * 1.6;
+    // A short panel (the app's side panel) keeps the trees and drops the explanatory lines.
+    let compact = legend_top - top < ts * 22.0;
     // The TLAS in the upper part, the BLAS row below.
     let split = top + (legend_top - top) * 0.42;
-    c.text(
-        ts * 0.8,
-        top,
-        ts * 0.8,
-        "TLAS: the instances' world boxes",
-        th.muted,
-        Anchor::TopLeft,
-    );
+    if !compact {
+        c.text(
+            ts * 0.8,
+            top,
+            ts * 0.8,
+            "TLAS: the instances' world boxes",
+            th.muted,
+            Anchor::TopLeft,
+        );
+    }
+    let tlas_top = if compact {
+        top + ts * 0.9
+    } else {
+        top + ts * 2.0
+    };
     let radius = (ts * 0.75).max(4.0);
     let (tlas, tlas_edges) = lay_out(
         &walk.tlas,
         [w * 0.05, w * 0.95],
-        [top + ts * 2.0, split - ts * 1.2],
+        [tlas_top, split - ts * 1.2],
     );
     draw_tree(
         &mut c,
@@ -344,20 +353,23 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         }
         let name = c.elide(&e.name, ts * 0.75, col_w * 0.95);
         c.text(mid, header, ts * 0.75, &name, th.ink, Anchor::TopCenter);
-        let sub = format!("#{} into object space → {}", e.number, e.prototype);
-        let sub = c.elide(&sub, ts * 0.6, col_w * 0.95);
-        c.text(
-            mid,
-            header + ts * 0.95,
-            ts * 0.6,
-            &sub,
-            th.muted,
-            Anchor::TopCenter,
-        );
+        if !compact {
+            let sub = format!("#{} into object space → {}", e.number, e.prototype);
+            let sub = c.elide(&sub, ts * 0.6, col_w * 0.95);
+            c.text(
+                mid,
+                header + ts * 0.95,
+                ts * 0.6,
+                &sub,
+                th.muted,
+                Anchor::TopCenter,
+            );
+        }
+        let blas_top = header + if compact { ts * 1.9 } else { ts * 2.8 };
         let (blas, edges) = lay_out(
             &e.blas,
             [x0 + col_w * 0.06, x0 + col_w * 0.94],
-            [header + ts * 2.8, legend_top - ts * 2.6],
+            [blas_top, legend_top - ts * 2.6],
         );
         let r = radius.min(col_w / 10.0).max(3.0);
         draw_tree(&mut c, &blas, &edges, r, last, opts.focus.is_some());
@@ -408,7 +420,14 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     let mut x = ts;
     for (col, name) in [
         (th.ray, "descend"),
-        (th.hit, "leaf: enter instances / test primitives"),
+        (
+            th.hit,
+            if compact {
+                "leaf"
+            } else {
+                "leaf: enter instances / test primitives"
+            },
+        ),
         (th.faded, "culled"),
     ] {
         c.circle(
