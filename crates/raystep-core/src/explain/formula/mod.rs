@@ -102,7 +102,8 @@ pub fn explain(trace: &Trace, ray: &RayRecord, step: &Step) -> Explanation {
             screen,
             direction,
         } => cx.camera(*pixel, *sample, *offset, *screen, *direction),
-        Step::Node(n) | Step::TlasNode(n) => cx.node(n),
+        Step::Node(n) => cx.node(n, if n.instance.is_some() { "BLAS" } else { "BVH" }),
+        Step::TlasNode(n) => cx.node(n, "TLAS"),
         Step::Instance {
             name,
             prototype,

@@ -3,7 +3,9 @@
 use super::*;
 
 impl Ctx<'_> {
-    pub(super) fn node(&self, n: &crate::record::NodeVisit) -> Explanation {
+    /// `tree`: which tree the node is of ("BVH", "TLAS" or "BLAS"), for the title; a TLAS
+    /// leaf holds instances, entered next.
+    pub(super) fn node(&self, n: &crate::record::NodeVisit, tree: &str) -> Explanation {
         let test: &BoxTest<f32> = &n.test;
         let o = self.origin().to_array();
         let t_max_tested = self.node_t_max(n.node);
@@ -157,11 +159,16 @@ impl Ctx<'_> {
             NodeAction::Pushed => {
                 "Hit, but farther than its sibling: pushed on the stack for later.".into()
             }
+            NodeAction::TestPrimitives if tree == "TLAS" => {
+                "Hit: enter the leaf's instances (next steps: the ray into each one's object \
+                 space, then its BLAS)."
+                    .into()
+            }
             NodeAction::TestPrimitives => "Hit: test the leaf's primitives (next steps).".into(),
         };
         Explanation {
             title: format!(
-                "BVH node {} (depth {}, {kind}): {} slab test",
+                "{tree} node {} (depth {}, {kind}): {} slab test",
                 n.node,
                 n.depth,
                 if robust { "robust" } else { "plain" }
