@@ -291,45 +291,7 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
     }
     for n in lay.nodes.values() {
         let current = n.visit.is_some_and(|v| Some(v.0) == last_visit) && opts.focus.is_some();
-        let (fill, ring) = match n.visit {
-            None => (None, th.faded),
-            Some((_, NodeAction::Culled)) => (Some(th.faded), th.muted),
-            Some((_, NodeAction::TestPrimitives)) => (Some(th.hit), th.ink),
-            Some(_) => (Some(th.ray), th.ink),
-        };
-        if n.leaf {
-            let r = radius * 0.9;
-            let pts = [
-                [n.pos[0] - r, n.pos[1] - r],
-                [n.pos[0] + r, n.pos[1] - r],
-                [n.pos[0] + r, n.pos[1] + r],
-                [n.pos[0] - r, n.pos[1] + r],
-            ];
-            c.polygon(
-                &pts,
-                fill.or(Some(th.background)),
-                Some(ring),
-                if current { 3.5 } else { 1.5 },
-            );
-        } else {
-            c.circle(
-                n.pos,
-                radius,
-                fill.or(Some(th.background)),
-                Some(ring),
-                if current { 3.5 } else { 1.5 },
-            );
-        }
-        if let Some((k, _)) = n.visit {
-            c.text(
-                n.pos[0],
-                n.pos[1],
-                (radius * 1.05).max(9.0),
-                &k.to_string(),
-                th.background,
-                Anchor::Center,
-            );
-        }
+        node_glyph(&mut c, n.pos, radius, n.leaf, n.visit, current, 9.0);
         if lay.nodes.len() <= 40 {
             c.text(
                 n.pos[0] + radius * 1.25,
@@ -381,8 +343,67 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         }
     }
     // Legend, in as many rows as the width needs.
-    for (row, entries) in legend.iter().enumerate() {
-        let y = legend_top + row as f32 * ts * 1.3;
+    legend_swatches(&mut c, &legend, legend_top, ts * 0.8, ts * 1.2);
+    c
+}
+
+/// A tree node as the tree diagrams draw it: a circle (a square for a leaf) filled by what the
+/// walk did there (hollow if it was not visited), ringed heavier when it is the focused visit,
+/// its visit number inside (at least `min_text` pixels).
+pub(crate) fn node_glyph(
+    c: &mut Canvas,
+    pos: [f32; 2],
+    radius: f32,
+    leaf: bool,
+    visit: Option<(usize, NodeAction)>,
+    current: bool,
+    min_text: f32,
+) {
+    let th = c.theme;
+    let (fill, ring) = match visit {
+        None => (None, th.faded),
+        Some((_, NodeAction::Culled)) => (Some(th.faded), th.muted),
+        Some((_, NodeAction::TestPrimitives)) => (Some(th.hit), th.ink),
+        Some(_) => (Some(th.ray), th.ink),
+    };
+    let width = if current { 3.5 } else { 1.5 };
+    if leaf {
+        let r = radius * 0.9;
+        let pts = [
+            [pos[0] - r, pos[1] - r],
+            [pos[0] + r, pos[1] - r],
+            [pos[0] + r, pos[1] + r],
+            [pos[0] - r, pos[1] + r],
+        ];
+        c.polygon(&pts, fill.or(Some(th.background)), Some(ring), width);
+    } else {
+        c.circle(pos, radius, fill.or(Some(th.background)), Some(ring), width);
+    }
+    if let Some((k, _)) = visit {
+        c.text(
+            pos[0],
+            pos[1],
+            (radius * 1.05).max(min_text),
+            &k.to_string(),
+            th.background,
+            Anchor::Center,
+        );
+    }
+}
+
+/// A legend of coloured swatches and names, row by row from `top` (`size`: the names' text,
+/// `gap`: the space after each entry).
+pub(crate) fn legend_swatches(
+    c: &mut Canvas,
+    rows: &[Vec<(Rgba, &str)>],
+    top: f32,
+    size: f32,
+    gap: f32,
+) {
+    let th = c.theme;
+    let ts = c.text_size;
+    for (row, entries) in rows.iter().enumerate() {
+        let y = top + row as f32 * ts * 1.3;
         let mut x = ts;
         for &(col, name) in entries {
             c.circle(
@@ -393,10 +414,9 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
                 1.0,
             );
             x += ts * 1.1;
-            x += c.text(x, y, ts * 0.8, name, th.ink, Anchor::TopLeft) + ts * 1.2;
+            x += c.text(x, y, size, name, th.ink, Anchor::TopLeft) + gap;
         }
     }
-    c
 }
 
 /// The legend's entries, flowed into rows that fit the canvas's width.

@@ -9,6 +9,7 @@
 //! children, visited or not, so the choice at every level shows): a trace records no outline of
 //! the TLAS or of a BLAS.
 
+use super::bvh_tree::{legend_swatches, node_glyph};
 use super::canvas::{Anchor, Canvas, with_alpha};
 use super::{ViewOptions, title_first_fitting};
 use crate::record::{NodeAction, NodeVisit, RayRecord, Step, Trace};
@@ -189,8 +190,12 @@ pub fn lay_out(
     let mut xs: BTreeMap<u32, f32> = BTreeMap::new();
     let mut order = 0usize;
     // Depth first from the root; a node's children are the ones its visit named.
+    // A trace read from a file may chain its nodes arbitrarily deep or in a cycle: each node is
+    // placed once, and below the deepest tree a trace may record (validate::MAX_BVH_DEPTH) the
+    // walk stops.
     fn place(
         n: u32,
+        level: u32,
         children: &BTreeMap<u32, [u32; 2]>,
         order: &mut usize,
         xs: &mut BTreeMap<u32, f32>,
@@ -199,10 +204,13 @@ pub fn lay_out(
         if !guard.insert(n) {
             return *xs.get(&n).unwrap_or(&0.0);
         }
-        let x = match children.get(&n) {
+        let kids = children
+            .get(&n)
+            .filter(|_| level < crate::record::validate::MAX_BVH_DEPTH);
+        let x = match kids {
             Some(c) => {
-                let a = place(c[0], children, order, xs, guard);
-                let b = place(c[1], children, order, xs, guard);
+                let a = place(c[0], level + 1, children, order, xs, guard);
+                let b = place(c[1], level + 1, children, order, xs, guard);
                 (a + b) / 2.0
             }
             None => {
@@ -214,7 +222,7 @@ pub fn lay_out(
         x
     }
     if !depth.is_empty() {
-        place(0, &children, &mut order, &mut xs, &mut BTreeSet::new());
+        place(0, 0, &children, &mut order, &mut xs, &mut BTreeSet::new());
     }
     let slots = order.max(1) as f32;
     let deepest = xs
@@ -417,29 +425,22 @@ pub fn draw(trace: &Trace, opts: &ViewOptions) -> Canvas {
         );
     }
     // Legend.
-    let mut x = ts;
-    for (col, name) in [
-        (th.ray, "descend"),
-        (
-            th.hit,
-            if compact {
-                "leaf"
-            } else {
-                "leaf: enter instances / test primitives"
-            },
-        ),
-        (th.faded, "culled"),
-    ] {
-        c.circle(
-            [x + ts * 0.4, legend_top + ts * 0.5],
-            ts * 0.4,
-            Some(col),
-            Some(th.muted),
-            1.0,
-        );
-        x += ts * 1.1;
-        x += c.text(x, legend_top, ts * 0.75, name, th.ink, Anchor::TopLeft) + ts * 1.0;
-    }
+    let hit_name = if compact {
+        "leaf"
+    } else {
+        "leaf: enter instances / test primitives"
+    };
+    legend_swatches(
+        &mut c,
+        &[vec![
+            (th.ray, "descend"),
+            (th.hit, hit_name),
+            (th.faded, "culled"),
+        ]],
+        legend_top,
+        ts * 0.75,
+        ts * 1.0,
+    );
     c
 }
 
@@ -455,11 +456,15 @@ fn draw_tree(
 ) {
     let th = c.theme;
     // Small enough that no two nodes overlap (a deep tree in a small panel).
+    // (Pairwise, so only for trees a ray's walk makes; a huge one from a crafted trace is drawn
+    // at the smallest size.)
     let pos: Vec<[f32; 2]> = nodes.values().map(|n| n.pos).collect();
-    let mut nearest = f32::INFINITY;
-    for (i, a) in pos.iter().enumerate() {
-        for b in &pos[i + 1..] {
-            nearest = nearest.min((a[0] - b[0]).hypot(a[1] - b[1]));
+    let mut nearest = if pos.len() > 4096 { 0.0 } else { f32::INFINITY };
+    if pos.len() <= 4096 {
+        for (i, a) in pos.iter().enumerate() {
+            for b in &pos[i + 1..] {
+                nearest = nearest.min((a[0] - b[0]).hypot(a[1] - b[1]));
+            }
         }
     }
     let radius = radius.min(nearest * 0.42).max(2.0);
@@ -477,40 +482,7 @@ fn draw_tree(
     }
     for n in nodes.values() {
         let current = focused && n.visit.as_ref().map(|v| v.number) == last;
-        let (fill, ring) = match n.visit.as_ref().map(|v| v.action) {
-            None => (None, th.faded),
-            Some(NodeAction::Culled) => (Some(th.faded), th.muted),
-            Some(NodeAction::TestPrimitives) => (Some(th.hit), th.ink),
-            Some(_) => (Some(th.ray), th.ink),
-        };
-        let width = if current { 3.5 } else { 1.5 };
-        if n.leaf {
-            let r = radius * 0.9;
-            let pts = [
-                [n.pos[0] - r, n.pos[1] - r],
-                [n.pos[0] + r, n.pos[1] - r],
-                [n.pos[0] + r, n.pos[1] + r],
-                [n.pos[0] - r, n.pos[1] + r],
-            ];
-            c.polygon(&pts, fill.or(Some(th.background)), Some(ring), width);
-        } else {
-            c.circle(
-                n.pos,
-                radius,
-                fill.or(Some(th.background)),
-                Some(ring),
-                width,
-            );
-        }
-        if let Some(v) = &n.visit {
-            c.text(
-                n.pos[0],
-                n.pos[1],
-                (radius * 1.05).max(8.0),
-                &v.number.to_string(),
-                th.background,
-                Anchor::Center,
-            );
-        }
+        let visit = n.visit.as_ref().map(|v| (v.number, v.action));
+        node_glyph(c, n.pos, radius, n.leaf, visit, current, 8.0);
     }
 }
