@@ -125,9 +125,48 @@ def intersect_triangle(triangle, origin, direction):
     return None
 
 
+def instance_matrix(instance):
+    """An [[instance]]'s matrix M, 3 rows of 4 (the 4th row is 0 0 0 1): its `matrix`, or
+    M = T * Rz * Ry * Rx * S from `scale` (one number or three), `rotate` (degrees about x, then
+    y, then z) and `translate`. Done: this is the scene file's convention, not a lesson."""
+    if "matrix" in instance:
+        return [list(map(float, row)) for row in instance["matrix"][:3]]
+    k = instance.get("scale", 1.0)
+    k = [float(k)] * 3 if isinstance(k, (int, float)) else [float(c) for c in k]
+    ax, ay, az = (math.radians(a) for a in instance.get("rotate", [0.0, 0.0, 0.0]))
+    t = instance.get("translate", [0.0, 0.0, 0.0])
+    c, s = math.cos, math.sin
+    rx = [[1, 0, 0], [0, c(ax), -s(ax)], [0, s(ax), c(ax)]]
+    ry = [[c(ay), 0, s(ay)], [0, 1, 0], [-s(ay), 0, c(ay)]]
+    rz = [[c(az), -s(az), 0], [s(az), c(az), 0], [0, 0, 1]]
+
+    def times3(a, b):
+        return [[sum(a[i][m] * b[m][j] for m in range(3)) for j in range(3)] for i in range(3)]
+    r = times3(rz, times3(ry, rx))
+    return [[r[i][j] * k[j] for j in range(3)] + [float(t[i])] for i in range(3)]
+
+
+def prototypes(scene):
+    """The names of the objects that instances place: drawn only where an instance puts them,
+    so trace() leaves them out of its loop over the world's objects."""
+    return {instance["of"] for instance in scene.get("instance", [])}
+
+
+def intersect_instance(scene, instance, origin, direction):
+    """Lesson 20. TODO: carry the ray into the instance's object space by M^-1 (M from
+    instance_matrix(instance)): S' = M^-1 S as a point (with M^-1's translation), Q' = M^-1 Q as
+    a vector (without it, and not renormalised, so t is the world ray's t); print
+    {"type":"instance","name":name,"origin":S',"direction":Q'}; then test the prototype (the
+    sphere, triangle or mesh named instance["of"]) with S', Q' (its test records follow the
+    instance record); return (t or None, "instance", (instance, kind, primitive)) of the nearest.
+    closest_hit() then carries that hit back to the world: the point by M, the normal by the
+    inverse transpose M^-T (normalized), and prints the hit with "instance": its name."""
+    return (None, "instance", (instance, None, None))
+
+
 def closest_hit(tested, origin, direction):
     """Lesson 5. TODO: `tested` is every test trace() ran, as (t or None, kind, object) with kind
-    "sphere", "plane" or "triangle": keep the nearest t; print
+    "sphere", "plane", "triangle" or "instance": keep the nearest t; print
     {"type":"hit","object":name or None,"t":..,"point":..,"normal":..} (the unit normal facing
     the ray) and return what shade() needs (or None for a miss)."""
     return None
@@ -146,12 +185,18 @@ def trace(scene, origin, direction, kind, depth):
     among those tests, shade it."""
     emit({"type": "ray", "kind": kind, "depth": depth, "origin": origin, "direction": direction})
     tested = []
+    placed = prototypes(scene)
     for sphere in scene.get("sphere", []):
-        tested.append((intersect_sphere(sphere, origin, direction), "sphere", sphere))
+        if sphere.get("name") not in placed:
+            tested.append((intersect_sphere(sphere, origin, direction), "sphere", sphere))
     for plane in scene.get("plane", []):
         tested.append((intersect_plane(plane, origin, direction), "plane", plane))
     for triangle in scene.get("triangle", []):
-        tested.append((intersect_triangle(triangle, origin, direction), "triangle", triangle))
+        if triangle.get("name") not in placed:
+            tested.append((intersect_triangle(triangle, origin, direction), "triangle", triangle))
+    # Instances after the world's objects (lesson 20).
+    for instance in scene.get("instance", []):
+        tested.append(intersect_instance(scene, instance, origin, direction))
     hit = closest_hit(tested, origin, direction)
     return shade(scene, hit, origin, direction, depth)
 

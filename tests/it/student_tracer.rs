@@ -10,7 +10,7 @@ use serde_json::Value;
 use std::path::Path;
 
 use crate::common::scenes;
-use scenes::{root, shipped_for_students as shipped};
+use scenes::{root, shipped_whitted as shipped};
 
 /// Grades `run` on `scene` at `pixels` up to `upto`; the Gradescope JSON.
 fn grade(scene: &Path, pixels: &str, upto: &str, run: &str) -> Value {
@@ -102,6 +102,9 @@ fn the_model_student_gets_full_marks() {
         let px = match name.as_str() {
             "acne.toml" => continue,
             "leaky-edge.toml" => "0,0;199,199;50,150;150,60;100,20".to_string(),
+            // The egg, the tall gem (non-uniform scales), the gem at the back (rotated on three
+            // axes), the near gem (a `matrix`) and the marble.
+            "instances.toml" => "110,104;210,72;150,88;130,136;110,136".to_string(),
             _ => pixels(&scene),
         };
         let v = grade(&scene, &px, "color", MODEL);
@@ -240,6 +243,60 @@ fn planted_bugs_are_found_at_the_right_ray_and_named() {
     let text = all_output(&v);
     assert!(text.contains("(the refraction ray, depth"), "{text}");
     assert!(text.contains("Snell's ratio is inverted"), "{text}");
+}
+
+/// Lesson 20's classic mistakes, planted in the model student, are caught at the first stage
+/// that sees them and named: the normal carried by M instead of M⁻ᵀ (seen only where the scale
+/// is not uniform: on a uniformly scaled gem M·n′ points the same way), the origin carried into
+/// object space as a vector, the direction renormalised there.
+#[test]
+fn planted_instance_mistakes_are_found_and_named() {
+    let scene = root().join("scenes/instances.toml");
+    let bug = |b: &str| format!("{MODEL} --bug {b}");
+    // The egg: the unit sphere scaled by (0.6, 1, 0.6).
+    let v = grade(&scene, "110,104", "color", &bug("normal-by-m"));
+    let (name, out) = first_failure(&v);
+    assert_eq!(name, "instances.toml (110, 104): closest-hit");
+    assert!(
+        out.starts_with("ray 0 (the primary ray, depth 0): your normal is"),
+        "{out}"
+    );
+    assert!(
+        out.contains("that is M·n′: a normal is carried by the inverse transpose"),
+        "{out}"
+    );
+    // The left gem, scaled by 0.3 in every direction: the same mistake gives the right normal.
+    let v = grade(&scene, "230,120", "closest-hit", &bug("normal-by-m"));
+    assert_eq!(failures(&v), Vec::<String>::new());
+
+    let v = grade(&scene, "110,104", "color", &bug("origin-as-vector"));
+    let (name, out) = first_failure(&v);
+    assert_eq!(name, "instances.toml (110, 104): sphere");
+    assert!(
+        out.starts_with(
+            "ray 0 (the primary ray, depth 0), instance \"egg\": your origin S′ (in object space) is"
+        ),
+        "{out}"
+    );
+    assert!(
+        out.contains("S′ is a point: M⁻¹'s translation column applies to it"),
+        "{out}"
+    );
+
+    // The tall gem (a mesh: its instance ray is judged with its triangles).
+    let v = grade(&scene, "210,72", "color", &bug("renormalized-q"));
+    let (name, out) = first_failure(&v);
+    assert_eq!(name, "instances.toml (210, 72): plane-triangle");
+    assert!(
+        out.starts_with(
+            "ray 0 (the primary ray, depth 0), instance \"gem tall\": your direction Q′ (in object space) is"
+        ),
+        "{out}"
+    );
+    assert!(
+        out.contains("Q′ is renormalised: keep M⁻¹Q as it is"),
+        "{out}"
+    );
 }
 
 /// Lessons 17–19's classic mistakes, planted in the model student, are caught at the surface

@@ -36,6 +36,12 @@ marks off and names the mistake:
     half-texel           bilinear filtering from (⌊x⌋, ⌊y⌋) with f = x − ⌊x⌋: texel centres at
                          integers instead of at i + ½
     srgb-not-decoded     an image's 8-bit sRGB values used as linear (c/255)
+    normal-by-m          an instance's normal carried back to the world by M instead of the
+                         inverse transpose M⁻ᵀ (lesson 20)
+    origin-as-vector     the ray's origin carried into an instance's object space without M⁻¹'s
+                         translation (as a vector, w = 0)
+    renormalized-q       the direction carried into object space renormalised (t then differs
+                         from the world ray's)
 
 Usage:  python3 tracer.py SCENE.toml X Y [--bug NAME] [--epsilon E]
 
@@ -71,7 +77,8 @@ import tomllib
 import zlib
 
 BUGS = ("half-b", "unnormalized-normal", "no-shadow-offset", "reflect-sign", "snell-inverted",
-        "normal-weights", "v-flipped", "half-texel", "srgb-not-decoded")
+        "normal-weights", "v-flipped", "half-texel", "srgb-not-decoded", "normal-by-m",
+        "origin-as-vector", "renormalized-q")
 BUG = None  # set from --bug
 
 # How far spawned rays (shadow, reflection, refraction) start off the surface, along the normal,
@@ -368,6 +375,125 @@ def texture_coords(ray, obj, point, outward):
     return dot(point, a1), dot(point, a2)
 
 
+# ---------------------------------------------------------------------------------------------
+# Lesson 20: instances.  An instance places a prototype (a mesh, triangle or sphere defined in
+# its own object space) in the world by a 3 × 4 matrix M = T·Rz·Ry·Rx·S (scale, then rotate
+# x → y → z, then translate) or a given `matrix`.  A ray is carried into object space by M⁻¹ —
+# S′ = M⁻¹S as a point (w = 1), Q′ = M⁻¹Q as a vector (w = 0), not renormalised, so t means
+# the same point in both spaces — tested there, and the hit carried back: the point by M, the
+# normal by the inverse transpose M⁻ᵀ (then normalized), which keeps it perpendicular to the
+# carried surface.
+# ---------------------------------------------------------------------------------------------
+
+def affine_point(m, p):
+    return tuple(r[0] * p[0] + r[1] * p[1] + r[2] * p[2] + r[3] for r in m)
+
+
+def affine_vector(m, v):
+    return tuple(r[0] * v[0] + r[1] * v[1] + r[2] * v[2] for r in m)
+
+
+def transpose_vector(m, n):
+    return tuple(m[0][j] * n[0] + m[1][j] * n[1] + m[2][j] * n[2] for j in range(3))
+
+
+def affine_inverse(m):
+    """M⁻¹ of a 3 × 4 affine matrix: the 3 × 3 part's adjugate over its determinant, and the
+    translation −A⁻¹t."""
+    a = [row[:3] for row in m]
+    cof = [[a[(i + 1) % 3][(j + 1) % 3] * a[(i + 2) % 3][(j + 2) % 3]
+            - a[(i + 1) % 3][(j + 2) % 3] * a[(i + 2) % 3][(j + 1) % 3] for j in range(3)]
+           for i in range(3)]
+    det = sum(a[0][j] * cof[0][j] for j in range(3))
+    inv = [[cof[j][i] / det for j in range(3)] for i in range(3)]
+    t = [row[3] for row in m]
+    return tuple(tuple(inv[i]) + (-sum(inv[i][j] * t[j] for j in range(3)),) for i in range(3))
+
+
+def instance_matrix(d):
+    if "matrix" in d:
+        return tuple(tuple(float(x) for x in row) for row in d["matrix"][:3])
+    sc = d.get("scale", 1.0)
+    sc = (float(sc),) * 3 if isinstance(sc, (int, float)) else vec(sc)
+    rx, ry, rz = (math.radians(float(a)) for a in d.get("rotate", (0, 0, 0)))
+    t = vec(d.get("translate", (0, 0, 0)))
+
+    def matmul(x, y):
+        return [[sum(x[i][k] * y[k][j] for k in range(3)) for j in range(3)] for i in range(3)]
+    c, s_ = math.cos, math.sin
+    rot_x = [[1, 0, 0], [0, c(rx), -s_(rx)], [0, s_(rx), c(rx)]]
+    rot_y = [[c(ry), 0, s_(ry)], [0, 1, 0], [-s_(ry), 0, c(ry)]]
+    rot_z = [[c(rz), -s_(rz), 0], [s_(rz), c(rz), 0], [0, 0, 1]]
+    r = matmul(rot_z, matmul(rot_y, rot_x))
+    return tuple(tuple(r[i][j] * sc[j] for j in range(3)) + (t[i],) for i in range(3))
+
+
+class Instance:
+    kind = "instance"
+
+    def __init__(self, name, m, prims):
+        self.name, self.m, self.prims = name, m, prims
+        self.inv = affine_inverse(m)
+        self.placed = {}  # prototype primitive → its Placed (one object per pair)
+        self.last = None  # the primitive the latest intersect() hit
+
+    def local_ray(self, ray):
+        origin = affine_point(self.inv, ray.origin)
+        if BUG == "origin-as-vector":
+            origin = affine_vector(self.inv, ray.origin)  # BUG: the translation left out
+        direction = affine_vector(self.inv, ray.direction)
+        if BUG == "renormalized-q":
+            direction = normalize(direction)  # BUG: t no longer the world ray's
+        return Ray(origin, direction, ray.kind, ray.depth, ray.t_min, ray.t_max,
+                   travelled=ray.travelled)
+
+    def place(self, prim):
+        return self.placed.setdefault(id(prim), Placed(self, prim))
+
+
+class Placed:
+    """A prototype's primitive where an instance places it (what a ray hits)."""
+    kind = "placed"
+
+    def __init__(self, instance, prim):
+        self.instance, self.prim = instance, prim
+        self.name, self.material = prim.name, prim.material
+
+
+def intersect_instance(ray, inst):
+    local = inst.local_ray(ray)
+    emit({"type": "instance", "name": inst.name, "origin": list(local.origin),
+          "direction": list(local.direction)})
+    best, best_t = None, None
+    for prim in inst.prims:
+        t = intersect(local, prim)
+        if t is not None and (best_t is None or t < best_t):
+            best, best_t = prim, t
+    inst.last = best
+    return best_t
+
+
+def placed_surface(ray, obj, t, scene):
+    """The surface of an instance's primitive: found in object space, carried back."""
+    inst = obj.instance
+    s = surface_at(inst.local_ray(ray), obj.prim, t, scene)
+
+    def carry(n):
+        if BUG == "normal-by-m":
+            return normalize(affine_vector(inst.m, n))  # BUG: M instead of M⁻ᵀ
+        return normalize(transpose_vector(inst.inv, n))
+    s.obj = obj
+    s.point = affine_point(inst.m, s.point)
+    # (M⁻ᵀn)·(M·Q′) = n·Q′: the carried normal still faces the ray.
+    s.normal = carry(s.normal)
+    s.shading = carry(s.shading)
+    if "normal" in s.record:
+        s.record["normal"] = list(s.shading)
+    s.eye = normalize(neg(ray.direction))
+    s.distance = ray.travelled + t * length(ray.direction)
+    return s
+
+
 class Light:
     def __init__(self, name, position, color):
         self.name, self.position, self.color = name, position, color
@@ -510,6 +636,16 @@ def load_scene(path):
             for k, ((p0, p1, p2), n) in enumerate(tris):
                 tname = name if len(tris) == 1 else f"{name}[{k}]"
                 scene.objects.append(Triangle(tname, p0, p1, p2, material(d), n))
+                scene.objects[-1].mesh = name
+    # Lesson 20: an object an instance names is a prototype, drawn only where instances place
+    # it; the instances are tested after the world's objects.
+    instances = []
+    for i, d in enumerate(doc.get("instance", [])):
+        of = d["of"]
+        prims = [o for o in scene.objects if getattr(o, "mesh", o.name) == of]
+        instances.append(Instance(d.get("name", f"instance {i}"), instance_matrix(d), prims))
+    protos = {id(o) for inst in instances for o in inst.prims}
+    scene.objects = [o for o in scene.objects if id(o) not in protos] + instances
     return scene
 
 
@@ -659,6 +795,8 @@ def intersect_triangle(ray, tri):
 
 
 def intersect(ray, obj):
+    if obj.kind == "instance":
+        return intersect_instance(ray, obj)
     if obj.kind == "sphere":
         return intersect_sphere(ray, obj)
     if obj.kind == "plane":
@@ -675,7 +813,7 @@ def closest_hit(scene, ray):
     for obj in scene.objects:
         t = intersect(ray, obj)
         if t is not None and t < best_t:  # ties go to the object listed first
-            best, best_t = obj, t
+            best, best_t = (obj.place(obj.last) if obj.kind == "instance" else obj), t
     return best, best_t
 
 
@@ -694,6 +832,8 @@ class Surface:
 
 
 def surface_at(ray, obj, t, scene=None):
+    if obj.kind == "placed":
+        return placed_surface(ray, obj, t, scene)
     s = Surface()
     s.obj = obj
     s.point = ray.at(t)  # P = S + t·Q
@@ -881,8 +1021,11 @@ def trace(scene, ray, throughput=1.0, media=None):
         emit({"type": "color", "rgb": list(scene.background), "depth": d})
         return scene.background
     s = surface_at(ray, obj, t, scene)
-    emit({"type": "hit", "object": obj.name, "t": t, "point": list(s.point),
-          "normal": list(s.normal), "depth": d})
+    hit = {"type": "hit", "object": obj.name, "t": t, "point": list(s.point),
+           "normal": list(s.normal), "depth": d}
+    if obj.kind == "placed":
+        hit["instance"] = obj.instance.name  # the object is its prototype's primitive
+    emit(hit)
     if s.record:
         # Lessons 17–19: the shading normal, and the texture's coordinates, texel and colour.
         emit({"type": "surface", **s.record, "depth": d})

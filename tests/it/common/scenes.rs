@@ -44,16 +44,6 @@ pub fn shipped_whitted() -> Vec<PathBuf> {
         .collect()
 }
 
-/// The Whitted scenes the starter kit's model tracer (lessons/starter/tracer.py) reads: all but
-/// those with instances, which the kit does not trace yet (it knows no `[[instance]]`).
-#[allow(dead_code)]
-pub fn shipped_for_students() -> Vec<PathBuf> {
-    shipped_whitted()
-        .into_iter()
-        .filter(|p| !std::fs::read_to_string(p).unwrap().contains("[[instance]]"))
-        .collect()
-}
-
 /// The shipped Cornell box (`scenes/cornell-area.toml`) with instances: a textured gem placed
 /// three times (a uniform scale, a non-uniform one, a `matrix`), and the box's ball made a
 /// prototype (its material `ball`) placed twice (once as it was, once as an egg). Read it with

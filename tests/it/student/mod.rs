@@ -93,6 +93,57 @@ fn the_format_reads_every_record_where_it_belongs() {
     assert_eq!(shadow.color, None);
 }
 
+/// Lesson 20's records: the tests after an `instance` record are of its prototype, named as
+/// raystep names an instanced hit (`gem near → gem[9]`), until the next `instance` record; a
+/// test's own `instance` key (null: the world's) overrides that; a hit names its instance. What
+/// `write` prints reads back the same.
+#[test]
+fn instance_records_name_their_prototypes_tests() {
+    let text = r#"{"type":"ray","kind":"primary","depth":0,"origin":[0,0,0],"direction":[0,0,1]}
+{"type":"plane","object":"floor","denominator":0,"t":null}
+{"type":"instance","name":"gem near","origin":[1,2,3],"direction":[0,0,5]}
+{"type":"triangle","object":"gem[9]","det":1,"u":0.1,"v":0.2,"t":2}
+{"type":"sphere","object":"ball","instance":null,"t":null}
+{"type":"instance","name":"egg","origin":[0,0,0],"direction":[0,0,1]}
+{"type":"sphere","object":"ball","t":3}
+{"type":"sphere","object":"ball","instance":"marble","t":null}
+{"type":"hit","instance":"gem near","object":"gem[9]","t":2,"point":[0,0,2],"normal":[0,0,-1]}
+"#;
+    let px = parse(text).unwrap();
+    let r = &px[0].rays[0];
+    let names: Vec<&str> = r.tests.iter().map(Test::object).collect();
+    assert_eq!(
+        names,
+        [
+            "floor",
+            "gem near → gem[9]",
+            "ball",
+            "egg → ball",
+            "marble → ball"
+        ]
+    );
+    assert_eq!(r.instances.len(), 2);
+    assert_eq!(
+        (r.instances[0].name.as_str(), r.instances[0].first_test),
+        ("gem near", 1)
+    );
+    assert_eq!(r.instances[0].origin, Some([1.0, 2.0, 3.0]));
+    assert_eq!(r.instances[0].direction, Some([0.0, 0.0, 5.0]));
+    assert_eq!((r.instances[1].first_test, r.instances[1].line), (3, 6));
+    assert_eq!(
+        r.hit.clone().unwrap().unwrap().object.as_deref(),
+        Some("gem near → gem[9]")
+    );
+    let mut back = parse(&write(&px[0])).unwrap().remove(0);
+    for r in &mut back.rays {
+        r.line = 1;
+        for (i, line) in r.instances.iter_mut().zip([3, 6]) {
+            i.line = line;
+        }
+    }
+    assert_eq!(back.rays, px[0].rays);
+}
+
 /// Output the checker cannot use is refused with its line: not JSON, no type, a known record
 /// with a value of the wrong kind, NaN (not JSON), an overflowing number, a child ray with no
 /// parent, a format version from the future.
@@ -143,12 +194,20 @@ fn raystep_graded_against_itself_gets_full_marks() {
         let s = raystep::scene::load_file(&scene).unwrap();
         let (w, h) = (s.camera.width, s.camera.height);
         let prepared = raystep::PreparedScene::new(s);
-        for (x, y) in [(0, 0), (w / 2, h / 2), (w - 1, h - 1), (w / 3, 2 * h / 3)] {
+        // On `instances.toml`, also the egg (a non-uniformly scaled sphere) and the tall gem.
+        let mut pixels = vec![(0, 0), (w / 2, h / 2), (w - 1, h - 1), (w / 3, 2 * h / 3)];
+        if scene.ends_with("instances.toml") {
+            pixels.extend([(110, 104), (210, 72)]);
+        }
+        for (x, y) in pixels {
             let ours = expected(&prepared.record(x, y, 0));
             let back = parse(&write(&ours.pixel)).unwrap();
             let mut again = back[0].clone();
             for r in &mut again.rays {
                 r.line = 0;
+                for i in &mut r.instances {
+                    i.line = 0;
+                }
             }
             assert_eq!(again, ours.pixel, "{} ({x}, {y})", scene.display());
             for c in grade(&ours, &back, Stage::Color, &TracerTolerances::default()) {

@@ -166,7 +166,10 @@ pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &TracerTolerances)
             // A stage the program printed nothing for scores 0 (see `coverage`).
             let found = super::coverage::missing(e, s, &m, stage, upto).or_else(|| match stage {
                 Stage::Camera => camera(e, s, &m, tol),
-                Stage::Sphere | Stage::PlaneTriangle => tests(e, s, &m, stage, upto, tol),
+                Stage::Sphere | Stage::PlaneTriangle => {
+                    super::instancing::instance_rays(e, s, &m, stage, upto, tol)
+                        .or_else(|| tests(e, s, &m, stage, upto, tol))
+                }
                 Stage::ClosestHit => hits(e, s, &m, upto, tol),
                 Stage::Surface => super::surface::surface(e, s, &m, upto, tol),
                 Stage::Shadows => shadows(e, s, &m, tol),
@@ -299,13 +302,19 @@ fn tests(
                 if this_stage && hit_object {
                     return Some((
                         format!(
-                            "{}: you printed no test of \"{}\", the object this ray hits: print a `{}` record for each test",
+                            "{}: you printed no test of \"{}\", the object this ray hits: print a `{}` record for each test{}",
                             ray_name(&e.pixel, i),
                             et.object(),
                             match et {
                                 Test::Sphere { .. } => "sphere",
                                 Test::Plane { .. } => "plane",
                                 Test::Triangle { .. } => "triangle",
+                            },
+                            match et.object().split_once(super::format::INSTANCE_ARROW) {
+                                Some((i, _)) => format!(
+                                    " (an instance's: after an `instance` record named \"{i}\", which the tests after it belong to)"
+                                ),
+                                None => String::new(),
                             }
                         ),
                         step,
@@ -519,6 +528,7 @@ fn hits(
         let (ls, le) = scales(er, sr);
         let tol = &tol.at_depth(er.depth);
         let Some(eh) = &er.hit else { continue };
+        let instance = e.instance_hits.get(i).and_then(Option::as_ref);
         let Some(sh) = &sr.hit else {
             return Some((
                 format!(
@@ -572,9 +582,13 @@ fn hits(
                 if let (Some(y), Some(w)) = (sh.point, eh.point)
                     && !tol.close3(y, w, tol.abs * len(w).max(1.0))
                 {
+                    let hint = match super::instancing::point_hint(instance, y, tol) {
+                        "" => " — P = S + t·Q",
+                        h => h,
+                    };
                     return Some((
                         format!(
-                            "{name}: your hit point is {}, raystep's is {} — P = S + t·Q",
+                            "{name}: your hit point is {}, raystep's is {}{hint}",
                             v(y),
                             v(w)
                         ),
@@ -590,7 +604,7 @@ fn hits(
                     } else if tol.close3(y.map(|x| -x), w, tol.abs * 10.0) {
                         " — it points away from the ray: flip it when the ray meets the surface from behind (Q·n > 0)".to_string()
                     } else {
-                        String::new()
+                        super::instancing::normal_hint(instance, y, tol).to_string()
                     };
                     return Some((
                         format!(

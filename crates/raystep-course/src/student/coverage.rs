@@ -9,7 +9,7 @@
 //! |---|---|
 //! | every stage | the pixel's primary ray |
 //! | camera | the primary ray's `origin` and `direction` |
-//! | sphere, plane-triangle | at least one test of that kind for the pixel; on each test printed, the numbers raystep compares (`a`, `b`, `c`, `discriminant`, `t`; `denominator`, `t`; `det`, `u`, `v`, `t`) |
+//! | sphere, plane-triangle | at least one test of that kind for the pixel; on each test printed, the numbers raystep compares (`a`, `b`, `c`, `discriminant`, `t`; `denominator`, `t`; `det`, `u`, `v`, `t`); on each `instance` record printed, its `origin` and `direction` (judged in `instancing`) |
 //! | closest-hit | a `hit` record, and for a hit its `object`, `t`, `point` and `normal` |
 //! | surface | (where raystep's hit is smooth-shaded or textured) what closest-hit needs, and a `surface` record with the keys raystep has there: `normal` (smooth), `uv`, `texel` and `texture` (textured) |
 //! | shadows | what closest-hit needs (shadow rays start at the hit), a `shadow` record with `blocked` for each light; a shadow ray printed has its `origin` and `direction` |

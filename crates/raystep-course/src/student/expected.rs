@@ -7,7 +7,8 @@
 //! (lesson 4), computed in double precision from the recorded ray and vertices, whichever
 //! method raystep used.
 
-use super::format::{Hit, Pixel, Ray, Surface, Test};
+use super::format::{Hit, InstanceRay, Pixel, Ray, Surface, Test, placed_name};
+use super::instancing::{InstanceHitFacts, carry_normal, transpose_times};
 use crate::record::{RayRecord, Step, Trace};
 
 /// raystep's trace of one pixel in the student model, with where each part is in the trace's
@@ -27,6 +28,11 @@ pub struct Expected {
     pub surface_step: Vec<Option<usize>>,
     /// Per ray: what raystep recorded about its surface reading, for naming mistakes.
     pub surfaces: Vec<SurfaceFacts>,
+    /// Per ray, per instance entered: the timeline index of its step and M⁻¹ (3 × 4 rows), for
+    /// naming mistakes in the object-space ray.
+    pub instance_steps: Vec<Vec<(usize, [[f64; 4]; 3])>>,
+    /// Per ray: the hit carried back from an instance, for naming mistakes in its normal.
+    pub instance_hits: Vec<Option<InstanceHitFacts>>,
     /// Per ray, per light: the timeline index of the light's step.
     pub light_step: Vec<Vec<usize>>,
     /// Per ray: the reflection's or refraction's recorded numbers, for spotting mistakes.
@@ -60,6 +66,15 @@ pub fn with_names(mut e: Expected, scene: &crate::scene::Scene) -> Expected {
     e.names = (0..scene.objects.len() as u32)
         .map(|i| scene.object_name(i))
         .collect();
+    // A prototype's primitives as each instance places them: `gem near → gem[9]`.
+    for inst in &scene.instances {
+        if let Some(g) = scene.groups.get(inst.group as usize) {
+            e.names.extend(
+                (g.first..g.first + g.count)
+                    .map(|i| placed_name(Some(&inst.name), &scene.object_name(i))),
+            );
+        }
+    }
     for f in &mut e.surfaces {
         let Some(r) = f.image else { continue };
         let Some(name) = e.texture_names.get(r.texture) else {
@@ -275,7 +290,12 @@ pub fn expected(trace: &Trace) -> Expected {
         let mut lights = vec![];
         let mut shadow_lights = vec![];
         let mut bend = Bend::default();
-        let (o, d) = (v64(r.origin), v64(r.direction));
+        let (mut o, mut d) = (v64(r.origin), v64(r.direction));
+        // Inside an instance: its name and the ray in its object space (the tests after it are
+        // of its prototype, with that ray).
+        let mut inside: Option<String> = None;
+        let mut instance_steps = vec![];
+        let mut instance_hit = None;
         let mut point_normal = None;
         let mut surface: Option<Surface> = None;
         let mut facts = SurfaceFacts::default();
@@ -292,13 +312,49 @@ pub fn expected(trace: &Trace) -> Expected {
         for s in &r.steps {
             let k = index_of(s).unwrap_or(0);
             match &s.step {
+                Step::Instance {
+                    name,
+                    to_object,
+                    origin,
+                    direction,
+                    ..
+                } => {
+                    (o, d) = (v64(*origin), v64(*direction));
+                    ray.instances.push(InstanceRay {
+                        name: name.clone(),
+                        origin: Some(o),
+                        direction: Some(d),
+                        first_test: ray.tests.len(),
+                        line: 0,
+                    });
+                    instance_steps.push((k, to_object.map(|row| row.map(f))));
+                    inside = Some(name.clone());
+                }
+                Step::InstanceHit {
+                    name,
+                    to_world,
+                    to_object,
+                    point,
+                    normal,
+                    wrong_normal,
+                    ..
+                } => {
+                    instance_hit = Some(InstanceHitFacts {
+                        name: name.clone(),
+                        to_world: to_world.map(|row| row.map(f)),
+                        to_object: to_object.map(|row| row.map(f)),
+                        point: v64(*point),
+                        normal: v64(*normal),
+                        wrong_normal: v64(*wrong_normal),
+                    });
+                }
                 Step::Sphere { name, test, .. } => {
                     let t = test
                         .roots
                         .and_then(|[lo, hi]| [lo, hi].into_iter().find(|t| *t > r.t_min))
                         .map(f);
                     ray.tests.push(Test::Sphere {
-                        object: name.clone(),
+                        object: placed_name(inside.as_deref(), name),
                         abcd: [test.a, test.b, test.c, test.discriminant].map(|x| Some(f(x))),
                         t: Some(t),
                     });
@@ -310,7 +366,7 @@ pub fn expected(trace: &Trace) -> Expected {
                         .filter(|t| t.is_finite() && *t > r.t_min && !test.parallel)
                         .map(f);
                     ray.tests.push(Test::Plane {
-                        object: name.clone(),
+                        object: placed_name(inside.as_deref(), name),
                         denominator: Some(f(test.denominator)),
                         t: Some(t),
                     });
@@ -319,7 +375,7 @@ pub fn expected(trace: &Trace) -> Expected {
                 Step::Triangle { name, vertices, .. } => {
                     let (det, uvt) = moller_trumbore(o, d, vertices.map(v64), r.t_min as f64);
                     ray.tests.push(Test::Triangle {
-                        object: name.clone(),
+                        object: placed_name(inside.as_deref(), name),
                         det_u_v: [Some(det), uvt.map(|x| x.0), uvt.map(|x| x.1)],
                         t: Some(uvt.map(|x| x.2)),
                     });
@@ -337,8 +393,18 @@ pub fn expected(trace: &Trace) -> Expected {
                     normal,
                     ..
                 } => {
-                    surface.get_or_insert_default().normal = Some(v64(*normal));
-                    facts.vertex_normals = Some(vertex_normals.map(v64));
+                    // On an instance the blend is in object space: carried out by M⁻ᵀ, as
+                    // a tracer in world space prints it.
+                    let shading = match &instance_hit {
+                        Some(h) => carry_normal(&h.to_object, v64(*normal)),
+                        None => v64(*normal),
+                    };
+                    surface.get_or_insert_default().normal = Some(shading);
+                    // (Each carried without renormalising: the blend's direction is kept.)
+                    facts.vertex_normals = Some(vertex_normals.map(|n| match &instance_hit {
+                        Some(h) => transpose_times(&h.to_object, v64(n)),
+                        None => v64(n),
+                    }));
                     facts.barycentric = Some([f(*u), f(*v)]);
                     surface_step = surface_step.or(Some(k));
                 }
@@ -422,6 +488,8 @@ pub fn expected(trace: &Trace) -> Expected {
         out.surface_step.push(surface_step);
         out.surfaces.push(facts);
         out.light_step.push(lights);
+        out.instance_steps.push(instance_steps);
+        out.instance_hits.push(instance_hit);
         out.bends.push(bend);
         let mut shadow_names = shadow_lights.into_iter();
         for c in &r.children {

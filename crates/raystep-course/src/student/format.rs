@@ -13,9 +13,22 @@ use serde::{Deserialize, Serialize};
 pub const FORMAT_VERSION: u32 = 1;
 
 /// The record types the format defines (others are skipped).
-pub const KNOWN_TYPES: [&str; 10] = [
-    "format", "pixel", "ray", "sphere", "plane", "triangle", "hit", "surface", "shadow", "color",
+pub const KNOWN_TYPES: [&str; 11] = [
+    "format", "pixel", "ray", "instance", "sphere", "plane", "triangle", "hit", "surface",
+    "shadow", "color",
 ];
+
+/// Between an instance's name and its prototype's primitive in a combined name, as raystep
+/// names an instanced hit: `gem near → gem[9]`.
+pub const INSTANCE_ARROW: &str = " → ";
+
+/// The name of `object` as `instance` places it (`gem near → gem[9]`), or `object` itself.
+pub fn placed_name(instance: Option<&str>, object: &str) -> String {
+    match instance {
+        Some(i) if !object.contains(INSTANCE_ARROW) => format!("{i}{INSTANCE_ARROW}{object}"),
+        _ => object.to_string(),
+    }
+}
 
 /// One line of a student trace. Keys the format does not define are ignored.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -55,8 +68,31 @@ pub enum Record {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         light: Option<String>,
     },
+    /// The ray carried into an instance's object space (lesson 20): S′ = M⁻¹S (a point),
+    /// Q′ = M⁻¹Q (a vector, not renormalised, so t is the world ray's t). The `sphere` and
+    /// `triangle` records after it, until the ray's next `instance` record, are tests of the
+    /// instance's prototype with that ray (a test with `"instance": null` is the world's).
+    Instance {
+        /// The instance's name in the scene file.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        name: Option<String>,
+        /// S′, the origin in object space.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        origin: Option<[f64; 3]>,
+        /// Q′, the direction in object space.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        direction: Option<[f64; 3]>,
+    },
     /// A ray–sphere test in the course notes' form (docs/SOURCES.md): a = Q·Q, b = 2 f·Q, c = f·f − r², f = S − G.
     Sphere {
+        /// The instance whose prototype this is (default: the ray's latest `instance` record;
+        /// null: a world object).
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
+        instance: Option<Option<String>>,
         /// The sphere's name in the scene file.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         object: Option<String>,
@@ -78,6 +114,14 @@ pub enum Record {
     },
     /// A ray–plane test: denominator Q·n, t or null.
     Plane {
+        /// The instance whose prototype this is (default: the ray's latest `instance` record;
+        /// null: a world object).
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
+        instance: Option<Option<String>>,
         /// The plane's name.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         object: Option<String>,
@@ -91,6 +135,14 @@ pub enum Record {
     /// A ray–triangle test (Möller–Trumbore, lesson 4): det = D0 = det(−Q, E1, E2), u and v the
     /// weights of P1 and P2, t or null.
     Triangle {
+        /// The instance whose prototype this is (default: the ray's latest `instance` record;
+        /// null: a world object).
+        #[serde(
+            default,
+            deserialize_with = "present",
+            skip_serializing_if = "Option::is_none"
+        )]
+        instance: Option<Option<String>>,
         /// The triangle's name.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         object: Option<String>,
@@ -109,6 +161,9 @@ pub enum Record {
     },
     /// The ray's closest hit (`object` null: the ray hits nothing).
     Hit {
+        /// The instance the hit lies on, if any (the object is then its prototype's primitive).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        instance: Option<String>,
         /// The object hit, or null.
         #[serde(default, deserialize_with = "present")]
         object: Option<Option<String>>,
@@ -195,8 +250,10 @@ pub struct Ray {
     pub light: Option<String>,
     /// The parent ray's index (None for the primary ray).
     pub parent: Option<usize>,
-    /// The primitive tests, in order.
+    /// The primitive tests, in order (an instance's named `instance → primitive`).
     pub tests: Vec<Test>,
+    /// The instances the ray entered, in order, each with the ray in its object space.
+    pub instances: Vec<InstanceRay>,
     /// The closest hit: None = no record; Some(None) = a miss.
     pub hit: Option<Option<Hit>>,
     /// What the surface gives shading at the closest hit (None: no `surface` record).
@@ -206,6 +263,21 @@ pub struct Ray {
     /// Colour.
     pub color: Option<[f64; 3]>,
     /// The line it starts on (1-based; 0 for raystep's own).
+    pub line: usize,
+}
+
+/// The ray carried into an instance's object space.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct InstanceRay {
+    /// The instance's name.
+    pub name: String,
+    /// S′ = M⁻¹S.
+    pub origin: Option<[f64; 3]>,
+    /// Q′ = M⁻¹Q.
+    pub direction: Option<[f64; 3]>,
+    /// The index in the ray's `tests` of the first test after it.
+    pub first_test: usize,
+    /// The line it is on (1-based; 0 for raystep's own).
     pub line: usize,
 }
 
@@ -315,6 +387,8 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
     // for, so a flood of rays is read in linear time).
     let mut latest_lit: Option<usize> = None;
     let mut lit_at_depth: std::collections::HashMap<u32, usize> = Default::default();
+    // The latest ray's latest `instance` record: whose prototype the tests after it test.
+    let mut inside: Option<String> = None;
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
         let l = raw.trim();
@@ -371,6 +445,7 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                 });
                 latest_lit = None;
                 lit_at_depth.clear();
+                inside = None;
             }
             Record::Ray {
                 kind,
@@ -400,6 +475,7 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                         depth.saturating_sub(1)
                     )));
                 }
+                inside = None;
                 if kind != "shadow" {
                     latest_lit = Some(px.rays.len());
                     lit_at_depth.insert(depth, px.rays.len());
@@ -434,8 +510,29 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                 let Some(ray) = owner.and_then(|k| px.rays.get_mut(k)) else {
                     return Err(err("a record before any ray (of that depth)".into()));
                 };
+                let current = inside.clone();
+                let placed = |instance: Option<Option<String>>, object: Option<String>| {
+                    let instance = instance.unwrap_or_else(|| current.clone());
+                    placed_name(instance.as_deref(), &object.unwrap_or_default())
+                };
                 match rec {
+                    Record::Instance {
+                        name,
+                        origin,
+                        direction,
+                    } => {
+                        let name = name.unwrap_or_default();
+                        ray.instances.push(InstanceRay {
+                            name: name.clone(),
+                            origin,
+                            direction,
+                            first_test: ray.tests.len(),
+                            line,
+                        });
+                        inside = Some(name);
+                    }
                     Record::Sphere {
+                        instance,
                         object,
                         a,
                         b,
@@ -443,31 +540,34 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                         discriminant,
                         t,
                     } => ray.tests.push(Test::Sphere {
-                        object: object.unwrap_or_default(),
+                        object: placed(instance, object),
                         abcd: [a, b, c, discriminant],
                         t,
                     }),
                     Record::Plane {
+                        instance,
                         object,
                         denominator,
                         t,
                     } => ray.tests.push(Test::Plane {
-                        object: object.unwrap_or_default(),
+                        object: placed(instance, object),
                         denominator,
                         t,
                     }),
                     Record::Triangle {
+                        instance,
                         object,
                         det,
                         u,
                         v,
                         t,
                     } => ray.tests.push(Test::Triangle {
-                        object: object.unwrap_or_default(),
+                        object: placed(instance, object),
                         det_u_v: [det, u, v],
                         t,
                     }),
                     Record::Hit {
+                        instance,
                         object,
                         t,
                         point,
@@ -477,7 +577,9 @@ pub fn parse(text: &str) -> Result<Vec<Pixel>, FormatError> {
                         ray.hit = Some(match object {
                             Some(None) => None,
                             object => Some(Hit {
-                                object: object.flatten(),
+                                object: object
+                                    .flatten()
+                                    .map(|o| placed_name(instance.as_deref(), &o)),
                                 t,
                                 point,
                                 normal,
@@ -516,6 +618,9 @@ fn numbers(rec: &Record) -> Vec<f64> {
     let add3 = |a: &Option<[f64; 3]>, v: &mut Vec<f64>| v.extend(a.iter().flatten());
     match rec {
         Record::Ray {
+            origin, direction, ..
+        }
+        | Record::Instance {
             origin, direction, ..
         } => {
             add3(origin, &mut v);
@@ -583,27 +688,43 @@ pub fn write(px: &Pixel) -> String {
             direction: r.direction,
             light: r.light.clone(),
         });
-        for t in &r.tests {
+        // Each instance's record before its tests; a test names its object as the latest
+        // instance record places it (a world object after one says `"instance": null`).
+        let mut inside: Option<&str> = None;
+        let mut entered = r.instances.iter().peekable();
+        for (k, t) in r.tests.iter().enumerate() {
+            while let Some(e) = entered.next_if(|e| e.first_test <= k) {
+                out.push(instance_record(e));
+                inside = Some(&e.name);
+            }
+            let (instance, object) = match inside.and_then(|i| {
+                t.object()
+                    .strip_prefix(i)
+                    .and_then(|o| o.strip_prefix(INSTANCE_ARROW))
+            }) {
+                Some(o) => (None, o.to_string()),
+                None if inside.is_some() => (Some(None), t.object().to_string()),
+                None => (None, t.object().to_string()),
+            };
             out.push(match t {
-                Test::Sphere { object, abcd, t } => Record::Sphere {
-                    object: Some(object.clone()),
+                Test::Sphere { abcd, t, .. } => Record::Sphere {
+                    instance,
+                    object: Some(object),
                     a: abcd[0],
                     b: abcd[1],
                     c: abcd[2],
                     discriminant: abcd[3],
                     t: *t,
                 },
-                Test::Plane {
-                    object,
-                    denominator,
-                    t,
-                } => Record::Plane {
-                    object: Some(object.clone()),
+                Test::Plane { denominator, t, .. } => Record::Plane {
+                    instance,
+                    object: Some(object),
                     denominator: *denominator,
                     t: *t,
                 },
-                Test::Triangle { object, det_u_v, t } => Record::Triangle {
-                    object: Some(object.clone()),
+                Test::Triangle { det_u_v, t, .. } => Record::Triangle {
+                    instance,
+                    object: Some(object),
                     det: det_u_v[0],
                     u: det_u_v[1],
                     v: det_u_v[2],
@@ -611,22 +732,31 @@ pub fn write(px: &Pixel) -> String {
                 },
             });
         }
+        out.extend(entered.map(instance_record));
         if let Some(h) = &r.hit {
             out.push(match h {
                 None => Record::Hit {
+                    instance: None,
                     object: Some(None),
                     t: None,
                     point: None,
                     normal: None,
                     depth: None,
                 },
-                Some(h) => Record::Hit {
-                    object: Some(h.object.clone()),
-                    t: h.t,
-                    point: h.point,
-                    normal: h.normal,
-                    depth: None,
-                },
+                Some(h) => {
+                    let split = h
+                        .object
+                        .as_deref()
+                        .and_then(|o| o.split_once(INSTANCE_ARROW));
+                    Record::Hit {
+                        instance: split.map(|(i, _)| i.to_string()),
+                        object: Some(split.map_or(h.object.clone(), |(_, o)| Some(o.to_string()))),
+                        t: h.t,
+                        point: h.point,
+                        normal: h.normal,
+                        depth: None,
+                    }
+                }
             });
         }
         if let Some(sf) = &r.surface {
@@ -671,4 +801,12 @@ pub fn write(px: &Pixel) -> String {
         }
     }
     s
+}
+
+fn instance_record(e: &InstanceRay) -> Record {
+    Record::Instance {
+        name: Some(e.name.clone()),
+        origin: e.origin,
+        direction: e.direction,
+    }
 }

@@ -25,6 +25,7 @@ mod coverage;
 pub mod expected;
 pub mod format;
 pub mod image;
+pub mod instancing;
 pub mod isolate;
 pub mod path;
 pub mod path_compare;
