@@ -11,8 +11,9 @@ use raystep::record::{Tolerance, Trace};
 
 /// 96 × 72 pixels: a floor, a light, and 96 placed copies of two prototypes — 80 gems (the
 /// 20-triangle icosahedron) turned about all three axes and scaled unevenly, and 16 eggs (the
-/// unit sphere scaled unevenly) — so the TLAS is several levels deep and rays enter many
-/// instances.
+/// unit sphere scaled unevenly, textured with a mip-mapped image, so that a ray cone's level of
+/// detail is taken on a stretched instance) — so the TLAS is several levels deep and rays enter
+/// many instances.
 fn many_instances() -> Scene {
     let mut t = String::from(
         r#"[camera]
@@ -36,9 +37,15 @@ color = [0.9, 0.5, 0.2]
 specular = 0.6
 shininess = 40
 
+[[texture]]
+name = "checks"
+image = "textures/checks-64x64.png"
+filter = "trilinear"
+
 [[material]]
 name = "egg"
 color = [0.3, 0.6, 0.9]
+texture = "checks"
 
 [[plane]]
 name = "floor"

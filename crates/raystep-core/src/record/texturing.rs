@@ -126,7 +126,8 @@ pub struct LodRecord {
     /// |n·d̂|, the geometric normal against the unit ray direction.
     #[serde(with = "crate::jsonf")]
     pub cos: f32,
-    /// Level-0 texels per unit of surface area at the hit.
+    /// Level-0 texels per unit of surface area at the hit (of world area: on an instance, the
+    /// prototype's density divided by how much M stretches the area there).
     #[serde(with = "crate::jsonf")]
     pub texels_per_area: f32,
     /// L = W·√(texels per area) / |n·d̂|, the footprint's side in level-0 texels.

@@ -66,6 +66,18 @@ impl Affine {
         Vec3::new(c(0), c(1), c(2))
     }
 
+    /// With `self` = M⁻¹ and `n` a unit normal in object space: how many times larger a small
+    /// patch of the surface there is in the world than in object space, |det M|·|M⁻ᵀn|
+    /// (Nanson's formula), computed from M⁻¹ as |M⁻ᵀn| / |det M⁻¹| with
+    /// det M⁻¹ = r₀·(r₁ × r₂) over its rows (glam's cross and dot, term for term). A ray cone
+    /// divides a prototype's texel density by it to pick a mipmap level on a scaled instance.
+    #[inline(always)]
+    pub fn area_scale(&self, n: Vec3) -> f32 {
+        let row = |i: usize| Vec3::new(self.0[i][0], self.0[i][1], self.0[i][2]);
+        let det = row(0).dot(row(1).cross(row(2)));
+        self.transpose_vector(n).length() / det.abs()
+    }
+
     /// The rounding-error bound of [`Affine::point`] applied to a point `p` that itself carries
     /// the per-axis bound `error` (pbrt-v4's transformation of a `Point3fi`, in its "Managing Rounding Error"): (γ₃ + 1)·|M|·e +
     /// γ₃·(|m₀x| + |m₁y| + |m₂z| + |m₃|) per row.

@@ -208,7 +208,7 @@ pub struct LevelOfDetail {
     /// |n·d̂|: the cosine between the geometric normal and the unit ray direction.
     pub cos: f32,
     /// Level-0 texels per unit of surface area at the hit (the texture's area over the
-    /// surface's, RTG's t_a / p_a).
+    /// surface's, RTG's t_a / p_a; on an instance, over the surface's area in the world).
     pub texels_per_area: f32,
     /// L = W·√(texels per area) / |n·d̂|: the footprint's side in level-0 texels.
     pub footprint: f32,
@@ -288,7 +288,13 @@ pub fn texels_per_area(shape: &Shape, coords: &TexCoords, size: [u32; 2]) -> f32
 /// ratio): L = W·√(texels per area) / |n·d̂| level-0 texels across, λ = log₂ L (the portable
 /// `ln` times log₂ e), held to [0, last level]; the levels ⌊λ⌋ and ⌊λ⌋ + 1 are read and blended
 /// by λ − ⌊λ⌋. A NaN λ (a degenerate triangle) reads level 0.
+///
+/// `stretch`: on an instance, how many times larger the surface is in the world than in the
+/// prototype's object space here ([`crate::scene::Affine::area_scale`]; None elsewhere). The
+/// cone's width is a world length, so the density is per unit of world area: the prototype's
+/// divided by the stretch (a gem scaled by 0.3 packs its texels into 0.09 of the area).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 pub fn level_of_detail(
     shape: &Shape,
     coords: &TexCoords,
@@ -297,11 +303,13 @@ pub fn level_of_detail(
     cone: Cone,
     size: [u32; 2],
     n_levels: u32,
+    stretch: Option<f32>,
 ) -> LevelOfDetail {
     let width = cone.spread * cone.distance;
     let d = ray.dir / ray.dir.length();
     let cos = it.normal.dot(d).abs();
-    let ratio = texels_per_area(shape, coords, size);
+    let object = texels_per_area(shape, coords, size);
+    let ratio = stretch.map_or(object, |s| object / s);
     let footprint = width * ratio.sqrt() / cos;
     let lambda = ln(footprint) * LOG2_E;
     let last = (n_levels - 1) as f32;
@@ -549,6 +557,9 @@ pub fn read_texture(
             cone,
             [*width, *height],
             levels.len() as u32,
+            scene
+                .instance_of(hit)
+                .map(|i| i.to_object.area_scale(it.object_normal)),
         )),
         _ => None,
     };

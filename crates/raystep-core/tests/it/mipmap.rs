@@ -217,6 +217,77 @@ fn the_ray_cone_picks_the_level_of_the_pixels_footprint() {
     );
 }
 
+/// On an instance the cone's width is still a world length, so the texel density must be per
+/// unit of world area. The right floor's two triangles made prototypes squeezed by (¼, ½, 2)
+/// and placed back by instances scaled by (4, 2, 0.5): the world's floor is the same, each
+/// prototype packs its texels into half the area (det M = 4, |M⁻ᵀn| = ½ for the floor's normal
+/// (0, 1, 0), so M stretches the area by 2), and the cone must still find 4096 texels per unit
+/// area and the λ worked in f64 from the scene's text. (Reading the prototype's density
+/// unscaled gave 8192 and λ half a level too high.)
+#[test]
+fn the_ray_cone_reads_a_scaled_instance_in_world_area() {
+    let text = scene_text();
+    let mut src = std::fs::read_to_string(scene_path()).unwrap();
+    for (world, object) in [
+        (
+            "vertices = [[-40, 0, -4], [0, 0, 200], [0, 0, -4]]",
+            "vertices = [[-10, 0, -8], [0, 0, 400], [0, 0, -8]]",
+        ),
+        (
+            "vertices = [[-40, 0, -4], [-40, 0, 200], [0, 0, 200]]",
+            "vertices = [[-10, 0, -8], [-10, 0, 400], [0, 0, 400]]",
+        ),
+    ] {
+        assert!(src.contains(world));
+        src = src.replace(world, object);
+    }
+    for name in ["right near", "right far"] {
+        src += &format!(
+            "\n[[instance]]\nname = \"{name} placed\"\nof = \"{name}\"\nscale = [4, 2, 0.5]\n"
+        );
+    }
+    let dir = scene_path().parent().unwrap().to_path_buf();
+    let scene = raystep_core::scene::load_str(&src, "mipmap-instanced.toml", Some(&dir)).unwrap();
+    assert_eq!(scene.instances.len(), 2);
+    let gamma = spread(&text);
+    for (x, y) in [(240, 200), (250, 150), (200, 125), (300, 118)] {
+        let (t, _, d) = floor_hit(&text, x, y);
+        let lambda_want = (gamma * t * 64.0 / d[1].abs()).log2();
+        let trace = record(&scene, x, y);
+        assert!(
+            trace
+                .root
+                .hit
+                .as_ref()
+                .unwrap()
+                .name
+                .ends_with("placed → right near")
+                || trace
+                    .root
+                    .hit
+                    .as_ref()
+                    .unwrap()
+                    .name
+                    .ends_with("placed → right far"),
+            "({x}, {y})"
+        );
+        let Step::Texture {
+            lookup: TexelLookup::Image { lod: Some(lod), .. },
+            ..
+        } = texture_step(&trace)
+        else {
+            panic!("pixel ({x}, {y}): not a trilinear lookup");
+        };
+        let rel = (f64::from(lod.texels_per_area) - 4096.0).abs() / 4096.0;
+        assert!(rel < 1e-5, "({x}, {y}): ρ = {}", lod.texels_per_area);
+        assert!(
+            (f64::from(lod.lambda) - lambda_want).abs() < 1e-4,
+            "({x}, {y}): λ {} vs {lambda_want}",
+            lod.lambda
+        );
+    }
+}
+
 /// The point of it: the far floor's aliasing. Rendered with one ray per pixel, the trilinear
 /// half of scenes/mipmap.toml is within 0.06 (RMS luminance, on a floor whose squares differ by
 /// about 0.7) of a 64-ray supersampled reference of the same half; the bilinear half (the same

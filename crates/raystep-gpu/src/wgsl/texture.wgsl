@@ -267,6 +267,13 @@ fn texture_at(hit: Hit, it: Interaction, header: u32, r: Ray, distance: f32) -> 
         let d = fdiv3(r.dir, flen(r.dir));
         lod.cos = abs(fdot(it.normal, d));
         lod.ratio = tex_ratio(o, th, h.c.xy);
+//#if INSTANCES
+        // Per unit of world area: the prototype's density over M's stretch of the area
+        // (instance.rs Affine::area_scale).
+        if hit.instance != NO_INSTANCE {
+            lod.ratio = fdiv(lod.ratio, aff_area_scale(instance_to_object(hit.instance), it.object_normal));
+        }
+//#endif
         lod.footprint = fdiv(lod.width * fsqrt(lod.ratio), lod.cos);
         lod.lambda = p_ln(lod.footprint) * TEX_LOG2_E;
         let last = f32(n_levels - 1u);

@@ -55,6 +55,13 @@ fn aff_transpose_vector(m: Affine, n: vec3f) -> vec3f {
     );
 }
 
+// With m = M⁻¹ and n a unit object-space normal: |M⁻ᵀn| / |det M⁻¹|, det M⁻¹ = r₀·(r₁ × r₂)
+// (Affine::area_scale, glam's cross and dot term for term).
+fn aff_area_scale(m: Affine, n: vec3f) -> f32 {
+    let det = fdot(m.r0.xyz, fcross(m.r1.xyz, m.r2.xyz));
+    return fdiv(flen(aff_transpose_vector(m, n)), abs(det));
+}
+
 // The rounding-error bound of aff_point for a point carrying `error` (Affine::point_error).
 fn aff_point_error(m: Affine, p: vec3f, error: vec3f) -> vec3f {
     return vec3f(
