@@ -67,6 +67,9 @@ pub struct PixelDebug {
     pub pixel: [u32; 2],
     /// The object the primary ray hit (its id in the scene), if any.
     pub object: Option<u32>,
+    /// The instance the hit lies on (its index in the scene's instances; `object` is then
+    /// the prototype's primitive), if any.
+    pub instance: Option<u32>,
     /// Distance along the primary ray (0 on a miss).
     pub t: f32,
     /// Triangle barycentric u (weight of P1); 0 for other shapes.

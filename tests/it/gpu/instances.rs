@@ -175,6 +175,17 @@ fn many_instances_render_and_trace_as_on_the_cpu() {
                     .map(|h| (h.object, h.instance, h.t.to_bits()))
             };
             on_instances += cpu.root.hit.as_ref().is_some_and(|h| h.instance.is_some()) as usize;
+            // The app's GPU tab reads the debug pixel: its hit names the instance too.
+            let pick = gpu.debug_pixel(x, y).unwrap();
+            let placed = |t: &Trace| t.root.hit.as_ref().map(|h| (h.object, h.instance));
+            if (pick.object, pick.instance)
+                != placed(&cpu).map_or((None, None), |(o, i)| (Some(o), i))
+            {
+                failures.push(format!(
+                    "({x}, {y}): the debug pixel hit {:?} in {:?}",
+                    pick.object, pick.instance
+                ));
+            }
             if hardware || !exact {
                 if hit(&cpu) != hit(&got.trace) {
                     failures.push(format!("({x}, {y}): another hit"));

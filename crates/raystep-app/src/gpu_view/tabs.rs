@@ -214,10 +214,21 @@ fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuState
     // triangle.
     let (mut disc, mut u, mut v) = (None, None, None);
     if let (Some(r), Some(name)) = (cpu, &hit_name) {
+        // Inside an instance the tests name the prototype's primitive (`ball`), the hit the
+        // instance and the primitive (`egg → ball`).
+        let mut inside: Option<&str> = None;
         for s in &r.steps {
+            let within = inside;
+            let placed = move |n: &str| match within {
+                Some(i) => format!("{i} → {n}"),
+                None => n.to_string(),
+            };
             match &s.step {
-                Step::Sphere { name: n, test, .. } if n == name => disc = Some(test.discriminant),
-                Step::Triangle { name: n, test, .. } if n == name => {
+                Step::Instance { name: i, .. } => inside = Some(i),
+                Step::Sphere { name: n, test, .. } if placed(n) == *name => {
+                    disc = Some(test.discriminant)
+                }
+                Step::Triangle { name: n, test, .. } if placed(n) == *name => {
                     u = test.u;
                     v = test.v;
                 }
@@ -234,9 +245,12 @@ fn pick_table(ui: &mut egui::Ui, state: &AppState, scene: &Scene, gpu: &GpuState
             .count()
     });
     let opt = |x: Option<f32>| x.map_or("—".to_string(), num);
-    let gpu_name = p
-        .object
-        .map_or("nothing".into(), |id| scene.object_name(id));
+    let gpu_name = p.object.map_or("nothing".into(), |id| {
+        match p.instance.and_then(|i| scene.instances.get(i as usize)) {
+            Some(inst) => format!("{} → {}", inst.name, scene.object_name(id)),
+            None => scene.object_name(id),
+        }
+    });
     let rows: Vec<(&str, String, String)> = vec![
         (
             "hit object",

@@ -98,6 +98,8 @@ impl GpuTracer {
         PixelDebug {
             pixel: [x, y],
             object,
+            instance: (object.is_some() && u(24) != raystep_core::scene::NO_INSTANCE)
+                .then_some(u(24)),
             t: f(8),
             u: f(12),
             v: f(16),

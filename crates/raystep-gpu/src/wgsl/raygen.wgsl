@@ -113,7 +113,7 @@ struct DebugRecord {
     u: f32,
     v: f32,
     discriminant: f32,
-    pad0: u32,
+    instance: u32,
     pad1: u32,
     color: vec4f,
 }
@@ -215,6 +215,7 @@ fn trace(primary: Ray, capture: bool) -> vec3f {
             debug_record.u = hit.u;
             debug_record.v = hit.v;
             debug_record.discriminant = hit.aux;
+            debug_record.instance = hit.instance;
         }
         if hit.object == NO_OBJECT {
 //#if TRACE
@@ -368,6 +369,7 @@ fn cs_main(@builtin(global_invocation_id) gid: vec3u) {
 @compute @workgroup_size(1)
 fn debug_main() {
     debug_record.object = NO_OBJECT;
+    debug_record.instance = NO_INSTANCE;
     let c = render_pixel(params.debug_pixel, vec3f(0.0), true, true);
     debug_record.color = vec4f(c, 1.0);
     debug_out = debug_record;
