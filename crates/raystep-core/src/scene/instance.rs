@@ -129,7 +129,8 @@ pub struct Instance {
 impl Instance {
     /// A prototype's shape carried to the world, for drawing: a triangle's vertices by M; a
     /// sphere's centre by M and its radius by M's largest axis scale (under a non-uniform scale
-    /// the drawn sphere is the one that holds the ellipsoid the tracer sees); a plane unchanged
+    /// the sphere that holds the ellipsoid the tracer sees: a bound; the 3D view draws the
+    /// ellipsoid itself from M, [`crate::scene::Scene::placed_by`]); a plane unchanged
     /// (a prototype is never a plane).
     pub fn place(&self, shape: &crate::scene::Shape) -> crate::scene::Shape {
         use crate::scene::Shape;

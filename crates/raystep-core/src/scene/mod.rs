@@ -643,17 +643,24 @@ impl Scene {
     /// ids), then each instance's copies of its prototype's objects (with the prototype
     /// object's id), carried by the instance's matrix ([`Instance::place`]).
     pub fn placed(&self) -> impl Iterator<Item = (u32, Object)> + '_ {
+        self.placed_by().map(|(id, _, o)| (id, o))
+    }
+    /// [`Scene::placed`], with the instance that places each copy (None for the world's own
+    /// objects): a view that draws a sphere under a non-uniform scale as the ellipsoid it is
+    /// needs the matrix.
+    pub fn placed_by(&self) -> impl Iterator<Item = (u32, Option<&Instance>, Object)> + '_ {
         let world = self
             .world()
             .iter()
             .enumerate()
-            .map(|(id, o)| (id as u32, *o));
+            .map(|(id, o)| (id as u32, None, *o));
         let copies = self.instances.iter().flat_map(move |inst| {
             let g = &self.groups[inst.group as usize];
             (g.first..g.first + g.count).filter_map(move |id| {
                 let o = self.objects.get(id as usize)?;
                 Some((
                     id,
+                    Some(inst),
                     Object {
                         shape: inst.place(&o.shape),
                         ..*o

@@ -21,7 +21,9 @@ pub struct TriVertex {
     pub color: [f32; 4],
 }
 
-/// A sphere drawn from one shared tessellated sphere.
+/// A sphere drawn from one shared tessellated sphere: the unit sphere scaled by the radius,
+/// carried by `axes` (the identity for a round sphere; an instance's linear part, so a sphere
+/// under a non-uniform scale is drawn as the ellipsoid the tracer sees), then moved to the centre.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SphereInstance {
     /// Centre.
@@ -30,6 +32,20 @@ pub struct SphereInstance {
     pub radius: f32,
     /// Display colour and opacity.
     pub color: [f32; 4],
+    /// The columns of the linear map after the radius (M's, on an instance).
+    pub axes: [[f32; 3]; 3],
+}
+
+impl SphereInstance {
+    /// A round sphere.
+    pub fn round(center: Vec3, radius: f32, color: [f32; 4]) -> SphereInstance {
+        SphereInstance {
+            center: center.to_array(),
+            radius,
+            color,
+            axes: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        }
+    }
 }
 
 /// A line segment drawn `width` pixels wide.
@@ -298,7 +314,7 @@ fn objects(scene: &Scene, options: &Options, testing: Option<u32>, g: &mut Geome
         .count();
     let keep_every = finite_tris.div_ceil(MAX_DRAWN_TRIANGLES).max(1);
     let mut tri_index = 0usize;
-    for (id, o) in scene.placed() {
+    for (id, placer, o) in scene.placed_by() {
         let m = scene.materials.get(o.material as usize);
         let base = m.map_or([0.8, 0.8, 0.8], |m| linear_to_display(m.color));
         let transparency = m.map_or(0.0, |m| m.transparency);
@@ -317,11 +333,15 @@ fn objects(scene: &Scene, options: &Options, testing: Option<u32>, g: &mut Geome
         let clear = color[3] < 0.999;
         match o.shape {
             Shape::Sphere { center, radius } => {
-                let s = SphereInstance {
-                    center: center.to_array(),
-                    radius,
-                    color,
-                };
+                let mut s = SphereInstance::round(center, radius, color);
+                // On an instance: the prototype's own radius, carried by M's linear part.
+                if let (Some(inst), Some(Shape::Sphere { radius, .. })) =
+                    (placer, scene.objects.get(id as usize).map(|p| p.shape))
+                {
+                    let m = &inst.to_world.0;
+                    s.radius = radius;
+                    s.axes = [0, 1, 2].map(|k| [m[0][k], m[1][k], m[2][k]]);
+                }
                 if clear {
                     g.clear_spheres.push(s)
                 } else {
@@ -456,11 +476,7 @@ fn lights(scene: &Scene, b: &Bounds, theme: &Theme, g: &mut Geometry) {
     let r = b.radius * 0.025;
     for l in &scene.lights {
         let p = l.position;
-        g.spheres.push(SphereInstance {
-            center: p.to_array(),
-            radius: r,
-            color: c,
-        });
+        g.spheres.push(SphereInstance::round(p, r, c));
         for axis in [Vec3::X, Vec3::Y, Vec3::Z] {
             g.lines.push(Line3 {
                 a: (p - axis * r * 2.5).to_array(),
@@ -480,11 +496,8 @@ fn camera(scene: &Scene, trace: Option<&Trace>, b: &Bounds, theme: &Theme, g: &m
     let eye = scene.camera.from;
     let ink = rgba(theme.ink);
     let muted = with_alpha(rgba(theme.muted), 0.8);
-    g.spheres.push(SphereInstance {
-        center: eye.to_array(),
-        radius: b.radius * 0.015,
-        color: ink,
-    });
+    g.spheres
+        .push(SphereInstance::round(eye, b.radius * 0.015, ink));
     for (i, c) in corners.iter().enumerate() {
         g.lines.push(Line3 {
             a: eye.to_array(),
@@ -707,11 +720,11 @@ fn rays(t: &Trace, step: Option<usize>, b: &Bounds, theme: &Theme, main: bool, g
             Step::Surface { point, normal, .. } => Some((Vec3::from(point), Vec3::from(normal))),
             _ => None,
         });
-        g.spheres.push(SphereInstance {
-            center: endp.to_array(),
-            radius: b.radius * 0.008,
-            color: rgba(theme.hit),
-        });
+        g.spheres.push(SphereInstance::round(
+            endp,
+            b.radius * 0.008,
+            rgba(theme.hit),
+        ));
         if let Some((p, n)) = surface
             && p.is_finite()
             && n.is_finite()

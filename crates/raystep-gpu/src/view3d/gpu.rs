@@ -95,7 +95,7 @@ impl Renderer {
                 attributes: &tri_attrs,
             })];
             let unit_attrs = wgpu::vertex_attr_array![0 => Float32x3];
-            let inst_attrs = wgpu::vertex_attr_array![1 => Float32x4, 2 => Float32x4];
+            let inst_attrs = wgpu::vertex_attr_array![1 => Float32x4, 2 => Float32x4, 3 => Float32x4, 4 => Float32x4, 5 => Float32x4];
             let sphere_buffers = [
                 Some(wgpu::VertexBufferLayout {
                     array_stride: 12,
@@ -103,7 +103,7 @@ impl Renderer {
                     attributes: &unit_attrs,
                 }),
                 Some(wgpu::VertexBufferLayout {
-                    array_stride: 32,
+                    array_stride: 80,
                     step_mode: wgpu::VertexStepMode::Instance,
                     attributes: &inst_attrs,
                 }),
@@ -500,10 +500,15 @@ fn tri_bytes(t: &[TriVertex]) -> Vec<u8> {
 }
 
 fn sphere_bytes(s: &[SphereInstance]) -> Vec<u8> {
-    let mut out = Vec::with_capacity(s.len() * 32);
+    let mut out = Vec::with_capacity(s.len() * 80);
     for i in s {
         for f in i.center.iter().chain([&i.radius]).chain(&i.color) {
             out.extend(f.to_le_bytes());
+        }
+        for a in &i.axes {
+            for f in a.iter().chain([&0.0]) {
+                out.extend(f.to_le_bytes());
+            }
         }
     }
     out

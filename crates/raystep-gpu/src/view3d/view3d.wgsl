@@ -33,16 +33,25 @@ fn vs_tri(
     return out;
 }
 
+// The unit sphere scaled by the radius and carried by the linear map L with columns a0, a1, a2
+// (the identity, or an instance's M: an ellipsoid), then moved to the centre. Its normal is
+// L⁻ᵀ·unit, up to a factor: u.x·(a1 × a2) + u.y·(a2 × a0) + u.z·(a0 × a1) (the rows of L⁻¹
+// times det L; the fragment shader normalizes and lights both sides alike).
 @vertex
 fn vs_sphere(
     @location(0) unit: vec3<f32>,
     @location(1) center_radius: vec4<f32>,
     @location(2) color: vec4<f32>,
+    @location(3) a0: vec4<f32>,
+    @location(4) a1: vec4<f32>,
+    @location(5) a2: vec4<f32>,
 ) -> Shaded {
     var out: Shaded;
-    let world = center_radius.xyz + unit * center_radius.w;
+    let s = unit * center_radius.w;
+    let world = center_radius.xyz + a0.xyz * s.x + a1.xyz * s.y + a2.xyz * s.z;
     out.pos = g.view_proj * vec4<f32>(world, 1.0);
-    out.normal = unit;
+    out.normal = cross(a1.xyz, a2.xyz) * unit.x + cross(a2.xyz, a0.xyz) * unit.y
+        + cross(a0.xyz, a1.xyz) * unit.z;
     out.color = color;
     out.world = world;
     return out;
