@@ -731,3 +731,44 @@ fn fan_pixels_spread_distinct_pixels_over_the_image() {
 // ---------------------------------------------------------------------------------------------
 
 mod cli;
+
+/// A sphere placed under a non-uniform scale is drawn as the ellipsoid the tracer sees: on
+/// `scenes/instances.toml` the egg (the unit sphere, `scale = [0.6, 1, 0.6]`, `translate =
+/// [1.8, 1, 0.4]`) is the unit sphere carried by diag(0.6, 1, 0.6) and moved there, and the
+/// marble (`scale = 0.35`, `translate = [0.9, 0.35, -0.6]`) by 0.35 in every direction — both
+/// read by hand from the file — not a round sphere around either.
+#[test]
+fn a_stretched_instance_is_drawn_as_its_ellipsoid() {
+    let scene = load_file(&scene_file("instances.toml")).unwrap();
+    let g = geometry::build(&scene, None, &[], &Options::default());
+    let drawn = |center: [f32; 3]| {
+        g.spheres
+            .iter()
+            .find(|s| {
+                s.center
+                    .iter()
+                    .zip(center)
+                    .all(|(a, b)| (a - b).abs() < 1e-6)
+            })
+            .unwrap_or_else(|| panic!("no sphere drawn at {center:?}"))
+    };
+    for (center, scale) in [
+        ([1.8, 1.0, 0.4], [0.6, 1.0, 0.6]),
+        ([0.9, 0.35, -0.6], [0.35; 3]),
+    ] {
+        let s = drawn(center);
+        assert_eq!(s.radius, 1.0);
+        for (k, axis) in s.axes.iter().enumerate() {
+            for (j, x) in axis.iter().enumerate() {
+                let want = if j == k { scale[k] } else { 0.0 };
+                assert!((x - want).abs() < 1e-6, "{center:?}: axes {:?}", s.axes);
+            }
+        }
+    }
+    // The prototype itself (the unit sphere at the origin) is not drawn.
+    assert!(
+        !g.spheres
+            .iter()
+            .any(|s| s.center == [0.0; 3] && s.radius == 1.0)
+    );
+}

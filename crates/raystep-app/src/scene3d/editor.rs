@@ -138,6 +138,31 @@ fn object_ui(
         first.shape.kind()
     };
     ui.label(format!("{kind} \"{}\"", g.name));
+    // A prototype is drawn only where its instances place it: its own place and size are in
+    // its object space, under every instance's matrix.
+    let placing: Vec<&str> = scene
+        .instances
+        .iter()
+        .filter(|i| i.group == group)
+        .map(|i| i.name.as_str())
+        .collect();
+    if !placing.is_empty() {
+        let shown = placing
+            .iter()
+            .take(4)
+            .copied()
+            .collect::<Vec<_>>()
+            .join(", ");
+        let more = if placing.len() > 4 { ", …" } else { "" };
+        ui.label(
+            RichText::new(format!(
+                "the prototype of {} instance{} ({shown}{more}): its position and size are in its own object space, so a change moves and resizes every copy within its instance; each copy's place is its [[instance]] table's matrix in the scene file",
+                placing.len(),
+                if placing.len() == 1 { "" } else { "s" }
+            ))
+            .small(),
+        );
+    }
     if let Some(c) = group_center(scene, group) {
         let mut v = c.to_array();
         ui.label("position");
