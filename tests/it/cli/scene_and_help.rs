@@ -152,3 +152,36 @@ fn help_and_no_arguments_succeed() {
 }
 
 // ---------------------------------------------------------------------------------------------
+
+/// `docs/CLI.md`, the command-line reference, is clap's own help for every command, written out
+/// as Markdown by `clap-markdown` from the very `Cli` the binary parses, so it cannot drift from
+/// the program: a changed flag, default or help text fails here until the file is regenerated
+/// (`UPDATE_GOLDEN=1 cargo test --test it cli::scene_and_help::the_cli_reference`).
+#[test]
+fn the_cli_reference_is_claps_own_help() {
+    let options = clap_markdown::MarkdownOptions::new()
+        .title("The raystep command line".into())
+        .show_footer(false);
+    let want = format!(
+        "<!-- Generated from clap's own help by clap-markdown (tests/it/cli/scene_and_help.rs, \
+         `the_cli_reference_is_claps_own_help`): do not edit; regenerate with UPDATE_GOLDEN=1. -->\n\n{}",
+        clap_markdown::help_markdown_custom::<raystep::cli::Cli>(&options)
+    );
+    let path = crate::common::scenes::root().join("docs/CLI.md");
+    if std::env::var_os("UPDATE_GOLDEN").is_some() {
+        std::fs::write(&path, &want).unwrap();
+    }
+    let got = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        got == want,
+        "docs/CLI.md is not clap's help of this build: regenerate it with UPDATE_GOLDEN=1 cargo test --test it cli::scene_and_help::the_cli_reference"
+    );
+    // Every command is in it, with its flags.
+    for heading in [
+        "## `raystep trace`",
+        "## `raystep grade-tracer`",
+        "## `raystep scene check`",
+    ] {
+        assert!(got.contains(heading), "{heading}");
+    }
+}
