@@ -1,5 +1,5 @@
 //! Rays per second on a fixed set of rays, and the export that lets Embree trace the very same
-//! rays (`tools/embree-compare/`, see the README's "Side by side with Embree").
+//! rays (`tools/embree-compare/`, see book/performance.md).
 //!
 //! The set: the scene's camera at 2560×1440, one ray through each pixel centre (closest hit),
 //! then for each primary hit one shadow ray towards the first light, spawned exactly as the

@@ -4,7 +4,7 @@
 //! by themselves, presentation mode gives the layout back exactly, the trace tree follows the
 //! current step, every key press is a step, a double-click fits without selecting, and the idle
 //! app asks for no repaint. The shares asserted (40 % of the width for the render's space) are
-//! the design's, stated in README.md, not read from the app.
+//! the design's, stated in the book (book/app.md), not read from the app.
 
 use egui::accesskit::Role;
 use egui_kittest::Harness;
@@ -131,7 +131,7 @@ const SIZES: [[f32; 2]; 4] = [
 ];
 
 /// The layout at every size, normal (with Lessons off and on) and in presentation mode; prints
-/// the table of shares that README.md quotes.
+/// the table of shares that the book (book/app.md) quotes.
 #[test]
 fn the_render_keeps_its_share_at_every_size_and_mode() {
     let mut table = vec![];

@@ -4,7 +4,7 @@
 //! no hang) with every property its entry point checks holding: a refusal names the file, a
 //! recorded trace reads back the same, a trace equals itself and not its copy with a step
 //! removed, every available diagram draws, the answer key's own answers are marked right. A few
-//! hundred cases; the fuzzers run far longer (README → Fuzzing).
+//! hundred cases; the fuzzers run far longer (book/testing.md → Fuzzing).
 
 use proptest::prelude::*;
 use raystep::accel::SceneAccel;

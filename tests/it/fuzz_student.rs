@@ -2,7 +2,7 @@
 //! (`raystep::fuzzing::{student_input, grade_sheet_input}`), in short: raystep's own student
 //! output and the shipped grading sheets are accepted, and mutated copies of them return (no
 //! panic, no hang). The inputs the fuzzers found, and the ones found while writing the targets,
-//! are regular tests here. The fuzzers run far longer (README → Fuzzing).
+//! are regular tests here. The fuzzers run far longer (book/testing.md → Fuzzing).
 
 use proptest::prelude::*;
 use raystep::fuzzing::{self, STUDENT_PIXELS, grade_sheet_path};

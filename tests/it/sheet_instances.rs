@@ -1,5 +1,5 @@
 //! Exercise sheet 20 (instances) answered as a careful student would: every variant's answer
-//! computed in double precision from the variant's own scene text (the camera of the README's
+//! computed in double precision from the variant's own scene text (the camera of the book's (book/scenes.md)
 //! conventions; M⁻¹ of the instance's scale and translation inverted by hand; the unit sphere met
 //! in object space; the normal carried back by M⁻ᵀ), never from raystep's trace. For 300
 //! students per question:

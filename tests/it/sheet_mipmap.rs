@@ -1,5 +1,5 @@
 //! Exercise sheet 19 (mip-mapping and ray cones) answered as a careful student would: from the
-//! scene's text in double precision — the camera ray of the README's conventions, where it meets
+//! scene's text in double precision — the camera ray of the book's conventions (book/scenes.md), where it meets
 //! the floor y = 0, γ = atan(2·tan(fov/2) / height), W = γ·t, L = W·64 / |d_y|, λ = log₂ L and
 //! the level ⌊λ⌋ held to 0 … 6 — never from raystep's trace. For 300 students per question the
 //! premise holds (the ray meets the trilinear floor) and the f64 answer is marked right against

@@ -1,5 +1,5 @@
 //! Exercise sheet 17 (smooth shading) answered as a careful student would: every variant's shading
-//! normal computed in double precision from the scene's own text (the camera of the README's
+//! normal computed in double precision from the scene's own text (the camera of the book's (book/scenes.md)
 //! conventions, Möller–Trumbore in f64 over every triangle, the vertex normals normalised and
 //! blended), never from raystep's trace. For 300 students per question:
 //! - the premise holds: the pixel's ray hits the triangle or the smooth sphere the text names;

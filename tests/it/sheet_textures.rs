@@ -1,5 +1,5 @@
 //! Exercise sheet 18 (textures) answered as a careful student would: every variant's answer
-//! computed in double precision from the scene's own text (the camera of the README's
+//! computed in double precision from the scene's own text (the camera of the book's (book/scenes.md)
 //! conventions, Möller–Trumbore over the triangles, the ray against the sphere and the floor, the
 //! texture coordinates blended, the texel position, the checker's parity), never from raystep's
 //! trace. For 300 students per question:

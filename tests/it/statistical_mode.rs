@@ -4,7 +4,7 @@
 //! anything is allocated (a bad file scores that student 0 and the class goes on), a bias is
 //! localised to the regions where it is, and a correct tracer drawing its own random numbers
 //! (raystep's render with other seeds) passes. The false-failure rate is measured by the
-//! ignored test `false_failure_rate` (see the README for the figures and the command).
+//! ignored test `false_failure_rate` (see book/grading.md for the figures and the command).
 
 use raystep::student::statistical::{self, StatImage, compare_with, parse_for};
 use std::path::Path;

@@ -1,8 +1,8 @@
-//! The README's walkthroughs (a student with the starter kit, a teacher with a fresh sheet and a
+//! The book's walkthroughs (book/walkthroughs.md) (a student with the starter kit, a teacher with a fresh sheet and a
 //! class CSV) are run as written: every `$ command` of their `console` blocks runs in a fresh
-//! folder, in order, and every line the README shows below a command must be among the lines it
+//! folder, in order, and every line the book shows below a command must be among the lines it
 //! printed (stdout and stderr together), in the same order. `…` stands for lines left out. A
-//! command that exits non-zero must say so in the README with a line `(exit status N)`.
+//! command that exits non-zero must say so in the book with a line `(exit status N)`.
 //!
 //! Files a walkthrough writes by hand (a sheet, a platform's CSV export) are code blocks after an
 //! HTML comment `<!-- file: NAME -->`: the test writes them into the folder before the next
@@ -18,7 +18,7 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// One step of a walkthrough, in the README's order.
+/// One step of a walkthrough, in the book's order.
 #[derive(Debug, PartialEq)]
 enum Step {
     /// Write this file (relative to the walkthrough's folder) with this content.
@@ -30,12 +30,12 @@ enum Step {
     },
 }
 
-/// The text of the README section headed `heading` (`### Title`), up to the next heading of its
+/// The text of the section headed `heading` (`## Title`), up to the next heading of its
 /// level or above.
 fn section<'a>(readme: &'a str, heading: &str) -> &'a str {
     let start = readme
         .find(&format!("\n{heading}\n"))
-        .unwrap_or_else(|| panic!("README.md has no section {heading:?}"));
+        .unwrap_or_else(|| panic!("book/walkthroughs.md has no section {heading:?}"));
     let rest = &readme[start + 1..];
     let level = heading.chars().take_while(|&c| c == '#').count();
     let mut end = rest.len();
@@ -199,7 +199,7 @@ fn run(dir: &Path, command: &str) -> String {
 }
 
 fn walk(heading: &str, least_commands: usize) {
-    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let readme = std::fs::read_to_string(root().join("book/walkthroughs.md")).unwrap();
     let steps = steps(section(&readme, heading));
     let commands = steps
         .iter()
@@ -220,11 +220,11 @@ fn walk(heading: &str, least_commands: usize) {
                 let said = expect.iter().any(|l| l.starts_with("(exit status "));
                 if let Some(line) = missing(expect, &got) {
                     failures.push(format!(
-                        "$ {command}\n  README shows: {line:?}\n  printed:\n{got}"
+                        "$ {command}\n  the book shows: {line:?}\n  printed:\n{got}"
                     ));
                 } else if exited_badly && !said {
                     failures.push(format!(
-                        "$ {command}\n  failed, README does not say so:\n{got}"
+                        "$ {command}\n  failed, the book does not say so:\n{got}"
                     ));
                 }
             }
@@ -235,12 +235,12 @@ fn walk(heading: &str, least_commands: usize) {
 
 #[test]
 fn the_student_walkthrough_prints_what_the_readme_shows() {
-    walk("### A student, with the starter kit", 6);
+    walk("## A student, with the starter kit", 6);
 }
 
 #[test]
 fn the_teacher_walkthrough_prints_what_the_readme_shows() {
-    walk("### A teacher, with a fresh sheet and a class CSV", 5);
+    walk("## A teacher, with a fresh sheet and a class CSV", 5);
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! A careful student's arithmetic, in f64, from a scene file's own text: vector operations, the
-//! camera ray of the README's conventions, and Möller–Trumbore. The exercise-sheet tests answer
+//! camera ray of the book's conventions (book/scenes.md), and Möller–Trumbore. The exercise-sheet tests answer
 //! every variant with it and check raystep's f32 keys against it.
 
 /// A point or vector.
@@ -53,7 +53,7 @@ pub fn vec3(v: &toml::Value) -> V {
     })
 }
 
-/// The camera's ray through pixel (x, y), by the README's conventions.
+/// The camera's ray through pixel (x, y), by the book's conventions (book/scenes.md).
 pub fn camera_ray(scene: &toml::Value, x: u32, y: u32) -> (V, V) {
     let c = &scene["camera"];
     let num = |k: &str| {

@@ -108,7 +108,7 @@ fn unstated(q: &Question, text: &str, scene_toml: &str) -> Vec<String> {
     };
     let mut missing = vec![];
     let scene: toml::Table = toml::from_str(scene_toml).expect("the variant's scene is TOML");
-    // The camera (defaults from README "The scene format").
+    // The camera (defaults from book/scenes.md, "The scene format").
     let cam = scene.get("camera").and_then(|c| c.as_table());
     let get = |k: &str| cam.and_then(|c| c.get(k));
     for (k, default) in [

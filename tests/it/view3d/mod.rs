@@ -1,6 +1,6 @@
 //! The 3D scene view (`raystep::view3d`, `raystep view`) against numbers that come from outside
 //! it: the recorded trace (its rays, hit points and timeline), the camera convention of the
-//! README's "The scene format" (recomputed here in f64, with a basis written out by hand), the
+//! book's "The scene format" (book/scenes.md) (recomputed here in f64, with a basis written out by hand), the
 //! scene's lights and object surfaces, and the PNGs the command line writes.
 //!
 //! The geometry tests need no GPU. The tests that draw (`raystep view` PNGs and the snapshot)
@@ -123,7 +123,7 @@ fn distance_to_surface(shape: &Shape, p: DVec3) -> f64 {
     }
 }
 
-/// The camera basis of README.md, "The scene format", in f64: w = normalize(from − at),
+/// The camera basis of book/scenes.md, "The scene format", in f64: w = normalize(from − at),
 /// u = normalize(up × w), v = w × u, half_height = tan(fov/2), half_width = half_height·W/H.
 struct Basis {
     from: DVec3,

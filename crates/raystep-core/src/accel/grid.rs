@@ -33,7 +33,7 @@
 //! coarser grids test up to 3× more primitives per ray, finer ones walk up to 2× more cells. On
 //! scenes of a handful of primitives every λ is within noise. No λ rescues the teapot in a
 //! stadium: its teapot stays in a few cells whatever the resolution (a two-level grid or an
-//! octree would refine there; neither is built, see the README).
+//! octree would refine there; neither is built, see book/tracer.md).
 
 use super::bvh::shape_bounds;
 use super::{Accelerator, Hit, accept, any_of, closest_of, test_any, test_object, tie_ray};

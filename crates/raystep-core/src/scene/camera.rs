@@ -1,4 +1,4 @@
-//! Primary rays: the inverse mapping from a pixel to a ray (the camera convention in README.md, "The scene format").
+//! Primary rays: the inverse mapping from a pixel to a ray (the camera convention in book/scenes.md, "The scene format").
 
 use super::Camera;
 use crate::math::{Ray, normalize};

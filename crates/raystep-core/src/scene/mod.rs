@@ -40,7 +40,7 @@ pub fn default_scene() -> Scene {
     load_str(DEFAULT_SCENE, DEFAULT_SCENE_NAME, None).expect("the built-in scene is valid")
 }
 
-/// The pinhole camera, in the convention of *Ray Tracing in One Weekend* (README.md, "The scene format").
+/// The pinhole camera, in the convention of *Ray Tracing in One Weekend* (book/scenes.md, "The scene format").
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Camera {
     /// Eye position.

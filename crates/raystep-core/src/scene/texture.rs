@@ -1,7 +1,7 @@
 //! Textures (`[[texture]]` in a scene file): a procedural checker, or an image (PNG or JPEG)
 //! decoded from sRGB to linear once, when the scene loads. A material names one with
 //! `texture = "name"`; the colour looked up at the hit multiplies the material's colour wherever
-//! it is used (README.md, *Textures*). The lookup itself is in [`crate::trace::texture`].
+//! it is used (book/tracer.md, *Textures*). The lookup itself is in [`crate::trace::texture`].
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -28,7 +28,7 @@ pub enum Filter {
     Bilinear,
     /// Mip-mapped: bilinear in the two levels of the image's pyramid whose texels are nearest
     /// the size of the ray cone's footprint, blended by where its level of detail falls between
-    /// them (`trace::texture`, README.md *Mip-mapping and ray cones*).
+    /// them (`trace::texture`, book/tracer.md, *Mip-mapping and ray cones*).
     Trilinear,
 }
 

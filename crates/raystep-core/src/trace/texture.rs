@@ -77,7 +77,7 @@ pub fn texture_axes(shape: &Shape) -> Option<[Vec3; 2]> {
     }
 }
 
-/// The texture coordinates of the hit (README.md, *Textures*):
+/// The texture coordinates of the hit (book/tracer.md, *Textures*):
 /// - a triangle with vertex texture coordinates: (1 − b₁ − b₂)·t₀ + b₁·t₁ + b₂·t₂;
 /// - a triangle without: the barycentrics (b₁, b₂) themselves;
 /// - a sphere: longitude and latitude of the outward direction d, u = (atan2(−d_z, d_x) + π)/2π

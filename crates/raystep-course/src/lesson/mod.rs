@@ -5,7 +5,7 @@
 //!
 //! The sheet format — questions, parameters, variants, quantities, answers, feedback, the
 //! answers file and the class CSV — is specified for users in `docs/EXERCISE-SHEETS.md`; the
-//! README's *Exercises* section shows it in short.
+//! book's *Exercises* chapter (book/exercises.md) shows it in short.
 //!
 //! # From a sheet to a mark
 //!

@@ -10,7 +10,7 @@
 //! levels a per-pixel Bonferroni correction needs (tried: 2 false failures in 16 correct
 //! images). The rate is measured by `tests/it/statistical_mode.rs`'s ignored test
 //! `false_failure_rate`: 1 failure in 1000 correct 24×24 renders at 64 spp (95 % upper bound
-//! 0.0047; the README gives the command).
+//! 0.0047; book/grading.md gives the command).
 //!
 //! The student's claims are not trusted: every pixel of the scene's image is required, with at
 //! least the scene's samples per pixel; the claimed variances may add up to at most
@@ -439,7 +439,7 @@ fn brighter(yours: f64, theirs: f64) -> String {
 /// to [`VARIANCE_CAP`], the mean of each region of the image (at most 8 × 8 regions) per channel
 /// by Welch's t-test at level α / (2R) (R: the region tests), and the mean of the whole image per
 /// channel at level α / 6, so that a correct image fails with probability about [`ALPHA`]
-/// (measured: see the README). A failure names the regions where the image differs
+/// (measured: see book/grading.md). A failure names the regions where the image differs
 /// significantly (or, for a bias spread thinly, those that differ most) and the pixels that
 /// differ most.
 pub fn compare_with(student: &StatImage, reference: &StatImage, req: Requirements) -> Verdict {

@@ -1,7 +1,7 @@
 //! Exact f32 on a GPU: the same bits as the CPU, where the driver allows it.
 //!
 //! Three things make a GPU's f32 differ from the CPU's, even when the WGSL repeats the CPU's
-//! operations one for one (measured on an NVIDIA H200 and on lavapipe, see the README):
+//! operations one for one (measured on an NVIDIA H200 and on lavapipe, see book/gpu.md):
 //!
 //! 1. **Contraction.** A shader compiler may fuse `a*b + c` into one FMA (one rounding instead of
 //!    two) and evaluate `dot` as an FMA chain. WGSL cannot forbid it; SPIR-V can: the

@@ -243,7 +243,7 @@ pub(super) fn read_primitive(
             Ok(w.as_vec3())
         })
         .collect::<Result<_, _>>()?;
-    // Normals go by the inverse transpose of the matrix's linear part (README.md, *glTF
+    // Normals go by the inverse transpose of the matrix's linear part (book/scenes.md, *glTF
     // scenes*: a non-uniform scale would otherwise tilt them), renormalised in f64.
     let normal_matrix = DMat3::from_mat4(world).inverse().transpose();
     let world_normals: Option<Vec<Option<Vec3>>> = normals.map(|ns| {

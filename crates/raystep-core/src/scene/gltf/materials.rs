@@ -1,4 +1,4 @@
-//! glTF's metallic-roughness materials mapped to raystep's (README.md, *glTF scenes*, has the
+//! glTF's metallic-roughness materials mapped to raystep's (book/scenes.md, *glTF scenes*, has the
 //! table), and their textures decoded.
 //!
 //! With base colour c, metallic m, roughness r (each the factor times its texture's channel

@@ -1,7 +1,7 @@
 //! glTF 2.0 scenes (`.gltf` and `.glb`), read through the `gltf` crate: its JSON and GLB
 //! parsing, and its validation, which names the JSON path of a problem.
 //!
-//! What raystep takes from a file (README.md, *glTF scenes*): the default scene's node
+//! What raystep takes from a file (book/scenes.md, *glTF scenes*): the default scene's node
 //! hierarchy, each node's mesh placed by the product of the matrices from the root (a mesh one
 //! node places as world triangles; a mesh several nodes place read once, as prototypes, with an
 //! instance per node), positions, `NORMAL` (smooth shading) and `TEXCOORD_0` ([`data`]); the
