@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Builds the raystep book: `python3 book/build.py` (or `book/build.sh`) writes the site to
-target/book/ and checks every link in it.
+target/book/ and checks every link in it; `book/build.sh --with-app --raystep BIN` builds the
+browser app too and puts the book and the app in that one folder, ready for any static host.
 
 The book's pages are the repository's own Markdown, one copy each: the README (the first page),
 the chapters in book/, the lessons in lessons/ and the references in docs/ (book/SUMMARY.md
@@ -11,16 +12,27 @@ the repository is, with every file they link to beside them, and mdBook builds t
 lesson's TOML front matter (between `+++` lines, read by the app and the tests) is left out of
 its page.
 
+Every lesson is live: with `--app DIST` (the browser build, `web/build.sh`), the site holds the
+app in app/, and each lesson's page opens with its moment — its scene at its pixel, on the first
+of its steps worth looking at (the lesson's front matter) — embedded: the app's compact window
+(`#embed&scene=…&pixel=…&step=…`: the render, the stepper and the diagram, with a link to the
+full app), loaded only when the reader scrolls to it (`loading="lazy"`), and a link per step that
+moves it there (book/moments.js). With `--raystep BIN`, each moment also gets the figure
+`raystep diagram` draws of it, generated now from the scene and shown where the browser has no
+WebAssembly, with the command that made it.
+
 Then every internal link of the built HTML is checked: the file it names exists and, where it
-names an anchor (`page.html#heading`), the page has that id. A broken link fails the build,
-listed with the page it is on.
+names an anchor (`page.html#heading`), the page has that id (the app's own `#…`, a moment's
+address, is not an anchor). A broken link fails the build, listed with the page it is on.
 
 mdBook: `cargo install mdbook --version 0.5.4 --locked` (the version CI installs); `--mdbook
 PATH` names the binary, else `mdbook` on the PATH or in ~/.cargo/bin.
 """
 
 import argparse
+import html
 import html.parser
+import tomllib
 import os
 import re
 import shutil
@@ -38,12 +50,71 @@ def pages(summary: Path) -> list[str]:
     return re.findall(r"\]\(([^)]+\.md)\)", summary.read_text(encoding="utf-8"))
 
 
-def strip_front_matter(text: str) -> str:
+def front_matter(text: str) -> tuple[dict, str]:
+    """A lesson's TOML front matter (between `+++` lines) and the text after it."""
     if text.startswith("+++\n"):
         end = text.find("\n+++\n", 4)
         if end >= 0:
-            return text[end + 5:].lstrip("\n")
-    return text
+            return tomllib.loads(text[4:end]), text[end + 5:].lstrip("\n")
+    return {}, text
+
+
+class Moments:
+    """What the lessons' live figures need: where the app is (None: no embeds) and the raystep
+    binary that draws their figures (None: no figures)."""
+
+    def __init__(self, app: bool, raystep: str | None, staging: Path):
+        self.app, self.raystep, self.staging = app, raystep, staging
+        self.count = 0
+
+    def insert(self, rel: Path, meta: dict, text: str) -> str:
+        """The lesson's text with its moment after its title (unchanged without one)."""
+        scene, pixel, steps = meta.get("scene"), meta.get("pixel"), meta.get("steps") or [0]
+        if not (self.app or self.raystep) or not scene or not pixel:
+            return text
+        name = Path(scene).stem
+        x, y = pixel
+        first = steps[0]
+        up = "../" * (len(rel.parts) - 1)
+        moment = f"scene={name}&pixel={x},{y}"
+        parts = [f'<figure class="raystep-moment" data-scene="{name}" data-pixel="{x},{y}">']
+        if self.app:
+            src = html.escape(f"{up}app/index.html#embed&{moment}&step={first}")
+            parts.append(
+                f'<iframe class="raystep-embed" loading="lazy" src="{src}" '
+                f'title="raystep: {html.escape(scene)}, pixel ({x}, {y})"></iframe>')
+        command = f"raystep diagram {scene} --pixel {x},{y} --step {first} -o figure.png"
+        if self.raystep:
+            figure = Path("figures") / f"{rel.stem}.png"
+            out = self.staging / figure
+            out.parent.mkdir(parents=True, exist_ok=True)
+            subprocess.run([self.raystep, "diagram", str(ROOT / scene), "--pixel",
+                            f"{x},{y}", "--step", str(first), "-o", str(out)], check=True,
+                           stdout=subprocess.DEVNULL)
+            hidden = " hidden" if self.app else ""
+            parts.append(f'<img class="raystep-fallback"{hidden} src="{up}{figure.as_posix()}" '
+                         f'alt="the diagram of step {first} of pixel ({x}, {y})">')
+        caption = [f"Pixel ({x}, {y}) of <code>{html.escape(scene)}</code>"]
+        if self.app:
+            links = ", ".join(
+                f'<a class="raystep-step" data-step="{k}" href="'
+                + html.escape(f"{up}app/index.html#{moment}&step={k}") + f'">{k}</a>'
+                for k in steps)
+            caption.append(f"live: step through it here; go to step {links}; or "
+                           + '<a target="_blank" href="'
+                           + html.escape(f"{up}app/index.html#{moment}&step={first}")
+                           + '">open it in the full app</a>')
+        if self.raystep:
+            caption.append(f'<span class="raystep-fallback-note">the figure: <code>'
+                           f"{html.escape(command)}</code></span>")
+        parts.append("<figcaption>" + " · ".join(caption) + "</figcaption>")
+        parts.append("</figure>")
+        self.count += 1
+        block = "\n".join(parts)
+        lines = text.split("\n")
+        at = next((i for i, l in enumerate(lines) if l.startswith("# ")), -1)
+        lines.insert(at + 1, "\n" + block + "\n")
+        return "\n".join(lines)
 
 
 def linked_files(md: Path) -> list[Path]:
@@ -65,7 +136,7 @@ def linked_files(md: Path) -> list[Path]:
     return out
 
 
-def assemble(staging: Path) -> None:
+def assemble(staging: Path, moments: Moments) -> None:
     if staging.exists():
         shutil.rmtree(staging)
     staging.mkdir(parents=True)
@@ -97,7 +168,8 @@ def assemble(staging: Path) -> None:
             continue
         dst.parent.mkdir(parents=True, exist_ok=True)
         if src.suffix == ".md":
-            dst.write_text(strip_front_matter(src.read_text(encoding="utf-8")), encoding="utf-8")
+            meta, text = front_matter(src.read_text(encoding="utf-8"))
+            dst.write_text(moments.insert(rel, meta, text), encoding="utf-8")
             todo.extend(linked_files(src))
         else:
             shutil.copy(src, dst)
@@ -147,7 +219,9 @@ def check_links(out: Path) -> list[str]:
             if not target.exists():
                 broken.append(f"{page.relative_to(out)}: {href} (no such file)")
                 continue
-            if frag and target.suffix == ".html" and urllib.parse.unquote(frag) not in parse(target).ids:
+            app = target.parent.name == "app" and target.parent.parent == out
+            if (frag and not app and target.suffix == ".html"
+                    and urllib.parse.unquote(frag) not in parse(target).ids):
                 broken.append(f"{page.relative_to(out)}: {href} (no such anchor)")
     return broken
 
@@ -168,18 +242,35 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--mdbook", help="the mdbook binary")
     ap.add_argument("--out", default=str(ROOT / "target" / "book"), help="where the site goes")
+    ap.add_argument("--app", help="the browser build (dist/ of web/build.sh): the lessons' "
+                    "moments are embedded live, the app beside the book in app/")
+    ap.add_argument("--raystep", help="a raystep binary: draws each moment's figure")
+    ap.add_argument("--with-app", action="store_true",
+                    help="build the browser app first (web/build.sh, into dist/) and use it: "
+                    "the book and the app in one folder, by one command")
     args = ap.parse_args()
+    if args.with_app:
+        subprocess.run([str(ROOT / "web" / "build.sh")], check=True)
+        args.app = args.app or str(ROOT / "dist")
     staging = ROOT / "target" / "book-src"
     out = Path(args.out).resolve()
-    assemble(staging)
+    if args.app and not (Path(args.app) / "index.html").exists():
+        sys.exit(f"book: {args.app} holds no index.html (build it with web/build.sh)")
+    moments = Moments(bool(args.app), args.raystep, staging)
+    assemble(staging, moments)
+    for extra in ("moments.js", "moments.css"):
+        shutil.copy(ROOT / "book" / extra, staging / extra)
     if out.exists():
         shutil.rmtree(out)
     subprocess.run([mdbook_binary(args.mdbook), "build", str(staging), "-d", str(out)], check=True)
+    if args.app:
+        shutil.copytree(args.app, out / "app")
     broken = check_links(out)
     if broken:
         sys.exit(f"book: {len(broken)} broken links:\n  " + "\n  ".join(broken))
     n = sum(1 for _ in out.rglob("*.html"))
-    print(f"book: {n} pages in {out}, every internal link and anchor resolves")
+    live = f", {moments.count} live moments" if moments.count else ""
+    print(f"book: {n} pages in {out}{live}, every internal link and anchor resolves")
 
 
 if __name__ == "__main__":

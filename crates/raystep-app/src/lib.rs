@@ -449,6 +449,10 @@ impl eframe::App for RaystepApp {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        // An embedded figure keeps nothing (see `web::follow`).
+        if self.state.embed.is_some() {
+            return;
+        }
         eframe::set_value(storage, PREFS_KEY, &self.state.prefs);
     }
 }

@@ -2,7 +2,8 @@
 //!
 //! The page's address can name the moment to open on, so a teacher links to the exact step of a
 //! lesson: `#scene=cornell&pixel=160,120&step=7` (any of the three; `scene` a built-in scene's
-//! name, as `raystep open` takes it).
+//! name, as `raystep open` takes it). `embed` asks for the compact window a page embeds (the
+//! book's live figures): the render, the stepper and the diagram, with a link to the full app.
 
 /// What the page's address asks for (its part after `#`).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -13,6 +14,8 @@ pub struct Link {
     pub pixel: Option<[u32; 2]>,
     /// The step to go to.
     pub step: Option<usize>,
+    /// The compact window for embedding in a page.
+    pub embed: bool,
 }
 
 impl Link {
@@ -43,6 +46,7 @@ impl Link {
                         "the link's pixel \"{value}\" is not two whole numbers x,y"
                     )),
                 },
+                "embed" if matches!(value, "" | "1" | "true") => link.embed = true,
                 "step" => match value.parse() {
                     Ok(k) => link.step = Some(k),
                     Err(_) => {
@@ -50,11 +54,22 @@ impl Link {
                     }
                 },
                 _ => warnings.push(format!(
-                    "the link's \"{key}\" is not understood (it takes scene, pixel and step)"
+                    "the link's \"{key}\" is not understood (it takes scene, pixel, step and embed)"
                 )),
             }
         }
         (link, warnings)
+    }
+
+    /// The same moment in the full app: `fragment` without its `embed` (for the embedded
+    /// window's link out), with its `#`.
+    pub fn full_app(fragment: &str) -> String {
+        let kept: Vec<&str> = fragment
+            .trim_start_matches('#')
+            .split('&')
+            .filter(|p| !p.is_empty() && p.split_once('=').map_or(*p, |(k, _)| k) != "embed")
+            .collect();
+        format!("#{}", kept.join("&"))
     }
 }
 
@@ -235,6 +250,14 @@ pub fn follow(app: &mut super::RaystepApp, fragment: &str) {
         app.state
             .open_prepared(f, None, pixel, link.step.unwrap_or(0));
     }
+    if link.embed {
+        // An embedded figure neither reads nor keeps the reader's preferences: it shows the
+        // moment as the book means it, and what is changed in it is not remembered.
+        if app.state.embed.is_none() {
+            app.state.prefs = super::prefs::Prefs::default();
+        }
+        app.state.embed = Some(Link::full_app(fragment));
+    }
     if !warnings.is_empty() {
         app.state.message = Some(super::state::Message {
             text: warnings.join("; "),
@@ -287,10 +310,27 @@ mod tests {
             Link {
                 scene: Some("cornell".into()),
                 pixel: Some([160, 120]),
-                step: Some(7)
+                step: Some(7),
+                embed: false,
             }
         );
         assert!(w.is_empty());
+    }
+
+    #[test]
+    fn an_embedded_moment_links_out_to_the_same_moment_in_the_full_app() {
+        let (l, w) = Link::parse("#embed&scene=instances&pixel=186,110&step=12");
+        assert!(l.embed && w.is_empty(), "{w:?}");
+        assert_eq!(l.step, Some(12));
+        assert_eq!(
+            Link::full_app("#embed&scene=instances&pixel=186,110&step=12"),
+            "#scene=instances&pixel=186,110&step=12"
+        );
+        assert_eq!(Link::full_app("scene=cornell&embed=1"), "#scene=cornell");
+        // Only a bare flag (or 1, true) asks for it.
+        let (l, w) = Link::parse("embed=no");
+        assert!(!l.embed);
+        assert_eq!(w.len(), 1, "{w:?}");
     }
 
     #[test]

@@ -64,6 +64,9 @@ pub fn show(
 ) {
     let window = ui.available_rect_before_wrap();
     panels.window_rect = Some(window);
+    if let Some(full) = &state.embed {
+        return embedded(ui, state, render, panels, full, cmds);
+    }
     egui::Panel::top("menu").show(ui, |ui| menu::menu_bar(ui, state, render, panels, cmds));
     if let Some(e) = &state.load_error {
         egui::Panel::top("load-error").show(ui, |ui| status::error_banner(ui, state, e, cmds));
@@ -92,6 +95,58 @@ pub fn show(
     }
     dialogs::show(ui, state, cmds);
     super::lab::window(ui.ctx(), state, &mut panels.lab, cmds);
+}
+
+/// The compact window a page embeds (the book's live figures, `#embed&…`): a line naming the
+/// moment with a link to the full app there, the render, the step controls, and the diagram
+/// beside the render (below it in a narrow frame). No menu, settings or trace tree.
+fn embedded(
+    ui: &mut egui::Ui,
+    state: &AppState,
+    render: &mut RenderView,
+    panels: &mut Panels,
+    full: &str,
+    cmds: &mut Vec<Command>,
+) {
+    let window = ui.available_rect_before_wrap();
+    egui::Panel::top("embed-title").show(ui, |ui| {
+        ui.horizontal_wrapped(|ui| {
+            let scene = state.scene().map_or(String::new(), |s| s.name.clone());
+            let at = state
+                .pixel
+                .map_or(String::new(), |[x, y]| format!(" · pixel ({x}, {y})"));
+            ui.label(egui::RichText::new(format!("raystep · {scene}{at}")).strong());
+            ui.add(
+                egui::Hyperlink::from_label_and_url("Open in the full app ↗", full)
+                    .open_in_new_tab(true),
+            );
+        });
+    });
+    if let Some(e) = &state.load_error {
+        egui::Panel::top("load-error").show(ui, |ui| status::error_banner(ui, state, e, cmds));
+    }
+    if state.stepping.is_some() {
+        egui::Panel::bottom("steps").show(ui, |ui| steps::controls(ui, state, cmds));
+    }
+    let wide = window.width() >= 560.0;
+    let diagram = |ui: &mut egui::Ui, panels: &mut Panels, cmds: &mut Vec<Command>| {
+        contained(ui, |ui| {
+            diagram::panel(ui, state, &mut panels.diagram, &panels.gpu, cmds)
+        })
+    };
+    if wide {
+        egui::Panel::right("embed-diagram")
+            .resizable(false)
+            .exact_size(window.width() * 0.45)
+            .show(ui, |ui| diagram(ui, panels, cmds));
+    } else {
+        egui::Panel::bottom("embed-diagram")
+            .resizable(false)
+            .exact_size(window.height() * 0.45)
+            .show(ui, |ui| diagram(ui, panels, cmds));
+    }
+    panels.centre_rect = Some(ui.available_rect_before_wrap());
+    egui::CentralPanel::default().show(ui, |ui| view::render_view(ui, state, render, cmds));
 }
 
 /// What loading the scene left out or added (a glTF file's unread features, a framed view, a

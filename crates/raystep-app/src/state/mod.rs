@@ -126,6 +126,9 @@ pub struct AppState {
     pub editor_path: Option<PathBuf>,
     /// The selected object group (the 3D view and the editor).
     pub selected: Option<u32>,
+    /// Embedded in a page (the book's live figures, `#embed&…`): the compact window — the
+    /// render, the stepper and the diagram — with a link to the full app at this address.
+    pub embed: Option<String>,
     /// How many edits were applied (views key their caches on it).
     pub edits: u64,
     /// Settings a lesson laid over the file it opened (kept when that file reloads).
@@ -178,6 +181,7 @@ impl AppState {
             editor: None,
             editor_path: None,
             selected: None,
+            embed: None,
             edits: 0,
             overrides: None,
             last_play: None,

@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""Checks the built book's live moments in headless Chromium (Playwright), as a reader meets them.
+
+For each of three lessons (or those named with --lesson): the page opens; scrolled to its
+moment (the embeds load lazily, `loading="lazy"`), the embedded raystep
+reaches the lesson's scene, pixel and first step (read from the app's hidden `#raystep-status`,
+as web/check.py reads it) with its render done; the figure's link to another step moves it
+there; and nothing on the page or in the app logs an error.
+
+Usage: book/check_embeds.py [--book target/book] [--chromium PATH] [--lesson NAME ...] SHOTS_DIR
+Build the book with the app first: book/build.py --app dist --raystep BIN.
+"""
+
+import argparse
+import functools
+import http.server
+import os
+import sys
+import threading
+import time
+import tomllib
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+LESSONS = ["02-ray-sphere", "14-area-lights-and-soft-shadows", "20-instances"]
+# SwiftShader renders WebGL on the CPU (as in web/check.py).
+CHROMIUM_ARGS = ["--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+                 "--ignore-gpu-blocklist"]
+# Console messages that are not failures, with the reason (as in web/check.py).
+ALLOWED = ["No available adapters"]  # no WebGPU here: eframe falls back to WebGL2
+
+
+class Quiet(http.server.SimpleHTTPRequestHandler):
+    extensions_map = {**http.server.SimpleHTTPRequestHandler.extensions_map,
+                      ".wasm": "application/wasm", ".js": "text/javascript"}
+
+    def log_message(self, *args):
+        pass
+
+
+def front_matter(lesson: str) -> dict:
+    text = (ROOT / "lessons" / f"{lesson}.md").read_text(encoding="utf-8")
+    return tomllib.loads(text[4:text.index("\n+++\n", 4)])
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--book", default=str(ROOT / "target" / "book"))
+    ap.add_argument("--chromium", help="the Chromium binary (default: Playwright's own)")
+    ap.add_argument("--lesson", action="append", help="a lesson's file name without .md")
+    ap.add_argument("shots")
+    args = ap.parse_args()
+    book = Path(args.book)
+    if not (book / "app" / "index.html").exists():
+        sys.exit(f"{book} has no app/: build the book with --app")
+    os.makedirs(args.shots, exist_ok=True)
+    server = http.server.ThreadingHTTPServer(
+        ("127.0.0.1", 0), functools.partial(Quiet, directory=str(book)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    url = f"http://127.0.0.1:{server.server_address[1]}/"
+    from playwright.sync_api import sync_playwright
+
+    failures = []
+    with sync_playwright() as p:
+        launch = {"args": CHROMIUM_ARGS}
+        if args.chromium:
+            launch["executable_path"] = args.chromium
+        browser = p.chromium.launch(**launch)
+        for lesson in args.lesson or LESSONS:
+            meta = front_matter(lesson)
+            x, y = meta["pixel"]
+            steps = meta.get("steps") or [0]
+            title = tomllib.loads((ROOT / meta["scene"]).read_text(encoding="utf-8")).get("title")
+            page = browser.new_page(viewport={"width": 1100, "height": 800})
+            errors = []
+            page.on("pageerror", lambda e: errors.append(f"uncaught exception: {e}"))
+            page.on("console", lambda m: m.type == "error" and not any(
+                a in m.text for a in ALLOWED) and errors.append(f"console error: {m.text}"))
+            start = time.monotonic()
+            page.goto(f"{url}lessons/{lesson}.html", wait_until="load")
+            frame_el = page.locator("iframe.raystep-embed").first
+
+            def status():
+                f = frame_el.element_handle().content_frame()
+                if f is None:
+                    return None
+                return f.evaluate("() => { const e = document.getElementById('raystep-status');"
+                                  " return e ? Object.assign({}, e.dataset) : null; }")
+
+            def wait(cond, what, timeout=90):
+                end = time.monotonic() + timeout
+                while time.monotonic() < end:
+                    try:
+                        s = status()
+                    except Exception:  # the frame navigating
+                        s = None
+                    if s and cond(s):
+                        return s
+                    time.sleep(0.2)
+                page.screenshot(path=os.path.join(args.shots, f"failed-{lesson}.png"))
+                raise TimeoutError(f"{lesson}: {what}: not within {timeout} s (status: {s})")
+
+            try:
+                frame_el.scroll_into_view_if_needed()
+                s = wait(lambda s: s.get("ready") == "1" and s.get("pixel") == f"{x},{y}"
+                         and s.get("step") == str(steps[0]),
+                         f"the moment (pixel {x},{y}, step {steps[0]})")
+                if title and s.get("scene") != title:
+                    raise AssertionError(f"{lesson}: the moment shows {s.get('scene')!r}, "
+                                         f"not {title!r}")
+                took = time.monotonic() - start
+                if len(steps) > 1:
+                    page.locator(f"figure.raystep-moment a.raystep-step[data-step='{steps[-1]}']"
+                                 ).first.click()
+                    wait(lambda s: s.get("step") == str(steps[-1]), f"step {steps[-1]}", 30)
+                page.screenshot(path=os.path.join(args.shots, f"{lesson}.png"))
+                if errors:
+                    raise AssertionError(f"{lesson}: " + "; ".join(errors))
+                print(f"{lesson}: the moment reached {title!r}, pixel ({x}, {y}), step "
+                      f"{steps[0]} in {took:.1f} s, then step {steps[-1]} by its link")
+            except Exception as e:  # noqa: BLE001 (every failure is reported, then exit 1)
+                failures.append(str(e))
+            page.close()
+        browser.close()
+    server.shutdown()
+    if failures:
+        sys.exit("book embeds: " + "\n  ".join(failures))
+    print("book embeds: every moment checked reached its scene, pixel and step")
+
+
+if __name__ == "__main__":
+    main()
