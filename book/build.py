@@ -104,10 +104,11 @@ class Moments:
                            + '<a target="_blank" href="'
                            + html.escape(f"{up}app/index.html#{moment}&step={first}")
                            + '">open it in the full app</a>')
+        note = ""
         if self.raystep:
-            caption.append(f'<span class="raystep-fallback-note">the figure: <code>'
-                           f"{html.escape(command)}</code></span>")
-        parts.append("<figcaption>" + " · ".join(caption) + "</figcaption>")
+            note = (f'<span class="raystep-fallback-note"> · the figure: <code>'
+                    f"{html.escape(command)}</code></span>")
+        parts.append("<figcaption>" + " · ".join(caption) + note + "</figcaption>")
         parts.append("</figure>")
         self.count += 1
         block = "\n".join(parts)

@@ -142,7 +142,7 @@ fn embedded(
     } else {
         egui::Panel::bottom("embed-diagram")
             .resizable(false)
-            .exact_size(window.height() * 0.45)
+            .exact_size(window.height() * 0.35)
             .show(ui, |ui| diagram(ui, panels, cmds));
     }
     panels.centre_rect = Some(ui.available_rect_before_wrap());
