@@ -195,6 +195,7 @@ fn file_names(dir: &Path) -> Vec<OsString> {
 }
 
 mod bad_input;
+mod book_commands;
 mod builtin;
 mod fixed;
 

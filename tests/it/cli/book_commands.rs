@@ -1,0 +1,169 @@
+//! The command lines the book shows are the program's: every `raystep …` line of a shell block in
+//! the README, the book's chapters (`book/*.md`) and `docs/` names commands and flags that exist,
+//! checked against the `Cli` the binary parses (clap's own definition). A line without optional
+//! parts (`[…]`), placeholders or elisions must parse as a whole, values included.
+//!
+//! The lessons' and the walkthroughs' commands are run, with their output compared
+//! (`tests/it/lessons/`, `tests/it/walkthrough.rs`); these are the chapters' synopses, which
+//! show a command's options in brackets and are not meant to run as written.
+
+use clap::{CommandFactory, Parser};
+use std::path::Path;
+
+/// The `raystep` lines of every ```sh block of `text`, with their line numbers.
+fn raystep_lines(text: &str) -> Vec<(usize, String)> {
+    let mut out = vec![];
+    let mut in_sh = false;
+    let mut pending = String::new();
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim();
+        if t.starts_with("```") {
+            in_sh = !in_sh && (t == "```sh" || t == "```bash");
+            continue;
+        }
+        if !in_sh {
+            continue;
+        }
+        // A line ending in `\` goes on.
+        let piece = t.strip_suffix('\\').unwrap_or(t);
+        pending.push_str(piece);
+        pending.push(' ');
+        if t.ends_with('\\') {
+            continue;
+        }
+        let whole = std::mem::take(&mut pending);
+        let whole = whole.trim().trim_start_matches("$ ").to_string();
+        if whole.starts_with("raystep ") {
+            out.push((i + 1, whole));
+        }
+    }
+    out
+}
+
+/// `line` without its trailing comment (` # …` outside quotes) and what it pipes into.
+fn command_part(line: &str) -> String {
+    let mut out = String::new();
+    let mut quote = None;
+    let chars: Vec<char> = line.chars().collect();
+    for (k, &c) in chars.iter().enumerate() {
+        match quote {
+            Some(q) if c == q => quote = None,
+            Some(_) => {}
+            None if c == '"' || c == '\'' => quote = Some(c),
+            None if (c == '#' || c == '|' || c == '>')
+                && k > 0
+                && chars[k - 1] == ' '
+                && chars.get(k + 1).is_none_or(|n| *n == ' ') =>
+            {
+                break;
+            }
+            None => {}
+        }
+        out.push(c);
+    }
+    out.trim().to_string()
+}
+
+/// `s` without its bracketed optional parts (nested brackets included).
+fn without_options(s: &str) -> String {
+    let mut depth = 0;
+    let mut out = String::new();
+    for c in s.chars() {
+        match c {
+            '[' => depth += 1,
+            ']' if depth > 0 => depth -= 1,
+            _ if depth == 0 => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
+#[test]
+fn the_command_lines_the_book_shows_are_the_programs() {
+    let root = crate::common::scenes::root();
+    let mut files: Vec<_> = ["README.md", "CONTRIBUTING.md"]
+        .iter()
+        .map(|f| root.join(f))
+        .collect();
+    for dir in ["book", "docs"] {
+        let mut more: Vec<_> = std::fs::read_dir(root.join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|e| e == "md"))
+            .collect();
+        more.sort();
+        files.extend(more);
+    }
+    let cli = raystep::cli::Cli::command();
+    let mut failures = vec![];
+    let (mut lines, mut parsed) = (0, 0);
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        let name = file
+            .strip_prefix(&root)
+            .unwrap_or(Path::new("?"))
+            .display()
+            .to_string();
+        for (at, line) in raystep_lines(&text) {
+            lines += 1;
+            let command = command_part(&line);
+            let words = shlex::split(&without_options(&command)).unwrap_or_default();
+            // The (sub)command the line names: follow the words while they name one.
+            let mut cmd = &cli;
+            let mut path = vec!["raystep".to_string()];
+            for w in words.iter().skip(1) {
+                match cmd.find_subcommand(w) {
+                    Some(sub) => {
+                        cmd = sub;
+                        path.push(w.clone());
+                    }
+                    None => break,
+                }
+            }
+            if path.len() == 1 && words.len() > 1 && !words[1].starts_with('-') {
+                failures.push(format!(
+                    "{name}:{at}: `{}` is not a raystep command",
+                    words[1]
+                ));
+                continue;
+            }
+            // Every flag it shows, optional ones included, is one the command has.
+            let flags: Vec<String> = command
+                .split(|c: char| c.is_whitespace() || c == '[' || c == ']' || c == '|')
+                .filter(|w| w.starts_with("--") && w.len() > 2)
+                .map(|w| w.split('=').next().unwrap_or(w).to_string())
+                .collect();
+            for f in flags {
+                let long = &f[2..];
+                let known = long == "help"
+                    || long == "version"
+                    || cmd.get_arguments().any(|a| a.get_long() == Some(long));
+                if !known {
+                    failures.push(format!("{name}:{at}: `{}` has no flag {f}", path.join(" ")));
+                }
+            }
+            // A line with nothing left out parses, values and all.
+            let complete = !command.contains('[')
+                && !command.contains('…')
+                && !command.contains("...")
+                && !words
+                    .iter()
+                    .any(|w| w == "SCENE" || w == "SCENES" || w == "DIR");
+            if complete {
+                parsed += 1;
+                if let Err(e) = raystep::cli::Cli::try_parse_from(&words) {
+                    failures.push(format!(
+                        "{name}:{at}: `{command}` does not parse: {}",
+                        e.to_string().lines().next().unwrap_or("")
+                    ));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(
+        lines >= 40 && parsed >= 20,
+        "{lines} command lines, {parsed} parsed whole"
+    );
+}
