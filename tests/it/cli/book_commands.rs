@@ -167,3 +167,91 @@ fn the_command_lines_the_book_shows_are_the_programs() {
         "{lines} command lines, {parsed} parsed whole"
     );
 }
+
+/// Every shell block of the README, CONTRIBUTING.md, the book's chapters and `docs/` runs here,
+/// or says why not with `<!-- not run: reason -->` just before it. A block that runs holds only
+/// `raystep` commands; each must succeed, run from the repository's root.
+#[test]
+fn every_shell_block_of_the_book_runs_or_says_why_not() {
+    let root = crate::common::scenes::root();
+    let mut files: Vec<_> = ["README.md", "CONTRIBUTING.md"]
+        .iter()
+        .map(|f| root.join(f))
+        .collect();
+    for dir in ["book", "docs"] {
+        for e in std::fs::read_dir(root.join(dir)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|e| e == "md") {
+                files.push(p);
+            }
+        }
+    }
+    files.sort();
+    let (mut ran, mut marked, mut failures) = (0, 0, vec![]);
+    for file in &files {
+        let text = std::fs::read_to_string(file).unwrap();
+        let name = file.strip_prefix(&root).unwrap().display().to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        let mut i = 0;
+        while i < lines.len() {
+            let t = lines[i].trim();
+            if !t.starts_with("```") {
+                i += 1;
+                continue;
+            }
+            let end = (i + 1..lines.len())
+                .find(|&j| lines[j].trim().starts_with("```"))
+                .unwrap_or(lines.len());
+            if t == "```sh" || t == "```bash" {
+                let before = lines[..i].iter().rev().find(|l| !l.trim().is_empty());
+                let reason = before
+                    .and_then(|l| l.trim().strip_prefix("<!-- not run:"))
+                    .and_then(|r| r.strip_suffix("-->"))
+                    .map(str::trim);
+                match reason {
+                    Some(r) if r.split_whitespace().count() >= 3 => marked += 1,
+                    Some(r) => failures.push(format!(
+                        "{name}:{}: `not run: {r}` gives no reason a reader can use",
+                        i + 1
+                    )),
+                    None => {
+                        for (k, line) in lines[i + 1..end].iter().enumerate() {
+                            let l = line.trim();
+                            if l.is_empty() || l.starts_with('#') {
+                                continue;
+                            }
+                            let words = shlex::split(&command_part(l)).unwrap_or_default();
+                            if words.first().map(String::as_str) != Some("raystep") {
+                                failures.push(format!(
+                                    "{name}:{}: not a raystep command: mark the block `<!-- not run: why -->`",
+                                    i + 2 + k
+                                ));
+                                continue;
+                            }
+                            let out = assert_cmd::Command::cargo_bin("raystep")
+                                .unwrap()
+                                .current_dir(&root)
+                                .args(&words[1..])
+                                .output()
+                                .unwrap();
+                            if !out.status.success() {
+                                failures.push(format!(
+                                    "{name}:{}: `{l}` failed: {}",
+                                    i + 2 + k,
+                                    String::from_utf8_lossy(&out.stderr)
+                                ));
+                            }
+                        }
+                        ran += 1;
+                    }
+                }
+            }
+            i = end + 1;
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(
+        ran >= 1 && marked >= 10,
+        "{ran} blocks ran, {marked} marked"
+    );
+}
