@@ -22,7 +22,7 @@ import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-LESSONS = ["02-ray-sphere", "14-area-lights-and-soft-shadows", "20-instances"]
+LESSONS = ["02-ray-sphere", "18-textures", "20-instances"]
 # SwiftShader renders WebGL on the CPU (as in web/check.py).
 CHROMIUM_ARGS = ["--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
                  "--ignore-gpu-blocklist"]
