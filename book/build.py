@@ -43,6 +43,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
+# A moment a chapter embeds where it stands: a built-in scene's name, a pixel and a step.
+MOMENT = re.compile(r"<!-- moment: scene=([a-z0-9-]+) pixel=(\d+),(\d+) step=(\d+) -->")
 
 
 def pages(summary: Path) -> list[str]:
@@ -68,12 +70,34 @@ class Moments:
         self.count = 0
 
     def insert(self, rel: Path, meta: dict, text: str) -> str:
-        """The lesson's text with its moment after its title (unchanged without one)."""
-        scene, pixel, steps = meta.get("scene"), meta.get("pixel"), meta.get("steps") or [0]
-        if not (self.app or self.raystep) or not scene or not pixel:
+        """The page's text with its moments: a lesson's (its front matter's scene, pixel and
+        steps) after its title, and each `<!-- moment: scene=NAME pixel=X,Y step=K -->` a
+        chapter holds where it stands (the marker is left alone without --app or --raystep)."""
+        if not (self.app or self.raystep):
             return text
-        name = Path(scene).stem
+        n = 0
+
+        def marker(m: re.Match) -> str:
+            nonlocal n
+            n += 1
+            name, x, y, k = m.group(1), int(m.group(2)), int(m.group(3)), int(m.group(4))
+            return self.figure(rel, f"scenes/{name}.toml", x, y, [k], f"{rel.stem}-{n}")
+
+        text = MOMENT.sub(marker, text)
+        scene, pixel, steps = meta.get("scene"), meta.get("pixel"), meta.get("steps") or [0]
+        if not scene or not pixel:
+            return text
         x, y = pixel
+        block = self.figure(rel, scene, x, y, steps, rel.stem)
+        lines = text.split("\n")
+        at = next((i for i, l in enumerate(lines) if l.startswith("# ")), -1)
+        lines.insert(at + 1, "\n" + block + "\n")
+        return "\n".join(lines)
+
+    def figure(self, rel: Path, scene: str, x: int, y: int, steps: list, stem: str) -> str:
+        """The figure of a moment: the embedded app (with --app), the drawn diagram (with
+        --raystep), the caption with a link per step."""
+        name = Path(scene).stem
         first = steps[0]
         up = "../" * (len(rel.parts) - 1)
         moment = f"scene={name}&pixel={x},{y}"
@@ -85,7 +109,7 @@ class Moments:
                 f'title="raystep: {html.escape(scene)}, pixel ({x}, {y})"></iframe>')
         command = f"raystep diagram {scene} --pixel {x},{y} --step {first} -o figure.png"
         if self.raystep:
-            figure = Path("figures") / f"{rel.stem}.png"
+            figure = Path("figures") / f"{stem}.png"
             out = self.staging / figure
             out.parent.mkdir(parents=True, exist_ok=True)
             subprocess.run([self.raystep, "diagram", str(ROOT / scene), "--pixel",
@@ -111,11 +135,7 @@ class Moments:
         parts.append("<figcaption>" + " · ".join(caption) + note + "</figcaption>")
         parts.append("</figure>")
         self.count += 1
-        block = "\n".join(parts)
-        lines = text.split("\n")
-        at = next((i for i, l in enumerate(lines) if l.startswith("# ")), -1)
-        lines.insert(at + 1, "\n" + block + "\n")
-        return "\n".join(lines)
+        return "\n".join(parts)
 
 
 def linked_files(md: Path) -> list[Path]:

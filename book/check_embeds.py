@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """Checks the built book's live moments in headless Chromium (Playwright), as a reader meets them.
 
-For each of three lessons (or those named with --lesson): the page opens; scrolled to its
-moment (the embeds load lazily, `loading="lazy"`), the embedded raystep
-reaches the lesson's scene, pixel and first step (read from the app's hidden `#raystep-status`,
+For each of three pages — two lessons and the app's chapter (or those named with --page): the
+page opens; scrolled to its first moment (the embeds load lazily, `loading="lazy"`), the
+embedded raystep
+reaches the moment's scene, pixel and step (as the figure names them) (read from the app's hidden `#raystep-status`,
 as web/check.py reads it) with its render done; the figure's link to another step moves it
 there; and nothing on the page or in the app logs an error.
 
-Usage: book/check_embeds.py [--book target/book] [--chromium PATH] [--lesson NAME ...] SHOTS_DIR
+Usage: book/check_embeds.py [--book target/book] [--chromium PATH] [--page PATH ...] SHOTS_DIR
 Build the book with the app first: book/build.py --app dist --raystep BIN.
 """
 
@@ -22,7 +23,7 @@ import tomllib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-LESSONS = ["02-ray-sphere", "18-textures", "20-instances"]
+PAGES = ["lessons/02-ray-sphere", "lessons/20-instances", "book/app"]
 # SwiftShader renders WebGL on the CPU (as in web/check.py).
 CHROMIUM_ARGS = ["--use-gl=angle", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
                  "--ignore-gpu-blocklist"]
@@ -38,16 +39,12 @@ class Quiet(http.server.SimpleHTTPRequestHandler):
         pass
 
 
-def front_matter(lesson: str) -> dict:
-    text = (ROOT / "lessons" / f"{lesson}.md").read_text(encoding="utf-8")
-    return tomllib.loads(text[4:text.index("\n+++\n", 4)])
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--book", default=str(ROOT / "target" / "book"))
     ap.add_argument("--chromium", help="the Chromium binary (default: Playwright's own)")
-    ap.add_argument("--lesson", action="append", help="a lesson's file name without .md")
+    ap.add_argument("--page", action="append",
+                    help="a page of the book, its path without .html (lessons/18-textures)")
     ap.add_argument("shots")
     args = ap.parse_args()
     book = Path(args.book)
@@ -66,20 +63,26 @@ def main() -> None:
         if args.chromium:
             launch["executable_path"] = args.chromium
         browser = p.chromium.launch(**launch)
-        for lesson in args.lesson or LESSONS:
-            meta = front_matter(lesson)
-            x, y = meta["pixel"]
-            steps = meta.get("steps") or [0]
-            title = tomllib.loads((ROOT / meta["scene"]).read_text(encoding="utf-8")).get("title")
+        for lesson in args.page or PAGES:
             page = browser.new_page(viewport={"width": 1100, "height": 800})
             errors = []
             page.on("pageerror", lambda e: errors.append(f"uncaught exception: {e}"))
             page.on("console", lambda m: m.type == "error" and not any(
                 a in m.text for a in ALLOWED) and errors.append(f"console error: {m.text}"))
             start = time.monotonic()
-            page.goto(f"{url}lessons/{lesson}.html", wait_until="load")
+            page.goto(f"{url}{lesson}.html", wait_until="load")
             frame_el = page.locator("iframe.raystep-embed").first
-
+            # What the figure says it shows: its scene and pixel, the step its app opens on and
+            # the steps it links to.
+            fig = page.locator("figure.raystep-moment").first
+            name, pixel = fig.get_attribute("data-scene"), fig.get_attribute("data-pixel")
+            x, y = (int(v) for v in pixel.split(","))
+            src = frame_el.get_attribute("src")
+            steps = [int(src.rsplit("&step=", 1)[1])] + [
+                int(a.get_attribute("data-step"))
+                for a in fig.locator("a.raystep-step").all()][1:]
+            title = tomllib.loads((ROOT / "scenes" / f"{name}.toml").read_text(
+                encoding="utf-8")).get("title")
             def status():
                 f = frame_el.element_handle().content_frame()
                 if f is None:
@@ -116,8 +119,9 @@ def main() -> None:
                 page.screenshot(path=os.path.join(args.shots, f"{lesson}.png"))
                 if errors:
                     raise AssertionError(f"{lesson}: " + "; ".join(errors))
+                moved = f", then step {steps[-1]} by its link" if len(steps) > 1 else ""
                 print(f"{lesson}: the moment reached {title!r}, pixel ({x}, {y}), step "
-                      f"{steps[0]} in {took:.1f} s, then step {steps[-1]} by its link")
+                      f"{steps[0]} in {took:.1f} s{moved}")
             except Exception as e:  # noqa: BLE001 (every failure is reported, then exit 1)
                 failures.append(str(e))
             page.close()
