@@ -44,7 +44,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
 # A moment a chapter embeds where it stands: a built-in scene's name, a pixel and a step.
-MOMENT = re.compile(r"<!-- moment: scene=([a-z0-9-]+) pixel=(\d+),(\d+) step=(\d+) -->")
+MOMENT = re.compile(r"^<!-- moment: scene=([a-z0-9-]+) pixel=(\d+),(\d+) step=(\d+) -->$",
+                    re.MULTILINE)
 
 
 def pages(summary: Path) -> list[str]:
@@ -71,7 +72,7 @@ class Moments:
 
     def insert(self, rel: Path, meta: dict, text: str) -> str:
         """The page's text with its moments: a lesson's (its front matter's scene, pixel and
-        steps) after its title, and each `<!-- moment: scene=NAME pixel=X,Y step=K -->` a
+        steps) after its title, and each `<!-- moment: scene=NAME pixel=X,Y step=K -->` line a
         chapter holds where it stands (the marker is left alone without --app or --raystep)."""
         if not (self.app or self.raystep):
             return text
