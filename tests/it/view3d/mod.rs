@@ -772,3 +772,35 @@ fn a_stretched_instance_is_drawn_as_its_ellipsoid() {
             .any(|s| s.center == [0.0; 3] && s.radius == 1.0)
     );
 }
+
+/// The book's picture of the 3D view (`docs/view3d.png`, in book/app.md) is what `raystep view`
+/// draws today with the command that made it: at most 0.5 % of its pixels differ by more than 16
+/// in a channel (the diagrams' golden rule), so a changed view cannot leave a stale picture in
+/// the book. `UPDATE_GOLDEN=1` redraws it.
+#[test]
+fn the_books_3d_view_picture_is_current() {
+    if !have_adapter("the_books_3d_view_picture_is_current") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("view3d.png");
+    let args = "--pixel 230,130 --orbit 40,20 --distance 0.22 --look-at -0.6,1,-1 --size 1200x675";
+    let got = view(&scene_file("mirror-glass.toml"), args, &out);
+    let path = scenes::root().join("docs/view3d.png");
+    if std::env::var_os("UPDATE_GOLDEN").is_some() {
+        std::fs::copy(&out, &path).unwrap();
+        return;
+    }
+    let want = image::open(&path).unwrap().to_rgba8();
+    assert_eq!(want.dimensions(), got.dimensions());
+    let differing = want
+        .pixels()
+        .zip(got.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 16))
+        .count();
+    let total = (want.width() * want.height()) as usize;
+    assert!(
+        differing * 200 <= total,
+        "docs/view3d.png: {differing} of {total} pixels differ from `raystep view scenes/mirror-glass.toml {args}` (redraw it with UPDATE_GOLDEN=1)"
+    );
+}
