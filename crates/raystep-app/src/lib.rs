@@ -48,8 +48,8 @@ use std::path::PathBuf;
 
 /// Where `raystep open` starts: a pixel to select and a step to show once the render has
 /// finished (`--pixel`, `--step`: where the grader's feedback points a student), and maybe a
-/// screenshot of the window to take then, after which the app closes (`--screenshot`: how the
-/// README's picture is made).
+/// screenshot of the window to take then, after which the app closes (`--screenshot`: the real
+/// window's picture, under Xvfb for example).
 #[derive(Debug, Clone, Default)]
 pub struct ScreenshotPlan {
     /// Where to write the PNG (None: no screenshot; the app stays open).

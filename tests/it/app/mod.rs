@@ -662,4 +662,5 @@ fn open_learn(h: &mut Harness<'static, RaystepApp>) {
 }
 
 mod learn;
+mod picture;
 mod tabs;
