@@ -16,7 +16,7 @@ Every lesson is live: with `--app DIST` (the browser build, `web/build.sh`), the
 app in app/, and each lesson's page opens with its moment — its scene at its pixel, on the first
 of its steps worth looking at (the lesson's front matter) — embedded: the app's compact window
 (`#embed&scene=…&pixel=…&step=…`: the render, the stepper and the diagram, with a link to the
-full app), loaded only when the reader scrolls to it (`loading="lazy"`), and a link per step that
+full app), loaded only when the reader comes within a screen of it, and a link per step that
 moves it there (book/moments.js). With `--raystep BIN`, each moment also gets the figure
 `raystep diagram` draws of it, generated now from the scene and shown where the browser has no
 WebAssembly, with the command that made it.
@@ -105,8 +105,9 @@ class Moments:
         parts = [f'<figure class="raystep-moment" data-scene="{name}" data-pixel="{x},{y}">']
         if self.app:
             src = html.escape(f"{up}app/index.html#embed&{moment}&step={first}")
+            # Loaded by book/moments.js when the reader comes near it (not before).
             parts.append(
-                f'<iframe class="raystep-embed" loading="lazy" src="{src}" '
+                f'<iframe class="raystep-embed" hidden data-src="{src}" '
                 f'title="raystep: {html.escape(scene)}, pixel ({x}, {y})"></iframe>')
         command = f"raystep diagram {scene} --pixel {x},{y} --step {first} -o figure.png"
         if self.raystep:
@@ -116,8 +117,7 @@ class Moments:
             subprocess.run([self.raystep, "diagram", str(ROOT / scene), "--pixel",
                             f"{x},{y}", "--step", str(first), "-o", str(out)], check=True,
                            stdout=subprocess.DEVNULL)
-            hidden = " hidden" if self.app else ""
-            parts.append(f'<img class="raystep-fallback"{hidden} src="{up}{figure.as_posix()}" '
+            parts.append(f'<img class="raystep-fallback" src="{up}{figure.as_posix()}" '
                          f'alt="the diagram of step {first} of pixel ({x}, {y})">')
         caption = [f"Pixel ({x}, {y}) of <code>{html.escape(scene)}</code>"]
         if self.app:

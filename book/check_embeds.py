@@ -2,11 +2,13 @@
 """Checks the built book's live moments in headless Chromium (Playwright), as a reader meets them.
 
 For each of three pages — two lessons and the app's chapter (or those named with --page): the
-page opens; scrolled to its first moment (the embeds load lazily, `loading="lazy"`), the
-embedded raystep
+page opens; scrolled to its first moment, the embedded raystep
 reaches the moment's scene, pixel and step (as the figure names them) (read from the app's hidden `#raystep-status`,
 as web/check.py reads it) with its render done; the figure's link to another step moves it
-there; and nothing on the page or in the app logs an error.
+there; and nothing on the page or in the app logs an error. Then the embeds are lazy
+(book/moments.js loads a moment's app when the reader comes within a screen of it): on lesson
+20, whose last moment is far below the window, that one has started no app before the reader
+scrolls there.
 
 Usage: book/check_embeds.py [--book target/book] [--chromium PATH] [--page PATH ...] SHOTS_DIR
 Build the book with the app first: book/build.py --app dist --raystep BIN.
@@ -77,7 +79,7 @@ def main() -> None:
             fig = page.locator("figure.raystep-moment").first
             name, pixel = fig.get_attribute("data-scene"), fig.get_attribute("data-pixel")
             x, y = (int(v) for v in pixel.split(","))
-            src = frame_el.get_attribute("src")
+            src = frame_el.get_attribute("data-src")
             steps = [int(src.rsplit("&step=", 1)[1])] + [
                 int(a.get_attribute("data-step"))
                 for a in fig.locator("a.raystep-step").all()][1:]
@@ -104,7 +106,7 @@ def main() -> None:
                 raise TimeoutError(f"{lesson}: {what}: not within {timeout} s (status: {s})")
 
             try:
-                frame_el.scroll_into_view_if_needed()
+                fig.scroll_into_view_if_needed()
                 s = wait(lambda s: s.get("ready") == "1" and s.get("pixel") == f"{x},{y}"
                          and s.get("step") == str(steps[0]),
                          f"the moment (pixel {x},{y}, step {steps[0]})")
@@ -125,6 +127,15 @@ def main() -> None:
             except Exception as e:  # noqa: BLE001 (every failure is reported, then exit 1)
                 failures.append(str(e))
             page.close()
+        # Lazy: on a page with several moments, one far below the window has started no app
+        # before the reader scrolls to it.
+        page = browser.new_page(viewport={"width": 1100, "height": 800})
+        page.goto(f"{url}lessons/20-instances.html", wait_until="load")
+        time.sleep(3)
+        if page.locator("iframe.raystep-embed").last.get_attribute("src"):
+            failures.append("lessons/20-instances: the moment at the bottom loaded before the "
+                            "reader scrolled to it")
+        page.close()
         browser.close()
     server.shutdown()
     if failures:
