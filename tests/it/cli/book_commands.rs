@@ -255,3 +255,54 @@ fn every_shell_block_of_the_book_runs_or_says_why_not() {
         "{ran} blocks ran, {marked} marked"
     );
 }
+
+/// The book's chapter on the trace format (`book/trace-format.md`) names every step type a trace
+/// holds: the types of the steps recorded on every shipped scene (Whitted, distribution and path
+/// tracing, instances, textures) at its centre and a corner, read from the traces' JSON, each
+/// have an entry there (a line `` - `type` — what it is ``).
+#[test]
+fn the_trace_format_chapter_names_every_step_type() {
+    let root = crate::common::scenes::root();
+    let chapter = std::fs::read_to_string(root.join("book/trace-format.md")).unwrap();
+    let mut seen = std::collections::BTreeSet::new();
+    for scene in crate::common::scenes::shipped() {
+        let s = raystep::scene::load_file(&scene).unwrap();
+        let (w, h) = (s.camera.width, s.camera.height);
+        let prepared = raystep::PreparedScene::new(s);
+        for (x, y) in [(w / 2, h / 2), (w / 3, 2 * h / 3)] {
+            let json: serde_json::Value =
+                serde_json::from_str(&prepared.record(x, y, 0).to_json()).unwrap();
+            fn walk(r: &serde_json::Value, seen: &mut std::collections::BTreeSet<String>) {
+                for s in r["steps"].as_array().into_iter().flatten() {
+                    if let Some(t) = s["type"].as_str() {
+                        seen.insert(t.to_string());
+                    }
+                }
+                for c in r["children"].as_array().into_iter().flatten() {
+                    walk(c, seen);
+                }
+            }
+            walk(&json["root"], &mut seen);
+        }
+    }
+    // The types the chapter describes: the `names` before the dash of each "- `type` — …" entry.
+    let described: std::collections::BTreeSet<String> = chapter
+        .lines()
+        .filter_map(|l| l.strip_prefix("- `"))
+        .filter_map(|l| l.split(" — ").next())
+        .flat_map(|names| {
+            format!("`{names}")
+                .split('`')
+                .skip(1)
+                .step_by(2)
+                .map(str::to_string)
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let missing: Vec<_> = seen.difference(&described).collect();
+    assert!(
+        missing.is_empty(),
+        "book/trace-format.md names no {missing:?}"
+    );
+    assert!(seen.len() >= 20, "{seen:?}");
+}
