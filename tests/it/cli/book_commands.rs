@@ -1,6 +1,6 @@
 //! The command lines the book shows are the program's: every `raystep …` line of a shell block in
-//! the README, the book's chapters (`book/*.md`) and `docs/` names commands and flags that exist,
-//! checked against the `Cli` the binary parses (clap's own definition). A line without optional
+//! the README, the book's chapters (`book/*.md`), `docs/` and the lessons names commands and
+//! flags that exist, checked against the `Cli` the binary parses (clap's own definition). A line without optional
 //! parts (`[…]`), placeholders or elisions must parse as a whole, values included.
 //!
 //! The lessons' and the walkthroughs' commands are run, with their output compared
@@ -82,11 +82,11 @@ fn without_options(s: &str) -> String {
 #[test]
 fn the_command_lines_the_book_shows_are_the_programs() {
     let root = crate::common::scenes::root();
-    let mut files: Vec<_> = ["README.md", "CONTRIBUTING.md"]
+    let mut files: Vec<_> = ["README.md", "CONTRIBUTING.md", "lessons/starter/README.md"]
         .iter()
         .map(|f| root.join(f))
         .collect();
-    for dir in ["book", "docs"] {
+    for dir in ["book", "docs", "lessons"] {
         let mut more: Vec<_> = std::fs::read_dir(root.join(dir))
             .unwrap()
             .map(|e| e.unwrap().path())
