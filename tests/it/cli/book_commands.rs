@@ -1,11 +1,12 @@
 //! The command lines the book shows are the program's: every `raystep …` line of a shell block in
 //! the README, the book's chapters (`book/*.md`), `docs/` and the lessons names commands and
-//! flags that exist, checked against the `Cli` the binary parses (clap's own definition). A line without optional
-//! parts (`[…]`), placeholders or elisions must parse as a whole, values included.
+//! flags that exist, checked against the `Cli` the binary parses (clap's own definition). A line
+//! without optional parts (`[…]`), placeholders or elisions must parse as a whole, values
+//! included.
 //!
-//! The lessons' and the walkthroughs' commands are run, with their output compared
-//! (`tests/it/lessons/`, `tests/it/walkthrough.rs`); these are the chapters' synopses, which
-//! show a command's options in brackets and are not meant to run as written.
+//! The lessons' commands that print the numbers they quote, and the walkthroughs' commands, are
+//! run with their output compared (`tests/it/lessons/`, `tests/it/walkthrough.rs`); the
+//! chapters' blocks are run here or marked (the second test below).
 
 use clap::{CommandFactory, Parser};
 use std::path::Path;
