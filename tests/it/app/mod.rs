@@ -312,13 +312,11 @@ fn wait_for_check(h: &mut Harness<'static, RaystepApp>) {
     panic!("the check did not finish in 10 s");
 }
 
-/// Masks the timing figures (they change every run) in the next snapshot; returns how many.
-/// The status bar's mask runs to the window's right edge: the label's own width changes with
-/// its digits (a busy machine's "trace 156 ms" is wider than "trace 56 ms"), and a mask of that
-/// width would too.
-fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
+/// Where the timing figures are (they change every run), in points: the render's in the status
+/// bar, to the window's right edge, and the trace's in the tree panel.
+fn timing_rects(h: &Harness<'static, RaystepApp>) -> Vec<egui::Rect> {
     let right = h.ctx.content_rect().right();
-    let masks: Vec<egui::Rect> = ["rendered in", "recorded in"]
+    ["rendered in", "recorded in"]
         .iter()
         .filter_map(|l| h.query_by_label_contains(l).map(|n| (*l, n.rect())))
         .map(|(l, r)| match l {
@@ -327,7 +325,15 @@ fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
             }
             _ => r,
         })
-        .collect();
+        .collect()
+}
+
+/// Masks the timing figures (they change every run) in the next snapshot; returns how many.
+/// The status bar's mask runs to the window's right edge: the label's own width changes with
+/// its digits (a busy machine's "trace 156 ms" is wider than "trace 56 ms"), and a mask of that
+/// width would too.
+fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
+    let masks = timing_rects(h);
     let n = masks.len();
     for r in masks {
         h.mask(r);

@@ -4,9 +4,8 @@
 //! than 16 in a channel), leaving out the timings, which change every run. After an intended
 //! change to the window: `UPDATE_GOLDEN=1 cargo test --test it app::picture::`, and look at it.
 
-use super::{rendered, settle_layout, wait_for};
+use super::{rendered, settle_layout, timing_rects, wait_for};
 use crate::common::app_harness::wgpu_harness;
-use egui_kittest::kittest::Queryable as _;
 use raystep::app::state::{Command, StepMove};
 use std::path::Path;
 
@@ -20,18 +19,10 @@ fn the_readmes_picture_is_current() {
     h.state_mut().state.apply(Command::SelectPixel([150, 200]));
     h.state_mut().state.apply(Command::Step(StepMove::To(5)));
     settle_layout(&mut h);
-    // The timings' places (the status bar's runs to the window's right edge), in pixels.
-    let right = h.ctx.content_rect().right();
+    // The timings' places, in pixels.
     let scale = h.ctx.pixels_per_point();
-    let timings: Vec<egui::Rect> = ["rendered in", "recorded in"]
-        .iter()
-        .filter_map(|l| h.query_by_label_contains(l).map(|n| (*l, n.rect())))
-        .map(|(l, r)| match l {
-            "rendered in" => {
-                egui::Rect::from_min_max(r.min, egui::pos2(right.max(r.max.x), r.max.y))
-            }
-            _ => r,
-        })
+    let timings: Vec<egui::Rect> = timing_rects(&h)
+        .into_iter()
         .map(|r| r.expand(2.0) * scale)
         .collect();
     assert_eq!(timings.len(), 2, "the timing labels are in the window");
@@ -53,19 +44,10 @@ fn the_readmes_picture_is_current() {
         "docs/app.png is not the window's size (this run's picture: {})",
         keep()
     );
-    let mut differing = 0;
-    let mut compared = 0;
-    for (x, y, g) in got.enumerate_pixels() {
+    let (differing, compared) = crate::common::golden::differing(&got, &want, |x, y| {
         let p = egui::pos2(x as f32 + 0.5, y as f32 + 0.5);
-        if timings.iter().any(|r| r.contains(p)) {
-            continue;
-        }
-        compared += 1;
-        let w = want.get_pixel(x, y);
-        if g.0.iter().zip(w.0.iter()).any(|(a, b)| a.abs_diff(*b) > 16) {
-            differing += 1;
-        }
-    }
+        timings.iter().any(|r| r.contains(p))
+    });
     assert!(
         differing * 200 <= compared,
         "docs/app.png: {differing} of {compared} pixels differ from the window drawn now (this run's picture: {}; UPDATE_GOLDEN=1 redraws it)",

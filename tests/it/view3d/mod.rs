@@ -793,12 +793,7 @@ fn the_books_3d_view_picture_is_current() {
     }
     let want = image::open(&path).unwrap().to_rgba8();
     assert_eq!(want.dimensions(), got.dimensions());
-    let differing = want
-        .pixels()
-        .zip(got.pixels())
-        .filter(|(a, b)| a.0.iter().zip(b.0.iter()).any(|(x, y)| x.abs_diff(*y) > 16))
-        .count();
-    let total = (want.width() * want.height()) as usize;
+    let (differing, total) = crate::common::golden::differing(&want, &got, |_, _| false);
     assert!(
         differing * 200 <= total,
         "docs/view3d.png: {differing} of {total} pixels differ from `raystep view scenes/mirror-glass.toml {args}` (redraw it with UPDATE_GOLDEN=1)"

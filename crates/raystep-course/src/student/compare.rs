@@ -170,7 +170,7 @@ pub fn grade_pixel(e: &Expected, s: &Pixel, upto: Stage, tol: &TracerTolerances)
                     super::instancing::instance_rays(e, s, &m, stage, upto, tol)
                         .or_else(|| tests(e, s, &m, stage, upto, tol))
                 }
-                Stage::ClosestHit => hits(e, s, &m, upto, tol),
+                Stage::ClosestHit => super::closest_hit::hits(e, s, &m, upto, tol),
                 Stage::Surface => super::surface::surface(e, s, &m, upto, tol),
                 Stage::Shadows => shadows(e, s, &m, tol),
                 Stage::Secondary => secondary(e, s, &m, tol),
@@ -253,7 +253,7 @@ fn camera(e: &Expected, s: &Pixel, m: &[Option<usize>], tol: &TracerTolerances) 
 }
 
 /// The scale of a student's ray against raystep's: (student |Q|, raystep |Q|).
-fn scales(er: &Ray, sr: &Ray) -> (f64, f64) {
+pub(super) fn scales(er: &Ray, sr: &Ray) -> (f64, f64) {
     let le = er.direction.map_or(1.0, len).max(f64::MIN_POSITIVE);
     let ls = sr.direction.map_or(le, len).max(f64::MIN_POSITIVE);
     (ls, le)
@@ -498,123 +498,6 @@ fn tests(
                     }
                 }
                 _ => {}
-            }
-        }
-    }
-    None
-}
-
-fn hits(
-    e: &Expected,
-    s: &Pixel,
-    m: &[Option<usize>],
-    upto: Stage,
-    tol: &TracerTolerances,
-) -> Divergence {
-    for (i, er) in e.pixel.rays.iter().enumerate() {
-        if !in_scope(&er.kind, upto) || er.kind == "shadow" {
-            continue;
-        }
-        let Some(sr) = m.get(i).copied().flatten().and_then(|k| s.rays.get(k)) else {
-            continue;
-        };
-        let step = e
-            .hit_step
-            .get(i)
-            .copied()
-            .flatten()
-            .or(e.ray_step.get(i).copied());
-        let name = ray_name(&e.pixel, i);
-        let (ls, le) = scales(er, sr);
-        let tol = &tol.at_depth(er.depth);
-        let Some(eh) = &er.hit else { continue };
-        let instance = e.instance_hits.get(i).and_then(Option::as_ref);
-        let Some(sh) = &sr.hit else {
-            return Some((
-                format!(
-                    "{name}: no `hit` record: print the ray's closest hit (object null for none)"
-                ),
-                step,
-            ));
-        };
-        match (eh, sh) {
-            (None, None) => {}
-            (Some(h), None) => {
-                return Some((
-                    format!(
-                        "{name}: you found no hit, raystep's closest hit is \"{}\" at t = {}",
-                        h.object.clone().unwrap_or_default(),
-                        h.t.map_or("?".into(), n)
-                    ),
-                    step,
-                ));
-            }
-            (None, Some(h)) => {
-                return Some((
-                    format!(
-                        "{name}: you hit \"{}\", raystep's ray hits nothing",
-                        h.object.clone().unwrap_or_default()
-                    ),
-                    step,
-                ));
-            }
-            (Some(eh), Some(sh)) => {
-                if let (Some(so), Some(eo)) = (&sh.object, &eh.object)
-                    && so != eo
-                {
-                    return Some((
-                        format!(
-                            "{name}: your closest hit is \"{so}\"{}, raystep's is \"{eo}\" at t = {} — keep the smallest t past t_min",
-                            sh.t.map_or(String::new(), |t| format!(" at t = {}", n(t))),
-                            eh.t.map_or("?".into(), n)
-                        ),
-                        step,
-                    ));
-                }
-                if let (Some(y), Some(w)) = (sh.t, eh.t)
-                    && !tol.close(y * ls, w * le)
-                {
-                    return Some((
-                        format!("{name}: your closest t is {}, raystep's is {}", n(y), n(w)),
-                        step,
-                    ));
-                }
-                if let (Some(y), Some(w)) = (sh.point, eh.point)
-                    && !tol.close3(y, w, tol.abs * len(w).max(1.0))
-                {
-                    let hint = match super::instancing::point_hint(instance, y, tol) {
-                        "" => " — P = S + t·Q",
-                        h => h,
-                    };
-                    return Some((
-                        format!(
-                            "{name}: your hit point is {}, raystep's is {}{hint}",
-                            v(y),
-                            v(w)
-                        ),
-                        step,
-                    ));
-                }
-                if let (Some(y), Some(w)) = (sh.normal, eh.normal)
-                    && !tol.close3(y, w, tol.abs * 10.0)
-                {
-                    let l = len(y);
-                    let hint = if (l - 1.0).abs() > 1e-3 && tol.close3(unit(y), w, tol.abs * 10.0) {
-                        format!(" — your normal has length {}: normalize it", n(l))
-                    } else if tol.close3(y.map(|x| -x), w, tol.abs * 10.0) {
-                        " — it points away from the ray: flip it when the ray meets the surface from behind (Q·n > 0)".to_string()
-                    } else {
-                        super::instancing::normal_hint(instance, y, tol).to_string()
-                    };
-                    return Some((
-                        format!(
-                            "{name}: your normal is {}, raystep's is {}{hint}",
-                            v(y),
-                            v(w)
-                        ),
-                        step,
-                    ));
-                }
             }
         }
     }

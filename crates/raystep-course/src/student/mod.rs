@@ -20,6 +20,7 @@
 //! ```
 
 mod camera_mistakes;
+mod closest_hit;
 pub mod compare;
 mod coverage;
 pub mod expected;
