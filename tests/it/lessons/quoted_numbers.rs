@@ -1,9 +1,10 @@
-//! Every number a lesson quotes is printed by the command beside it, at the precision written.
+//! Every number a lesson quotes is printed by the command beside it, at the precision written;
+//! and every shell block of the lessons runs (`shell_blocks.rs`).
 
 use super::*;
 
 #[test]
-fn every_quoted_number_is_printed_by_the_command_beside_it() {
+fn every_quoted_number_is_printed_by_the_command_beside_it_and_every_block_runs() {
     let mut runner = Runner::new();
     let mut problems = vec![];
     let mut checked = 0;
@@ -17,15 +18,27 @@ fn every_quoted_number_is_printed_by_the_command_beside_it() {
         checked += n;
         problems.extend(stale_numbers(&text, &name, &mut runner));
     }
+    // Then every shell block of the lessons and the starter kit's README, with the same runner:
+    // a command that printed a number does not run twice.
+    let (mut ran, mut marked) = (0, 0);
+    let starter = lessons_dir().join("starter").join("README.md");
+    for p in markdown_files().into_iter().chain([starter]) {
+        let name = p.strip_prefix(root()).unwrap_or(&p).display().to_string();
+        let (more, r, m) = shell_blocks::unrun_blocks(&read(&p), &name, &mut runner);
+        problems.extend(more);
+        (ran, marked) = (ran + r, marked + m);
+    }
+    eprintln!("{ran} shell blocks ran, {marked} marked `not run`");
     assert!(
         problems.is_empty(),
-        "{} quoted numbers are not what their commands print (see lessons/README.md, \"Quoted \
-         numbers\"):\n{}",
+        "{} quoted numbers are not what their commands print, or shell blocks do not run (see \
+         lessons/README.md, \"Quoted numbers\"):\n{}",
         problems.len(),
         problems.join("\n")
     );
     // The convention reaches the lessons: most of their numbers are checked.
     assert!(checked >= 140, "only {checked} numbers were checked");
+    assert!(ran >= 50, "only {ran} shell blocks ran");
     eprintln!("{checked} quoted numbers checked");
 }
 
