@@ -4,7 +4,8 @@
 //! What maps: the perspective camera (vertical field of view, a box pixel filter), the path
 //! integrator (Mitsuba's `max_depth` is raystep's plus one: Mitsuba counts path segments, raystep
 //! bounces), triangles and meshes (as OBJ files of their triangles, face normals, so their
-//! winding decides an area light's side as in raystep), spheres, the four BSDFs (`diffuse`;
+//! winding decides an area light's side as in raystep; a smooth mesh with its vertex normals,
+//! which both renderers interpolate), spheres, the four BSDFs (`diffuse`;
 //! `mirror` as a `conductor` with no Fresnel and the colour as its reflectance; `glass` as a
 //! `dielectric`; `glossy` as a `roughconductor` with GGX, the same α and no Fresnel), emission as
 //! an `area` emitter, point lights as `point` emitters and the background as a `constant`
@@ -240,18 +241,39 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
                         }
                     }
                 }
+                // A smooth mesh's vertex normals (`vn`; a triangle of it without them gets its
+                // face normal at each corner), which Mitsuba interpolates as raystep does.
+                let smooth = objects.iter().any(|o| o.normals != super::NO_NORMALS);
+                if smooth {
+                    for o in objects {
+                        let n = match o.shape {
+                            _ if o.normals != super::NO_NORMALS => {
+                                scene.vertex_normals[o.normals as usize]
+                            }
+                            Shape::Triangle { p } => {
+                                [(p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero(); 3]
+                            }
+                            _ => [glam::Vec3::ZERO; 3],
+                        };
+                        for q in n {
+                            let _ = writeln!(obj, "vn {:e} {:e} {:e}", q.x, q.y, q.z);
+                        }
+                    }
+                }
                 for k in 0..objects.len() {
                     let (a, b, c) = (3 * k + 1, 3 * k + 2, 3 * k + 3);
-                    let _ = if textured {
-                        writeln!(obj, "f {a}/{a} {b}/{b} {c}/{c}")
-                    } else {
-                        writeln!(obj, "f {a} {b} {c}")
+                    let _ = match (textured, smooth) {
+                        (true, true) => writeln!(obj, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}"),
+                        (false, true) => writeln!(obj, "f {a}//{a} {b}//{b} {c}//{c}"),
+                        (true, false) => writeln!(obj, "f {a}/{a} {b}/{b} {c}/{c}"),
+                        (false, false) => writeln!(obj, "f {a} {b} {c}"),
                     };
                 }
                 let name = format!("{prefix}-g{gi}.obj");
                 let _ = writeln!(
                     x,
-                    "  <shape type=\"obj\"><string name=\"filename\" value=\"{name}\"/><boolean name=\"face_normals\" value=\"true\"/><ref id=\"m{m}\"/>{e}</shape>"
+                    "  <shape type=\"obj\"><string name=\"filename\" value=\"{name}\"/><boolean name=\"face_normals\" value=\"{}\"/><ref id=\"m{m}\"/>{e}</shape>",
+                    !smooth
                 );
                 objs.push((name, obj));
             }

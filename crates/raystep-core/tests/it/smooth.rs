@@ -314,3 +314,51 @@ fn hanikas_lift_clears_the_terminator_of_the_smooth_sphere() {
         "{before} → {after} of {lit}"
     );
 }
+
+/// `raystep scene mitsuba` writes a smooth triangle's vertex normals (`vn`, faces `a//a`, face
+/// normals off) and leaves a flat one with face normals; the normals by hand are the scene's,
+/// normalized: (0, 0, −1), (1, 0, −1)/√2, (0, 1, −1)/√2.
+#[test]
+fn the_mitsuba_export_carries_vertex_normals_and_only_where_the_scene_has_them() {
+    let text = format!(
+        "{HAND}\n[[triangle]]\nname = \"flat\"\nvertices = [[2, 0, 0], [3, 0, 0], [2, 1, 0]]\n"
+    );
+    let s = load_str(&text, "hand.toml", None).unwrap();
+    let m = raystep_core::scene::mitsuba::to_mitsuba(&s, 4, "hand").unwrap();
+    let obj = |name: &str| -> &str {
+        let (_, t) = m.objs.iter().find(|(f, _)| f.as_str() == name).unwrap();
+        t
+    };
+    let smooth = obj("hand-g0.obj");
+    let vn: Vec<[f64; 3]> = smooth
+        .lines()
+        .filter_map(|l| l.strip_prefix("vn "))
+        .map(|l| {
+            let v: Vec<f64> = l.split(' ').map(|x| x.parse().unwrap()).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    let r = 0.5f64.sqrt();
+    let expected = [[0.0, 0.0, -1.0], [r, 0.0, -r], [0.0, r, -r]];
+    assert_eq!(vn.len(), 3, "{smooth}");
+    for (got, want) in vn.iter().zip(expected) {
+        for c in 0..3 {
+            assert!((got[c] - want[c]).abs() < 1e-6, "{got:?} against {want:?}");
+        }
+    }
+    assert!(smooth.contains("f 1//1 2//2 3//3"), "{smooth}");
+    let flat = obj("hand-g1.obj");
+    assert!(!flat.contains("vn ") && flat.contains("f 1 2 3"), "{flat}");
+    let shapes: Vec<&str> = m
+        .xml
+        .lines()
+        .filter(|l| l.contains("type=\"obj\""))
+        .collect();
+    assert_eq!(shapes.len(), 2);
+    assert!(
+        shapes[0].contains("hand-g0.obj") && shapes[0].contains("\"face_normals\" value=\"false\"")
+    );
+    assert!(
+        shapes[1].contains("hand-g1.obj") && shapes[1].contains("\"face_normals\" value=\"true\"")
+    );
+}
