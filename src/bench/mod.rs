@@ -13,6 +13,7 @@ use glam::{Vec3, Vec3A};
 use std::time::{Duration, Instant};
 
 mod accelerators;
+pub mod mc;
 pub mod path;
 mod throughput;
 mod view3d;

@@ -7,7 +7,7 @@ use crate::scene::{Integrator, Scene};
 use glam::Vec3;
 use std::time::Instant;
 
-fn rmse(a: &[Vec3], b: &[Vec3]) -> f64 {
+pub(super) fn rmse(a: &[Vec3], b: &[Vec3]) -> f64 {
     let s: f64 = a
         .iter()
         .zip(b)
@@ -17,7 +17,7 @@ fn rmse(a: &[Vec3], b: &[Vec3]) -> f64 {
 }
 
 /// Renders `scene` at `spp` with `threads`: (seconds, pixels, rays).
-fn ours(
+pub(super) fn ours(
     scene: &Scene,
     spp: u32,
     seed: u32,
@@ -43,20 +43,30 @@ fn ours(
     ))
 }
 
-/// Renders `scene` with Mitsuba 3 (`python3`, `scalar_rgb`): (seconds of `mi.render`, pixels).
-fn mitsuba(scene: &Scene, spp: u32, seed: u32) -> Result<(f64, Vec<Vec3>), String> {
+/// Renders `scene` with Mitsuba 3 (`python3`, `scalar_rgb`) on `threads` threads (0: Mitsuba's
+/// default, every core): (seconds of `mi.render`, pixels).
+pub(super) fn mitsuba(
+    scene: &Scene,
+    spp: u32,
+    seed: u32,
+    threads: usize,
+) -> Result<(f64, Vec<Vec3>), String> {
     let dir = std::env::temp_dir().join(format!("raystep-bench-mitsuba-{}", std::process::id()));
     std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
     let m = crate::scene::mitsuba::to_mitsuba(scene, spp, "scene")?;
     m.write_files(&dir)?;
     std::fs::write(dir.join("scene.xml"), &m.xml).map_err(|e| e.to_string())?;
-    let script = "import sys, time, mitsuba as mi\nmi.set_variant('scalar_rgb')\nscene = mi.load_file(sys.argv[1])\nt = time.perf_counter()\nimg = mi.render(scene, seed=int(sys.argv[3]))\nprint(time.perf_counter() - t)\nmi.util.write_bitmap(sys.argv[2], img)\n";
+    // Mitsuba 3.9's OpenEXR reads and writes wait on Dr.Jit's thread pool and hang for good when
+    // it has one thread: the scene (its textures) is loaded and the image written with every
+    // core; only `mi.render` runs on `threads`.
+    let script = "import os, sys, time, drjit as dr, mitsuba as mi\nmi.set_variant('scalar_rgb')\nscene = mi.load_file(sys.argv[1])\ncores = dr.thread_count()\nif int(sys.argv[4]) > 0:\n    dr.set_thread_count(int(sys.argv[4]))\nt = time.perf_counter()\nimg = mi.render(scene, seed=int(sys.argv[3]))\nprint(time.perf_counter() - t)\ndr.set_thread_count(cores)\nmi.util.write_bitmap(sys.argv[2], img, write_async=False)\n";
     let exr = dir.join("out.exr");
     let out = std::process::Command::new("python3")
         .args(["-c", script])
         .arg(dir.join("scene.xml"))
         .arg(&exr)
         .arg(seed.to_string())
+        .arg(threads.to_string())
         .output()
         .map_err(|e| format!("cannot run python3: {e}"))?;
     if !out.status.success() {
@@ -102,14 +112,14 @@ pub fn path(scene: &Scene, reps: usize) -> Result<(), String> {
     // timed, its RMSE against the reference; Monte Carlo error falls as 1/√time, so the time to
     // reach an RMSE e is t · (rmse / e)².
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let (_, reference) = match mitsuba(&s, 1024, 99) {
+    let (_, reference) = match mitsuba(&s, 1024, 99, 0) {
         Ok(r) => r,
         Err(e) => {
             crate::io::outln!("  against Mitsuba 3: skipped ({e})");
             return Ok(());
         }
     };
-    let (tm, pm) = mitsuba(&s, 64, 1)?;
+    let (tm, pm) = mitsuba(&s, 64, 1, 0)?;
     let (to, po, _) = ours(&s, 64, 1, threads)?;
     let (em, eo) = (rmse(&pm, &reference), rmse(&po, &reference));
     let target = em.min(eo);

@@ -78,6 +78,11 @@ pub enum Section {
     /// against Mitsuba 3 (`scalar_rgb`, via `python3`) on the same scene (the first path-traced
     /// scene given, `scenes/cornell-area.toml` by default) at 128×128.
     Path,
+    /// Monte Carlo against Mitsuba 3 (`scalar_rgb`, via `python3`), one thread each: every
+    /// Monte Carlo scene given (the shipped ones by default) path-traced at 96 pixels wide, 64
+    /// spp over `--reps` seeds: time per sample, MSE against Mitsuba at 1024 spp, efficiency
+    /// 1 / (MSE × time), the ratios, and where raystep's time goes.
+    Mc,
     /// Everything.
     All,
 }
@@ -222,6 +227,10 @@ pub fn run(args: &BenchArgs) -> Result<(), String> {
             .find(|s| s.settings.integrator == crate::scene::Integrator::Path)
             .ok_or("--section path needs a path-traced scene (integrator = \"path\"), e.g. scenes/cornell-area.toml")?;
         crate::bench::path::path(scene, reps)?;
+        crate::io::outln!();
+    }
+    if args.section == Section::Mc {
+        crate::bench::mc::mc(&scenes, reps)?;
         crate::io::outln!();
     }
     if args.section == Section::App {
