@@ -27,10 +27,23 @@ pub fn unit_float(h: u32) -> f32 {
 /// its dimension.
 #[inline]
 pub fn uniform(pixel: [u32; 2], sample: u32, dimension: u32, seed: u32) -> f32 {
-    let h = pcg_hash(
-        dimension ^ pcg_hash(pixel[0] ^ pcg_hash(pixel[1] ^ pcg_hash(sample ^ pcg_hash(seed)))),
-    );
-    unit_float(h)
+    uniform_keyed(sample_key(pixel, sample, seed), dimension)
+}
+
+/// The part of [`uniform`]'s hash chain that all of one sample's dimensions share: the seed,
+/// the sample and the pixel folded together. A path draws dozens of numbers for one sample;
+/// hashing this once and each dimension into it ([`uniform_keyed`]) gives the same numbers with
+/// one hash a draw instead of five.
+#[inline]
+pub fn sample_key(pixel: [u32; 2], sample: u32, seed: u32) -> u32 {
+    pcg_hash(pixel[0] ^ pcg_hash(pixel[1] ^ pcg_hash(sample ^ pcg_hash(seed))))
+}
+
+/// [`uniform`] from its sample's [`sample_key`]: `uniform(pixel, sample, dimension, seed)` is
+/// `uniform_keyed(sample_key(pixel, sample, seed), dimension)`, bit for bit.
+#[inline(always)]
+pub fn uniform_keyed(key: u32, dimension: u32) -> f32 {
+    unit_float(pcg_hash(dimension ^ key))
 }
 
 /// Two consecutive dimensions, `dimension` and `dimension + 1`: the pair a 2D sampler takes.
@@ -45,6 +58,30 @@ pub fn uniform2(pixel: [u32; 2], sample: u32, dimension: u32, seed: u32) -> [f32
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_keyed_draw_is_the_hash_chain_written_out() {
+        // The chain of the doc comment, written out here by hand, against the keyed form.
+        for (pixel, sample, dimension, seed) in [
+            ([0, 0], 0, 0, 0),
+            ([3, 4], 5, 6, 7),
+            ([1919, 1079], 65_535, 16 + 1024 * 23 + 5, u32::MAX),
+        ] {
+            let chain = pcg_hash(
+                dimension
+                    ^ pcg_hash(pixel[0] ^ pcg_hash(pixel[1] ^ pcg_hash(sample ^ pcg_hash(seed)))),
+            );
+            let key = sample_key(pixel, sample, seed);
+            assert_eq!(
+                uniform_keyed(key, dimension),
+                (chain >> 8) as f32 / 16_777_216.0
+            );
+            assert_eq!(
+                uniform(pixel, sample, dimension, seed),
+                uniform_keyed(key, dimension)
+            );
+        }
+    }
 
     #[test]
     fn the_same_inputs_draw_the_same_number_and_each_input_matters() {

@@ -33,7 +33,7 @@ use crate::accel::{Accelerator, Hit};
 use crate::math::Ray;
 use crate::mc::bsdf::{self, Lobe};
 use crate::mc::lights::LightShape;
-use crate::portable::random::uniform;
+use crate::portable::random::{sample_key, uniform, uniform_keyed};
 use crate::record::observer::Observer;
 use crate::record::{Draw, RayKind, Step};
 use crate::scene::{Bsdf, Integrator, SamplerKind, Strategy};
@@ -99,13 +99,28 @@ pub(super) struct Sampler {
     pub(super) spp: u32,
     /// `sampler = "stratified"`.
     pub(super) stratified: bool,
+    /// The sample's [`sample_key`]: each draw hashes its dimension into it (the numbers are
+    /// [`uniform`]'s).
+    pub(super) key: u32,
 }
 
 impl Sampler {
+    /// The sampler of sample `sample` of `pixel`.
+    pub(super) fn new(pixel: [u32; 2], sample: u32, seed: u32, spp: u32, stratified: bool) -> Self {
+        Sampler {
+            pixel,
+            sample,
+            seed,
+            spp,
+            stratified,
+            key: sample_key(pixel, sample, seed),
+        }
+    }
+
     pub(super) fn draw(&self, dimension: u32) -> Draw {
         Draw {
             dimension,
-            value: uniform(self.pixel, self.sample, dimension, self.seed),
+            value: uniform_keyed(self.key, dimension),
         }
     }
 
@@ -203,13 +218,13 @@ impl<A: Accelerator> Tracer<'_, A> {
     /// Traces sample `sample` of pixel (x, y) with the scene's Monte Carlo integrator.
     pub(crate) fn mc_sample<O: Observer>(&self, x: u32, y: u32, sample: u32, obs: &mut O) -> Vec3 {
         let s = &self.scene.settings;
-        let sampler = Sampler {
-            pixel: [x, y],
+        let sampler = Sampler::new(
+            [x, y],
             sample,
-            seed: s.seed,
-            spp: s.spp,
-            stratified: s.sampler == SamplerKind::Stratified,
-        };
+            s.seed,
+            s.spp,
+            s.sampler == SamplerKind::Stratified,
+        );
         let offset = sample_offset(x, y, sample, s.spp, s.seed);
         let (mut ray, screen) = self.camera.ray(x, y, offset);
         let cam = &self.scene.camera;
