@@ -237,23 +237,19 @@ pub struct Ray<T: Real> {
 
 impl<T: Real> Ray<T> {
     /// Makes a ray, rejecting non-finite origins, non-finite or zero directions, and bad intervals.
+    #[inline]
     pub fn new(origin: T::V, dir: T::V, t_min: T, t_max: T) -> Result<Self, RayError> {
         let fin = |v: T::V| (0..3).all(|i| v.at(i).is_finite());
-        if !fin(origin) {
-            return Err(RayError::NonFiniteOrigin(to_f64x3::<T>(origin)));
-        }
-        if !fin(dir) {
-            return Err(RayError::NonFiniteDirection(to_f64x3::<T>(dir)));
-        }
         let dd = dir.dot(dir);
-        if dd == T::zero() {
-            return Err(RayError::ZeroDirection(to_f64x3::<T>(dir)));
-        }
-        if !dd.is_finite() {
-            return Err(RayError::HugeDirection(to_f64x3::<T>(dir)));
-        }
-        if t_min.is_nan() || t_max.is_nan() || t_min < T::zero() || t_max < t_min {
-            return Err(RayError::BadInterval(t_min.to_f64(), t_max.to_f64()));
+        // The comparisons are false for NaN: a NaN bound fails here.
+        let ok = fin(origin)
+            && fin(dir)
+            && dd != T::zero()
+            && dd.is_finite()
+            && t_min >= T::zero()
+            && t_max >= t_min;
+        if !ok {
+            return Err(Self::rejection(origin, dir, t_min, t_max));
         }
         Ok(Ray {
             origin,
@@ -261,6 +257,28 @@ impl<T: Real> Ray<T> {
             t_min,
             t_max,
         })
+    }
+
+    /// Why [`Ray::new`] refused: the first of its checks that fails. Kept out of line so that
+    /// the tracer's hot path carries only the checks (a path tracer makes a ray or two a bounce).
+    #[cold]
+    #[inline(never)]
+    fn rejection(origin: T::V, dir: T::V, t_min: T, t_max: T) -> RayError {
+        let fin = |v: T::V| (0..3).all(|i| v.at(i).is_finite());
+        if !fin(origin) {
+            return RayError::NonFiniteOrigin(to_f64x3::<T>(origin));
+        }
+        if !fin(dir) {
+            return RayError::NonFiniteDirection(to_f64x3::<T>(dir));
+        }
+        let dd = dir.dot(dir);
+        if dd == T::zero() {
+            return RayError::ZeroDirection(to_f64x3::<T>(dir));
+        }
+        if !dd.is_finite() {
+            return RayError::HugeDirection(to_f64x3::<T>(dir));
+        }
+        RayError::BadInterval(t_min.to_f64(), t_max.to_f64())
     }
 
     /// A ray over (0, ∞).
@@ -304,6 +322,37 @@ mod tests {
         assert!(Ray::<f32>::infinite(o, Vec3::new(1e-30, 0.0, 0.0)).is_err());
         assert!(Ray::<f32>::new(o, Vec3::Z, 1.0, 0.5).is_err());
         assert!(Ray::<f32>::infinite(o, Vec3::Z).is_ok());
+        // Each refusal names its reason, the first failing check in this order.
+        let inf = f32::INFINITY;
+        let why = |r: Result<Ray<f32>, RayError>| match r {
+            Err(RayError::NonFiniteOrigin(_)) => "origin",
+            Err(RayError::NonFiniteDirection(_)) => "direction",
+            Err(RayError::ZeroDirection(_)) => "zero",
+            Err(RayError::HugeDirection(_)) => "huge",
+            Err(RayError::BadInterval(..)) => "interval",
+            Ok(_) => "ok",
+        };
+        let nan = f32::NAN;
+        assert_eq!(
+            why(Ray::new(Vec3::splat(nan), Vec3::ZERO, -1.0, nan)),
+            "origin"
+        );
+        assert_eq!(
+            why(Ray::new(o, Vec3::new(0.0, inf, 0.0), nan, 0.0)),
+            "direction"
+        );
+        assert_eq!(why(Ray::new(o, Vec3::ZERO, nan, 0.0)), "zero");
+        // 1e20² overflows f32.
+        assert_eq!(
+            why(Ray::new(o, Vec3::new(1e20, 0.0, 0.0), 0.0, 1.0)),
+            "huge"
+        );
+        for (t_min, t_max) in [(nan, 1.0), (0.0, nan), (-1.0, 1.0), (2.0, 1.0)] {
+            assert_eq!(why(Ray::new(o, Vec3::Z, t_min, t_max)), "interval");
+        }
+        for (t_min, t_max) in [(0.0, 0.0), (0.0, inf), (1.0, 1.0), (-0.0, 1.0)] {
+            assert_eq!(why(Ray::new(o, Vec3::Z, t_min, t_max)), "ok");
+        }
     }
 
     #[test]
