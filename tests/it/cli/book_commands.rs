@@ -192,62 +192,38 @@ fn every_shell_block_of_the_book_runs_or_says_why_not() {
     for file in &files {
         let text = std::fs::read_to_string(file).unwrap();
         let name = file.strip_prefix(&root).unwrap().display().to_string();
-        let lines: Vec<&str> = text.lines().collect();
-        let mut i = 0;
-        while i < lines.len() {
-            let t = lines[i].trim();
-            if !t.starts_with("```") {
-                i += 1;
-                continue;
-            }
-            let end = (i + 1..lines.len())
-                .find(|&j| lines[j].trim().starts_with("```"))
-                .unwrap_or(lines.len());
-            if t == "```sh" || t == "```bash" {
-                let before = lines[..i].iter().rev().find(|l| !l.trim().is_empty());
-                let reason = before
-                    .and_then(|l| l.trim().strip_prefix("<!-- not run:"))
-                    .and_then(|r| r.strip_suffix("-->"))
-                    .map(str::trim);
-                match reason {
-                    Some(r) if r.split_whitespace().count() >= 3 => marked += 1,
-                    Some(r) => failures.push(format!(
-                        "{name}:{}: `not run: {r}` gives no reason a reader can use",
-                        i + 1
-                    )),
-                    None => {
-                        for (k, line) in lines[i + 1..end].iter().enumerate() {
-                            let l = line.trim();
-                            if l.is_empty() || l.starts_with('#') {
-                                continue;
-                            }
-                            let words = shlex::split(&command_part(l)).unwrap_or_default();
-                            if words.first().map(String::as_str) != Some("raystep") {
-                                failures.push(format!(
-                                    "{name}:{}: not a raystep command: mark the block `<!-- not run: why -->`",
-                                    i + 2 + k
-                                ));
-                                continue;
-                            }
-                            let out = assert_cmd::Command::cargo_bin("raystep")
-                                .unwrap()
-                                .current_dir(&root)
-                                .args(&words[1..])
-                                .output()
-                                .unwrap();
-                            if !out.status.success() {
-                                failures.push(format!(
-                                    "{name}:{}: `{l}` failed: {}",
-                                    i + 2 + k,
-                                    String::from_utf8_lossy(&out.stderr)
-                                ));
-                            }
-                        }
-                        ran += 1;
-                    }
+        let blocks = crate::common::shell_blocks::shell_blocks(&text, &name);
+        failures.extend(blocks.problems);
+        marked += blocks.marked;
+        ran += blocks.to_run.len();
+        for (first, body) in blocks.to_run {
+            for (k, line) in body.iter().enumerate() {
+                let l = line.trim();
+                if l.is_empty() || l.starts_with('#') {
+                    continue;
+                }
+                let words = shlex::split(&command_part(l)).unwrap_or_default();
+                if words.first().map(String::as_str) != Some("raystep") {
+                    failures.push(format!(
+                        "{name}:{}: not a raystep command: mark the block `<!-- not run: why -->`",
+                        first + k
+                    ));
+                    continue;
+                }
+                let out = assert_cmd::Command::cargo_bin("raystep")
+                    .unwrap()
+                    .current_dir(&root)
+                    .args(&words[1..])
+                    .output()
+                    .unwrap();
+                if !out.status.success() {
+                    failures.push(format!(
+                        "{name}:{}: `{l}` failed: {}",
+                        first + k,
+                        String::from_utf8_lossy(&out.stderr)
+                    ));
                 }
             }
-            i = end + 1;
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));

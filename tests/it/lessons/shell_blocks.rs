@@ -53,48 +53,23 @@ pub(super) fn unrun_blocks(
     name: &str,
     runner: &mut Runner,
 ) -> (Vec<String>, usize, usize) {
-    let (mut problems, mut ran, mut marked) = (vec![], 0, 0);
-    let lines: Vec<&str> = text.lines().collect();
-    let mut i = 0;
-    while i < lines.len() {
-        let t = lines[i].trim();
-        if !t.starts_with("```") {
-            i += 1;
-            continue;
-        }
-        let end = (i + 1..lines.len())
-            .find(|&j| lines[j].trim().starts_with("```"))
-            .unwrap_or(lines.len());
-        if t == "```sh" || t == "```bash" {
-            let before = lines[..i].iter().rev().find(|l| !l.trim().is_empty());
-            let reason = before
-                .and_then(|l| l.trim().strip_prefix("<!-- not run:"))
-                .and_then(|r| r.strip_suffix("-->"))
-                .map(str::trim);
-            match reason {
-                Some(r) if r.split_whitespace().count() >= 3 => marked += 1,
-                Some(r) => problems.push(format!(
-                    "{name}:{}: `not run: {r}` gives no reason a reader can use",
-                    i + 1
-                )),
-                None => {
-                    for (n, line) in block_commands(&lines[i + 1..end], i + 2) {
-                        if let Some(why) = cannot_run(&line) {
-                            problems.push(format!(
-                                "{name}:{n}: `{line}` cannot run in a test ({why}): put it in a \
-                                 block of its own marked `<!-- not run: why -->`"
-                            ));
-                        } else if let Err(e) = runner.output(&Quoted { line }) {
-                            problems.push(format!("{name}:{n}: {e}"));
-                        }
-                    }
-                    ran += 1;
-                }
+    let blocks = crate::common::shell_blocks::shell_blocks(text, name);
+    let mut problems = vec![];
+    for (first, body) in &blocks.to_run {
+        for (n, line) in block_commands(body, *first) {
+            if let Some(why) = cannot_run(&line) {
+                problems.push(format!(
+                    "{name}:{n}: `{line}` cannot run in a test ({why}): put it in a \
+                     block of its own marked `<!-- not run: why -->`"
+                ));
+            } else if let Err(e) = runner.output(&Quoted { line }) {
+                problems.push(format!("{name}:{n}: {e}"));
             }
         }
-        i = end + 1;
     }
-    (problems, ran, marked)
+    // The marks without a usable reason, after what the blocks that ran found.
+    problems.extend(blocks.problems);
+    (problems, blocks.to_run.len(), blocks.marked)
 }
 
 #[test]
