@@ -1,11 +1,18 @@
 //! `raystep bench --section mc`: every Monte Carlo scene path-traced by raystep and by Mitsuba 3
 //! (`scalar_rgb`), one thread each, side by side: the time per sample, the error against a
-//! shared reference over several seeds, and the efficiency 1 / (MSE × time).
+//! shared reference over several independent renders, and the efficiency 1 / (MSE × time).
+//!
+//! An independent render is one with another `[render] seed` (Mitsuba's `seed`): the same scene
+//! and sample count, other random numbers, so its noise is another draw of the same estimator
+//! (the jittered samples of the course notes' chapter 10 slides and the Monte Carlo estimators of
+//! the papers named in docs/SOURCES.md, "Beyond the notes"). Efficiency — the inverse of error
+//! times time — is pbrt's (4th edition, chapter 2) measure of a Monte Carlo estimator, with the
+//! MSE against the reference in place of the variance, so that a bias would count too.
 //!
 //! Both renderers path-trace the same scene (`raystep scene mitsuba`'s export: Mitsuba's `path`
 //! integrator with raystep's depth), so a scene whose own integrator is the distribution tracer
 //! is path-traced here, and says so. The reference is Mitsuba's, at [`REFERENCE_SPP`] samples per
-//! pixel on every core; each seed renders [`SPP`] samples per pixel with each renderer.
+//! pixel on every core; each render has [`SPP`] samples per pixel, by each renderer.
 
 use super::path::{mitsuba, ours};
 use crate::scene::{Features, Integrator, Scene, Shape};
@@ -40,7 +47,8 @@ fn bench_scene(scene: &Scene) -> Scene {
     s.settings.integrator = Integrator::Path;
     let (w, h) = (s.camera.width.max(1), s.camera.height.max(1));
     s.camera.width = WIDTH;
-    s.camera.height = ((WIDTH as f64 * h as f64 / w as f64).round() as u32).max(1);
+    // A scene of any shape stays a benchmark's size: at most eight times as tall as wide.
+    s.camera.height = ((WIDTH as f64 * h as f64 / w as f64).round() as u32).clamp(1, 8 * WIDTH);
     let eye = s.camera.from;
     let mut replaced = false;
     for o in &mut s.objects {
@@ -88,7 +96,7 @@ fn plane_triangle(normal: Vec3, offset: f32, eye: Vec3, reach: f32) -> [Vec3; 3]
 struct Runs {
     secs: Vec<f64>,
     mse: Vec<f64>,
-    /// The seeds' images summed (their mean's error bounds the renderer's bias).
+    /// The renders' images summed (their mean's error bounds the renderer's bias).
     sum: Vec<Vec3>,
 }
 
@@ -102,7 +110,8 @@ impl Runs {
             self.sum.iter_mut().zip(pixels).for_each(|(s, p)| *s += *p);
         }
     }
-    /// The MSE of the seeds' mean image: the noise divided by the seeds, plus the squared bias.
+    /// The MSE of the renders' mean image: the noise divided by the renders, plus the squared
+    /// bias.
     fn mean_image_mse(&self, reference: &[Vec3]) -> f64 {
         let n = self.secs.len().max(1) as f32;
         let m: Vec<Vec3> = self.sum.iter().map(|s| *s / n).collect();
@@ -110,7 +119,8 @@ impl Runs {
     }
 }
 
-/// The section: every scene of `scenes` with a Monte Carlo integrator, `seeds` seeds each.
+/// The section: every scene of `scenes` with a Monte Carlo integrator, rendered `seeds` times
+/// with seeds 0, 1, … by each renderer.
 pub fn mc(scenes: &[Scene], seeds: usize) -> Result<(), String> {
     let seeds = seeds.max(2);
     let mc: Vec<&Scene> = scenes
@@ -126,9 +136,10 @@ pub fn mc(scenes: &[Scene], seeds: usize) -> Result<(), String> {
     }
     crate::io::outln!(
         "Monte Carlo against Mitsuba 3 (scalar_rgb): each scene path-traced at {WIDTH} pixels wide, \
-         {SPP} spp, {seeds} seeds, one thread each; MSE against Mitsuba at {REFERENCE_SPP} spp \
-         (every core); time per sample = render time / (pixels × spp); efficiency = 1 / (MSE × \
-         time)"
+         {SPP} spp, {seeds} renders with seeds 0–{} (other random numbers), one thread each; MSE \
+         against Mitsuba at {REFERENCE_SPP} spp (every core); time per sample = render time / \
+         (pixels × spp); efficiency = 1 / (MSE × time)",
+        seeds - 1
     );
     crate::io::outln!(
         "  {:<28} {:>10} {:>10} {:>7} {:>10} {:>10} {:>9} {:>9} {:>7}",
@@ -164,7 +175,7 @@ pub fn mc(scenes: &[Scene], seeds: usize) -> Result<(), String> {
             let (t, px) = mitsuba(&s, SPP, seed, 1)?;
             m.add(t, &px, &reference);
         }
-        let samples = (s.camera.width * s.camera.height * SPP) as f64;
+        let samples = f64::from(s.camera.width) * f64::from(s.camera.height) * f64::from(SPP);
         let (tr, tm) = (mean(&r.secs), mean(&m.secs));
         let (er, em) = (mean(&r.mse), mean(&m.mse));
         let (fr, fm) = (1.0 / (er * tr), 1.0 / (em * tm));
@@ -179,7 +190,7 @@ pub fn mc(scenes: &[Scene], seeds: usize) -> Result<(), String> {
             fr / fm
         );
         crate::io::outln!(
-            "  {:<28} the seeds' mean image: MSE {:.3e} (raystep), {:.3e} (Mitsuba) — noise / {seeds} + bias²",
+            "  {:<28} the mean of the {seeds} renders: MSE {:.3e} (raystep), {:.3e} (Mitsuba) — noise / {seeds} + bias²",
             "",
             r.mean_image_mse(&reference),
             m.mean_image_mse(&reference)
@@ -221,6 +232,11 @@ mod tests {
         let b = bench_scene(&s);
         assert_eq!((b.camera.width, b.camera.height), (96, 60));
         assert_eq!(b.settings.integrator, Integrator::Path);
+        // A strip a pixel wide and a million tall: 96 wide and 768 (8 × 96) tall, not 96 million.
+        s.camera.width = 1;
+        s.camera.height = 1_000_000;
+        let b = bench_scene(&s);
+        assert_eq!((b.camera.width, b.camera.height), (96, 768));
     }
 
     #[test]
@@ -262,7 +278,7 @@ mod tests {
     }
 
     #[test]
-    fn the_error_is_per_channel_and_the_mean_images_error_falls_with_the_seeds() {
+    fn the_error_is_per_channel_and_the_mean_images_error_falls_with_the_renders() {
         let reference = vec![Vec3::splat(1.0); 2];
         // By hand: (0.5² + 0 + 0) / 3 and 0, averaged over the two pixels.
         assert!(
