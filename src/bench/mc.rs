@@ -15,7 +15,7 @@
 //! pixel on every core; each render has [`SPP`] samples per pixel, by each renderer.
 
 use super::path::{mitsuba, ours};
-use crate::scene::{Features, Integrator, Scene, Shape};
+use crate::scene::{Integrator, Scene, Shape};
 use glam::Vec3;
 
 /// The image's width; its height keeps the scene's aspect.
@@ -50,7 +50,7 @@ fn bench_scene(scene: &Scene) -> Scene {
     // A scene of any shape stays a benchmark's size: at most eight times as tall as wide.
     s.camera.height = ((WIDTH as f64 * h as f64 / w as f64).round() as u32).clamp(1, 8 * WIDTH);
     let eye = s.camera.from;
-    let mut replaced = false;
+    let mut replaced = 0;
     for o in &mut s.objects {
         let (normal, offset) = match o.shape {
             Shape::Plane { normal, offset } => (normal, offset),
@@ -60,12 +60,11 @@ fn bench_scene(scene: &Scene) -> Scene {
         o.shape = Shape::Triangle {
             p: plane_triangle(normal, offset, eye, PLANE_REACH),
         };
-        replaced = true;
+        replaced += 1;
     }
-    if replaced {
-        let (lights, meshes) = (s.features.lights, s.features.meshes);
-        s.features = Features::compute(&s.objects, &s.materials, lights, meshes);
-    }
+    // The counts the loader made, each plane now a triangle (the rest, instances included, stay).
+    s.features.planes = s.features.planes.saturating_sub(replaced);
+    s.features.triangles += replaced;
     s
 }
 
@@ -273,6 +272,10 @@ mod tests {
         assert!(s.features.planes > 0);
         let b = bench_scene(&s);
         assert_eq!(b.features.planes, 0);
+        assert_eq!(
+            b.features.triangles,
+            s.features.triangles + s.features.planes
+        );
         assert_eq!(b.objects.len(), s.objects.len());
         assert!(crate::scene::mitsuba::to_mitsuba(&b, 4, "scene").is_ok());
     }

@@ -59,7 +59,7 @@ pub(super) fn mitsuba(
     // Mitsuba 3.9's OpenEXR reads and writes wait on Dr.Jit's thread pool and hang for good when
     // it has one thread: the scene (its textures) is loaded and the image written with every
     // core; only `mi.render` runs on `threads`.
-    let script = "import os, sys, time, drjit as dr, mitsuba as mi\nmi.set_variant('scalar_rgb')\nscene = mi.load_file(sys.argv[1])\ncores = dr.thread_count()\nif int(sys.argv[4]) > 0:\n    dr.set_thread_count(int(sys.argv[4]))\nt = time.perf_counter()\nimg = mi.render(scene, seed=int(sys.argv[3]))\nprint(time.perf_counter() - t)\ndr.set_thread_count(cores)\nmi.util.write_bitmap(sys.argv[2], img, write_async=False)\n";
+    let script = "import sys, time, drjit as dr, mitsuba as mi\nmi.set_variant('scalar_rgb')\nscene = mi.load_file(sys.argv[1])\ncores = dr.thread_count()\nif int(sys.argv[4]) > 0:\n    dr.set_thread_count(int(sys.argv[4]))\nt = time.perf_counter()\nimg = mi.render(scene, seed=int(sys.argv[3]))\nprint(time.perf_counter() - t)\ndr.set_thread_count(cores)\nmi.util.write_bitmap(sys.argv[2], img, write_async=False)\n";
     let exr = dir.join("out.exr");
     let out = std::process::Command::new("python3")
         .args(["-c", script])

@@ -246,15 +246,15 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
                 let smooth = objects.iter().any(|o| o.normals != super::NO_NORMALS);
                 if smooth {
                     for o in objects {
-                        let n = match o.shape {
-                            _ if o.normals != super::NO_NORMALS => {
-                                scene.vertex_normals[o.normals as usize]
-                            }
-                            Shape::Triangle { p } => {
-                                [(p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero(); 3]
-                            }
-                            _ => [glam::Vec3::ZERO; 3],
+                        let face = match o.shape {
+                            Shape::Triangle { p } => (p[1] - p[0]).cross(p[2] - p[0]),
+                            _ => glam::Vec3::ZERO,
                         };
+                        let n = scene
+                            .vertex_normals
+                            .get(o.normals as usize)
+                            .copied()
+                            .unwrap_or([face.normalize_or_zero(); 3]);
                         for q in n {
                             let _ = writeln!(obj, "vn {:e} {:e} {:e}", q.x, q.y, q.z);
                         }
