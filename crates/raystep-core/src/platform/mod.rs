@@ -10,6 +10,7 @@
 //! | a repaint ticker ([`spawn_ticker`]) | a thread | none: the job has finished when it returns |
 //! | a pause ([`sleep`]) | `std::thread::sleep` | none (the page cannot block) |
 //! | threads for a render ([`threads`]) | the cores | one |
+//! | workers for a render in steps ([`workers`], [`spawn_worker`]) | rayon's pool, the cores | Web Workers where the page is cross-origin isolated ([`set_browser_workers`]), else none |
 //! | waiting on a future ([`block_on`]) | `pollster` | polled once: only futures that are ready |
 //!
 //! | files ([`files`]) | the disk | the page's memory: built-in files, files opened or dropped |
@@ -83,14 +84,22 @@ pub fn run_steps(budget: Duration) -> bool {
             if jobs.is_empty() {
                 return false;
             }
-            jobs.retain_mut(|step| step());
+            let mut busy = false;
+            jobs.retain_mut(|step| {
+                STEP_WAITS.with(|w| w.set(false));
+                let more = step();
+                busy |= !more || !STEP_WAITS.with(|w| w.get());
+                more
+            });
             STEPS.with(|s| {
                 let mut s = s.borrow_mut();
                 let started = std::mem::take(&mut *s);
                 *s = jobs;
                 s.extend(started);
             });
-            if start.elapsed() >= budget {
+            // Every job only waits on its workers: the page may draw.
+            ALL_WAITED.with(|w| w.set(!busy));
+            if !busy || start.elapsed() >= budget {
                 let left = STEPS.with(|s| !s.borrow().is_empty());
                 if left {
                     LAST_RETURN.with(|l| l.set(Some(Instant::now())));
@@ -154,6 +163,88 @@ pub fn threads() -> usize {
     }
     #[cfg(target_arch = "wasm32")]
     1
+}
+
+/// The page's Web Workers for renders (0: none, the page renders on its own thread), set once
+/// by the page's start-up ([`set_browser_workers`]).
+#[cfg(target_arch = "wasm32")]
+static WORKERS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+
+/// Why the page renders on one thread, when it does (for the render settings).
+#[cfg(target_arch = "wasm32")]
+static ONE_THREAD_WHY: std::sync::Mutex<String> = std::sync::Mutex::new(String::new());
+
+/// Tells raystep, in the browser, how many Web Workers the page started for renders (rayon's
+/// global pool on them, `wasm-bindgen-rayon`), or, with 0, why it has none (`why`: "the page
+/// is not cross-origin isolated", …; the render settings show it). Natively it does nothing: the
+/// workers are the cores.
+pub fn set_browser_workers(workers: usize, why: &str) {
+    #[cfg(target_arch = "wasm32")]
+    {
+        WORKERS.store(workers, std::sync::atomic::Ordering::Relaxed);
+        *ONE_THREAD_WHY.lock().unwrap_or_else(|e| e.into_inner()) = why.to_string();
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    let _ = (workers, why);
+}
+
+/// Why renders run on the page's one thread (`None` natively, and in a page with workers).
+pub fn one_thread_why() -> Option<String> {
+    #[cfg(target_arch = "wasm32")]
+    {
+        let why = ONE_THREAD_WHY.lock().unwrap_or_else(|e| e.into_inner());
+        (WORKERS.load(std::sync::atomic::Ordering::Relaxed) == 0 && !why.is_empty())
+            .then(|| why.clone())
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    None
+}
+
+/// Threads that can trace a render in steps while the calling thread only gathers the tiles
+/// ([`spawn_worker`]): natively the cores (rayon's global pool); in the browser the page's Web
+/// Workers, 0 where it has none (then a render in steps traces bands on the page's thread).
+pub fn workers() -> usize {
+    #[cfg(not(target_arch = "wasm32"))]
+    {
+        rayon::current_num_threads()
+    }
+    #[cfg(target_arch = "wasm32")]
+    WORKERS.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// Runs `job` on one of the [`workers`] and returns at once, never waiting (the browser's page
+/// may not wait): rayon's global pool, natively on threads, in the browser on the page's Web
+/// Workers. Where there are none (a page without workers) it runs at once, on the calling
+/// thread.
+pub fn spawn_worker(job: impl FnOnce() + Send + 'static) {
+    if workers() == 0 {
+        job();
+    } else {
+        rayon::spawn(job);
+    }
+}
+
+thread_local! {
+    /// Set by a step that found nothing to do yet ([`step_waits`]).
+    static STEP_WAITS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+thread_local! {
+    /// Whether the last [`run_steps`] returned because every job only waited.
+    static ALL_WAITED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether the last [`run_steps`] gave the page back because its jobs only wait on workers
+/// (then the page need not draw again at once: nothing new is ready before some work is done).
+pub fn steps_wait() -> bool {
+    ALL_WAITED.with(|w| w.get())
+}
+
+/// Said by a stepped job's step ([`spawn_steps`]) that only waits for others (a render's tiles
+/// on workers): when every step of a round says so, [`run_steps`] gives the page back at once
+/// instead of calling them again and again until its budget has passed.
+pub fn step_waits() {
+    STEP_WAITS.with(|w| w.set(true));
 }
 
 /// Whether this build runs in a browser.

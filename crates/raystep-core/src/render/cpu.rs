@@ -525,7 +525,7 @@ pub fn render<A: Accelerator>(
 }
 
 /// A linear colour as the live image shows it (sRGB, opaque).
-fn srgba(p: Vec3) -> [u8; 4] {
+pub(super) fn srgba(p: Vec3) -> [u8; 4] {
     let [r, g, b] = super::image::srgb8_rgb(p);
     [r, g, b, 255]
 }
@@ -534,7 +534,7 @@ fn srgba(p: Vec3) -> [u8; 4] {
 /// image.
 /// Shows a finished tile and counts it `weight` times towards the progress (a progressive
 /// render's tile counts once per sample it traced).
-fn publish_tile(
+pub(super) fn publish_tile(
     live: &LiveRender,
     t: &Tile,
     width: u32,

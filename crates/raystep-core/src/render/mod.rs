@@ -21,6 +21,7 @@ pub mod image;
 pub mod passes;
 mod pool;
 pub mod progressive;
+mod workers;
 
 pub use bands::BandSize;
 pub use cpu::{CANCELLED, LiveRender, Pass, RenderOptions, RenderOutput, RenderStats, render};

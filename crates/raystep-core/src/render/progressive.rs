@@ -1,11 +1,13 @@
 //! A render in steps: progressive Monte Carlo passes ([`super::passes`]) and, for the browser's
-//! one thread, bands of tiles ([`super::bands`]); whatever the steps, the finished image and its
-//! figures are [`render`]'s, bit for bit.
+//! page, bands of tiles on its one thread ([`super::bands`]) or tiles gathered from its Web
+//! Workers ([`super::workers`]); whatever the steps, the finished image and its figures are
+//! [`render`]'s, bit for bit.
 
 use super::bands::{BandPass, BandSize};
 use super::cpu::*;
+use super::workers::WorkerPass;
 use crate::accel::Accelerator;
-use crate::trace::Tracer;
+use crate::trace::{PreparedScene, Tracer};
 use glam::Vec3;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
@@ -31,7 +33,8 @@ pub fn render_progressive<A: Accelerator>(
 /// What one step of a [`Progressive`] render did ([`Progressive::next_step`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stepped {
-    /// Traced a band of the current pass, which goes on.
+    /// Traced a band of the current pass (or gathered the tiles its workers traced so far,
+    /// [`Progressive::on_workers`]), which goes on.
     Band,
     /// Finished a pass: every pixel has this many samples now.
     Pass(u32),
@@ -57,6 +60,11 @@ pub struct Progressive {
     bands: Option<BandSize>,
     /// The pass being traced band by band.
     current: Option<BandPass>,
+    /// Steps that gather the tiles `workers` trace (None: bands or passes on the calling
+    /// thread).
+    workers: Option<(Arc<PreparedScene>, usize)>,
+    /// The pass being traced by the workers.
+    gathering: Option<WorkerPass>,
 }
 
 impl Progressive {
@@ -104,6 +112,8 @@ impl Progressive {
             whole,
             bands: None,
             current: None,
+            workers: None,
+            gathering: None,
         }
     }
 
@@ -112,6 +122,17 @@ impl Progressive {
     /// the live view shows each tile as it finishes.
     pub fn in_bands(mut self, size: BandSize) -> Progressive {
         self.bands = Some(size);
+        self
+    }
+
+    /// The same render with its tiles traced by `workers` worker threads
+    /// ([`crate::platform::spawn_worker`]: the browser page's Web Workers) while each step on
+    /// the calling thread only takes in the tiles that have arrived, waiting for none (a step
+    /// with none to take in says so, [`crate::platform::step_waits`]). `prepared` is the scene
+    /// the workers trace: the one of the tracer given to each step. The live view shows each
+    /// tile as it arrives; the finished image is [`render`]'s, bit for bit.
+    pub fn on_workers(mut self, prepared: Arc<PreparedScene>, workers: usize) -> Progressive {
+        self.workers = Some((prepared, workers.max(1)));
         self
     }
 
@@ -131,15 +152,28 @@ impl Progressive {
             samples: self.start..end,
             sums: self.sums.clone(),
         });
-        let out = match self.bands {
-            None => render(
+        let out = match (&self.workers, self.bands) {
+            (Some((prepared, workers)), _) => {
+                let (width, height) = (tracer.camera.width, tracer.camera.height);
+                let gathering = self
+                    .gathering
+                    .get_or_insert_with(|| WorkerPass::new(width, height, pass, self.opts.count));
+                if !gathering.gather(prepared, &self.opts, *workers)? {
+                    return Ok(Some(Stepped::Band));
+                }
+                self.gathering
+                    .take()
+                    .ok_or("internal error: a gathered pass with no pass")?
+                    .output()?
+            }
+            (None, None) => render(
                 tracer,
                 &RenderOptions {
                     pass,
                     ..self.opts.clone()
                 },
             )?,
-            Some(size) => {
+            (None, Some(size)) => {
                 let (width, height) = (tracer.camera.width, tracer.camera.height);
                 let current = self
                     .current
