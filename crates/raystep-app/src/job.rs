@@ -111,7 +111,8 @@ impl RenderJob {
         // Natively they follow each other on the job's thread, a Whitted render in one step on
         // every core. In the browser a frame is drawn between steps, and the render's steps are
         // bands of tiles of about `BAND` each (Whitted or Monte Carlo), so that no step holds the
-        // page for a whole pass of the image.
+        // page for a whole pass of the image; where the page has Web Workers, they trace the
+        // tiles and each step only takes in those that have arrived.
         crate::platform::spawn_steps(move || {
             let finished = match std::mem::replace(&mut stage, Stage::Done) {
                 Stage::Done => return false,
@@ -143,7 +144,12 @@ impl RenderJob {
                         } else {
                             Progressive::whole(&tracer, &opts)
                         };
-                        Some(Box::new(steps.in_bands(BAND)))
+                        // The page's Web Workers trace, the page gathers their tiles; a page
+                        // without workers traces bands itself.
+                        Some(Box::new(match crate::platform::workers() {
+                            0 => steps.in_bands(BAND),
+                            n => steps.on_workers(Arc::clone(&prepared), n),
+                        }))
                     } else {
                         passes.then(|| Box::new(Progressive::new(&tracer, &opts)))
                     };

@@ -194,7 +194,14 @@ impl RaystepApp {
         let ctx = ui.ctx().clone();
         // In the browser, long jobs (the render's passes) take their steps between frames.
         if crate::platform::run_steps(Duration::from_millis(30)) {
-            ctx.request_repaint();
+            if crate::platform::steps_wait() {
+                // The render's Web Workers trace: a look every 50 ms shows their tiles, and
+                // leaves the page's core to the drawing (with a software GPU, drawing every
+                // frame starved it: frames of 0.7 s while the Cornell box rendered).
+                ctx.request_repaint_after(Duration::from_millis(50));
+            } else {
+                ctx.request_repaint();
+            }
         }
         self.state.tick(start);
         self.apply_look(&ctx);

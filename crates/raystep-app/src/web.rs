@@ -94,6 +94,12 @@ pub struct Status {
     pub feedback: String,
     /// Whether a render has finished (`data-ready`).
     pub ready: bool,
+    /// The finished render's threads (`data-threads`; in the page 1, or its Web Workers),
+    /// empty before one has finished.
+    pub threads: String,
+    /// The finished render's time from its start, in milliseconds (`data-render-ms`), empty
+    /// before one has finished.
+    pub render_ms: String,
     /// The message shown in the status bar, if any (`data-message`).
     pub message: String,
     /// The GPU view ([`super::state::gpu::GpuState::status`]): `data-gpu` (empty until its tab
@@ -149,6 +155,13 @@ impl Status {
             lesson,
             feedback,
             ready: state.rendered.is_some(),
+            threads: state
+                .rendered
+                .as_ref()
+                .map_or(String::new(), |r| r.output.stats.threads.to_string()),
+            render_ms: state.rendered.as_ref().map_or(String::new(), |r| {
+                format!("{:.1}", r.wall.as_secs_f64() * 1e3)
+            }),
             message: state
                 .message
                 .as_ref()
@@ -176,7 +189,7 @@ impl Status {
     }
 
     /// The `data-` attributes, by name.
-    pub fn attributes(&self) -> [(&'static str, String); 13] {
+    pub fn attributes(&self) -> [(&'static str, String); 15] {
         [
             ("data-scene", self.scene.clone()),
             ("data-pixel", self.pixel.clone()),
@@ -186,6 +199,8 @@ impl Status {
             ("data-lesson", self.lesson.clone()),
             ("data-feedback", self.feedback.clone()),
             ("data-ready", if self.ready { "1" } else { "0" }.to_string()),
+            ("data-threads", self.threads.clone()),
+            ("data-render-ms", self.render_ms.clone()),
             ("data-message", self.message.clone()),
             ("data-gpu", self.gpu.state.clone()),
             ("data-gpu-adapter", self.gpu.adapter.clone()),

@@ -93,6 +93,21 @@ pub(super) fn settings_panel(
                 .on_hover_text("how many mirror or glass bounces a ray may make");
         });
     }
+    // In the browser, where the render runs and why: on the page's Web Workers, or on its own
+    // thread where it has none (and the reason, which a teacher can act on).
+    if crate::platform::IN_BROWSER {
+        let threads = match crate::platform::workers() {
+            0 => format!(
+                "Render threads: 1, the page's own{}",
+                crate::platform::one_thread_why().map_or(String::new(), |w| format!(": {w}"))
+            ),
+            n => format!("Render threads: {n} Web Workers"),
+        };
+        ui.label(threads).on_hover_text(
+            "the page renders on every core where it is cross-origin isolated (its service \
+             worker, coi.js, sees to that over HTTPS or from localhost)",
+        );
+    }
     ui.label(RichText::new("Acceleration").strong());
     ui.horizontal_wrapped(|ui| {
         ui.radio_value(&mut s.accel, AccelChoice::Auto, "auto")
