@@ -5,7 +5,10 @@ For each of three pages — two lessons and the app's chapter (or those named wi
 page opens; scrolled to its first moment, the embedded raystep
 reaches the moment's scene, pixel and step (as the figure names them) (read from the app's hidden `#raystep-status`,
 as web/check.py reads it) with its render done; the figure's link to another step moves it
-there; and nothing on the page or in the app logs an error. Then the embeds are lazy
+there; and nothing on the page or in the app logs an error. The first page is checked twice:
+as a plain static host serves it (the embedded app is not cross-origin isolated and renders on
+one thread), and from a host that sends the isolation headers (the embedded app is isolated and
+renders on Web Workers, one per core but the page's own). Then the embeds are lazy
 (book/moments.js loads a moment's app when the reader comes within a screen of it): on lesson
 20, whose last moment is far below the window, that one has started no app before the reader
 scrolls there.
@@ -41,6 +44,24 @@ class Quiet(http.server.SimpleHTTPRequestHandler):
         pass
 
 
+class Isolating(Quiet):
+    """The book served as a host that sends the cross-origin isolation headers does: its pages
+    and their embedded apps are isolated, and the apps render on Web Workers."""
+
+    def end_headers(self):
+        self.send_header("Cross-Origin-Opener-Policy", "same-origin")
+        self.send_header("Cross-Origin-Embedder-Policy", "require-corp")
+        super().end_headers()
+
+
+def serve(book, handler):
+    """Serves book on a free loopback port in a thread; returns (server, url)."""
+    server = http.server.ThreadingHTTPServer(
+        ("127.0.0.1", 0), functools.partial(handler, directory=str(book)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    return server, f"http://127.0.0.1:{server.server_address[1]}/"
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--book", default=str(ROOT / "target" / "book"))
@@ -53,10 +74,8 @@ def main() -> None:
     if not (book / "app" / "index.html").exists():
         sys.exit(f"{book} has no app/: build the book with --app")
     os.makedirs(args.shots, exist_ok=True)
-    server = http.server.ThreadingHTTPServer(
-        ("127.0.0.1", 0), functools.partial(Quiet, directory=str(book)))
-    threading.Thread(target=server.serve_forever, daemon=True).start()
-    url = f"http://127.0.0.1:{server.server_address[1]}/"
+    server, plain_url = serve(book, Quiet)
+    isolating, isolated_url = serve(book, Isolating)
     from playwright.sync_api import sync_playwright
 
     failures = []
@@ -65,7 +84,12 @@ def main() -> None:
         if args.chromium:
             launch["executable_path"] = args.chromium
         browser = p.chromium.launch(**launch)
-        for lesson in args.page or PAGES:
+        # Every page as a plain static host serves it (the embedded apps on one thread: a frame
+        # is isolated only inside an isolated page), and the first again from a host that
+        # isolates the book (the embedded app then renders on Web Workers).
+        first = (args.page or PAGES)[0]
+        for lesson, url, isolated in ([(p, plain_url, False) for p in args.page or PAGES]
+                                      + [(first, isolated_url, True)]):
             page = browser.new_page(viewport={"width": 1100, "height": 800})
             errors = []
             page.on("pageerror", lambda e: errors.append(f"uncaught exception: {e}"))
@@ -114,15 +138,31 @@ def main() -> None:
                     raise AssertionError(f"{lesson}: the moment shows {s.get('scene')!r}, "
                                          f"not {title!r}")
                 took = time.monotonic() - start
+                inner = frame_el.element_handle().content_frame()
+                frame_isolated = inner.evaluate("() => self.crossOriginIsolated")
+                if frame_isolated != isolated:
+                    raise AssertionError(f"{lesson}: the embedded app is "
+                                         f"{'' if frame_isolated else 'not '}cross-origin "
+                                         f"isolated, served {'with' if isolated else 'without'}"
+                                         " the headers")
+                workers = inner.evaluate("() => window.raystepThreads.workers")
+                cores = inner.evaluate("() => navigator.hardwareConcurrency")
+                want = max(1, cores - 1) if isolated and cores > 1 else 0
+                if workers != want or s.get("threads") != str(max(1, workers)):
+                    raise AssertionError(f"{lesson}: the embedded app rendered on "
+                                         f"{s.get('threads')} threads with {workers} Web "
+                                         f"Workers, not {want} ({cores} cores)")
                 if len(steps) > 1:
                     page.locator(f"figure.raystep-moment a.raystep-step[data-step='{steps[-1]}']"
                                  ).first.click()
                     wait(lambda s: s.get("step") == str(steps[-1]), f"step {steps[-1]}", 30)
-                page.screenshot(path=os.path.join(args.shots, f"{lesson}.png"))
+                page.screenshot(path=os.path.join(args.shots, f"{lesson}{'-isolated' if isolated else ''}.png"))
                 if errors:
                     raise AssertionError(f"{lesson}: " + "; ".join(errors))
                 moved = f", then step {steps[-1]} by its link" if len(steps) > 1 else ""
-                print(f"{lesson}: the moment reached {title!r}, pixel ({x}, {y}), step "
+                how = (f"isolated, {workers} Web Worker(s)" if isolated
+                       else "not isolated, the page's thread")
+                print(f"{lesson} ({how}): the moment reached {title!r}, pixel ({x}, {y}), step "
                       f"{steps[0]} in {took:.1f} s{moved}")
             except Exception as e:  # noqa: BLE001 (every failure is reported, then exit 1)
                 failures.append(str(e))
@@ -130,7 +170,7 @@ def main() -> None:
         # Lazy: on a page with several moments, one far below the window has started no app
         # before the reader scrolls to it.
         page = browser.new_page(viewport={"width": 1100, "height": 800})
-        page.goto(f"{url}lessons/20-instances.html", wait_until="load")
+        page.goto(f"{plain_url}lessons/20-instances.html", wait_until="load")
         time.sleep(3)
         if page.locator("iframe.raystep-embed").last.get_attribute("src"):
             failures.append("lessons/20-instances: the moment at the bottom loaded before the "
@@ -138,6 +178,7 @@ def main() -> None:
         page.close()
         browser.close()
     server.shutdown()
+    isolating.shutdown()
     if failures:
         sys.exit("book embeds: " + "\n  ".join(failures))
     print("book embeds: every moment checked reached its scene, pixel and step")

@@ -1,18 +1,25 @@
 #!/usr/bin/env bash
 # web/build.sh: builds raystep's app for the browser into dist/ at the repository root, a static
-# site of three files (any web server or static host serves it as it is):
+# site (any web server or static host serves it as it is):
 #   dist/index.html          the page (web/static/index.html)
+#   dist/coi.js              its service worker, for cross-origin isolation (web/static/coi.js)
 #   dist/raystep_web.js      wasm-bindgen's loader
 #   dist/raystep_web_bg.wasm the app (the `raystep-web` crate in web/, built for wasm32)
+#   dist/snippets/           the script each render Web Worker starts with (wasm-bindgen-rayon's)
+#
+# Threads: the wasm is built for WebAssembly threads (atomics and bulk memory, its memory shared
+# between the page and its Web Workers), so the render can run on every core where the page is
+# cross-origin isolated (web/static/coi.js, a service worker, sees to that on any static host).
+# The standard library must then be compiled with the same features, from its source
+# (`-Zbuild-std`, allowed on a stable compiler by RUSTC_BOOTSTRAP=1). Where the page is not
+# isolated, index.html loads the same wasm on one thread (see web/static/index.html).
 #
 # Toolchain, picked in this order:
-#   1. rustup's toolchain, where its wasm32-unknown-unknown target is installed
-#      (`rustup target add wasm32-unknown-unknown`): a plain `cargo build --target ...`.
+#   1. rustup's toolchain, where its wasm32-unknown-unknown target and the standard library's
+#      source (`rustup component add rust-src`) are installed.
 #   2. Otherwise Debian's Rust for Firefox/Chromium builds (rustc-web, cargo-web, rust-web-src,
-#      rust-web-llvm, lld-22; installed with apt when missing, as root or through sudo). It has
-#      no prebuilt standard library for wasm32, so std is compiled from its source
-#      (`-Zbuild-std`, allowed on a stable compiler by RUSTC_BOOTSTRAP=1). This is the path on
-#      a machine whose rustup cannot download targets (CI's).
+#      rust-web-llvm, lld-22; installed with apt when missing, as root or through sudo). This is
+#      the path on a machine whose rustup cannot download targets (CI's).
 # wasm-bindgen-cli must be the exact version of the `wasm-bindgen` crate in Cargo.lock: it is
 # read from there and installed with `cargo install` when missing or different.
 # The wasm is built with the `web` profile (Cargo.toml: release, opt-level 2, no debug info, no
@@ -37,13 +44,14 @@ as_root() {
 
 echo "== web: toolchain"
 if command -v rustup >/dev/null 2>&1 \
-   && rustup target list --installed 2>/dev/null | grep -qx wasm32-unknown-unknown; then
-  echo "rustup's toolchain with its wasm32-unknown-unknown target"
-  BUILD=(cargo build)
+   && rustup target list --installed 2>/dev/null | grep -qx wasm32-unknown-unknown \
+   && rustup component list --installed 2>/dev/null | grep -q '^rust-src'; then
+  echo "rustup's toolchain with its wasm32-unknown-unknown target, std built from source"
+  BUILD=(env RUSTC_BOOTSTRAP=1 cargo build -Zbuild-std=std,panic_abort)
   cargo --version; rustc --version
 else
-  echo "rustup has no wasm32-unknown-unknown target here: Debian's rustc-web, std built from" \
-       "source (-Zbuild-std)"
+  echo "rustup has no wasm32-unknown-unknown target or no rust-src here: Debian's rustc-web," \
+       "std built from source"
   PKGS=(rustc-web cargo-web rust-web-src rust-web-llvm lld-22)
   if ! dpkg -s "${PKGS[@]}" >/dev/null 2>&1; then
     echo "installing ${PKGS[*]} with apt"
@@ -55,6 +63,16 @@ else
          -Zbuild-std=std,panic_abort)
   /usr/bin/cargo --version; /usr/bin/rustc --version
 fi
+# WebAssembly threads: atomic instructions, and a memory the module imports shared (so that the
+# page can hand it to its Web Workers), with the thread-local storage's symbols exported that
+# wasm-bindgen's thread start-up calls. Its maximum is wasm32's 4 GiB: a shared memory cannot
+# grow past the maximum it declares, and a million-triangle scene's BVH needs more than a
+# gigabyte in the page.
+LINK="--shared-memory --import-memory --max-memory=4294967296 --export=__wasm_init_tls"
+LINK="$LINK --export=__tls_size --export=__tls_align --export=__tls_base"
+RUSTFLAGS_WEB="-C target-feature=+atomics,+bulk-memory,+mutable-globals"
+for a in $LINK; do RUSTFLAGS_WEB="$RUSTFLAGS_WEB -C link-arg=$a"; done
+export CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_RUSTFLAGS="$RUSTFLAGS_WEB"
 
 echo "== web: wasm-bindgen-cli"
 WBG_VERSION="$(awk '/^name = "wasm-bindgen"$/ { getline; gsub(/"/, "", $3); print $3; exit }' Cargo.lock)"
@@ -93,11 +111,11 @@ echo "== web: $DIST/"
 rm -rf "$DIST"
 mkdir -p "$DIST"
 wasm-bindgen --target web --no-typescript --out-dir "$DIST" "$WASM"
-cp web/static/index.html "$DIST/"
+cp web/static/index.html web/static/coi.js "$DIST/"
 if command -v wasm-opt >/dev/null 2>&1; then
   before=$(stat -c %s "$DIST/raystep_web_bg.wasm")
   # Rust's wasm32 target uses these proposals; wasm-opt must be told it may keep them.
-  if wasm-opt -O2 --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext \
+  if wasm-opt -O2 --enable-threads --enable-bulk-memory --enable-nontrapping-float-to-int --enable-sign-ext \
        --enable-mutable-globals --enable-multivalue --enable-reference-types \
        "$DIST/raystep_web_bg.wasm" -o "$DIST/raystep_web_bg.opt.wasm"; then
     mv "$DIST/raystep_web_bg.opt.wasm" "$DIST/raystep_web_bg.wasm"

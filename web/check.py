@@ -11,6 +11,11 @@ headless Chromium driven by Playwright, at 1024x768 and at 1920x1080:
   - the answers are exported (Export answers -> a download of the class CSV); with --raystep,
     the teacher's `raystep grade` marks that file as the page marked the answer;
   - a link `#scene=cornell&pixel=160,120&step=7` opens that scene, pixel and step;
+  - the render threads: the page is cross-origin isolated through its service worker (coi.js)
+    and renders the Cornell box (area light, 16 spp) on Web Workers, one per core but the page's
+    own; with `?workers=0`, and in a browser that blocks service workers (no isolation: the same
+    wasm on one thread), on the page's one thread, saying why; the image is the same each way; the render's time
+    and the page's longest frame while it renders are printed;
   - the GPU tab: without WebGPU it says so; in a second browser with WebGPU (Chromium's
     SwiftShader, `--enable-unsafe-webgpu`) it traces the scene, its debug pixel is the CPU's hit,
     and its image is the CPU's within one 8-bit step on both paths (the CPU − GPU tab);
@@ -203,7 +208,13 @@ class App:
 
     def __init__(self, browser, url, size, has_status, outdir):
         self.size, self.has_status, self.errors, self.outdir = size, has_status, [], outdir
-        self.page = browser.new_page(viewport={"width": size[0], "height": size[1]})
+        viewport = {"width": size[0], "height": size[1]}
+        # A browser (a page in a context of its own), or a context already made.
+        if hasattr(browser, "new_context"):
+            self.page = browser.new_page(viewport=viewport)
+        else:
+            self.page = browser.new_page()
+            self.page.set_viewport_size(viewport)
         self.page.on("pageerror", lambda e: self.errors.append(f"uncaught exception: {e}"))
         self.page.on("console", self._console)
         self.url = url
@@ -216,10 +227,16 @@ class App:
             self.errors.append(text)
 
     def status(self):
-        """The app's status attributes, or None where the build has no status element."""
-        return self.page.evaluate(
-            "() => { const e = document.getElementById('raystep-status');"
-            " return e ? Object.assign({}, e.dataset) : null; }")
+        """The app's status attributes, or None where the build has no status element (or the
+        page is between two documents: the first visit reloads through the service worker)."""
+        try:
+            return self.page.evaluate(
+                "() => { const e = document.getElementById('raystep-status');"
+                " return e ? Object.assign({}, e.dataset) : null; }")
+        except Exception as e:  # noqa: BLE001 (Playwright's error while the page navigates)
+            if "context was destroyed" in str(e) or "navigat" in str(e):
+                return None
+            raise
 
     def wait(self, condition, what, timeout=30):
         """Waits until condition(status) holds; fails naming what was awaited and the status."""
@@ -491,6 +508,87 @@ def check_link(browser, url, outdir):
     return app.errors
 
 
+# Counts the page's animation frames from its first script on: the gaps between them are the
+# page's frames as a user sees them (a long one is a page that does not answer).
+FRAME_CLOCK = """
+window.__frames = [];
+const tick = (t) => { window.__frames.push(t); requestAnimationFrame(tick); };
+requestAnimationFrame(tick);
+window.__tasks = [];
+new PerformanceObserver((list) => {
+  for (const e of list.getEntries()) window.__tasks.push([e.startTime, e.duration]);
+}).observe({ type: "longtask", buffered: true });
+"""
+
+
+def render_threads(browser, url, query, what, outdir):
+    """Opens the Cornell box with its area light (path traced, 16 samples per pixel, 256 x 256)
+    with `query`; waits for its render; returns (status, isolation, (the page's longest frame and
+    its own longest task in ms while it rendered, after its first second), the render's pixels
+    as screenshotted, errors)."""
+    app = App(browser, url + query + "#scene=cornell-area", (1024, 768), True, outdir)
+    app.page.add_init_script(FRAME_CLOCK)
+    app.page.goto(app.url)
+    s = app.wait(lambda s: s.get("ready") == "1" and "ornell" in s.get("scene", ""),
+                 f"the Cornell box's render ({what})", 300)
+    iso = app.page.evaluate("() => ({ isolated: self.crossOriginIsolated,"
+                            " cores: navigator.hardwareConcurrency,"
+                            " threads: window.raystepThreads })")
+    ms = float(s["renderMs"])
+    # The frames while it rendered, from a second after it started (it starts with the app, and
+    # the app's own start-up fills its first frames); the few after its end, until now, are
+    # the idle page's.
+    frames = app.page.evaluate("() => window.__frames")
+    end = frames[-1]
+    during = [t for t in frames if t >= end - ms + 1000]
+    longest = max((b - a for a, b in zip(during, during[1:])), default=0.0)
+    # The page's own longest task in that time (Chromium's long tasks: 50 ms or more), apart
+    # from the frame's drawing, which Chromium's GPU process does.
+    tasks = app.page.evaluate("() => window.__tasks")
+    task = max((d for t, d in tasks if t >= end - ms + 1000), default=0.0)
+    time.sleep(0.5)
+    image = shot(app.page, *render_rect(app.page))
+    app.page.screenshot(path=os.path.join(outdir, f"1024x768-threads-{what.split()[0]}.png"))
+    app.page.close()
+    return s, iso, (longest, task), image, app.errors
+
+
+def check_threads(browser, url, outdir, blocked_browser):
+    """The render on every core where the page is cross-origin isolated (raystep's service
+    worker, coi.js), on one thread where asked (?workers=0) or where it cannot be isolated (a
+    browser that blocks service workers: the same wasm on a plain memory). The Cornell box at 16
+    samples per pixel each way: its time, its threads and the page's longest frame printed; the
+    images the same; the one-thread page says why in its status bar."""
+    errors = []
+    s1, iso1, long1, img1, e = render_threads(browser, url, "?workers=0", "1 thread", outdir)
+    errors += e
+    sn, ison, longn, imgn, e = render_threads(browser, url, "", "all cores", outdir)
+    errors += e
+    sb, isob, longb, imgb, e = render_threads(blocked_browser, url, "", "not isolated", outdir)
+    errors += e
+    if not ison["isolated"]:
+        raise Failed(f"the page is not cross-origin isolated through coi.js: {ison}")
+    cores = ison["cores"]
+    want = max(1, cores - 1)
+    if (s1["threads"] != "1" or iso1["threads"]["workers"] != 0
+            or (cores > 1 and ison["threads"]["workers"] != want)
+            or sn["threads"] != str(ison["threads"]["workers"] or 1)):
+        raise Failed(f"threads: ?workers=0 rendered on {s1['threads']} ({iso1}), the default on"
+                     f" {sn['threads']} ({ison}; the machine has {cores} cores)")
+    if isob["isolated"] or sb["threads"] != "1" or not isob["threads"]["oneThread"]:
+        raise Failed(f"a page that cannot be isolated: {isob}, rendered on {sb['threads']} threads")
+    if img1.px != imgn.px or img1.px != imgb.px:
+        raise Failed("the Cornell box on one thread and on every core are not the same image")
+    for what, s, longest in [("the page's thread (?workers=0)", s1, long1),
+                             (f"{sn['threads']} Web Worker(s) beside it", sn, longn),
+                             ("the page's thread, not isolated", sb, longb)]:
+        print(f"threads: the Cornell box (area light, 16 spp, 256x256) on {what}: "
+              f"{float(s['renderMs']) / 1e3:.1f} s, the page's longest frame {longest[0]:.0f} ms"
+              f" (its own longest task {longest[1]:.0f} ms)")
+    print(f"threads: one thread where isolation fails says why: {isob['threads']['oneThread']}")
+    return errors
+
+
 FILE_MENU = (20, 12)
 OPEN_ITEM = (40, 39)  # File → Open…, the menu's first item
 SCENES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")
@@ -618,6 +716,8 @@ def main():
                     help="check only this window size (repeatable; default 1024x768, 1920x1080)")
     ap.add_argument("--no-link", action="store_true", help="skip the link check")
     ap.add_argument("--no-gpu", action="store_true", help="skip the GPU tab's checks")
+    ap.add_argument("--no-threads", action="store_true",
+                    help="skip the render threads' check (Web Workers, isolation)")
     ap.add_argument("--raystep", help="the native raystep binary: `raystep grade` marks the"
                     " answers the page exported (else the download is checked, not graded)")
     args = ap.parse_args()
@@ -648,6 +748,13 @@ def main():
                 errors += check_link(browser, url, args.screenshots)
             if has_status:
                 errors += check_files(browser, url, args.screenshots)
+            if has_status and not args.no_threads:
+                blocked = p.chromium.launch(executable_path=args.chromium, args=CHROMIUM_ARGS)
+                try:
+                    context = blocked.new_context(service_workers="block")
+                    errors += check_threads(browser, url, args.screenshots, context)
+                finally:
+                    blocked.close()
             if has_status and not args.no_gpu:
                 errors += check_gpu(p, args.chromium, browser, url, args.screenshots)
             browser.close()

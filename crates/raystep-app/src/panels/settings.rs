@@ -101,6 +101,7 @@ pub(super) fn settings_panel(
                 "Render threads: 1, the page's own{}",
                 crate::platform::one_thread_why().map_or(String::new(), |w| format!(": {w}"))
             ),
+            1 => "Render threads: 1 Web Worker".to_string(),
             n => format!("Render threads: {n} Web Workers"),
         };
         ui.label(threads).on_hover_text(
