@@ -6,7 +6,7 @@
 //! last band the pass's output is the one [`super::render`] makes, bit for bit.
 
 use super::CANCELLED;
-use super::cpu::{Pass, RenderOptions, RenderOutput, TILE, Tally, TileJob, tile_rows};
+use super::cpu::{Pass, RenderOptions, RenderOutput, TILE, Tally, TileJob, tile_grid, tile_rows};
 use crate::accel::Accelerator;
 use crate::platform::{Duration, Instant};
 use crate::trace::Tracer;
@@ -58,16 +58,6 @@ impl BandPass {
         }
     }
 
-    /// The image's tiles across.
-    fn across(&self) -> usize {
-        self.width.div_ceil(TILE).max(1) as usize
-    }
-
-    /// The image's tiles in all.
-    fn tiles(&self) -> usize {
-        self.across() * self.height.div_ceil(TILE) as usize
-    }
-
     /// Traces the next band of `size` and says whether the pass is done. `opts.count` and
     /// `opts.live` are heeded as [`super::render`] heeds them (the tiles are shown and counted
     /// on the live image as they finish); its threads, progress bar and pass are not (one
@@ -90,7 +80,7 @@ impl BandPass {
         if job.cancelled() {
             return Err(CANCELLED.into());
         }
-        let (across, tiles) = (self.across(), self.tiles());
+        let (across, tiles) = tile_grid(self.width, self.height);
         let (width, height) = (self.width as usize, self.height);
         let start = Instant::now();
         let mut traced = 0;

@@ -382,7 +382,13 @@ fn trace_pixel<A: Accelerator, O: Observer>(
 
 /// The tiles of `tracer`'s image.
 pub(super) fn tiles<A: Accelerator>(tracer: &Tracer<'_, A>) -> usize {
-    tracer.camera.width.div_ceil(TILE) as usize * tracer.camera.height.div_ceil(TILE) as usize
+    tile_grid(tracer.camera.width, tracer.camera.height).1
+}
+
+/// A `width` × `height` image's tiles across (at least one) and in all.
+pub(super) fn tile_grid(width: u32, height: u32) -> (usize, usize) {
+    let across = width.div_ceil(TILE).max(1) as usize;
+    (across, across * height.div_ceil(TILE) as usize)
 }
 
 /// Renders the tracer's scene.

@@ -12,7 +12,9 @@
 //! [`super::render`] makes, bit for bit: every pixel depends only on (scene, pixel, sample).
 
 use super::CANCELLED;
-use super::cpu::{Pass, RenderOptions, RenderOutput, TILE, Tally, Tile, TileDone, TileJob};
+use super::cpu::{
+    Pass, RenderOptions, RenderOutput, TILE, Tally, Tile, TileDone, TileJob, tile_grid,
+};
 use crate::platform::{Duration, Instant};
 use crate::trace::PreparedScene;
 use glam::Vec3;
@@ -73,14 +75,9 @@ impl WorkerPass {
         }
     }
 
-    /// The image's tiles across.
-    fn across(&self) -> usize {
-        self.width.div_ceil(TILE).max(1) as usize
-    }
-
-    /// The image's tiles in all.
-    fn tiles(&self) -> usize {
-        self.across() * self.height.div_ceil(TILE) as usize
+    /// The image's tiles across and in all.
+    fn grid(&self) -> (usize, usize) {
+        tile_grid(self.width, self.height)
     }
 
     /// Starts `workers` workers on the pass's tiles (the first call), then takes in the tiles
@@ -116,14 +113,14 @@ impl WorkerPass {
                 Err(TryRecvError::Empty) => break,
                 // Every worker has finished and every tile is in, or a worker died.
                 Err(TryRecvError::Disconnected) => {
-                    if self.arrived + arrived.len() < self.tiles() && !cancelled() {
+                    if self.arrived + arrived.len() < self.grid().1 && !cancelled() {
                         return Err("internal error: a render's workers stopped early".into());
                     }
                     break;
                 }
             }
         }
-        if arrived.is_empty() && self.arrived < self.tiles() {
+        if arrived.is_empty() && self.arrived < self.grid().1 {
             crate::platform::step_waits();
         }
         for t in arrived {
@@ -132,7 +129,7 @@ impl WorkerPass {
         if cancelled() {
             return Err(CANCELLED.into());
         }
-        Ok(self.arrived >= self.tiles())
+        Ok(self.arrived >= self.grid().1)
     }
 
     /// Starts the workers; the receiving end of the channel they send their tiles on.
@@ -161,7 +158,7 @@ impl WorkerPass {
 
     /// Copies an arrived tile into the image, adds its figures and shows it.
     fn take_in(&mut self, t: TracedTile, opts: &RenderOptions) {
-        let tile = tile_at(t.index, self.across());
+        let tile = tile_at(t.index, self.grid().0);
         let tile_width = tile_size(tile.x0, self.width);
         let width = self.width as usize;
         for (dy, row) in t.pixels.chunks(tile_width).enumerate() {
@@ -254,8 +251,7 @@ impl Worker {
             live: None,
             bar: None,
         };
-        let across = self.width.div_ceil(TILE).max(1) as usize;
-        let tiles = across * self.height.div_ceil(TILE) as usize;
+        let (across, tiles) = tile_grid(self.width, self.height);
         loop {
             if self
                 .live

@@ -20,6 +20,7 @@ mod instances;
 mod mipmap;
 mod properties;
 mod render_bands;
+mod render_common;
 mod render_workers;
 mod roughness;
 mod rtc_world;

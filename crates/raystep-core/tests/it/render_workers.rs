@@ -5,52 +5,13 @@
 //! The expected values come from `render` (every tile at once, on the calling thread and its
 //! pool, waiting for them). Natively the workers are rayon's global pool.
 
+use super::render_common::{assert_same, bits, counted, shipped};
 use raystep_core::PreparedScene;
-use raystep_core::render::{
-    CANCELLED, LiveRender, Progressive, RenderOptions, RenderOutput, Stepped, render,
-};
-use raystep_core::scene::{Integrator, Scene, load_file};
-use std::path::PathBuf;
+use raystep_core::render::{CANCELLED, LiveRender, Progressive, RenderOptions, Stepped, render};
+use raystep_core::scene::Integrator;
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
-
-fn shipped(name: &str, width: u32, height: u32) -> Scene {
-    let path = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .join("scenes")
-        .join(name);
-    let mut s = load_file(&path).unwrap();
-    (s.camera.width, s.camera.height) = (width, height);
-    s
-}
-
-fn counted(live: Option<Arc<LiveRender>>) -> RenderOptions {
-    RenderOptions {
-        count: true,
-        live,
-        ..Default::default()
-    }
-}
-
-/// The pixels as bits (NaN equal to itself).
-fn bits(out: &RenderOutput) -> Vec<[u32; 3]> {
-    out.pixels
-        .iter()
-        .map(|p| p.to_array().map(f32::to_bits))
-        .collect()
-}
-
-/// Everything the app shows of a finished render is the same.
-fn assert_same(got: &RenderOutput, want: &RenderOutput) {
-    assert_eq!((got.width, got.height), (want.width, want.height));
-    assert!(bits(got) == bits(want), "the pixels differ");
-    assert_eq!(got.node_visits, want.node_visits);
-    assert_eq!(got.stats.counts, want.stats.counts);
-    assert_eq!(got.stats.nan_rays, want.stats.nan_rays);
-    assert_eq!(got.stats.nan_pixels, want.stats.nan_pixels);
-    assert_eq!(got.stats.bad_samples, want.stats.bad_samples);
-    assert_eq!(got.stats.first_bad_sample, want.stats.first_bad_sample);
-}
 
 /// Steps `p` to its end as the page does, a frame at a time (here: a yield between steps that
 /// took in nothing new); the steps that ended passes, and the passes `after_pass` saw.
