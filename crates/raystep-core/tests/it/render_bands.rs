@@ -3,7 +3,7 @@
 //! live view as they finish, counts its progress right and stops between bands when cancelled.
 //! The expected values come from `render` (every tile at once, on every core).
 
-use super::render_common::{assert_same, bits, counted, shipped};
+use super::render_common::{assert_live_shows, assert_same, bits, counted, shipped};
 use raystep_core::PreparedScene;
 use raystep_core::render::{
     BandSize, CANCELLED, LiveRender, Progressive, RenderOptions, Stepped, render,
@@ -83,15 +83,7 @@ fn a_whitted_render_in_bands_is_render_s_image() {
     let got = p.finish().unwrap();
     assert_same(&got, &want);
     // The live view ends on the finished image, in sRGB.
-    let srgb: Vec<[u8; 4]> = want
-        .pixels
-        .iter()
-        .map(|c| {
-            let [r, g, b] = raystep_core::render::image::srgb8_rgb(*c);
-            [r, g, b, 255]
-        })
-        .collect();
-    assert_eq!(*live.pixels.lock().unwrap(), srgb);
+    assert_live_shows(&live, &want);
 }
 
 /// A Monte Carlo render (the Cornell box with its area light, path traced, 5 samples per pixel,

@@ -44,3 +44,16 @@ pub(crate) fn assert_same(got: &RenderOutput, want: &RenderOutput) {
     assert_eq!(got.stats.bad_samples, want.stats.bad_samples);
     assert_eq!(got.stats.first_bad_sample, want.stats.first_bad_sample);
 }
+
+/// The live view ends on the finished image `want`, in sRGB, every pixel shown (opaque).
+pub(crate) fn assert_live_shows(live: &LiveRender, want: &RenderOutput) {
+    let srgb: Vec<[u8; 4]> = want
+        .pixels
+        .iter()
+        .map(|c| {
+            let [r, g, b] = raystep_core::render::image::srgb8_rgb(*c);
+            [r, g, b, 255]
+        })
+        .collect();
+    assert_eq!(*live.pixels.lock().unwrap(), srgb);
+}

@@ -5,7 +5,7 @@
 //! The expected values come from `render` (every tile at once, on the calling thread and its
 //! pool, waiting for them). Natively the workers are rayon's global pool.
 
-use super::render_common::{assert_same, bits, counted, shipped};
+use super::render_common::{assert_live_shows, assert_same, bits, counted, shipped};
 use raystep_core::PreparedScene;
 use raystep_core::render::{CANCELLED, LiveRender, Progressive, RenderOptions, Stepped, render};
 use raystep_core::scene::Integrator;
@@ -55,15 +55,7 @@ fn a_whitted_render_on_workers_is_render_s_image() {
     let got = p.finish().unwrap();
     assert_same(&got, &want);
     assert_eq!(got.stats.threads, 3);
-    let srgb: Vec<[u8; 4]> = want
-        .pixels
-        .iter()
-        .map(|c| {
-            let [r, g, b] = raystep_core::render::image::srgb8_rgb(*c);
-            [r, g, b, 255]
-        })
-        .collect();
-    assert_eq!(*live.pixels.lock().unwrap(), srgb);
+    assert_live_shows(&live, &want);
 }
 
 /// A Monte Carlo render (the Cornell box with its area light, path traced, 5 samples per pixel,
