@@ -161,7 +161,7 @@ impl WorkerPass {
         let tile = tile_at(t.index, self.grid().0);
         let tile_width = tile_size(tile.x0, self.width);
         let width = self.width as usize;
-        for (dy, row) in t.pixels.chunks(tile_width).enumerate() {
+        for (dy, row) in t.pixels.chunks(tile_width.max(1)).enumerate() {
             let start = (tile.y0 as usize + dy) * width + tile.x0 as usize;
             if let Some(dst) = self.pixels.get_mut(start..start + row.len()) {
                 dst.copy_from_slice(row);

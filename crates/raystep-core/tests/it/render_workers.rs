@@ -142,3 +142,19 @@ fn a_cancelled_render_on_workers_stops() {
     std::thread::sleep(Duration::from_millis(20));
     assert_eq!(live.tiles_done.load(Ordering::Relaxed), 0);
 }
+
+/// An image with no pixels (0 wide or 0 tall, as an edited camera can ask) ends at once on
+/// workers, with `render`'s empty image, and panics nowhere.
+#[test]
+fn an_empty_image_on_workers_is_render_s() {
+    for (w, h) in [(0, 5), (5, 0), (0, 0), (0, 40)] {
+        let prepared = Arc::new(PreparedScene::new(shipped("mirror-glass.toml", w, h)));
+        let tracer = prepared.tracer();
+        let want = render(&tracer, &counted(None)).unwrap();
+        let mut p = Progressive::whole(&tracer, &counted(None)).on_workers(prepared.clone(), 2);
+        step_to_the_end(&mut p, &prepared).unwrap();
+        let got = p.finish().unwrap();
+        assert!(got.pixels.is_empty(), "{w} x {h}");
+        assert_same(&got, &want);
+    }
+}
