@@ -227,9 +227,6 @@ pub fn spawn_worker(job: impl FnOnce() + Send + 'static) {
 thread_local! {
     /// Set by a step that found nothing to do yet ([`step_waits`]).
     static STEP_WAITS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-thread_local! {
     /// Whether the last [`run_steps`] returned because every job only waited.
     static ALL_WAITED: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }

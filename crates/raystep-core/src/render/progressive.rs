@@ -56,15 +56,21 @@ pub struct Progressive {
     total: Option<RenderOutput>,
     /// One pass of every sample, its pixels their means: [`render`] without a pass.
     whole: bool,
-    /// Steps of a band each (None: of a pass each).
-    bands: Option<BandSize>,
-    /// The pass being traced band by band.
-    current: Option<BandPass>,
-    /// Steps that gather the tiles `workers` trace (None: bands or passes on the calling
-    /// thread).
-    workers: Option<(Arc<PreparedScene>, usize)>,
-    /// The pass being traced by the workers.
-    gathering: Option<WorkerPass>,
+    /// What a step is, and the pass in progress where a step is less than a pass.
+    steps: Steps,
+}
+
+/// What one step of a [`Progressive`] render traces.
+#[derive(Debug)]
+enum Steps {
+    /// A pass, by [`render`] on every thread.
+    Passes,
+    /// A band of tiles of this size on the calling thread ([`Progressive::in_bands`]); the pass
+    /// being traced band by band.
+    Bands(BandSize, Option<BandPass>),
+    /// The tiles that have arrived from the workers tracing the pass
+    /// ([`Progressive::on_workers`]); the pass they trace.
+    Workers(Arc<PreparedScene>, usize, Option<WorkerPass>),
 }
 
 impl Progressive {
@@ -110,10 +116,7 @@ impl Progressive {
             sums: None,
             total: None,
             whole,
-            bands: None,
-            current: None,
-            workers: None,
-            gathering: None,
+            steps: Steps::Passes,
         }
     }
 
@@ -121,7 +124,7 @@ impl Progressive {
     /// thread, `opts.threads` aside, and no terminal progress bar): each step is short, and
     /// the live view shows each tile as it finishes.
     pub fn in_bands(mut self, size: BandSize) -> Progressive {
-        self.bands = Some(size);
+        self.steps = Steps::Bands(size, None);
         self
     }
 
@@ -132,7 +135,7 @@ impl Progressive {
     /// the workers trace: the one of the tracer given to each step. The live view shows each
     /// tile as it arrives; the finished image is [`render`]'s, bit for bit.
     pub fn on_workers(mut self, prepared: Arc<PreparedScene>, workers: usize) -> Progressive {
-        self.workers = Some((prepared, workers.max(1)));
+        self.steps = Steps::Workers(prepared, workers.max(1), None);
         self
     }
 
@@ -152,38 +155,35 @@ impl Progressive {
             samples: self.start..end,
             sums: self.sums.clone(),
         });
-        let out = match (&self.workers, self.bands) {
-            (Some((prepared, workers)), _) => {
-                let (width, height) = (tracer.camera.width, tracer.camera.height);
-                let gathering = self
-                    .gathering
-                    .get_or_insert_with(|| WorkerPass::new(width, height, pass, self.opts.count));
-                if !gathering.gather(prepared, &self.opts, *workers)? {
-                    return Ok(Some(Stepped::Band));
-                }
-                self.gathering
-                    .take()
-                    .ok_or("internal error: a gathered pass with no pass")?
-                    .output()?
-            }
-            (None, None) => render(
+        let (width, height) = (tracer.camera.width, tracer.camera.height);
+        let count = self.opts.count;
+        let out = match &mut self.steps {
+            Steps::Passes => render(
                 tracer,
                 &RenderOptions {
                     pass,
                     ..self.opts.clone()
                 },
             )?,
-            (None, Some(size)) => {
-                let (width, height) = (tracer.camera.width, tracer.camera.height);
-                let current = self
-                    .current
-                    .get_or_insert_with(|| BandPass::new(width, height, pass, self.opts.count));
-                if !current.next_band(tracer, &self.opts, size)? {
+            Steps::Bands(size, current) => {
+                let band = current.get_or_insert_with(|| BandPass::new(width, height, pass, count));
+                if !band.next_band(tracer, &self.opts, *size)? {
                     return Ok(Some(Stepped::Band));
                 }
-                self.current
+                current
                     .take()
                     .ok_or("internal error: a band with no pass")?
+                    .output()?
+            }
+            Steps::Workers(prepared, workers, gathering) => {
+                let traced = gathering
+                    .get_or_insert_with(|| WorkerPass::new(width, height, pass, count, *workers));
+                if !traced.gather(prepared, &self.opts)? {
+                    return Ok(Some(Stepped::Band));
+                }
+                gathering
+                    .take()
+                    .ok_or("internal error: a gathered pass with no pass")?
                     .output()?
             }
         };

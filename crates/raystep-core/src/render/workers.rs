@@ -58,8 +58,14 @@ pub(super) struct WorkerPass {
 }
 
 impl WorkerPass {
-    /// A pass over a `width` × `height` image, nothing traced yet.
-    pub(super) fn new(width: u32, height: u32, pass: Option<Pass>, count: bool) -> WorkerPass {
+    /// A pass over a `width` × `height` image for `workers` workers, nothing traced yet.
+    pub(super) fn new(
+        width: u32,
+        height: u32,
+        pass: Option<Pass>,
+        count: bool,
+        workers: usize,
+    ) -> WorkerPass {
         let n = width as usize * height as usize;
         WorkerPass {
             pass,
@@ -71,7 +77,7 @@ impl WorkerPass {
             tally: Tally::default(),
             tiles: None,
             start: None,
-            workers: 0,
+            workers: workers.max(1),
         }
     }
 
@@ -80,7 +86,7 @@ impl WorkerPass {
         tile_grid(self.width, self.height)
     }
 
-    /// Starts `workers` workers on the pass's tiles (the first call), then takes in the tiles
+    /// Starts the workers on the pass's tiles (the first call), then takes in the tiles
     /// that have arrived since the last call, without waiting for any, and says whether the
     /// pass is done. The tiles are shown and counted on `opts.live` as they arrive; a render
     /// cancelled there returns [`CANCELLED`] (and the workers stop at their next tile).
@@ -88,7 +94,6 @@ impl WorkerPass {
         &mut self,
         prepared: &Arc<PreparedScene>,
         opts: &RenderOptions,
-        workers: usize,
     ) -> Result<bool, String> {
         let cancelled = || {
             opts.live
@@ -102,7 +107,6 @@ impl WorkerPass {
             Some(t) => t,
             None => {
                 self.start = Some(Instant::now());
-                self.workers = workers.max(1);
                 self.tiles.insert(self.start_workers(prepared, opts))
             }
         };
