@@ -277,6 +277,17 @@ class App:
         time.sleep(0.3)
         self.click(LIST_ROW(row))
 
+    def shows_change(self, action, region, timeout):
+        """Whether region's pixels change within timeout seconds of action."""
+        before = self.page.screenshot(clip=region)
+        action()
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            if self.page.screenshot(clip=region) != before:
+                return True
+            time.sleep(0.2)
+        return False
+
     def changed_after(self, action, region, what):
         """Screenshot check (builds without the status element): region differs after action."""
         before = self.page.screenshot(clip=region)
@@ -613,22 +624,40 @@ def check_files(browser, url, outdir):
     print(f"the file picker opened {s['scene']}")
 
     # Save trace: the File menu's item under Open…, Built-in scene, Recent, Reload and a
-    # separator; its dialog has the name ready, so Enter saves.
-    app.click(FILE_MENU)
-    try:
-        with page.expect_download(timeout=15000) as download:
-            app.click((80, 140))
-            time.sleep(0.8)
-            page.keyboard.press("Enter")
-    except Exception:  # noqa: BLE001
-        app.fail("File → Save trace (JSON)… and Enter gave no download")
+    # separator; its dialog has the name ready, so Enter saves. Each step waits for the screen to
+    # show it (the menu, then the dialog) rather than for a fixed time: on a loaded machine a
+    # fixed pause let Enter reach the page before the dialog did (CI, stop 68). Tried up to three
+    # times, Escape closing whatever the last try left open.
+    download = None
+    for attempt in range(3):
+        if attempt:
+            page.keyboard.press("Escape")
+            time.sleep(0.5)
+        menu = {"x": 0, "y": 24, "width": 300, "height": 160}
+        if not app.shows_change(lambda: app.click(FILE_MENU, settle=0), menu, 10):
+            continue
+        time.sleep(0.3)
+        dialog = {"x": 1024 // 2 - 200, "y": 768 // 2 - 120, "width": 400, "height": 240}
+        if not app.shows_change(lambda: app.click((80, 140), settle=0), dialog, 10):
+            continue
+        time.sleep(0.3)
+        try:
+            with page.expect_download(timeout=15000) as waiting:
+                page.keyboard.press("Enter")
+            download = waiting
+            break
+        except Exception:  # noqa: BLE001 (Playwright's timeout: tried again, then named)
+            continue
+    if download is None:
+        app.fail("File → Save trace (JSON)… and Enter gave no download (three tries)")
     d = download.value
     data = open(d.path(), "rb").read()
     if not (d.suggested_filename.endswith(".json") and b'"version"' in data[:200]
             and b"Cornell box" in data[:400]):
         app.fail(f"the download {d.suggested_filename} ({len(data)} bytes) is not the trace:"
                  f" {data[:120]!r}")
-    print(f"the trace was saved as the download {d.suggested_filename} ({len(data)} bytes)")
+    tries = f", on try {attempt + 1}" if attempt else ""
+    print(f"the trace was saved as the download {d.suggested_filename} ({len(data)} bytes{tries})")
 
     # A scene dropped on the page (as a file from the desktop is: a DataTransfer with a File).
     text = open(os.path.join(SCENES, "three-spheres.toml"), encoding="utf-8").read()
