@@ -277,6 +277,29 @@ class App:
         time.sleep(0.3)
         self.click(LIST_ROW(row))
 
+    def download_from_dialog(self, open_dialog, what, tries=3):
+        """A download from a save dialog that has its name ready: open_dialog() (a click that
+        opens the dialog), then, once the middle of the page shows the dialog, Enter. Each step
+        waits for the screen rather than for a fixed time (a fixed pause let Enter reach a loaded
+        page before the dialog did: CI, stop 68); tried `tries` times, Escape closing what the
+        last try left open. Returns the download and the try (0-based) that gave it."""
+        w, h = self.size
+        middle = {"x": w // 2 - 200, "y": h // 2 - 120, "width": 400, "height": 240}
+        for attempt in range(tries):
+            if attempt:
+                self.page.keyboard.press("Escape")
+                time.sleep(0.5)
+            if not self.shows_change(open_dialog, middle, 10):
+                continue
+            time.sleep(0.3)
+            try:
+                with self.page.expect_download(timeout=15000) as waiting:
+                    self.page.keyboard.press("Enter")
+                return waiting.value, attempt
+            except Exception:  # noqa: BLE001 (Playwright's timeout: tried again, then named)
+                continue
+        self.fail(f"{what} and Enter gave no download ({tries} tries)")
+
     def shows_change(self, action, region, timeout):
         """Whether region's pixels change within timeout seconds of action."""
         before = self.page.screenshot(clip=region)
@@ -460,14 +483,8 @@ def export_answers(app, tag, answer_top, feedback, raystep):
             break
     if button is None:
         app.fail(f"{tag}: no Export answers button between the student id and the answer field")
-    try:
-        with page.expect_download(timeout=15000) as download:
-            app.click(button)
-            time.sleep(0.8)
-            page.keyboard.press("Enter")
-    except Exception:  # noqa: BLE001 (Playwright's timeout: named in the failure)
-        app.fail(f"{tag}: Export answers at {button} and Enter gave no download")
-    d = download.value
+    d, _ = app.download_from_dialog(lambda: app.click(button, settle=0),
+                                    f"{tag}: Export answers at {button}")
     text = open(d.path(), encoding="utf-8").read()
     rows = list(csv.reader(io.StringIO(text)))
     if (not d.suggested_filename.endswith(".csv") or len(rows) != 2 or rows[0][0] != "student"
@@ -612,45 +629,39 @@ def check_files(browser, url, outdir):
     page = app.page
     page.goto(url)
     app.wait(lambda s: s.get("ready") == "1", "the first render", 120)
-    app.click(FILE_MENU)
-    try:
-        with page.expect_file_chooser(timeout=10000) as chooser:
-            app.click(OPEN_ITEM)
-    except Exception:  # noqa: BLE001 (Playwright's timeout: named in the failure)
-        app.fail(f"File at {FILE_MENU} → Open… at {OPEN_ITEM} opened no file picker")
-    chooser.value.set_files([os.path.join(SCENES, "cornell.toml")])
+    # The menu is awaited on screen before its item is clicked; tried three times (as the
+    # save dialog below).
+    menu = {"x": 0, "y": 24, "width": 300, "height": 160}
+    chosen = None
+    for attempt in range(3):
+        if attempt:
+            page.keyboard.press("Escape")
+            time.sleep(0.5)
+        if not app.shows_change(lambda: app.click(FILE_MENU, settle=0), menu, 10):
+            continue
+        time.sleep(0.3)
+        try:
+            with page.expect_file_chooser(timeout=10000) as chooser:
+                app.click(OPEN_ITEM)
+            chosen = chooser.value
+            break
+        except Exception:  # noqa: BLE001 (Playwright's timeout: tried again, then named)
+            continue
+    if chosen is None:
+        app.fail(f"File at {FILE_MENU} → Open… at {OPEN_ITEM} opened no file picker (3 tries)")
+    chosen.set_files([os.path.join(SCENES, "cornell.toml")])
     s = app.wait(lambda s: s["scene"] == "Cornell box" and s["ready"] == "1",
                  "scenes/cornell.toml picked in the file picker opening", 120)
     print(f"the file picker opened {s['scene']}")
 
     # Save trace: the File menu's item under Open…, Built-in scene, Recent, Reload and a
-    # separator; its dialog has the name ready, so Enter saves. Each step waits for the screen to
-    # show it (the menu, then the dialog) rather than for a fixed time: on a loaded machine a
-    # fixed pause let Enter reach the page before the dialog did (CI, stop 68). Tried up to three
-    # times, Escape closing whatever the last try left open.
-    download = None
-    for attempt in range(3):
-        if attempt:
-            page.keyboard.press("Escape")
-            time.sleep(0.5)
-        menu = {"x": 0, "y": 24, "width": 300, "height": 160}
-        if not app.shows_change(lambda: app.click(FILE_MENU, settle=0), menu, 10):
-            continue
-        time.sleep(0.3)
-        dialog = {"x": 1024 // 2 - 200, "y": 768 // 2 - 120, "width": 400, "height": 240}
-        if not app.shows_change(lambda: app.click((80, 140), settle=0), dialog, 10):
-            continue
-        time.sleep(0.3)
-        try:
-            with page.expect_download(timeout=15000) as waiting:
-                page.keyboard.press("Enter")
-            download = waiting
-            break
-        except Exception:  # noqa: BLE001 (Playwright's timeout: tried again, then named)
-            continue
-    if download is None:
-        app.fail("File → Save trace (JSON)… and Enter gave no download (three tries)")
-    d = download.value
+    # separator; its dialog has the name ready, so Enter saves. The menu is awaited on screen
+    # before its item is clicked.
+    def open_save_trace():
+        if app.shows_change(lambda: app.click(FILE_MENU, settle=0), menu, 10):
+            time.sleep(0.3)
+            app.click((80, 140), settle=0)
+    d, attempt = app.download_from_dialog(open_save_trace, "File → Save trace (JSON)…")
     data = open(d.path(), "rb").read()
     if not (d.suggested_filename.endswith(".json") and b'"version"' in data[:200]
             and b"Cornell box" in data[:400]):
