@@ -10,13 +10,13 @@
 //! instance); a hit there becomes the closest so far and shortens the world ray, which the
 //! next TLAS boxes are tested against.
 
-use super::{Accelerator, Bvh, Hit, SceneAccel, bvh::Tlas, bvh::Todo};
+use super::{Accelerator, Bvh, Hit, SceneAccel, bvh::FastRay, bvh::Tlas, bvh::Todo};
 use crate::math::Ray;
 use crate::platform::{Duration, Instant};
 use crate::record::{HitRecord, NodeAction, NodeVisit, Observer, RayKind, Step};
 use crate::scene::Scene;
 use crate::shapes::aabb::slab_robust;
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 /// The world's accelerator, the TLAS and one BLAS per prototype.
 pub struct TwoLevel {
@@ -102,6 +102,10 @@ impl TwoLevel {
             return;
         }
         let inv = Vec3::ONE / r.dir;
+        // The ray prepared for the BVH's 128-bit slab test: lane for lane the robust test's
+        // operations (NaN handled as it does), so each decision is the recorded test's, which
+        // only an observer that records builds.
+        let fast = FastRay::new(r, inv);
         // (node, depth): the BVH's own list of subtrees to visit, on the machine stack (no
         // allocation per ray); the depths are kept only when the observer records them.
         let mut stack = Todo::new();
@@ -110,8 +114,10 @@ impl TwoLevel {
             let Some(node) = self.tlas.nodes.get(n as usize) else {
                 continue;
             };
-            let test = slab_robust(r, inv, Vec3::from(node.min), Vec3::from(node.max));
-            let action = match (test.hit, node.is_leaf()) {
+            // t_max as it is now (an instance's hit shortens it); origin, direction and t_min
+            // never change.
+            let (t_near, t_far) = fast.interval::<false>(node, Vec3A::splat(r.t_max));
+            let action = match (t_near <= t_far, node.is_leaf()) {
                 (false, _) => NodeAction::Culled,
                 (true, true) => NodeAction::TestPrimitives,
                 (true, false) => NodeAction::Descend,
@@ -120,7 +126,7 @@ impl TwoLevel {
                 Step::TlasNode(NodeVisit {
                     node: n,
                     depth,
-                    test,
+                    test: slab_robust(r, inv, Vec3::from(node.min), Vec3::from(node.max)),
                     leaf: node.is_leaf(),
                     children: (!node.is_leaf()).then_some([node.first, node.first + 1]),
                     action,

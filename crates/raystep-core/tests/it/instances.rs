@@ -447,3 +447,93 @@ fn a_thousand_instances_of_a_hundred_thousand_triangles_cost_one_mesh() {
         p.scene().objects.len() * 1000
     );
 }
+
+/// The TLAS walk decides each box with the BVH's 128-bit slab test and records the scalar
+/// robust test (docs/NUMERICS.md, S20–S23): the two must agree on every box, on rays that graze
+/// its faces too. Rays of the shipped instances scene: from a grid of points towards a grid of
+/// points, and, for every TLAS box and axis, rays lying exactly in a face plane with that
+/// direction component +0 and −0 (the robust test's NaN case), starting in the plane and
+/// starting on the face's corner. Each recorded TLAS visit must be culled exactly where its
+/// recorded test missed, and the silent query must find the recorded query's hit.
+#[test]
+fn the_tlas_walks_decisions_are_its_recorded_box_tests() {
+    use raystep_core::accel::Accelerator;
+    use raystep_core::math::Ray;
+    use raystep_core::record::{Observer, RayKind, Recorder, Silent};
+    let s = raystep_core::scene::load_file(&root().join("scenes/instances.toml")).unwrap();
+    let p = PreparedScene::new(s);
+    let SceneAccel::TwoLevel(two) = p.accel() else {
+        panic!("the instances scene has a two-level structure")
+    };
+    let scene = p.scene();
+    let mut rays: Vec<Ray<f32>> = Vec::new();
+    let ray = |origin: Vec3, dir: Vec3| Ray {
+        origin,
+        dir,
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    let grid = |k: i32| (k as f32 - 2.0) * 1.7;
+    for a in 0..5 {
+        for b in 0..5 {
+            let from = Vec3::new(grid(a), 1.5 + grid(b) * 0.5, -8.0 + grid(a + b));
+            let to = Vec3::new(grid(b), grid(a) * 0.3, grid(4 - a));
+            rays.push(ray(from, to - from));
+            rays.push(ray(to, from - to));
+        }
+    }
+    for node in &two.tlas.nodes {
+        let (min, max) = (Vec3::from(node.min), Vec3::from(node.max));
+        let mid = (min + max) * 0.5;
+        for axis in 0..3 {
+            for plane in [min[axis], max[axis]] {
+                for zero in [0.0f32, -0.0] {
+                    let (o1, o2) = ((axis + 1) % 3, (axis + 2) % 3);
+                    let mut dir = Vec3::ZERO;
+                    dir[axis] = zero;
+                    dir[o1] = 1.0;
+                    dir[o2] = 0.5;
+                    // In the plane, from outside the box towards it; and from its corner.
+                    let mut from = mid - dir * 100.0;
+                    from[axis] = plane;
+                    rays.push(ray(from, dir));
+                    let mut corner = min;
+                    corner[axis] = plane;
+                    rays.push(ray(corner, dir));
+                    rays.push(ray(corner, -dir));
+                }
+            }
+        }
+    }
+    let mut visits = 0;
+    for r in &rays {
+        let mut rec = Recorder::new();
+        rec.begin_ray(RayKind::Primary, 0, r, 1.0);
+        let recorded = two.closest(scene, r, &mut rec);
+        rec.end_ray(|| None, Vec3::ZERO);
+        let silent = two.closest(scene, r, &mut Silent);
+        assert_eq!(
+            silent.map(|h| (h.object, h.instance, h.t.to_bits())),
+            recorded.map(|h| (h.object, h.instance, h.t.to_bits())),
+            "ray {r:?}"
+        );
+        let record = rec.finish().expect("a record");
+        for step in record.steps.iter().map(|s| &s.step) {
+            if let Step::TlasNode(v) = step {
+                visits += 1;
+                assert_eq!(
+                    v.test.hit,
+                    v.action != NodeAction::Culled,
+                    "TLAS node {} on ray {r:?}: {:?}",
+                    v.node,
+                    v.test
+                );
+            }
+        }
+    }
+    assert!(
+        visits > 4 * rays.len() / 2,
+        "{visits} visits on {} rays",
+        rays.len()
+    );
+}

@@ -81,7 +81,7 @@ mod tlas;
 mod tri4;
 pub use build::shape_bounds;
 use leaf::{AnyHit, ClosestHit, LaneHit, LeafTest};
-use ray_box::FastRay;
+pub(crate) use ray_box::FastRay;
 pub use tlas::Tlas;
 use tri4::{NO_PACK, Tri4};
 

@@ -10,7 +10,7 @@ use glam::{BVec3A, Vec3, Vec3A};
 /// [`crate::shapes::aabb::slab_robust`] (difference, product by the reciprocal, selection of entry
 /// and exit by the reciprocal's sign bit, exit × (1 + 2γ₃), NaN-ignoring max/min), so every
 /// traversal decision agrees with the recorded scalar test.
-pub(super) struct FastRay {
+pub(crate) struct FastRay {
     origin: Vec3A,
     inv: Vec3A,
     negative: BVec3A,
@@ -20,7 +20,7 @@ pub(super) struct FastRay {
 
 impl FastRay {
     #[inline(always)]
-    pub(super) fn new(ray: &Ray<f32>, inv: Vec3) -> FastRay {
+    pub(crate) fn new(ray: &Ray<f32>, inv: Vec3) -> FastRay {
         let bits = Vec3A::from(inv).is_negative_bitmask();
         FastRay {
             origin: Vec3A::from(ray.origin),
@@ -39,7 +39,7 @@ impl FastRay {
     /// origin and every box are finite (a difference, finite or overflowed to ±∞, times a
     /// finite non-zero reciprocal is never NaN).
     #[inline(always)]
-    pub(super) fn interval<const ORDERED: bool>(&self, node: &Node, t_max: Vec3A) -> (f32, f32) {
+    pub(crate) fn interval<const ORDERED: bool>(&self, node: &Node, t_max: Vec3A) -> (f32, f32) {
         let t0 = (node.min - self.origin) * self.inv;
         let t1 = (node.max - self.origin) * self.inv;
         let (entry, exit) = if ORDERED {
