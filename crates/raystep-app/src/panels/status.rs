@@ -102,7 +102,7 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
         } else if let Some(r) = &state.rendered {
             let spp = state.settings.spp;
             ui.label(format!(
-                "rendered{} in {:.2} s (build {:.0} ms, trace {:.0} ms, {:.2} Mrays/s, {} threads)",
+                "rendered{} in {:.2} s (build {:.0} ms, trace {:.0} ms, {:.2} Mrays/s, {} thread{})",
                 if spp > 1 {
                     format!(" {spp} samples per pixel")
                 } else {
@@ -112,7 +112,8 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
                 r.build.as_secs_f64() * 1e3,
                 r.output.stats.trace.as_secs_f64() * 1e3,
                 r.output.stats.mrays_per_s(),
-                r.output.stats.threads
+                r.output.stats.threads,
+                if r.output.stats.threads == 1 { "" } else { "s" }
             ));
         }
         if let Some(p) = render.hovered {
