@@ -6,11 +6,12 @@
 //! last band the pass's output is the one [`super::render`] makes, bit for bit.
 
 use super::CANCELLED;
-use super::cpu::{Pass, RenderOptions, RenderOutput, TILE, Tally, TileJob, tile_grid, tile_rows};
+use super::cpu::{
+    Pass, PassImage, RenderOptions, RenderOutput, TILE, TileJob, tile_grid, tile_rows,
+};
 use crate::accel::Accelerator;
 use crate::platform::{Duration, Instant};
 use crate::trace::Tracer;
-use glam::Vec3;
 
 /// How much of the image one band traces.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,19 +26,10 @@ pub enum BandSize {
 /// One pass of a render traced band by band ([`BandPass::next_band`]), into an image of its own.
 #[derive(Debug)]
 pub(super) struct BandPass {
-    /// The samples traced and the running sums they add to (None: every sample, the pixels
-    /// their means, as [`super::render`] without a pass).
-    pass: Option<Pass>,
-    width: u32,
-    height: u32,
-    /// The pass's image (zero where not yet traced).
-    pixels: Vec<Vec3>,
-    /// The pass's accelerator visits per pixel, when counted.
-    node_visits: Option<Vec<u32>>,
+    /// The pass's image and the figures of its tiles.
+    image: PassImage,
     /// Tiles traced so far: the next band starts at this one, in the image's tile order.
     next: usize,
-    /// The traced tiles' figures.
-    tally: Tally,
     /// Time spent tracing, over the bands.
     trace: Duration,
 }
@@ -45,15 +37,9 @@ pub(super) struct BandPass {
 impl BandPass {
     /// A pass over a `width` × `height` image, nothing traced yet.
     pub(super) fn new(width: u32, height: u32, pass: Option<Pass>, count: bool) -> BandPass {
-        let n = width as usize * height as usize;
         BandPass {
-            pass,
-            width,
-            height,
-            pixels: vec![Vec3::ZERO; n],
-            node_visits: count.then(|| vec![0; n]),
+            image: PassImage::new(width, height, pass, count),
             next: 0,
-            tally: Tally::default(),
             trace: Duration::ZERO,
         }
     }
@@ -71,8 +57,8 @@ impl BandPass {
     ) -> Result<bool, String> {
         let job = TileJob {
             tracer,
-            pass: self.pass.as_ref(),
-            width: self.width,
+            pass: self.image.pass.as_ref(),
+            width: self.image.width,
             count: opts.count,
             live: opts.live.as_deref(),
             bar: None,
@@ -80,8 +66,8 @@ impl BandPass {
         if job.cancelled() {
             return Err(CANCELLED.into());
         }
-        let (across, tiles) = tile_grid(self.width, self.height);
-        let (width, height) = (self.width as usize, self.height);
+        let (across, tiles) = tile_grid(self.image.width, self.image.height);
+        let (width, height) = (self.image.width as usize, self.image.height);
         let start = Instant::now();
         let mut traced = 0;
         let band_done = |traced: usize| match size {
@@ -93,29 +79,29 @@ impl BandPass {
             let (row, first) = (self.next / across, self.next % across);
             let y0 = row as u32 * TILE;
             let rows = y0 as usize * width..(y0 + TILE).min(height) as usize * width;
-            let Some(pixels) = self.pixels.get_mut(rows.clone()) else {
+            let Some(pixels) = self.image.pixels.get_mut(rows.clone()) else {
                 return Err("internal error: a band past the image's last row".into());
             };
-            let mut visits = match self.node_visits.as_deref_mut() {
+            let mut visits = match self.image.node_visits.as_deref_mut() {
                 None => None,
                 Some(v) => Some(
                     tile_rows(
                         v.get_mut(rows)
                             .ok_or("internal error: a band past the image's last row")?,
-                        self.width,
+                        self.image.width,
                     )
                     .into_iter()
                     .map(|(_, rows)| rows),
                 ),
             };
-            let row_tiles = tile_rows(pixels, self.width)
+            let row_tiles = tile_rows(pixels, self.image.width)
                 .into_iter()
                 .map(|(t, rows)| (t, rows, visits.as_mut().and_then(|v| v.next())));
             for (mut t, rows, visit_rows) in row_tiles.skip(first) {
                 // `tile_rows` saw the tile row alone: its y0 is 0.
                 t.y0 += y0;
                 let done = job.trace((t, rows, visit_rows));
-                self.tally.add(&done);
+                self.image.tally.add(&done);
                 self.next += 1;
                 traced += 1;
                 if band_done(traced) {
@@ -132,19 +118,6 @@ impl BandPass {
 
     /// The finished pass, as [`super::render`] returns it (one thread).
     pub(super) fn output(self) -> Result<RenderOutput, String> {
-        let n = self.pixels.len();
-        if self.tally.written != n {
-            return Err(format!(
-                "internal error: the bands wrote {} of the image's {n} pixels",
-                self.tally.written
-            ));
-        }
-        Ok(RenderOutput {
-            width: self.width,
-            height: self.height,
-            pixels: self.pixels,
-            node_visits: self.node_visits,
-            stats: self.tally.stats(self.trace, 1),
-        })
+        self.image.output("the bands", self.trace, 1)
     }
 }

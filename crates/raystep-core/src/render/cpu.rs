@@ -262,6 +262,62 @@ impl Tally {
     }
 }
 
+/// The image of one pass traced piece by piece (in bands on the calling thread, or gathered
+/// from workers): its pixels and visit counts as the tiles fill them, and their figures.
+#[derive(Debug)]
+pub(super) struct PassImage {
+    /// The samples traced and the running sums they add to (None: every sample, the pixels
+    /// their means, as [`render`] without a pass).
+    pub(super) pass: Option<Pass>,
+    pub(super) width: u32,
+    pub(super) height: u32,
+    /// The pass's image (zero where no tile is in yet).
+    pub(super) pixels: Vec<Vec3>,
+    /// The pass's accelerator visits per pixel, when counted.
+    pub(super) node_visits: Option<Vec<u32>>,
+    /// The figures of the tiles in so far.
+    pub(super) tally: Tally,
+}
+
+impl PassImage {
+    /// A `width` × `height` image, no tile in yet.
+    pub(super) fn new(width: u32, height: u32, pass: Option<Pass>, count: bool) -> PassImage {
+        let n = width as usize * height as usize;
+        PassImage {
+            pass,
+            width,
+            height,
+            pixels: vec![Vec3::ZERO; n],
+            node_visits: count.then(|| vec![0; n]),
+            tally: Tally::default(),
+        }
+    }
+
+    /// The finished pass, as [`render`] returns it, traced in `trace` on `threads` threads;
+    /// an internal error naming `by` (who wrote the pixels) if some pixel was never written.
+    pub(super) fn output(
+        self,
+        by: &str,
+        trace: Duration,
+        threads: usize,
+    ) -> Result<RenderOutput, String> {
+        let n = self.pixels.len();
+        if self.tally.written != n {
+            return Err(format!(
+                "internal error: {by} wrote {} of the image's {n} pixels",
+                self.tally.written
+            ));
+        }
+        Ok(RenderOutput {
+            width: self.width,
+            height: self.height,
+            pixels: self.pixels,
+            node_visits: self.node_visits,
+            stats: self.tally.stats(trace, threads),
+        })
+    }
+}
+
 /// A tile's top-left pixel (its size is `TILE`, less at the right and bottom edges).
 pub(super) struct Tile {
     pub(super) x0: u32,

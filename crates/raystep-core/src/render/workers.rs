@@ -13,7 +13,7 @@
 
 use super::CANCELLED;
 use super::cpu::{
-    Pass, RenderOptions, RenderOutput, TILE, Tally, Tile, TileDone, TileJob, tile_grid,
+    Pass, PassImage, RenderOptions, RenderOutput, TILE, Tile, TileDone, TileJob, tile_grid,
 };
 use crate::platform::{Duration, Instant};
 use crate::trace::PreparedScene;
@@ -37,18 +37,10 @@ struct TracedTile {
 /// One pass of a render traced by workers ([`WorkerPass::gather`]), into an image of its own.
 #[derive(Debug)]
 pub(super) struct WorkerPass {
-    /// The samples traced and the running sums they add to (None: every sample).
-    pass: Option<Pass>,
-    width: u32,
-    height: u32,
-    /// The pass's image (zero where no tile has arrived yet).
-    pixels: Vec<Vec3>,
-    /// The pass's accelerator visits per pixel, when counted.
-    node_visits: Option<Vec<u32>>,
+    /// The pass's image and the figures of the tiles that have arrived.
+    image: PassImage,
     /// The tiles that have arrived.
     arrived: usize,
-    /// The arrived tiles' figures.
-    tally: Tally,
     /// The tiles as the workers send them, once they have been started.
     tiles: Option<Receiver<TracedTile>>,
     /// When the workers were started.
@@ -66,15 +58,9 @@ impl WorkerPass {
         count: bool,
         workers: usize,
     ) -> WorkerPass {
-        let n = width as usize * height as usize;
         WorkerPass {
-            pass,
-            width,
-            height,
-            pixels: vec![Vec3::ZERO; n],
-            node_visits: count.then(|| vec![0; n]),
+            image: PassImage::new(width, height, pass, count),
             arrived: 0,
-            tally: Tally::default(),
             tiles: None,
             start: None,
             workers: workers.max(1),
@@ -83,7 +69,7 @@ impl WorkerPass {
 
     /// The image's tiles across and in all.
     fn grid(&self) -> (usize, usize) {
-        tile_grid(self.width, self.height)
+        tile_grid(self.image.width, self.image.height)
     }
 
     /// Starts the workers on the pass's tiles (the first call), then takes in the tiles
@@ -147,9 +133,9 @@ impl WorkerPass {
         for _ in 0..self.workers {
             let worker = Worker {
                 prepared: Arc::clone(prepared),
-                pass: self.pass.clone(),
-                width: self.width,
-                height: self.height,
+                pass: self.image.pass.clone(),
+                width: self.image.width,
+                height: self.image.height,
                 count: opts.count,
                 live: opts.live.clone(),
                 next: Arc::clone(&next),
@@ -163,14 +149,14 @@ impl WorkerPass {
     /// Copies an arrived tile into the image, adds its figures and shows it.
     fn take_in(&mut self, t: TracedTile, opts: &RenderOptions) {
         let tile = tile_at(t.index, self.grid().0);
-        let tile_width = tile_size(tile.x0, self.width);
-        let width = self.width as usize;
+        let tile_width = tile_size(tile.x0, self.image.width);
+        let width = self.image.width as usize;
         for (dy, row) in t.pixels.chunks(tile_width.max(1)).enumerate() {
             let start = (tile.y0 as usize + dy) * width + tile.x0 as usize;
-            if let Some(dst) = self.pixels.get_mut(start..start + row.len()) {
+            if let Some(dst) = self.image.pixels.get_mut(start..start + row.len()) {
                 dst.copy_from_slice(row);
             }
-            if let (Some(all), Some(v)) = (self.node_visits.as_mut(), t.visits.as_ref())
+            if let (Some(all), Some(v)) = (self.image.node_visits.as_mut(), t.visits.as_ref())
                 && let (Some(dst), Some(src)) = (
                     all.get_mut(start..start + row.len()),
                     v.get(dy * tile_width..dy * tile_width + row.len()),
@@ -179,10 +165,11 @@ impl WorkerPass {
                 dst.copy_from_slice(src);
             }
         }
-        self.tally.add(&t.done);
+        self.image.tally.add(&t.done);
         self.arrived += 1;
         if let Some(live) = opts.live.as_deref() {
             let scale = self
+                .image
                 .pass
                 .as_ref()
                 .map_or(1.0, |p| 1.0 / p.samples.end.max(1) as f32);
@@ -191,28 +178,15 @@ impl WorkerPass {
                 .iter()
                 .map(|&c| super::cpu::srgba(c * scale))
                 .collect();
-            let weight = self.pass.as_ref().map_or(1, |p| p.samples.len());
-            super::cpu::publish_tile(live, &tile, self.width, tile_width, &shown, weight);
+            let weight = self.image.pass.as_ref().map_or(1, |p| p.samples.len());
+            super::cpu::publish_tile(live, &tile, self.image.width, tile_width, &shown, weight);
         }
     }
 
     /// The finished pass, as [`super::render`] returns it (the threads: the workers).
     pub(super) fn output(self) -> Result<RenderOutput, String> {
-        let n = self.pixels.len();
-        if self.tally.written != n {
-            return Err(format!(
-                "internal error: the workers wrote {} of the image's {n} pixels",
-                self.tally.written
-            ));
-        }
-        let trace = self.start.map_or(Duration::ZERO, |s| s.elapsed());
-        Ok(RenderOutput {
-            width: self.width,
-            height: self.height,
-            pixels: self.pixels,
-            node_visits: self.node_visits,
-            stats: self.tally.stats(trace, self.workers),
-        })
+        let trace = self.start.map_or(Duration::ZERO, |st| st.elapsed());
+        self.image.output("the workers", trace, self.workers)
     }
 }
 
