@@ -135,7 +135,8 @@ pub fn mc(scenes: &[Scene], seeds: usize) -> Result<(), String> {
     }
     crate::io::outln!(
         "Monte Carlo against Mitsuba 3 (scalar_rgb): each scene path-traced at {WIDTH} pixels wide, \
-         {SPP} spp, {seeds} renders with seeds 0–{} (other random numbers), one thread each; MSE \
+         {SPP} spp, {seeds} renders with seeds 0–{} (other random numbers), one thread each, raystep \
+         counting nothing (as Mitsuba; `raystep render` counts rays and tests for its figures); MSE \
          against Mitsuba at {REFERENCE_SPP} spp (every core); time per sample = render time / \
          (pixels × spp); efficiency = 1 / (MSE × time)",
         seeds - 1
@@ -169,7 +170,7 @@ pub fn mc(scenes: &[Scene], seeds: usize) -> Result<(), String> {
         };
         let (mut r, mut m) = (Runs::default(), Runs::default());
         for seed in 0..seeds as u32 {
-            let (t, px, _) = ours(&s, SPP, seed, 1)?;
+            let (t, px, _) = ours(&s, SPP, seed, 1, false)?;
             r.add(t, &px, &reference);
             let (t, px) = mitsuba(&s, SPP, seed, 1)?;
             m.add(t, &px, &reference);
