@@ -324,9 +324,10 @@ pub(crate) fn avx2_fma() -> bool {
 
 static BASELINE_ONLY: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// Makes every BVH built afterwards run the baseline build only (`true`) or the fastest the CPU
-/// allows (`false`, the default) — for the tests that compare the two and for benchmarks.
-/// Process-wide; a tree keeps the choice made when it was built.
+/// Makes every BVH built afterwards, and every brute-force query from now on, run the baseline
+/// build only (`true`) or the fastest the CPU allows (`false`, the default) — for the tests that
+/// compare the two and for benchmarks. Process-wide; a tree keeps the choice made when it was
+/// built.
 pub fn set_baseline_only(baseline: bool) {
     BASELINE_ONLY.store(baseline, std::sync::atomic::Ordering::Relaxed);
 }

@@ -726,25 +726,31 @@ fn a_grid_of_many_large_primitives_stays_within_its_reference_budget() {
     assert!(hits > 20, "{hits}");
 }
 
-/// The BVH's AVX2 + FMA build and its baseline x86-64 build render the same image, bit for bit,
-/// with either triangle test (on a CPU without AVX2 and FMA both runs take the baseline build
-/// and the test still holds, trivially).
+/// The AVX2 + FMA builds of the BVH's queries and of the brute-force loop render the same image
+/// as their baseline x86-64 builds, bit for bit, with either triangle test (on a CPU without
+/// AVX2 and FMA both runs take the baseline build and the test still holds, trivially). The
+/// brute-force runs fail if the loop's two builds round a triangle test differently.
 #[test]
 fn wide_instructions_render_what_the_baseline_build_renders() {
     use raystep_core::shapes::triangle::TriangleMethod;
     for mut scene in small_scenes() {
         for method in [TriangleMethod::Watertight, TriangleMethod::MollerTrumbore] {
             scene.settings.triangle_method = method;
-            raystep_core::accel::set_baseline_only(true);
-            let baseline = render_with(&scene, AccelChoice::Bvh);
-            raystep_core::accel::set_baseline_only(false);
-            let wide = render_with(&scene, AccelChoice::Bvh);
-            let diff = baseline.iter().zip(&wide).filter(|(x, y)| x != y).count();
-            assert_eq!(
-                diff, 0,
-                "{method:?} on \"{}\": {diff} pixels differ",
-                scene.name
-            );
+            // Brute force where it takes a moment (its loop is the same on every scene).
+            let brute = scene.objects.len() <= 300;
+            let accels = [AccelChoice::Bvh, AccelChoice::None];
+            for &accel in accels.iter().take(if brute { 2 } else { 1 }) {
+                raystep_core::accel::set_baseline_only(true);
+                let baseline = render_with(&scene, accel);
+                raystep_core::accel::set_baseline_only(false);
+                let wide = render_with(&scene, accel);
+                let diff = baseline.iter().zip(&wide).filter(|(x, y)| x != y).count();
+                assert_eq!(
+                    diff, 0,
+                    "{method:?} with {accel:?} on \"{}\": {diff} pixels differ",
+                    scene.name
+                );
+            }
         }
     }
 }
