@@ -81,8 +81,9 @@ pub enum Section {
     /// Monte Carlo against Mitsuba 3 (`scalar_rgb`, via `python3`), one thread each: every
     /// Monte Carlo scene given (the shipped ones by default) path-traced at 96 pixels wide, 64
     /// spp, rendered `--reps` times (at least 2) with `[render] seed` 0, 1, … (other random
-    /// numbers): time per sample, MSE against Mitsuba at 1024 spp, efficiency 1 / (MSE × time),
-    /// the ratios, and where raystep's time goes.
+    /// numbers), raystep keeping no statistics (Mitsuba keeps none): time per sample, MSE
+    /// against Mitsuba at 1024 spp, efficiency 1 / (MSE × time), the ratios, and where
+    /// raystep's time goes.
     Mc,
     /// Everything.
     All,
