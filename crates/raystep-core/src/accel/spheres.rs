@@ -288,9 +288,9 @@ impl SphereTree {
     }
 }
 
-impl Accelerator for SphereTree {
-    #[inline]
-    fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+impl SphereTree {
+    #[inline(always)]
+    fn closest_in<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         let mut r = *ray;
         let mut best = None;
         closest_of(scene, &self.planes, &mut r, &mut best, obs);
@@ -301,8 +301,8 @@ impl Accelerator for SphereTree {
         best
     }
 
-    #[inline]
-    fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+    #[inline(always)]
+    fn any_in<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
         if let Some(h) = any_of(scene, &self.planes, ray, obs) {
             return Some(h);
         }
@@ -312,6 +312,20 @@ impl Accelerator for SphereTree {
             test_any(scene, id, r, &mut found, obs)
         });
         found
+    }
+}
+
+two_builds!(SphereTree);
+
+impl Accelerator for SphereTree {
+    #[inline]
+    fn closest<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        self.closest_fastest(scene, ray, obs)
+    }
+
+    #[inline]
+    fn any<O: Observer>(&self, scene: &Scene, ray: &Ray<f32>, obs: &mut O) -> Option<Hit> {
+        self.any_fastest(scene, ray, obs)
     }
 
     fn name(&self) -> &'static str {

@@ -726,10 +726,10 @@ fn a_grid_of_many_large_primitives_stays_within_its_reference_budget() {
     assert!(hits > 20, "{hits}");
 }
 
-/// The AVX2 + FMA builds of the BVH's queries and of the brute-force loop render the same image
-/// as their baseline x86-64 builds, bit for bit, with either triangle test (on a CPU without
-/// AVX2 and FMA both runs take the baseline build and the test still holds, trivially). The
-/// brute-force runs fail if the loop's two builds round a triangle test differently.
+/// The AVX2 + FMA build of the queries of the BVH, the bounding spheres and brute force (the
+/// grid has only the baseline build) renders the same image as its baseline x86-64 build, bit for bit, with either
+/// triangle test (on a CPU without AVX2 and FMA both runs take the baseline build and the test
+/// still holds, trivially). It fails if an accelerator's two builds round a test differently.
 #[test]
 fn wide_instructions_render_what_the_baseline_build_renders() {
     use raystep_core::shapes::triangle::TriangleMethod;
@@ -738,8 +738,8 @@ fn wide_instructions_render_what_the_baseline_build_renders() {
             scene.settings.triangle_method = method;
             // Brute force where it takes a moment (its loop is the same on every scene).
             let brute = scene.objects.len() <= 300;
-            let accels = [AccelChoice::Bvh, AccelChoice::None];
-            for &accel in accels.iter().take(if brute { 2 } else { 1 }) {
+            let accels = [AccelChoice::Bvh, AccelChoice::Spheres, AccelChoice::None];
+            for &accel in accels.iter().take(if brute { 3 } else { 2 }) {
                 raystep_core::accel::set_baseline_only(true);
                 let baseline = render_with(&scene, accel);
                 raystep_core::accel::set_baseline_only(false);
