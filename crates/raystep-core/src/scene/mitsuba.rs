@@ -3,7 +3,12 @@
 //!
 //! What maps: the perspective camera (vertical field of view, a box pixel filter), the path
 //! integrator (Mitsuba's `max_depth` is raystep's plus one: Mitsuba counts path segments, raystep
-//! bounces), triangles and meshes (as OBJ files of their triangles, face normals, so their
+//! bounces; so is its `rr_depth`, so that Russian roulette first gambles on the same vertex of
+//! the path (Mitsuba plays when its depth, counted from 0 at the camera ray's hit and raised
+//! before the game, is at least `rr_depth`; raystep when its bounce count plus one exceeds its
+//! own): Mitsuba's default, 5, would spare every path one vertex more than raystep's default 3.
+//! The survival probability still differs: Mitsuba's is capped at 0.95 and scaled by η²),
+//! triangles and meshes (as OBJ files of their triangles, face normals, so their
 //! winding decides an area light's side as in raystep; a smooth mesh with its vertex normals,
 //! which both renderers interpolate), spheres, the four BSDFs (`diffuse`;
 //! `mirror` as a `conductor` with no Fresnel and the colour as its reflectance; `glass` as a
@@ -84,8 +89,9 @@ pub fn to_mitsuba(scene: &Scene, spp: u32, prefix: &str) -> Result<MitsubaScene,
     let _ = writeln!(x, "<scene version=\"3.0.0\">");
     let _ = writeln!(
         x,
-        "  <integrator type=\"path\"><integer name=\"max_depth\" value=\"{}\"/></integrator>",
-        s.max_depth + 1
+        "  <integrator type=\"path\"><integer name=\"max_depth\" value=\"{}\"/><integer name=\"rr_depth\" value=\"{}\"/></integrator>",
+        s.max_depth + 1,
+        s.rr_depth + 1
     );
     let _ = writeln!(
         x,

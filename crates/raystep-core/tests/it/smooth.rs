@@ -362,3 +362,21 @@ fn the_mitsuba_export_carries_vertex_normals_and_only_where_the_scene_has_them()
         shapes[1].contains("hand-g1.obj") && shapes[1].contains("\"face_normals\" value=\"true\"")
     );
 }
+
+/// The export's path integrator: Mitsuba 3's `max_depth` and `rr_depth` are raystep's plus one.
+/// By hand, from Mitsuba 3's `src/integrators/path.cpp`: its depth is 0 at the camera ray's
+/// hit and is raised before the roulette, which plays when depth ≥ `rr_depth`, and the path goes
+/// on while depth + 1 < `max_depth`; raystep plays after `b` bounces when b + 1 > `rr_depth` and
+/// stops at `max_depth` bounces. `max_depth = 6`, `rr_depth = 2` is Mitsuba's 7 and 3.
+#[test]
+fn the_mitsuba_export_plays_russian_roulette_at_the_same_depth() {
+    let text = format!("[render]\nintegrator = \"path\"\nmax_depth = 6\nrr_depth = 2\n{HAND}");
+    let s = load_str(&text, "hand.toml", None).unwrap();
+    assert_eq!((s.settings.max_depth, s.settings.rr_depth), (6, 2));
+    let m = raystep_core::scene::mitsuba::to_mitsuba(&s, 4, "hand").unwrap();
+    let integrator = m.xml.lines().find(|l| l.contains("<integrator")).unwrap();
+    assert_eq!(
+        integrator.trim(),
+        "<integrator type=\"path\"><integer name=\"max_depth\" value=\"7\"/><integer name=\"rr_depth\" value=\"3\"/></integrator>"
+    );
+}
