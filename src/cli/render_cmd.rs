@@ -32,6 +32,12 @@ pub struct RenderArgs {
     /// (the method of `raystep bench --section stages`; adds a few seconds).
     #[arg(long, conflicts_with = "gpu")]
     pub profile: bool,
+    /// Count nothing: no rays by kind, primitive tests or box visits (the summary leaves them
+    /// out). The render the app and this command count is the same image, bit for bit; counting
+    /// costs small scenes a few per cent of their time (the Cornell box 6.5 % of its
+    /// instructions). This is the render `raystep bench --section mc` times against Mitsuba.
+    #[arg(long, conflicts_with_all = ["heatmap", "gpu"])]
+    pub no_counts: bool,
     /// Render on the GPU (wgpu, offscreen) with the WGSL tracer generated for the scene.
     #[arg(long)]
     pub gpu: bool,
@@ -74,7 +80,7 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     let opts = RenderOptions {
         threads: args.threads.map(|t| t as usize),
         progress: true,
-        count: true,
+        count: !args.no_counts,
         ..Default::default()
     };
     // A Monte Carlo render accumulates in passes of 1, 1, 2, 4, … samples per pixel (the same
@@ -121,7 +127,6 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
     }
     let s = &out.stats;
     let c = &s.counts;
-    let rays = c.rays().max(1) as f64;
     let accel_desc = match &accel {
         SceneAccel::Brute(_) => "brute force (every primitive for every ray)".to_string(),
         SceneAccel::Bvh(b) => format!("BVH ({} nodes, depth {})", b.nodes.len(), b.max_depth),
@@ -164,32 +169,11 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         build.as_secs_f64() * 1e3,
         s.trace.as_secs_f64() * 1e3
     );
-    crate::io::outln!(
-        "  rays     {} primary, {} shadow, {} reflection, {} refraction{} ({} in all)",
-        c.primary,
-        c.shadow,
-        c.reflection,
-        c.refraction,
-        if c.scattered > 0 {
-            format!(", {} diffuse or glossy", c.scattered)
-        } else {
-            String::new()
-        },
-        c.rays()
-    );
-    let visits = match accel {
-        SceneAccel::Brute(_) => "",
-        SceneAccel::Bvh(_) => " and {} box tests",
-        SceneAccel::Spheres(_) => " and {} bounding-sphere tests",
-        SceneAccel::Grid(_) => " and {} cells walked",
-        SceneAccel::TwoLevel(_) => " and {} node visits",
+    if args.no_counts {
+        crate::io::outln!("  rays     not counted (--no-counts)");
+    } else {
+        print_counts(c, accel, s);
     }
-    .replace("{}", &format!("{:.1}", c.node_visits as f64 / rays));
-    crate::io::outln!(
-        "  tests    {:.1} primitive tests{visits} per ray",
-        c.prim_tests as f64 / rays,
-    );
-    crate::io::outln!("  speed    {:.2} Mrays/s", s.mrays_per_s());
     if let Some(([x, y], k)) = s.first_bad_sample {
         crate::io::outln!(
             "  warning  {} sample{} had a NaN or infinite channel and were left out of their pixels; the first: pixel {x},{y}, sample {k} (raystep trace {} --pixel {x},{y} --sample {k})",
@@ -224,6 +208,37 @@ pub fn run(args: &RenderArgs) -> Result<(), String> {
         crate::io::outln!("wrote {}", super::full_path(h));
     }
     Ok(())
+}
+
+/// The summary's counted lines: rays by kind, tests and visits per ray, and the rate.
+fn print_counts(c: &crate::record::Counter, accel: &SceneAccel, s: &crate::render::RenderStats) {
+    let rays = c.rays().max(1) as f64;
+    crate::io::outln!(
+        "  rays     {} primary, {} shadow, {} reflection, {} refraction{} ({} in all)",
+        c.primary,
+        c.shadow,
+        c.reflection,
+        c.refraction,
+        if c.scattered > 0 {
+            format!(", {} diffuse or glossy", c.scattered)
+        } else {
+            String::new()
+        },
+        c.rays()
+    );
+    let visits = match accel {
+        SceneAccel::Brute(_) => "",
+        SceneAccel::Bvh(_) => " and {} box tests",
+        SceneAccel::Spheres(_) => " and {} bounding-sphere tests",
+        SceneAccel::Grid(_) => " and {} cells walked",
+        SceneAccel::TwoLevel(_) => " and {} node visits",
+    }
+    .replace("{}", &format!("{:.1}", c.node_visits as f64 / rays));
+    crate::io::outln!(
+        "  tests    {:.1} primitive tests{visits} per ray",
+        c.prim_tests as f64 / rays,
+    );
+    crate::io::outln!("  speed    {:.2} Mrays/s", s.mrays_per_s());
 }
 
 /// Frames timed for `render --gpu` and `compare` (after one warm-up frame); the median is shown.

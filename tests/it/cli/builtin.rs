@@ -234,6 +234,84 @@ fn render_profile_prints_where_the_time_goes() {
     }
 }
 
+/// `render --no-counts` writes the counted render's image byte for byte (the Cornell box,
+/// path-traced at 32×32, 4 samples per pixel, as an OpenEXR file of the render's own floats),
+/// and its summary says that nothing was counted instead of printing zeros; with `--heatmap`,
+/// which needs the counts, it is refused before anything is rendered.
+#[test]
+fn render_no_counts_renders_the_same_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/cornell-area.toml"),
+    )
+    .unwrap();
+    assert_eq!(text.matches("width = 256\nheight = 256").count(), 1);
+    let scene = dir.path().join("box.toml");
+    std::fs::write(
+        &scene,
+        text.replace("width = 256\nheight = 256", "width = 32\nheight = 32"),
+    )
+    .unwrap();
+    let run = |out: &str, more: &[&str]| {
+        let mut args = vec![
+            "render".to_string(),
+            scene.display().to_string(),
+            "-o".into(),
+            dir.path().join(out).display().to_string(),
+        ];
+        args.extend(
+            ["--spp", "4", "--threads", "2"]
+                .iter()
+                .chain(more)
+                .map(|a| a.to_string()),
+        );
+        let out = raystep()
+            .args(&args)
+            .assert()
+            .success()
+            .get_output()
+            .clone();
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let counted = run("counted.exr", &[]);
+    let silent = run("silent.exr", &["--no-counts"]);
+    assert!(
+        counted.contains(" shadow, ") && counted.contains("Mrays/s"),
+        "{counted}"
+    );
+    assert!(silent.contains("not counted (--no-counts)"), "{silent}");
+    assert!(
+        !silent.contains("Mrays/s") && !silent.contains(" shadow, "),
+        "{silent}"
+    );
+    let read = |f: &str| std::fs::read(dir.path().join(f)).unwrap();
+    assert!(
+        read("counted.exr") == read("silent.exr"),
+        "the two images differ"
+    );
+    let err = raystep()
+        .args([
+            "render",
+            &scene.display().to_string(),
+            "--no-counts",
+            "--heatmap",
+        ])
+        .arg(dir.path().join("h.png"))
+        .arg("-o")
+        .arg(dir.path().join("x.png"))
+        .assert()
+        .failure()
+        .get_output()
+        .stderr
+        .clone();
+    let err = String::from_utf8(err).unwrap();
+    assert!(
+        err.contains("--heatmap") && err.contains("--no-counts"),
+        "{err}"
+    );
+    assert!(!dir.path().join("x.png").exists() && !dir.path().join("h.png").exists());
+}
+
 /// A reader that closes the pipe early (`raystep render … | head -1`) ends the command quietly,
 /// as it ends `cat`: no panic message (Rust's `println!` panics on a closed pipe unless the
 /// default SIGPIPE action is restored). The pipe is closed before the command writes a line,
