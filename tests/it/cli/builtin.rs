@@ -252,29 +252,12 @@ fn render_no_counts_renders_the_same_image() {
         text.replace("width = 256\nheight = 256", "width = 32\nheight = 32"),
     )
     .unwrap();
-    let run = |out: &str, more: &[&str]| {
-        let mut args = vec![
-            "render".to_string(),
-            scene.display().to_string(),
-            "-o".into(),
-            dir.path().join(out).display().to_string(),
-        ];
-        args.extend(
-            ["--spp", "4", "--threads", "2"]
-                .iter()
-                .chain(more)
-                .map(|a| a.to_string()),
-        );
-        let out = raystep()
-            .args(&args)
-            .assert()
-            .success()
-            .get_output()
-            .clone();
-        String::from_utf8(out.stdout).unwrap()
+    let run = |out: &str, more: &str| {
+        let image = dir.path().join(out);
+        ok(&Cli::with("render @ -o @ --spp 4 --threads 2", &[&scene, &image]).and(more))
     };
-    let counted = run("counted.exr", &[]);
-    let silent = run("silent.exr", &["--no-counts"]);
+    let counted = run("counted.exr", "");
+    let silent = run("silent.exr", "--no-counts");
     assert!(
         counted.contains(" shadow, ") && counted.contains("Mrays/s"),
         "{counted}"
@@ -289,27 +272,15 @@ fn render_no_counts_renders_the_same_image() {
         read("counted.exr") == read("silent.exr"),
         "the two images differ"
     );
-    let err = raystep()
-        .args([
-            "render",
-            &scene.display().to_string(),
-            "--no-counts",
-            "--heatmap",
-        ])
-        .arg(dir.path().join("h.png"))
-        .arg("-o")
-        .arg(dir.path().join("x.png"))
-        .assert()
-        .failure()
-        .get_output()
-        .stderr
-        .clone();
-    let err = String::from_utf8(err).unwrap();
-    assert!(
-        err.contains("--heatmap") && err.contains("--no-counts"),
-        "{err}"
+    let (heat, image) = (dir.path().join("h.png"), dir.path().join("x.png"));
+    fails(
+        &Cli::with(
+            "render @ --no-counts --heatmap @ -o @",
+            &[&scene, &heat, &image],
+        ),
+        &["--heatmap", "--no-counts"],
     );
-    assert!(!dir.path().join("x.png").exists() && !dir.path().join("h.png").exists());
+    assert!(!image.exists() && !heat.exists());
 }
 
 /// A reader that closes the pipe early (`raystep render … | head -1`) ends the command quietly,
