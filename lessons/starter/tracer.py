@@ -213,16 +213,22 @@ def trace(scene, origin, direction, kind, depth):
 
 def sample_offset(render, x, y, sample):
     """Where in pixel (x, y) sample `sample` lies: with spp > 1, a jittered point in its own
-    cell of a grid of ceil(sqrt(spp)) columns (raystep's antialiasing, lesson 10)."""
+    cell of a grid of ceil(sqrt(spp)) columns (raystep's antialiasing, lesson 10). When the
+    rows do not hold spp cells exactly, each row is as tall as its cells' share of the pixel
+    and the last row's cells are wider, so that every cell has the same area."""
     spp, seed = render.get("spp", 1), render.get("seed", 0)
     if spp <= 1:
         return 0.5, 0.5
     cols = math.ceil(math.sqrt(spp))
     rows = -(-spp // cols)
+    cx, cy = sample % cols, sample // cols
     h1 = pcg_hash(x ^ pcg_hash(y ^ pcg_hash(sample ^ pcg_hash(seed))))
     h2 = pcg_hash(h1)
-    return ((sample % cols + (h1 >> 8) / 16777216.0) / cols,
-            (sample // cols + (h2 >> 8) / 16777216.0) / rows)
+    u1, u2 = (h1 >> 8) / 16777216.0, (h2 >> 8) / 16777216.0
+    if cols * rows == spp:
+        return (cx + u1) / cols, (cy + u2) / rows
+    width = spp - cols * (rows - 1) if cy + 1 >= rows else cols
+    return (cx + u1) / width, (cy * cols + u2 * width) / spp
 
 
 def path_camera_ray(camera, render, x, y, sample):

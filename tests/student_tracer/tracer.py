@@ -693,7 +693,8 @@ def pcg_hash(v):
 
 def sample_offset(scene, x, y, sample=0):
     """Where in pixel (x, y) the sample lies: its centre (0.5, 0.5) with one sample per pixel;
-    otherwise a jittered cell of a ⌈√spp⌉-column grid (lesson 10)."""
+    otherwise a jittered cell of a ⌈√spp⌉-column grid (lesson 10), each row as tall as its
+    cells' share when the last row is short."""
     if scene.spp <= 1:
         return (0.5, 0.5)
     cols = math.ceil(math.sqrt(scene.spp))
@@ -701,7 +702,11 @@ def sample_offset(scene, x, y, sample=0):
     cx, cy = sample % cols, sample // cols
     h1 = pcg_hash(x ^ pcg_hash(y ^ pcg_hash(sample ^ pcg_hash(scene.seed))))
     h2 = pcg_hash(h1)
-    return ((cx + (h1 >> 8) / 16777216.0) / cols, (cy + (h2 >> 8) / 16777216.0) / rows)
+    u1, u2 = (h1 >> 8) / 16777216.0, (h2 >> 8) / 16777216.0
+    if cols * rows == scene.spp:
+        return ((cx + u1) / cols, (cy + u2) / rows)
+    width = scene.spp - cols * (rows - 1) if cy + 1 >= rows else cols
+    return ((cx + u1) / width, (cy * cols + u2 * width) / scene.spp)
 
 
 def camera_ray(scene, x, y):

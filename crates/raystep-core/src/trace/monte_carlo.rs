@@ -27,7 +27,7 @@
 //! 16 + 1024·b, slot by slot ([`slot`]).
 
 use super::interaction::{Interaction, spawn_origin};
-use super::sampling::sample_offset;
+use super::sampling::{ONE_BELOW, sample_offset};
 use super::tracer::{SHADOW_EPSILON, Tracer};
 use crate::accel::{Accelerator, Hit};
 use crate::math::Ray;
@@ -153,9 +153,8 @@ impl Sampler {
     }
 }
 
-/// Stratified 2D samples: the pixel's `spp` samples share a grid of ⌈√spp⌉ columns and
-/// ⌈spp / columns⌉ rows (as the pixel jitter does, see [`sample_offset`]); sample k takes cell
-/// π(k), where π(k) = (a·k + b) mod spp is a permutation hashed from the pixel, the dimension and
+/// Stratified 2D samples: the pixel's `spp` samples share the grid of `spp` equal cells that
+/// the pixel jitter uses ([`super::sampling::grid_point`]); sample k takes cell π(k), where π(k) = (a·k + b) mod spp is a permutation hashed from the pixel, the dimension and
 /// the seed (a coprime to spp), so that a sample's cell on the light is not tied to its cell in
 /// the pixel; `jitter` (two uniforms) places the pair inside its cell.
 pub fn stratified_pair(
@@ -169,8 +168,6 @@ pub fn stratified_pair(
     if spp <= 1 {
         return jitter;
     }
-    let cols = (spp as f32).sqrt().ceil() as u32;
-    let rows = spp.div_ceil(cols);
     // The permutation's multiplier and offset, from the same hash as every other number.
     let h = |salt: u32| {
         let u = uniform(pixel, u32::MAX - salt, dimension, seed);
@@ -181,16 +178,9 @@ pub fn stratified_pair(
         a = a % spp + 1;
     }
     let cell = (u64::from(a) * u64::from(sample % spp) + u64::from(h(1))) % u64::from(spp);
-    let cell = cell as u32;
-    let (cx, cy) = (cell % cols, cell / cols);
-    [
-        ((cx as f32 + jitter[0]) / cols as f32).min(ONE_BELOW),
-        ((cy as f32 + jitter[1]) / rows as f32).min(ONE_BELOW),
-    ]
+    let [u, v] = super::sampling::grid_point(cell as u32, spp, jitter);
+    [u.min(ONE_BELOW), v.min(ONE_BELOW)]
 }
-
-/// The largest f32 below 1 (a uniform number stays in [0, 1)).
-const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
 
 fn gcd(mut a: u32, mut b: u32) -> u32 {
     while b != 0 {

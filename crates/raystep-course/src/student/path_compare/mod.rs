@@ -427,7 +427,7 @@ fn path(e: &PathExpected, es: &PathSample, ss: &PathSample, tol: &TracerToleranc
             {
                 return Some((
                     format!(
-                        "sample {k}: your camera ray's direction (normalized) is {}, raystep's is {} — sample k of a pixel is jittered in its own cell of a grid of ⌈√spp⌉ columns (see the starter kit's README)",
+                        "sample {k}: your camera ray's direction (normalized) is {}, raystep's is {} — sample k of a pixel is jittered in its own cell of a grid of ⌈√spp⌉ columns, every cell of area 1/spp (see the starter kit's README)",
                         v(unit(dd)),
                         v(unit(ed))
                     ),
