@@ -348,7 +348,7 @@ fn mitsuba_available() -> bool {
 /// groups of four renders 0.59–1.16, over two of eight 0.91–1.11 (sixteen renders a side: 1.08,
 /// no block out of line); four renders a side still gave the instanced box 2.25. At 32 samples
 /// a pixel this statistic found the pixel grid's unsampled cells (25–59 on the four boxes,
-/// before `grid_point` in `crates/raystep-core/src/trace/sampling.rs` gave every cell its share).
+/// before `grid_point` in `crates/raystep-core/src/portable/random.rs` gave every cell its share).
 fn agrees_with_mitsuba(name: &str, mut s: Scene) {
     const RENDERS: u32 = 8;
     s.camera.width = 128;

@@ -3,7 +3,8 @@
 //! (the constants below), and a change to one is a change to both.
 //!
 //! - [`random`] (`random.wgsl`): the PCG hash and the Monte Carlo integrators' random numbers,
-//!   a stateless hash of (pixel, sample, dimension, seed).
+//!   a stateless hash of (pixel, sample, dimension, seed), and the grid of equal cells the
+//!   pixel's samples and the stratified sampler's pairs are placed in.
 //! - [`math`] (`math.wgsl`, `pow.wgsl`, `atan.wgsl`): `sin`, `cos`, `exp`, `ln`, `atan2` and
 //!   `pow` from operations that
 //!   are exactly rounded everywhere (no platform `libm`, no driver `sin`).

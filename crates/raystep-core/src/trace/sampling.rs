@@ -1,6 +1,7 @@
 //! Deterministic antialiasing: jittered stratified samples seeded by (pixel, sample, seed), so a
 //! render, a trace, a GPU frame and a recorded trace agree exactly (docs/ARCHITECTURE.md, invariant 3).
 
+pub use crate::portable::random::{ONE_BELOW, grid_point};
 use crate::portable::random::{pcg_hash, unit_float};
 
 /// The position inside pixel (x, y) of sample `sample` out of `spp`, in [0, 1)².
@@ -16,43 +17,6 @@ pub fn sample_offset(x: u32, y: u32, sample: u32, spp: u32, seed: u32) -> [f32; 
     let h2 = pcg_hash(h1);
     grid_point(sample, spp, [unit_float(h1), unit_float(h2)])
 }
-
-/// Where `jitter` ∈ [0, 1)² lands in cell `k` of the grid that splits [0, 1)² into `n` cells of
-/// equal area (the pixel's samples, and the stratified sampler's squares).
-///
-/// The grid has ⌈√n⌉ columns and ⌈n / columns⌉ rows, cell k in column k mod columns and row
-/// k div columns. When that is n cells exactly (n a square, or 2, 6, 12, 20, 30 …) they are the
-/// grid's equal rectangles. Otherwise the last row holds fewer cells, m = n − columns × (rows −
-/// 1): every row is then as tall as its cells' share of the square (a full row columns / n, the
-/// last m / n) and the last row's m cells are 1 / m wide, so each cell still has area 1 / n
-/// and the cells cover the square. (Rows of equal height, as this once had, left the last row's
-/// missing cells never sampled: 4 of the 36 cells for 32 samples, a bias in every pixel with
-/// such a sample count.)
-#[inline(always)]
-pub fn grid_point(k: u32, n: u32, jitter: [f32; 2]) -> [f32; 2] {
-    let cols = (n as f32).sqrt().ceil() as u32;
-    let rows = n.div_ceil(cols);
-    let (cx, cy) = (k % cols, k / cols);
-    if cols * rows == n {
-        return [
-            (cx as f32 + jitter[0]) / cols as f32,
-            (cy as f32 + jitter[1]) / rows as f32,
-        ];
-    }
-    // The cells in this cell's row: all the columns, or the last row's m.
-    let width = if cy + 1 >= rows {
-        n - cols * (rows - 1)
-    } else {
-        cols
-    };
-    [
-        ((cx as f32 + jitter[0]) / width as f32).min(ONE_BELOW),
-        (((cy * cols) as f32 + jitter[1] * width as f32) / n as f32).min(ONE_BELOW),
-    ]
-}
-
-/// The largest f32 below 1 (a point stays in [0, 1)).
-pub const ONE_BELOW: f32 = 1.0 - f32::EPSILON / 2.0;
 
 #[cfg(test)]
 mod tests {

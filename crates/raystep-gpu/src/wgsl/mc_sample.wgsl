@@ -193,28 +193,6 @@ fn gcd_u(a0: u32, b0: u32) -> u32 {
     return a;
 }
 
-// (raygen.wgsl's `pixel_grid_point` under another name, for shaders without raygen.wgsl.)
-// Where `jitter` lands in cell `k` of the grid of `n` equal cells (crates/raystep-core/src/trace/sampling.rs
-// `grid_point`): ⌈√n⌉ columns; when the rows do not hold n cells exactly, each row is as tall as its
-// cells' share and the last row's m cells are 1/m wide.
-fn mc_grid_point(k: u32, n: u32, jitter: vec2f) -> vec2f {
-    let cols = u32(ceil(fsqrt(f32(n))));
-    let rows = (n + cols - 1u) / cols;
-    let cx = k % cols;
-    let cy = k / cols;
-    if cols * rows == n {
-        return vec2f(fdiv(f32(cx) + jitter.x, f32(cols)), fdiv(f32(cy) + jitter.y, f32(rows)));
-    }
-    var width = cols;
-    if cy + 1u >= rows {
-        width = n - cols * (rows - 1u);
-    }
-    return vec2f(
-        min(fdiv(f32(cx) + jitter.x, f32(width)), 0.9999999403953552),
-        min(fdiv(f32(cy * cols) + jitter.y * f32(width), f32(n)), 0.9999999403953552),
-    );
-}
-
 // The stratified pair of crates/raystep-core/src/trace/monte_carlo.rs `stratified_pair`.
 fn stratified_pair(pixel: vec2u, sample: u32, spp: u32, dimension: u32, seed: u32, jitter: vec2f) -> vec2f {
     if spp <= 1u {
@@ -227,6 +205,6 @@ fn stratified_pair(pixel: vec2u, sample: u32, spp: u32, dimension: u32, seed: u3
         a = a % spp + 1u;
     }
     let cell = add_mod(mul_mod(a, sample % spp, spp), h1, spp);
-    let q = mc_grid_point(cell, spp, jitter);
+    let q = grid_point(cell, spp, jitter);
     return vec2f(min(q.x, MC_ONE_BELOW), min(q.y, MC_ONE_BELOW));
 }

@@ -129,28 +129,7 @@ fn sample_offset(p: vec2u, k: u32) -> vec2f {
     }
     let h1 = pcg_hash(p.x ^ pcg_hash(p.y ^ pcg_hash(k ^ pcg_hash(params.seed))));
     let h2 = pcg_hash(h1);
-    return pixel_grid_point(k, spp, vec2f(unit_float(h1), unit_float(h2)));
-}
-
-// Where `jitter` lands in cell `k` of the grid of `n` equal cells (crates/raystep-core/src/trace/sampling.rs
-// `grid_point`): ⌈√n⌉ columns; when the rows do not hold n cells exactly, each row is as tall as its
-// cells' share and the last row's m cells are 1/m wide.
-fn pixel_grid_point(k: u32, n: u32, jitter: vec2f) -> vec2f {
-    let cols = u32(ceil(fsqrt(f32(n))));
-    let rows = (n + cols - 1u) / cols;
-    let cx = k % cols;
-    let cy = k / cols;
-    if cols * rows == n {
-        return vec2f(fdiv(f32(cx) + jitter.x, f32(cols)), fdiv(f32(cy) + jitter.y, f32(rows)));
-    }
-    var width = cols;
-    if cy + 1u >= rows {
-        width = n - cols * (rows - 1u);
-    }
-    return vec2f(
-        min(fdiv(f32(cx) + jitter.x, f32(width)), 0.9999999403953552),
-        min(fdiv(f32(cy * cols) + jitter.y * f32(width), f32(n)), 0.9999999403953552),
-    );
+    return grid_point(k, spp, vec2f(unit_float(h1), unit_float(h2)));
 }
 
 // The camera (crates/raystep-core/src/trace/camera.rs): sx·half_width·u + sy·half_height·v − w, not yet normalized.
