@@ -71,7 +71,8 @@ pub fn grid_point(k: u32, n: u32, jitter: [f32; 2]) -> [f32; 2] {
     let cols = (n as f32).sqrt().ceil() as u32;
     let rows = n.div_ceil(cols);
     let (cx, cy) = (k % cols, k / cols);
-    if cols * rows == n {
+    // In u64: for n near u32::MAX the product passes it (scenes stop at 65,536 samples).
+    if u64::from(cols) * u64::from(rows) == u64::from(n) {
         return [
             (cx as f32 + jitter[0]) / cols as f32,
             (cy as f32 + jitter[1]) / rows as f32,

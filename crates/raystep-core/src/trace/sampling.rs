@@ -53,6 +53,11 @@ mod tests {
         assert_eq!(mid, [0.75, 0.875]);
         // A full grid keeps the equal rectangles: 30 = 6 × 5.
         assert_eq!(grid_point(29, 30, [0.5, 0.5]), [5.5 / 6.0, 4.5 / 5.0]);
+        // The largest count a u32 holds: no overflow, a point in the square.
+        for k in [0, 7, u32::MAX - 1] {
+            let p = grid_point(k, u32::MAX, [0.5, 0.5]);
+            assert!(p.iter().all(|c| (0.0..1.0).contains(c)), "{k}: {p:?}");
+        }
     }
 
     /// For every n up to 300, the n cells split the unit square: each point of a 101 × 103
