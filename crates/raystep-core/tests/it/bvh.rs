@@ -81,6 +81,82 @@ fn bvh_equals_brute_force_on_random_rays() {
     }
 }
 
+/// Each leaf's objects, walking the tree from the root.
+fn leaves(bvh: &Bvh) -> Vec<(Vec3A, Vec3A, Vec<u32>)> {
+    let mut out = vec![];
+    let mut stack = vec![0usize];
+    while let Some(i) = stack.pop() {
+        let n = &bvh.nodes[i];
+        if n.is_leaf() {
+            let r = n.first as usize..(n.first + n.count) as usize;
+            out.push((n.min, n.max, bvh.leaf_objects[r].to_vec()));
+        } else {
+            stack.extend([n.first as usize, n.first as usize + 1]);
+        }
+    }
+    out
+}
+
+/// No leaf holds both triangles and balls: the Cornell box's two balls, which obvhs's builder
+/// left in leaves with two wall triangles each (so every ray entering those leaves tested a
+/// ball), have leaves of their own with the ball's own box; on random scenes of both kinds every
+/// leaf is of one kind and every object is in exactly one leaf.
+#[test]
+fn no_leaf_mixes_triangles_and_balls() {
+    let is_triangle = |s: &Scene, id: u32| {
+        matches!(
+            s.objects[id as usize].shape,
+            raystep_core::scene::Shape::Triangle { .. }
+        )
+    };
+    let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes"))
+        .join("cornell-area.toml");
+    let cornell = raystep_core::scene::load_file(&path).unwrap();
+    let bvh = Bvh::build(&cornell);
+    for name in ["white ball", "mirror ball"] {
+        let id = (0..cornell.objects.len())
+            .find(|&id| cornell.object_name(id as u32) == name)
+            .unwrap();
+        let raystep_core::scene::Shape::Sphere { center, radius } = cornell.objects[id].shape
+        else {
+            panic!("{name} is a ball");
+        };
+        let leaf = leaves(&bvh)
+            .into_iter()
+            .find(|l| l.2.contains(&(id as u32)))
+            .unwrap();
+        assert_eq!(leaf.2, vec![id as u32], "{name} alone in its leaf");
+        // The box: centre ± radius, each corner rounded one float outwards.
+        let lo = (center - radius).to_array().map(f32::next_down);
+        let hi = (center + radius).to_array().map(f32::next_up);
+        assert_eq!(
+            (leaf.0.to_array(), leaf.1.to_array()),
+            (lo, hi),
+            "{name}'s box"
+        );
+    }
+    for seed in 0..6 {
+        let s = random_scene(seed, 40, 60, 1.0);
+        let bvh = Bvh::build(&s);
+        let mut seen = vec![];
+        for (_, _, ids) in leaves(&bvh) {
+            let kinds: Vec<bool> = ids.iter().map(|&id| is_triangle(&s, id)).collect();
+            assert!(
+                kinds.iter().all(|&k| k == kinds[0]),
+                "seed {seed}: a mixed leaf {ids:?}"
+            );
+            seen.extend(ids);
+        }
+        seen.sort_unstable();
+        // Every finite object once (object 0 is the plane, outside the tree).
+        assert_eq!(
+            seen,
+            (1..s.objects.len() as u32).collect::<Vec<_>>(),
+            "seed {seed}"
+        );
+    }
+}
+
 #[test]
 fn bvh_matches_obvhs_own_traversal() {
     // obvhs's `ray_traverse` over the same tree, with raystep's kernel as its intersection

@@ -157,6 +157,27 @@ impl Bvh {
         } else {
             build_bvh2(&boxes, build_params(scene.settings.bvh_quality), &mut core)
         };
+        // A leaf of triangles and balls becomes two: see `split_mixed_leaves`.
+        let is_triangle = |i: u32| {
+            let id = match &finite {
+                None => base + i,
+                Some(f) => f.get(i as usize).copied().unwrap_or(u32::MAX),
+            };
+            matches!(
+                scene.objects.get(id as usize).map(|o| &o.shape),
+                Some(Shape::Triangle { .. })
+            )
+        };
+        let mut bvh2 = bvh2;
+        let kinds = |triangle: bool| {
+            objects.iter().any(|o| {
+                shape_bounds(&o.shape).is_some()
+                    && matches!(o.shape, Shape::Triangle { .. }) == triangle
+            })
+        };
+        if kinds(true) && kinds(false) {
+            split_mixed_leaves(&mut bvh2, &boxes, is_triangle);
+        }
         drop(boxes);
         drop(coincident);
         let bvh2 = cap_depth(bvh2, MAX_BVH_DEPTH);
@@ -440,6 +461,67 @@ fn centre_key(b: &PrimBox) -> [u32; 3] {
     [c.x.to_bits(), c.y.to_bits(), c.z.to_bits()]
 }
 
+/// Every leaf of `tree` that holds both triangles and other shapes (balls) made an inner node
+/// over two leaves: its triangles, then the rest, each part in the leaf's own order, each with
+/// the box of its own primitives. obvhs's builder weighs every primitive alike, so it may leave
+/// a ball in a leaf with the wall it rests against (the Cornell box's two balls each shared a
+/// leaf with two wall triangles, whose box every ray in the room enters): then every ray that
+/// enters the leaf tests the ball, where a leaf of its own has a box that most rays miss, and
+/// the triangles alone can be tested four at a time (the AVX2 build's packs). The tree does not
+/// depend on the machine (the split is made on every one), and a leaf of one kind is untouched,
+/// so a scene of triangles only, or of balls only, keeps obvhs's tree node for node.
+pub(super) fn split_mixed_leaves(
+    tree: &mut Bvh2,
+    boxes: &[PrimBox],
+    is_triangle: impl Fn(u32) -> bool,
+) {
+    let bound = |prims: &[u32]| {
+        prims.iter().fold(Aabb::INVALID, |b, &p| {
+            b.union(&boxes.get(p as usize).map_or(Aabb::INVALID, |x| x.0))
+        })
+    };
+    let mut split = false;
+    for i in 0..tree.nodes.len() {
+        let Some(&n) = tree.nodes.get(i) else { break };
+        if !n.is_leaf() {
+            continue;
+        }
+        let first = n.first_index as usize;
+        let Some(prims) = tree
+            .primitive_indices
+            .get_mut(first..first + n.prim_count as usize)
+        else {
+            continue;
+        };
+        let (mut parts, rest): (Vec<u32>, Vec<u32>) = prims.iter().partition(|&&p| is_triangle(p));
+        let triangles = parts.len();
+        if triangles == 0 || rest.is_empty() {
+            continue;
+        }
+        parts.extend(rest);
+        prims.copy_from_slice(&parts);
+        let (a, b) = parts.split_at(triangles);
+        let at = tree.nodes.len() as u32;
+        tree.nodes
+            .push(Bvh2Node::new(bound(a), a.len() as u32, n.first_index));
+        tree.nodes.push(Bvh2Node::new(
+            bound(b),
+            b.len() as u32,
+            n.first_index + a.len() as u32,
+        ));
+        if let Some(node) = tree.nodes.get_mut(i) {
+            *node = Bvh2Node::new(*n.aabb(), 0, at);
+        }
+        split = true;
+    }
+    if split {
+        // obvhs's optional maps no longer hold; nothing here reads them.
+        tree.parents.clear();
+        tree.primitives_to_nodes.clear();
+        tree.children_are_ordered_after_parents = false;
+    }
+}
+
 /// `tree` with every inner node at depth `limit` made a leaf of all the primitives below it, so
 /// that no node lies deeper than `limit` (the depth a trace may record, [`MAX_BVH_DEPTH`]).
 /// Gathering coincident primitives (see `Coincident`) keeps obvhs's trees far shallower on every
@@ -721,6 +803,63 @@ mod tests {
         }
         prims.sort_unstable();
         (deepest, prims)
+    }
+
+    /// A leaf of triangles and a ball becomes an inner node over a leaf of the triangles and
+    /// a leaf of the ball, each with its own primitives' box (worked out by hand); a leaf of
+    /// triangles only is left as it was.
+    #[test]
+    fn a_leaf_of_triangles_and_a_ball_becomes_two_leaves() {
+        // Primitive p's box: the cube of half-side 0.5 about (p, 0, 0); primitive 1 is the ball.
+        let cube = |p: f32| {
+            Aabb::new(
+                Vec3A::new(p - 0.5, -0.5, -0.5),
+                Vec3A::new(p + 0.5, 0.5, 0.5),
+            )
+        };
+        let boxes: Vec<PrimBox> = (0..6).map(|p| PrimBox(cube(p as f32))).collect();
+        let all = Aabb::new(Vec3A::new(-0.5, -0.5, -0.5), Vec3A::new(5.5, 0.5, 0.5));
+        let left = Aabb::new(Vec3A::new(-0.5, -0.5, -0.5), Vec3A::new(2.5, 0.5, 0.5));
+        let right = Aabb::new(Vec3A::new(2.5, -0.5, -0.5), Vec3A::new(5.5, 0.5, 0.5));
+        let mut t = Bvh2 {
+            nodes: vec![
+                Bvh2Node::new(all, 0, 1),
+                Bvh2Node::new(left, 3, 0),
+                Bvh2Node::new(right, 2, 3),
+            ],
+            primitive_indices: vec![2, 1, 0, 3, 5],
+            ..Bvh2::default()
+        };
+        split_mixed_leaves(&mut t, &boxes, |p| p != 1);
+        assert_eq!(t.nodes.len(), 5);
+        // The mixed leaf is now an inner node (same box) over nodes 3 and 4.
+        assert_eq!(
+            node_bits(&t.nodes[1]),
+            node_bits(&Bvh2Node::new(left, 0, 3))
+        );
+        // Its triangles 2 and 0 (in that order) from (−0.5, −0.5, −0.5) to (2.5, 0.5, 0.5), then
+        // the ball alone in its own cube.
+        assert_eq!(t.primitive_indices, vec![2, 0, 1, 3, 5]);
+        assert_eq!(
+            node_bits(&t.nodes[3]),
+            node_bits(&Bvh2Node::new(left, 2, 0))
+        );
+        let ball = Aabb::new(Vec3A::new(0.5, -0.5, -0.5), Vec3A::new(1.5, 0.5, 0.5));
+        assert_eq!(
+            node_bits(&t.nodes[4]),
+            node_bits(&Bvh2Node::new(ball, 1, 2))
+        );
+        // Untouched: the root and the leaf of triangles 3 and 5.
+        assert_eq!(node_bits(&t.nodes[0]), node_bits(&Bvh2Node::new(all, 0, 1)));
+        assert_eq!(
+            node_bits(&t.nodes[2]),
+            node_bits(&Bvh2Node::new(right, 2, 3))
+        );
+        // A tree with no mixed leaf is left node for node.
+        let before: Vec<[u32; 8]> = t.nodes.iter().map(node_bits).collect();
+        split_mixed_leaves(&mut t, &boxes, |p| p != 1);
+        assert_eq!(t.nodes.iter().map(node_bits).collect::<Vec<_>>(), before);
+        assert_eq!(t.primitive_indices, vec![2, 0, 1, 3, 5]);
     }
 
     #[test]
