@@ -99,8 +99,9 @@ fn leaves(bvh: &Bvh) -> Vec<(Vec3A, Vec3A, Vec<u32>)> {
 
 /// No leaf holds both triangles and balls: the Cornell box's two balls, which obvhs's builder
 /// left in leaves with two wall triangles each (so every ray entering those leaves tested a
-/// ball), have leaves of their own with the ball's own box; on random scenes of both kinds every
-/// leaf is of one kind and every object is in exactly one leaf.
+/// ball), have leaves of their own with the ball's own box; a leaf of primitives gathered by
+/// their common centre is split too; on random scenes of both kinds every leaf is of one kind
+/// and every object is in exactly one leaf.
 #[test]
 fn no_leaf_mixes_triangles_and_balls() {
     let is_triangle = |s: &Scene, id: u32| {
@@ -135,6 +136,25 @@ fn no_leaf_mixes_triangles_and_balls() {
             "{name}'s box"
         );
     }
+    // A ball and sixteen triangles whose boxes share its centre: raystep gathers primitives
+    // with one centre into one leaf (no split of obvhs's could part them), here the root; split,
+    // the root is an inner node over the sixteen triangles and the ball, and the answers are
+    // brute force's.
+    let mut text = String::from("[[sphere]]\ncenter = [0, 0, 0]\nradius = 1\n");
+    for k in 0..16 {
+        let a = 1.0 + k as f32 / 10.0;
+        text += &format!(
+            "[[triangle]]\nvertices = [[{}, {}, 0], [{a}, {}, 0], [0, {a}, 0]]\n",
+            -a, -a, -a
+        );
+    }
+    let gathered = load_str(&text, "gathered.toml", None).unwrap();
+    let bvh = Bvh::build(&gathered);
+    assert!(!bvh.nodes[0].is_leaf(), "the root's leaf was split");
+    let mut parts: Vec<Vec<u32>> = leaves(&bvh).into_iter().map(|l| l.2).collect();
+    parts.sort();
+    assert_eq!(parts, vec![vec![0], (1..=16).collect::<Vec<u32>>()]);
+    assert_same(&gathered, &bvh, &random_rays(7, 2000, 0.2));
     for seed in 0..6 {
         let s = random_scene(seed, 40, 60, 1.0);
         let bvh = Bvh::build(&s);
