@@ -493,11 +493,12 @@ pub(super) fn split_mixed_leaves(
         else {
             continue;
         };
-        let (mut parts, rest): (Vec<u32>, Vec<u32>) = prims.iter().partition(|&&p| is_triangle(p));
-        let triangles = parts.len();
-        if triangles == 0 || rest.is_empty() {
+        // Most leaves are of one kind: they are looked at, not copied.
+        let triangles = prims.iter().filter(|&&p| is_triangle(p)).count();
+        if triangles == 0 || triangles == prims.len() {
             continue;
         }
+        let (mut parts, rest): (Vec<u32>, Vec<u32>) = prims.iter().partition(|&&p| is_triangle(p));
         parts.extend(rest);
         prims.copy_from_slice(&parts);
         let (a, b) = parts.split_at(triangles);
