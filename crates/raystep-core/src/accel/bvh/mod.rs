@@ -77,6 +77,7 @@ mod build;
 mod leaf;
 mod parallel;
 mod ray_box;
+mod reshape;
 mod tlas;
 mod tri4;
 pub use build::shape_bounds;

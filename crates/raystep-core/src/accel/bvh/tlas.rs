@@ -1,6 +1,7 @@
 //! The top-level BVH: obvhs's build over the instances' world boxes, in raystep's node layout.
 
-use super::build::{PrimBox, build_bvh2, build_params, cap_depth, depth_first};
+use super::build::{PrimBox, build_bvh2, build_params, depth_first};
+use super::reshape::cap_depth;
 use super::{Node, parallel::map_in_order};
 use crate::platform::Duration;
 use crate::record::validate::MAX_BVH_DEPTH;
