@@ -1,10 +1,14 @@
 //! Stiff cases from docs/NUMERICS.md that justify the renderer's defaults: rays aimed exactly at a
 //! shared edge (S12) or a shared vertex (S13) must hit at least one triangle. The watertight test
-//! never leaks; Möller–Trumbore does (so a regression either way is caught).
+//! never leaks; Möller–Trumbore does (so a regression either way is caught). And a ray leaving a
+//! surface that lies at a coordinate of exactly 0 starts clear of the subnormals.
 
 use glam::Vec3;
+use raystep_core::accel::Hit;
 use raystep_core::math::Ray;
+use raystep_core::scene::{NO_INSTANCE, OffsetPolicy, Shape};
 use raystep_core::shapes::triangle::{TriangleMethod, intersect};
+use raystep_core::trace::interaction::{interact_shape, spawn_origin};
 
 struct Rng(u64);
 impl Rng {
@@ -102,4 +106,52 @@ fn s12_moller_trumbore_leaks_at_shared_edges() {
 fn s13_shared_vertex() {
     assert_eq!(vertex_leaks(TriangleMethod::Watertight, 1.0, 20_000, 9), 0);
     assert!(vertex_leaks(TriangleMethod::MollerTrumbore, 1.0, 20_000, 9) > 0);
+}
+
+/// A floor at y = 0 (a triangle, and an axis plane) hit from above: the hit point's y is exactly
+/// 0 with no rounding error, so pbrt-v4's offset is one float step from 0. That step ends at
+/// ±2⁻¹⁰⁰ (worked out by hand: 2⁻¹⁰⁰ is the f32 with bits 0x0D80_0000), not at the subnormal
+/// ±2⁻¹⁴⁹ that every later test of the ray would have computed with (slowly, through the x86
+/// processor's microcode, or flushed to 0 on a GPU). x and z, where the normal is 0, stay put.
+#[test]
+fn a_ray_leaving_a_surface_at_zero_starts_clear_of_the_subnormals() {
+    let floor = 2f64.powi(-100) as f32;
+    assert_eq!(floor.to_bits(), 0x0D80_0000);
+    let ray = Ray::<f32>::infinite(Vec3::new(0.3, 1.0, 0.2), Vec3::new(0.1, -1.0, 0.05)).unwrap();
+    let p = [
+        Vec3::new(-2.0, 0.0, -2.0),
+        Vec3::new(2.0, 0.0, -2.0),
+        Vec3::new(0.0, 0.0, 3.0),
+    ];
+    let test = intersect(&ray, p, TriangleMethod::Watertight);
+    let hit = |t: f32, u: f32, v: f32| Hit {
+        object: 0,
+        t,
+        u,
+        v,
+        instance: NO_INSTANCE,
+    };
+    let shapes = [
+        (
+            Shape::Triangle { p },
+            hit(test.t.unwrap(), test.u.unwrap(), test.v.unwrap()),
+        ),
+        (
+            Shape::AxisPlane {
+                axis: 1,
+                offset: 0.0,
+            },
+            hit(1.0, 0.0, 0.0),
+        ),
+    ];
+    for (shape, hit) in shapes {
+        let it = interact_shape(&shape, &hit, &ray);
+        assert_eq!((it.point.y, it.error.y), (0.0, 0.0), "{shape:?}");
+        for (w, y) in [(Vec3::Y, floor), (-Vec3::Y, -floor)] {
+            let o = spawn_origin(OffsetPolicy::Robust, 1e-4, &it, w);
+            assert_eq!(o.y.to_bits(), y.to_bits(), "{shape:?} towards {w}");
+            assert!(o.to_array().iter().all(|c| *c == 0.0 || c.is_normal()));
+            assert_eq!((o.x, o.z), (it.point.x, it.point.z), "{shape:?}");
+        }
+    }
 }

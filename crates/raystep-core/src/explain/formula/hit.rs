@@ -174,7 +174,8 @@ impl Ctx<'_> {
             OffsetPolicy::Fixed => ("P + ε·n", format!("ε = {}", num(s.epsilon))),
             OffsetPolicy::Robust => (
                 "P + (|n|·δ)·n, then one float further out",
-                "pbrt-v4's OffsetRayOrigin: past the error bound, on the side the ray leaves"
+                "pbrt-v4's OffsetRayOrigin: past the error bound, on the side the ray leaves \
+                 (a moved coordinate ends at least 2⁻¹⁰⁰ from 0, never a subnormal)"
                     .into(),
             ),
         };
