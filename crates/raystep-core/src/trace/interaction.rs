@@ -283,12 +283,12 @@ pub fn unit_normal(e1: Vec3, e2: Vec3) -> Vec3 {
 /// subnormals for features under 2⁻⁴² ≈ 2.3e-13 (`scene::limits`).
 pub const OFFSET_FLOOR: f32 = f32::from_bits(0x0D80_0000);
 
-/// The robust offset's last step kept out of the subnormal range: a coordinate `x` that the
-/// step to the next float (towards `sign`) left below [`OFFSET_FLOOR`] in magnitude becomes
+/// The robust offset's last step kept clear of zero: a coordinate `x` that the step to the
+/// next float (towards `sign`) left below [`OFFSET_FLOOR`] in magnitude becomes
 /// `sign` · [`OFFSET_FLOOR`], further the same way — on the same side of the surface, by at
 /// least the offset pbrt-v4's rule asks for.
 #[inline(always)]
-pub fn out_of_subnormals(x: f32, sign: f32) -> f32 {
+fn clear_of_zero(x: f32, sign: f32) -> f32 {
     if x.abs() < OFFSET_FLOOR {
         OFFSET_FLOOR.copysign(sign)
     } else {
@@ -322,9 +322,9 @@ pub fn spawn_origin(policy: OffsetPolicy, epsilon: f32, it: &Interaction, w: Vec
             let mut o = point + n * d;
             for i in 0..3 {
                 if n[i] > 0.0 {
-                    o[i] = out_of_subnormals(o[i].next_up(), 1.0);
+                    o[i] = clear_of_zero(o[i].next_up(), 1.0);
                 } else if n[i] < 0.0 {
-                    o[i] = out_of_subnormals(o[i].next_down(), -1.0);
+                    o[i] = clear_of_zero(o[i].next_down(), -1.0);
                 }
             }
             o
