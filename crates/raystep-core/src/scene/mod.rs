@@ -111,10 +111,12 @@ pub enum AccelChoice {
 pub enum BvhQuality {
     /// obvhs's `very_fast_build`: PLOC with the smallest search radius and little reinsertion.
     Low,
-    /// obvhs's `medium_build`: the default.
+    /// obvhs's `medium_build`, every node offered for reinsertion up to 2¹⁸ primitives: the
+    /// default.
     #[default]
     Medium,
-    /// obvhs's `slow_build`: a wider PLOC search, more reinsertion, 128-bit Morton codes.
+    /// obvhs's `slow_build` (a wider PLOC search, 128-bit Morton codes), every node offered for
+    /// reinsertion up to 2¹⁸ primitives.
     High,
 }
 

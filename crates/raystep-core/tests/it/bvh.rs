@@ -126,14 +126,35 @@ fn no_leaf_mixes_triangles_and_balls() {
             .into_iter()
             .find(|l| l.2.contains(&(id as u32)))
             .unwrap();
-        assert_eq!(leaf.2, vec![id as u32], "{name} alone in its leaf");
-        // The box: centre ± radius, each corner rounded one float outwards.
-        let lo = (center - radius).to_array().map(f32::next_down);
-        let hi = (center + radius).to_array().map(f32::next_up);
+        // Balls only (the two share a leaf since every node is offered for reinsertion).
+        assert!(
+            leaf.2.iter().all(|&o| !is_triangle(&cornell, o)),
+            "{name}'s leaf {:?} holds a triangle",
+            leaf.2
+        );
+        // The box: the balls' own, centre ± radius each corner rounded one float outwards.
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for &o in &leaf.2 {
+            let raystep_core::scene::Shape::Sphere { center, radius } =
+                cornell.objects[o as usize].shape
+            else {
+                panic!("a ball");
+            };
+            let (l, h) = (
+                (center - radius).to_array().map(f32::next_down),
+                (center + radius).to_array().map(f32::next_up),
+            );
+            for k in 0..3 {
+                lo[k] = lo[k].min(l[k]);
+                hi[k] = hi[k].max(h[k]);
+            }
+        }
+        let own = (center - radius).to_array().map(f32::next_down);
+        assert!((0..3).all(|k| lo[k] <= own[k]), "{name} inside its leaf");
         assert_eq!(
             (leaf.0.to_array(), leaf.1.to_array()),
             (lo, hi),
-            "{name}'s box"
+            "{name}'s leaf box"
         );
     }
     // A ball and sixteen triangles whose boxes share its centre: raystep gathers primitives

@@ -29,7 +29,7 @@ impl Tlas {
             PrimBox(Aabb::new(Vec3A::from(i.min), Vec3A::from(i.max)))
         });
         let mut core = Duration::ZERO;
-        let bvh2: Bvh2 = build_bvh2(&boxes, build_params(quality), &mut core);
+        let bvh2: Bvh2 = build_bvh2(&boxes, build_params(quality, boxes.len()), &mut core);
         let bvh2 = cap_depth(bvh2, MAX_BVH_DEPTH);
         Tlas {
             nodes: depth_first(&bvh2.nodes),
