@@ -107,19 +107,18 @@ pub const FULL_REINSERTION_UP_TO: usize = 1 << 18;
 /// would take 2.5 times as long: above the bound the presets' ratios stand. `low` stays
 /// obvhs's fast build as it is.
 pub(super) fn build_params(quality: BvhQuality, primitives: usize) -> BvhBuildParams {
-    let full = primitives <= FULL_REINSERTION_UP_TO;
-    match quality {
-        BvhQuality::Low => BvhBuildParams::very_fast_build(),
-        BvhQuality::Medium if full => BvhBuildParams {
-            reinsertion_batch_ratio: 1.0,
-            ..BvhBuildParams::medium_build()
-        },
+    let preset = match quality {
+        BvhQuality::Low => return BvhBuildParams::very_fast_build(),
         BvhQuality::Medium => BvhBuildParams::medium_build(),
-        BvhQuality::High if full => BvhBuildParams {
-            reinsertion_batch_ratio: 1.0,
-            ..BvhBuildParams::slow_build()
-        },
         BvhQuality::High => BvhBuildParams::slow_build(),
+    };
+    if primitives <= FULL_REINSERTION_UP_TO {
+        BvhBuildParams {
+            reinsertion_batch_ratio: 1.0,
+            ..preset
+        }
+    } else {
+        preset
     }
 }
 
