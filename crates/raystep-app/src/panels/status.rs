@@ -41,9 +41,10 @@ pub fn error_banner(ui: &mut egui::Ui, state: &AppState, e: &str, cmds: &mut Vec
 }
 
 /// The status bar: the scene in a few words, the render's progress (or how long it took), the
-/// pixel under the cursor with its colour, and the last message.
+/// pixel under the cursor with its colour, and the last message. What does not fit on one line
+/// goes on to the next (in presentation mode at 1024×768 one line holds about half of it).
 pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         if let Some(s) = state.scene() {
             let f = &s.features;
             // Objects whose material emits are area lights (the Monte Carlo integrators').
