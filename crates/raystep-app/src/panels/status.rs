@@ -41,10 +41,16 @@ pub fn error_banner(ui: &mut egui::Ui, state: &AppState, e: &str, cmds: &mut Vec
 }
 
 /// The status bar: the scene in a few words, the render's progress (or how long it took), the
-/// pixel under the cursor with its colour, and the last message. What does not fit on one line
-/// goes on to the next (in presentation mode at 1024×768 one line holds about half of it).
+/// pixel under the cursor with its colour, and the last message. One line, whatever the window:
+/// what does not fit is cut short with "…" (the whole text on hover) rather than run off the
+/// window's edge (in presentation mode at 1024×768 about half of it fits) or wrap onto a second
+/// line, which would move the render above it whenever the pointer's pixel comes and goes.
 pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
-    ui.horizontal_wrapped(|ui| {
+    // A label that ends in "…" where the line runs out.
+    let label = |ui: &mut egui::Ui, text: egui::WidgetText| {
+        ui.add(egui::Label::new(text).truncate());
+    };
+    ui.horizontal(|ui| {
         if let Some(s) = state.scene() {
             let f = &s.features;
             // Objects whose material emits are area lights (the Monte Carlo integrators').
@@ -66,14 +72,14 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
             } else {
                 String::new()
             };
-            ui.label(format!(
+            label(ui, format!(
                 "{} primitive{} ({}){placed}, {} point light{}{area}",
                 f.primitives,
                 if f.primitives == 1 { "" } else { "s" },
                 f.kinds().join(", "),
                 f.lights,
                 if f.lights == 1 { "" } else { "s" }
-            ));
+            ).into());
             ui.separator();
         }
         if let Some(job) = &state.job {
@@ -99,10 +105,10 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
                     .desired_width(160.0)
                     .text(phase.clone()),
             );
-            ui.label(phase);
+            label(ui, phase.into());
         } else if let Some(r) = &state.rendered {
             let spp = state.settings.spp;
-            ui.label(format!(
+            label(ui, format!(
                 "rendered{} in {:.2} s (build {:.0} ms, trace {:.0} ms, {:.2} Mrays/s, {} thread{})",
                 if spp > 1 {
                     format!(" {spp} samples per pixel")
@@ -115,21 +121,25 @@ pub fn status_bar(ui: &mut egui::Ui, state: &AppState, render: &RenderView) {
                 r.output.stats.mrays_per_s(),
                 r.output.stats.threads,
                 if r.output.stats.threads == 1 { "" } else { "s" }
-            ));
+            ).into());
         }
         if let Some(p) = render.hovered {
             ui.separator();
             let colour = view::pixel_colour(state, p).unwrap_or_default();
-            ui.label(format!("pixel ({}, {}) {colour}", p[0], p[1]));
+            label(ui, format!("pixel ({}, {}) {colour}", p[0], p[1]).into());
         }
         if let Some(m) = &state.message {
             ui.separator();
             let t = RichText::new(&m.text);
-            ui.label(if m.error {
-                t.color(Color32::from_rgb(220, 50, 50))
-            } else {
-                t
-            });
+            label(
+                ui,
+                if m.error {
+                    t.color(Color32::from_rgb(220, 50, 50))
+                } else {
+                    t
+                }
+                .into(),
+            );
         }
     });
 }
