@@ -671,14 +671,9 @@ fn snapshots_at_1024_by_768() {
             h.state_mut().state.apply(Command::SetPrefs(p));
         }
         h.run_steps(6);
-        // Timings change from run to run, and their labels' widths with the digits: the status
-        // bar's is masked to the window's right edge (nothing follows it there).
-        if let Some(r) = h.query_by_label_contains("rendered in").map(|n| n.rect()) {
-            h.mask(egui::Rect::from_min_max(r.min, egui::pos2(1024.0, r.max.y)));
-        }
-        if let Some(r) = h.query_by_label_contains("recorded in").map(|n| n.rect()) {
-            h.mask(r);
-        }
+        // The timings (the status bar's to the window's right edge: its width moves with the
+        // digits), as the main views' snapshots mask them.
+        crate::app::mask_timings(&mut h);
         if let Err(e) = h.try_snapshot_options(
             name,
             &egui_kittest::SnapshotOptions::new()

@@ -332,7 +332,7 @@ fn timing_rects(h: &Harness<'static, RaystepApp>) -> Vec<egui::Rect> {
 /// The status bar's mask runs to the window's right edge: the label's own width changes with
 /// its digits (a busy machine's "trace 156 ms" is wider than "trace 56 ms"), and a mask of that
 /// width would too.
-fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
+pub(crate) fn mask_timings(h: &mut Harness<'static, RaystepApp>) -> usize {
     let masks = timing_rects(h);
     let n = masks.len();
     for r in masks {
