@@ -854,8 +854,6 @@ fn prep(s: &Scene) -> PreparedScene {
     PreparedScene::new(s.clone())
 }
 
-mod exact_arithmetic;
-
 mod monte_carlo;
 
 mod instances;

@@ -50,3 +50,28 @@ pub fn arith_wgsl(c: ArithConfig) -> String {
     s.push('\n');
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every variant the probe can pick (and the planted fused dot) is valid WGSL, with the
+    /// probe kernel that calls the corrected division and square root directly.
+    #[test]
+    fn every_arithmetic_variant_validates() {
+        for bits in 0u32..16 {
+            let b = |k: u32| bits & (1 << k) != 0;
+            let c = ArithConfig {
+                fma_fused: b(0),
+                div_fix: b(1),
+                sqrt_fix: b(2),
+                fused_dot: b(3),
+            };
+            let wgsl = arith_wgsl(c);
+            assert_eq!(wgsl.contains("corrected_div(a / b"), c.div_fix, "{c:?}");
+            assert_eq!(wgsl.contains("corrected_sqrt(s, x"), c.sqrt_fix, "{c:?}");
+            crate::shader::validate(&wgsl).unwrap_or_else(|e| panic!("{c:?}:\n{e}"));
+        }
+        crate::shader::validate(&super::super::probe_wgsl()).unwrap();
+    }
+}

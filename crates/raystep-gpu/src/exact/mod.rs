@@ -10,8 +10,9 @@
 //!    tracer loads it through wgpu's passthrough (`Features::PASSTHROUGH_SHADERS`) where the
 //!    adapter offers it.
 //! 2. **Approximate division and square root.** Vulkan allows `/` and `sqrt` to be a few ulp off
-//!    (the H200's are ≤ 2 and ≤ 1). Where the FMA is truly fused, one residual step makes them
-//!    correctly rounded ([`corrected_div`], [`corrected_sqrt`]); where the division is already
+//!    (the H200's are ≤ 2 and ≤ 1). Where the FMA is truly fused, one residual step and an exact
+//!    decision at the midpoint next to its result make them correctly rounded ([`corrected_div`],
+//!    [`corrected_sqrt`]); where the division is already
 //!    exact (lavapipe) that step would *break* it, so it is applied only where the probe below
 //!    shows it helps.
 //! 3. **An unfused `fma`.** WGSL's `fma` may be a plain multiply and add (lavapipe's is). The

@@ -32,14 +32,10 @@ fn main(@builtin(global_invocation_id) gid: vec3u) {
     outputs[o + 1u] = bitcast<u32>(fma_emulated(a, b, c));
     let q = a / b;
     outputs[o + 2u] = bitcast<u32>(q);
-    let r = fma(-q, b, a);
-    let qc = fma(r, 1.0 / b, q);
-    outputs[o + 3u] = bitcast<u32>(select(q, qc, q != 0.0 && is_finite_f(q) && is_finite_f(r) && is_finite_f(qc)));
+    outputs[o + 3u] = bitcast<u32>(corrected_div(q, a, b, 1.0 / b));
     let s = sqrt(x);
     outputs[o + 4u] = bitcast<u32>(s);
-    let rs = fma(-s, s, x);
-    let sc = fma(rs, 0.5 / s, s);
-    outputs[o + 5u] = bitcast<u32>(select(s, sc, s > 0.0 && is_finite_f(s) && is_finite_f(sc)));
+    outputs[o + 5u] = bitcast<u32>(corrected_sqrt(s, x, 0.5 / s));
     outputs[o + 6u] = bitcast<u32>(a * b + c * x + b * c);
     outputs[o + 7u] = bitcast<u32>(x * 1.1754944e-38);
 }

@@ -11,6 +11,7 @@ mod common {
     pub(crate) use super::{gpu, scenes};
 }
 
+mod exact_arithmetic;
 mod gpu_portable;
 mod gpu_progressive;
 mod gpu_readback;
