@@ -126,7 +126,7 @@ fn square_roots_next_to_a_midpoint_are_rounded_correctly() {
     }
 }
 
-/// A stride through [1, 4), and its first and last 2,000 floats (where √x is next to 1, √2 and
+/// A stride through [1, 4), and its first and last 2,000 floats (where √x is next to 1 and to
 /// 2): every one corrected exactly.
 #[test]
 fn square_roots_through_one_to_four_are_rounded_correctly() {
@@ -134,6 +134,50 @@ fn square_roots_through_one_to_four_are_rounded_correctly() {
     let ends = (one..one + 2000).chain(four - 2000..four);
     for bits in (one..four).step_by(97).chain(ends) {
         assert_sqrt_corrected(f32::from_bits(bits));
+    }
+}
+
+/// Every float of [1, 4), with every root and every `0.5/s` within 2 ulp: 419 million corrected
+/// square roots, each `f32::sqrt`'s. The search that found [`ROOTS_NEXT_TO_A_MIDPOINT`], about 10 s
+/// in release: `cargo test --release -p raystep-gpu --test it -- --ignored exhaustive`.
+#[test]
+#[ignore = "exhaustive: about 10 s in release"]
+fn exhaustive_square_roots_of_one_to_four() {
+    for bits in 1.0f32.to_bits()..4.0f32.to_bits() {
+        assert_sqrt_corrected(f32::from_bits(bits));
+    }
+}
+
+/// Every third float `a` of [1, 2) over eight `b` of [1, 2) each (a fixed xorshift), with every
+/// quotient and reciprocal within 2 ulp: 559 million corrected quotients, each IEEE's `a / b`.
+/// The search that found [`QUOTIENTS_NEXT_TO_A_MIDPOINT`]; run as the one above.
+#[test]
+#[ignore = "exhaustive: about 10 s in release"]
+fn exhaustive_quotients_of_one_to_two() {
+    let mut state = 12345u64;
+    let mut next = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        state
+    };
+    for bits in (1.0f32.to_bits()..2.0f32.to_bits()).step_by(3) {
+        let a = f32::from_bits(bits);
+        for _ in 0..8 {
+            let b = f32::from_bits(0x3f80_0000 | (next() as u32 & 0x7f_ffff));
+            let want = a / b;
+            for k in -2..=2 {
+                for j in -2..=2 {
+                    let (q, inv_b) = (ulps(want, k), ulps(1.0 / b, j));
+                    let got = corrected_div(q, a, b, inv_b, f32::mul_add);
+                    assert_eq!(
+                        got.to_bits(),
+                        want.to_bits(),
+                        "{a:e}/{b:e}: {k} ulp, 1/b {j}"
+                    );
+                }
+            }
+        }
     }
 }
 
