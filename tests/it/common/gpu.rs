@@ -40,6 +40,22 @@ pub fn context(test: &str) -> Option<GpuContext> {
     }
 }
 
+/// [`context`], and its arithmetic, where the adapter has the exact compute path (SPIR-V
+/// passthrough and the probe's exact arithmetic); `None`, saying why, where it has not.
+#[allow(dead_code)]
+pub fn exact_context(test: &str) -> Option<(GpuContext, raystep_gpu::exact::Arithmetic)> {
+    let ctx = context(test)?;
+    let arith = ctx.arithmetic().unwrap();
+    if !ctx.passthrough || !arith.exact() {
+        eprintln!(
+            "SKIPPED {test}: {} has no exact compute path",
+            ctx.adapter_name()
+        );
+        return None;
+    }
+    Some((ctx, arith))
+}
+
 /// A scene file, set to Whitted's integrator: the Whitted comparisons run every shipped scene
 /// under it (the Monte Carlo integrators on the GPU have their own test in tests/it/gpu/).
 #[allow(dead_code)]

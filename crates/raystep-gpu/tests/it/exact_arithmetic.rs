@@ -266,21 +266,13 @@ fn a_correction_is_never_chosen_where_it_makes_things_worse() {
 /// emulation (lavapipe) elsewhere — the same function on a fused GPU.
 #[test]
 fn the_wgsl_corrections_round_correctly_on_the_test_adapter() {
-    use crate::common::gpu::{context, one_at_a_time};
+    use crate::common::gpu::{exact_context, one_at_a_time};
     use raystep_gpu::{KernelForm, exact::arith_wgsl};
     let _gpu = one_at_a_time();
     let test = "the_wgsl_corrections_round_correctly_on_the_test_adapter";
-    let Some(ctx) = context(test) else {
+    let Some((ctx, arith)) = exact_context(test) else {
         return;
     };
-    let arith = ctx.arithmetic().unwrap();
-    if !ctx.passthrough || !arith.exact() {
-        eprintln!(
-            "SKIPPED {test}: {} has no exact compute path",
-            ctx.adapter_name()
-        );
-        return;
-    }
     let lib = arith_wgsl(arith.config());
     assert_eq!(
         lib.matches("= fma(").count(),

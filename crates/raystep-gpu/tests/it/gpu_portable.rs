@@ -7,7 +7,7 @@ use raystep_core::portable::math as portable;
 use raystep_gpu::{KernelForm, shader::PORTABLE_WGSL};
 
 use crate::common::gpu as gpu_common;
-use gpu_common::{context, one_at_a_time};
+use gpu_common::{context, exact_context, one_at_a_time};
 
 /// A kernel that writes, for each input (x, y, z, _), sin x, cos x, exp y and ln z.
 fn kernel() -> String {
@@ -154,17 +154,9 @@ fn the_wgsl_samplers_return_the_cpus_bits_on_the_exact_path() {
     use raystep_gpu::shader::{MC_SAMPLE_WGSL, RANDOM_WGSL};
     let _gpu = one_at_a_time();
     let test = "the_wgsl_samplers_return_the_cpus_bits_on_the_exact_path";
-    let Some(ctx) = context(test) else {
+    let Some((ctx, arith)) = exact_context(test) else {
         return;
     };
-    let arith = ctx.arithmetic().unwrap();
-    if !ctx.passthrough || !arith.exact() {
-        eprintln!(
-            "SKIPPED {test}: {} has no exact compute path",
-            ctx.adapter_name()
-        );
-        return;
-    }
     const OUT: usize = 32;
     let wgsl = format!(
         "{}{PORTABLE_WGSL}{RANDOM_WGSL}{MC_SAMPLE_WGSL}
