@@ -85,12 +85,14 @@ if [ "$(wasm-bindgen --version 2>/dev/null || true)" != "wasm-bindgen $WBG_VERSI
   # --locked builds it with the dependencies its authors tested; a registry mirror that lacks one
   # of those versions refuses it, and then it is built with the newest compatible ones.
   # Without its default feature (a TLS stack for downloading, which this build never asks it
-  # to do): a fifth less to compile. At opt-level 1 (CARGO_PROFILE_RELEASE_OPT_LEVEL): on a
-  # 2-core machine, alone, 324 s of CPU against 398 s at release's opt-level 3, and it writes
-  # the same files for raystep's 24 MB wasm, in 3.4 s against 2.9 s.
-  CARGO_PROFILE_RELEASE_OPT_LEVEL=1 cargo install --quiet wasm-bindgen-cli \
+  # to do): a fifth less to compile. Unoptimized (CARGO_PROFILE_RELEASE_OPT_LEVEL=0): it runs
+  # once a build, and its own build is on the critical path of a fresh machine. Measured on a
+  # 2-core machine, alone (2026-12-02, 0.2.130): its install took 101 s of CPU against 271 s
+  # at opt-level 1 (398 s at release's 3, measured earlier), and it wrote the same files, byte
+  # for byte, for raystep's 28 MB wasm in 11 s of CPU against 3 s.
+  CARGO_PROFILE_RELEASE_OPT_LEVEL=0 cargo install --quiet wasm-bindgen-cli \
       --version "$WBG_VERSION" --no-default-features --locked \
-    || CARGO_PROFILE_RELEASE_OPT_LEVEL=1 cargo install --quiet wasm-bindgen-cli \
+    || CARGO_PROFILE_RELEASE_OPT_LEVEL=0 cargo install --quiet wasm-bindgen-cli \
       --version "$WBG_VERSION" --no-default-features
   hash -r
 fi
