@@ -2,6 +2,7 @@
 //! then raystep's layout — nodes in depth-first order, the leaf-ordered objects and shapes, the
 //! four-lane triangle packs, the outline the diagrams draw — and the tree's SAH cost.
 
+use super::collapse::collapse;
 use super::parallel::{PARALLEL_FROM, map_in_order};
 use super::reshape::{cap_depth, split_mixed_leaves};
 use super::tri4::{self, NO_PACK};
@@ -12,7 +13,7 @@ use crate::record::validate::MAX_BVH_DEPTH;
 use crate::scene::{BvhQuality, Scene, Shape};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::bvh2::{Bvh2, leaf_collapser::collapse, reinsertion::ReinsertionOptimizer};
+use obvhs::bvh2::{Bvh2, reinsertion::ReinsertionOptimizer};
 use obvhs::ploc::PlocBuilder;
 use obvhs::{Boundable, BvhBuildParams};
 use rayon::prelude::*;
@@ -21,8 +22,9 @@ use rayon::prelude::*;
 const OUTLINE_DEPTH: u32 = 6;
 
 /// obvhs's `builder::build_bvh2` step for step (PLOC, reinsertion, leaf collapse, reinsertion),
-/// with raystep's clock: obvhs times its build with `std::time::Instant`, which panics in a
-/// browser (see `platform`). `core` gains the time the steps took.
+/// with raystep's clock (obvhs times its build with `std::time::Instant`, which panics in a
+/// browser: see `platform`) and raystep's own leaf collapse (the same tree, sooner: see
+/// `collapse`). `core` gains the time the steps took.
 pub(super) fn build_bvh2<T: Boundable>(
     primitives: &[T],
     config: BvhBuildParams,

@@ -74,6 +74,7 @@ impl Todo {
 }
 
 mod build;
+mod collapse;
 mod leaf;
 mod parallel;
 mod ray_box;
