@@ -200,7 +200,7 @@ pub fn throughput(scene: &Scene, reps: usize, export: Option<&Path>) -> Result<(
     let (sv, st) = per_ray(&s, &bvh, &shadow, true);
     heading(&scene.name, &s, primary.len(), shadow.len(), "");
     crate::io::outln!(
-        "- build {:.0} ms (obvhs's PLOC {:.0} ms, then raystep's layout), SAH cost {:.1}",
+        "- build {:.0} ms (the tree {:.0} ms: PLOC, reinsertion, leaf collapse; then raystep's layout), SAH cost {:.1}",
         build.as_secs_f64() * 1e3,
         bvh.core_time.as_secs_f64() * 1e3,
         bvh.sah_cost()
@@ -324,7 +324,7 @@ pub fn build_qualities(scene: &Scene, reps: usize) {
     heading(&scene.name, &s, primary.len(), shadow.len(), ", 1 thread");
     crate::io::outln!();
     crate::io::outln!(
-        "| quality | build ms | obvhs's part ms | nodes | depth | SAH cost | primary visits/ray | primary Mrays/s | shadow visits/ray | shadow Mrays/s |"
+        "| quality | build ms | tree ms (PLOC, reinsertion, collapse) | nodes | depth | SAH cost | primary visits/ray | primary Mrays/s | shadow visits/ray | shadow Mrays/s |"
     );
     crate::io::outln!("|---|---|---|---|---|---|---|---|---|---|");
     for ((q, bvh), b) in qualities.iter().zip(&trees).zip(&mut builds) {

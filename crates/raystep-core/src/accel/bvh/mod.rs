@@ -129,9 +129,10 @@ pub struct Bvh {
     pub planes: Vec<u32>,
     /// The tree's depth.
     pub max_depth: usize,
-    /// Wall time of the whole build (boxes, obvhs's build, raystep's layout).
+    /// Wall time of the whole build (boxes, the tree's build, raystep's layout).
     pub build_time: Duration,
-    /// Wall time of obvhs's core build alone.
+    /// Wall time of the tree's build alone: obvhs's PLOC and reinsertion, raystep's leaf
+    /// collapse (see `build::build_bvh2`).
     pub core_time: Duration,
     /// The top levels of the tree for diagrams (see [`Accelerator::outline`]).
     pub outline: Vec<OutlineNode>,
