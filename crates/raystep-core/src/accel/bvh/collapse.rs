@@ -17,8 +17,9 @@
 use obvhs::bvh2::{Bvh2, leaf_collapser, node::Bvh2Node};
 
 /// What obvhs's `leaf_collapser::collapse(bvh, max_prims, traversal_cost)` does to `bvh`,
-/// the same result. The cases this module does not handle itself (the whole tree collapsing
-/// into its root, a tree that keeps a primitive-to-node map) go to obvhs's own.
+/// the same result. The cases this module does not handle itself, none of which obvhs's builds
+/// make (the whole tree collapsing into its root, nodes the root does not reach, a tree that
+/// keeps a primitive-to-node map), go to obvhs's own.
 pub(super) fn collapse(bvh: &mut Bvh2, max_prims: u32, traversal_cost: f32) {
     let n = bvh.nodes.len();
     // obvhs's own early returns, in its order.
@@ -60,7 +61,8 @@ impl Plan {
     /// become) leaves becomes one leaf of both when that leaf holds at most `max_prims`
     /// primitives and its cost, area × (primitives − `traversal_cost`), is at most the children's,
     /// Σ area × primitives — or when both children are the one primitive (a split's halves).
-    /// None when the root itself would become a leaf, or when the tree's links are not a tree.
+    /// None when the root itself would become a leaf, or when the links from the root do not
+    /// reach every node exactly once.
     fn decide(bvh: &Bvh2, max_prims: u32, traversal_cost: f32) -> Option<Plan> {
         let nodes = &bvh.nodes;
         let n = nodes.len();
@@ -118,7 +120,9 @@ impl Plan {
                 }
             }
         }
-        (plan.prims[0] == 0).then_some(plan)
+        // A node the walk did not reach (obvhs's builds leave none) would be decided by obvhs
+        // as its own leaf; leave such an array to obvhs.
+        (visits == n && plan.prims[0] == 0).then_some(plan)
     }
 
     /// Writes the collapsed tree into `bvh`: the kept nodes in their index order, each new
