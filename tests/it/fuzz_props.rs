@@ -243,6 +243,38 @@ fn the_seeds_are_accepted_unmutated() {
     }
 }
 
+/// Every shipped sheet's key, for twelve students, typed back as it prints is right at a
+/// tolerance of 0: each number the tracer computed in f32 reads back as that f32 (the `sheet`
+/// fuzzer once found a sheet with `tolerance = { abs = 0, rel = 0 }` marking its key's own
+/// `0.51621705` wrong).
+#[test]
+fn every_key_is_right_at_a_zero_tolerance() {
+    use raystep::lesson;
+    let exact = raystep::record::Tolerance::within_either(0.0, 0.0);
+    let mut marked = 0;
+    for p in files("lessons/exercises", "toml") {
+        let sheet = lesson::load_exercise_sheet(&p).expect("a shipped sheet loads");
+        for q in &sheet.questions {
+            for k in 0..12 {
+                let v = sheet.variant(q, &format!("student-{k}"));
+                let Ok(expected) = sheet.expected(q, &v) else {
+                    continue;
+                };
+                let key = expected.to_string();
+                let m = lesson::mark(&expected, q.quantity.kind(), Some(&key), exact);
+                assert!(
+                    m.right,
+                    "{}: {} for student-{k}: {key}: {m:?}",
+                    p.display(),
+                    q.id
+                );
+                marked += 1;
+            }
+        }
+    }
+    assert!(marked > 500, "{marked}");
+}
+
 #[test]
 fn the_gltf_seeds_are_accepted_unmutated() {
     for s in gltf_seeds() {

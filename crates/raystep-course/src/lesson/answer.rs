@@ -328,6 +328,21 @@ fn by_distance(d: f64, scale: f64, difference: Vec<f64>, tol: Tolerance) -> Mark
     }
 }
 
+/// A number the student typed, taken as the tracer's f32 when it rounds to that very f32. The
+/// key prints an f32 result in its shortest digits (`0.51621705`), and those digits read as an
+/// f64 are not the f32's value (0.516217052936553955078125): a sheet whose tolerance is 0, or
+/// finer than an f32's precision, marked the key's own answer wrong (found by the `sheet`
+/// fuzzer). An expected value that is no f32 (an f64 result, printed in its own shortest
+/// digits) or is not finite is compared as typed.
+fn as_tracer_f32(given: f64, expected: f64) -> f64 {
+    let tracer_f32 = expected.is_finite() && f64::from(expected as f32) == expected;
+    if tracer_f32 && f64::from(given as f32) == expected {
+        expected
+    } else {
+        given
+    }
+}
+
 /// A tolerance in words: "± 0.001 or 0.1%", or only the part that is set.
 pub fn describe_tolerance(tol: Tolerance) -> String {
     match (tol.abs > 0.0, tol.rel > 0.0) {
@@ -369,12 +384,15 @@ pub fn mark(expected: &Answer, kind: AnswerKind, given: Option<&str>, tol: Toler
         // would give the answer ("none") away.
         Answer::None => Mark::wrong("not what the tracer found for your pixel"),
         Answer::Number(e) => match number(given) {
-            Some(g) => by_distance((g - e).abs(), e.abs(), vec![g - e], tol),
+            Some(g) => {
+                let g = as_tracer_f32(g, *e);
+                by_distance((g - e).abs(), e.abs(), vec![g - e], tol)
+            }
             None => unreadable(),
         },
         Answer::Vector(e) => match vector(given) {
             Some(g) => {
-                let diff: Vec<f64> = (0..3).map(|i| g[i] - e[i]).collect();
+                let diff: Vec<f64> = (0..3).map(|i| as_tracer_f32(g[i], e[i]) - e[i]).collect();
                 let d = diff.iter().map(|c| c * c).sum::<f64>().sqrt();
                 let n = e.iter().map(|c| c * c).sum::<f64>().sqrt();
                 by_distance(d, n, diff, tol)
@@ -440,6 +458,35 @@ pub fn parse_answers(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The f32 nearest 0.51621705 is 0.516217052936553955078125 (bits 0x3F0426CD; Python's
+    /// `struct` and `decimal` modules, outside this code); its shortest digits, typed back, are
+    /// that f32 at any tolerance, 0 included, though as an f64 they are another number.
+    #[test]
+    fn the_digits_the_key_prints_are_right_at_a_zero_tolerance() {
+        let e = 0.516217052936553955078125_f64;
+        assert_eq!(f64::from(0.51621705_f32), e);
+        let exact = Tolerance::within_either(0.0, 0.0);
+        let number = |given: &str| mark(&Answer::Number(e), AnswerKind::Number, Some(given), exact);
+        assert_eq!(Answer::Number(e).to_string(), "0.51621705");
+        assert!(number("0.51621705").right);
+        assert!(number("0.516217052936553955078125").right);
+        // The neighbouring f32s, and digits between two f32s that round to the other, are not.
+        assert!(!number("0.5162171").right);
+        assert!(!number("0.51621699").right);
+        let m = number("0.516217");
+        assert!(!m.right && m.abs_error.is_some_and(|d| d > 5e-8));
+        let v = [e, -2.5, 1.0e-3_f32 as f64];
+        let vector = |given: &str| mark(&Answer::Vector(v), AnswerKind::Vector, Some(given), exact);
+        assert_eq!(Answer::Vector(v).to_string(), "0.51621705, -2.5, 0.001");
+        assert!(vector("0.51621705, -2.5, 0.001").right);
+        assert!(!vector("0.51621705, -2.5, 0.0011").right);
+        // An f64 result is printed in its own shortest digits and compared as typed.
+        let f = 0.1_f64 + 0.2;
+        let key = Answer::Number(f).to_string();
+        assert!(mark(&Answer::Number(f), AnswerKind::Number, Some(&key), exact).right);
+        assert!(!mark(&Answer::Number(f), AnswerKind::Number, Some("0.3"), exact).right);
+    }
 
     #[test]
     fn numbers_vectors_names_and_none() {
