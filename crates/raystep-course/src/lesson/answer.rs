@@ -464,7 +464,7 @@ mod tests {
     /// that f32 at any tolerance, 0 included, though as an f64 they are another number.
     #[test]
     fn the_digits_the_key_prints_are_right_at_a_zero_tolerance() {
-        let e = 0.516217052936553955078125_f64;
+        let e = 0.516_217_052_936_554_f64;
         assert_eq!(f64::from(0.51621705_f32), e);
         let exact = Tolerance::within_either(0.0, 0.0);
         let number = |given: &str| mark(&Answer::Number(e), AnswerKind::Number, Some(given), exact);
