@@ -177,6 +177,37 @@ pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> f32 {
     }
 }
 
+/// [`eval`] and [`pdf`] together, bit for bit: `(eval(b, wo, wi, n), pdf(b, wo, wi, n))`. The
+/// path tracer needs both at every light sample and every glossy BSDF sample; a glossy BSDF's
+/// half vector and GGX density D(h) (a square root and two divisions) are then computed once.
+pub fn eval_pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> (Vec3, f32) {
+    let (cos_o, cos_i) = (wo.dot(n), wi.dot(n));
+    if cos_o <= 0.0 || cos_i <= 0.0 {
+        return (Vec3::ZERO, 0.0);
+    }
+    match *b {
+        Bsdf::Diffuse { albedo } => (albedo / PI, cos_i / PI),
+        Bsdf::Glossy { tint, alpha } => {
+            let h = (wo + wi).normalize_or_zero();
+            if h == Vec3::ZERO {
+                return (Vec3::ZERO, 0.0);
+            }
+            let cos_h = h.dot(n);
+            let d = ggx_d(alpha, cos_h, sin2_between(h, n));
+            let g = smith_g1(alpha, cos_o) * smith_g1(alpha, cos_i);
+            let f = tint * (d * g / (4.0 * cos_o * cos_i));
+            let wo_h = wo.dot(h);
+            let p = if wo_h <= 0.0 {
+                0.0
+            } else {
+                d * cos_h / (4.0 * wo_h)
+            };
+            (f, p)
+        }
+        Bsdf::Mirror { .. } | Bsdf::Glass { .. } => (Vec3::ZERO, 0.0),
+    }
+}
+
 /// Samples a direction: `u_lobe` picks glass's lobe (reflection with the Fresnel reflectance's
 /// probability), `u` makes the direction. `inside`: the ray arrived from inside the object (glass
 /// then leaves into air). None when the sample leaves below the surface (a glossy normal that
@@ -219,8 +250,7 @@ pub fn sample(
             if cos <= 0.0 {
                 return None;
             }
-            let p = pdf(b, wo, wi, n);
-            let f = eval(b, wo, wi, n);
+            let (f, p) = eval_pdf(b, wo, wi, n);
             if p <= 0.0 || !p.is_finite() {
                 return None;
             }
@@ -277,5 +307,57 @@ mod tests {
         // sin θₜ = sin θᵢ / 1.5 = 0.4, on the far side, away from wo's tangent direction.
         assert!((s.wi.x + 0.4).abs() < 1e-6 && s.wi.z < 0.0, "{:?}", s.wi);
         assert!((s.weight.x - 1.0 / 2.25).abs() < 1e-6);
+    }
+
+    #[test]
+    fn eval_pdf_is_eval_and_pdf_bit_for_bit() {
+        // Directions on both sides of the surface, grazing ones, the mirror pair (wo + wi = 0
+        // never, but h = n exactly) and a half vector below the surface, for every BSDF.
+        let bsdfs = [
+            Bsdf::Diffuse {
+                albedo: Vec3::new(0.7, 0.5, 0.3),
+            },
+            Bsdf::Glossy {
+                tint: Vec3::new(0.9, 0.8, 0.35),
+                alpha: 0.0025,
+            },
+            Bsdf::Glossy {
+                tint: Vec3::splat(0.35),
+                alpha: 0.25,
+            },
+            Bsdf::Mirror { tint: Vec3::ONE },
+            Bsdf::Glass { ior: 1.5 },
+        ];
+        let n = Vec3::new(0.0, 0.6, 0.8);
+        let mut state = 12345u32;
+        let mut next = || {
+            state = crate::portable::random::pcg_hash(state);
+            crate::portable::random::unit_float(state) * 2.0 - 1.0
+        };
+        let mut dirs = vec![n, Vec3::new(0.0, 0.8, -0.6), Vec3::new(0.0, -0.6, -0.8)];
+        dirs.push(mirror(Vec3::new(0.0, 0.8, -0.6), n));
+        for _ in 0..400 {
+            let v = Vec3::new(next(), next(), next());
+            if v.length_squared() > 1e-6 {
+                dirs.push(v.normalize());
+            }
+        }
+        let mut both = 0;
+        for b in &bsdfs {
+            for &wo in &dirs {
+                for &wi in &dirs {
+                    let (f, p) = eval_pdf(b, wo, wi, n);
+                    let (ef, ep) = (eval(b, wo, wi, n), pdf(b, wo, wi, n));
+                    assert_eq!(
+                        (f.to_array().map(f32::to_bits), p.to_bits()),
+                        (ef.to_array().map(f32::to_bits), ep.to_bits()),
+                        "{b:?} {wo} {wi}"
+                    );
+                    both += usize::from(p > 0.0 && f.max_element() > 0.0);
+                }
+            }
+        }
+        // The comparison covered pairs where both are non-zero, not only the early returns.
+        assert!(both > 10_000, "{both}");
     }
 }

@@ -378,9 +378,8 @@ impl<A: Accelerator> Tracer<'_, A> {
         };
         let light = &self.lights.lights[index as usize];
         let delta = matches!(light.shape, LightShape::Point { .. });
-        let f = bsdf::eval(b, it.eye, lp.wi, it.shading_normal);
+        let (f, bsdf_pdf) = bsdf::eval_pdf(b, it.eye, lp.wi, it.shading_normal);
         let cos = lp.wi.dot(it.shading_normal).max(0.0);
-        let bsdf_pdf = bsdf::pdf(b, it.eye, lp.wi, it.shading_normal);
         let pdf = select_pdf * lp.pdf;
         let useful = lp.radiance.max_element() > 0.0 && f.max_element() > 0.0 && cos > 0.0;
         let mut blocker = None;
