@@ -180,6 +180,7 @@ pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> f32 {
 /// [`eval`] and [`pdf`] together, bit for bit: `(eval(b, wo, wi, n), pdf(b, wo, wi, n))`. The
 /// path tracer needs both at every light sample and every glossy BSDF sample; a glossy BSDF's
 /// half vector and GGX density D(h) (a square root and two divisions) are then computed once.
+#[inline]
 pub fn eval_pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> (Vec3, f32) {
     let (cos_o, cos_i) = (wo.dot(n), wi.dot(n));
     if cos_o <= 0.0 || cos_i <= 0.0 {
@@ -212,6 +213,7 @@ pub fn eval_pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> (Vec3, f32) {
 /// probability), `u` makes the direction. `inside`: the ray arrived from inside the object (glass
 /// then leaves into air). None when the sample leaves below the surface (a glossy normal that
 /// reflects under the horizon): the path ends there.
+#[inline]
 pub fn sample(
     b: &Bsdf,
     wo: Vec3,

@@ -111,6 +111,7 @@ pub fn cone_one_minus_cos(distance: f32, radius: f32) -> (f32, f32) {
 /// sin²θ = x(2 − x) with x = u₀(1 − cos θ_max) (again without 1 − cos²θ's cancellation). None
 /// when the point is on or inside the sphere (sample its area instead). `distance`: from the
 /// point to the centre.
+#[inline]
 pub fn sphere_cone(distance: f32, radius: f32, u: [f32; 2]) -> Option<Sampled<Vec3>> {
     // Written so that NaN inputs give None too.
     let outside = distance > radius && radius > 0.0;

@@ -117,6 +117,7 @@ impl Sampler {
         }
     }
 
+    #[inline]
     pub(super) fn draw(&self, dimension: u32) -> Draw {
         Draw {
             dimension,
@@ -127,6 +128,7 @@ impl Sampler {
     /// A pair of numbers for a 2D sample (a point on a light or the lens, a BSDF direction):
     /// two independent uniforms, or under `sampler = "stratified"` the pair placed in its own
     /// cell of a grid over the pixel's samples ([`stratified_pair`]).
+    #[inline]
     pub(super) fn draw_pair(&self, dimension: u32) -> (Draw, Draw) {
         let (a, b) = (self.draw(dimension), self.draw(dimension + 1));
         if !self.stratified {
@@ -430,6 +432,7 @@ impl<A: Accelerator> Tracer<'_, A> {
 
     /// Records a BSDF sample and returns the next ray's kind and ray.
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     pub(super) fn bsdf_step<O: Observer>(
         &self,
         it: &Interaction,
