@@ -213,7 +213,7 @@ pub fn eval_pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> (Vec3, f32) {
 /// probability), `u` makes the direction. `inside`: the ray arrived from inside the object (glass
 /// then leaves into air). None when the sample leaves below the surface (a glossy normal that
 /// reflects under the horizon): the path ends there.
-#[inline]
+#[inline(always)]
 pub fn sample(
     b: &Bsdf,
     wo: Vec3,

@@ -200,7 +200,7 @@ impl Lights {
     }
 
     /// Samples a point on light `index` as seen from `p` with the uniform numbers `u`.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, index: u32, p: Vec3, u: [f32; 2]) -> Option<LightPoint> {
         let l = self.lights.get(index as usize)?;
         match l.shape {
