@@ -135,6 +135,37 @@ pub fn is_delta(b: &Bsdf) -> bool {
     matches!(b, Bsdf::Mirror { .. } | Bsdf::Glass { .. })
 }
 
+/// A glossy BSDF's half vector h of `wo` and `wi`, cos θ_h about `n` and GGX's D(h); None where
+/// h is undefined (wi = −wo). [`eval`], [`pdf`] and [`eval_pdf`] share it (and the two helpers
+/// below), so the three compute the same bits.
+#[inline(always)]
+fn glossy_half(alpha: f32, wo: Vec3, wi: Vec3, n: Vec3) -> Option<(Vec3, f32, f32)> {
+    let h = (wo + wi).normalize_or_zero();
+    if h == Vec3::ZERO {
+        return None;
+    }
+    let cos_h = h.dot(n);
+    Some((h, cos_h, ggx_d(alpha, cos_h, sin2_between(h, n))))
+}
+
+/// The glossy BSDF's value: tint · D G / (4 cos θ_o cos θ_i), G Smith's two masking terms.
+#[inline(always)]
+fn glossy_value(tint: Vec3, alpha: f32, d: f32, cos_o: f32, cos_i: f32) -> Vec3 {
+    let g = smith_g1(alpha, cos_o) * smith_g1(alpha, cos_i);
+    tint * (d * g / (4.0 * cos_o * cos_i))
+}
+
+/// The glossy BSDF's density of `wi`: D(h) cos θ_h / (4 wo·h), 0 when h faces away from `wo`.
+#[inline(always)]
+fn glossy_density(wo: Vec3, h: Vec3, cos_h: f32, d: f32) -> f32 {
+    let wo_h = wo.dot(h);
+    if wo_h <= 0.0 {
+        0.0
+    } else {
+        d * cos_h / (4.0 * wo_h)
+    }
+}
+
 /// f(wo, wi): 0 for a delta BSDF (its value is not a function) and below the surface.
 pub fn eval(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> Vec3 {
     let (cos_o, cos_i) = (wo.dot(n), wi.dot(n));
@@ -143,15 +174,10 @@ pub fn eval(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> Vec3 {
     }
     match *b {
         Bsdf::Diffuse { albedo } => albedo / PI,
-        Bsdf::Glossy { tint, alpha } => {
-            let h = (wo + wi).normalize_or_zero();
-            if h == Vec3::ZERO {
-                return Vec3::ZERO;
-            }
-            let d = ggx_d(alpha, h.dot(n), sin2_between(h, n));
-            let g = smith_g1(alpha, cos_o) * smith_g1(alpha, cos_i);
-            tint * (d * g / (4.0 * cos_o * cos_i))
-        }
+        Bsdf::Glossy { tint, alpha } => glossy_half(alpha, wo, wi, n)
+            .map_or(Vec3::ZERO, |(_, _, d)| {
+                glossy_value(tint, alpha, d, cos_o, cos_i)
+            }),
         Bsdf::Mirror { .. } | Bsdf::Glass { .. } => Vec3::ZERO,
     }
 }
@@ -164,15 +190,8 @@ pub fn pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> f32 {
     }
     match *b {
         Bsdf::Diffuse { .. } => cos_i / PI,
-        Bsdf::Glossy { alpha, .. } => {
-            let h = (wo + wi).normalize_or_zero();
-            let wo_h = wo.dot(h);
-            if h == Vec3::ZERO || wo_h <= 0.0 {
-                return 0.0;
-            }
-            let cos_h = h.dot(n);
-            ggx_d(alpha, cos_h, sin2_between(h, n)) * cos_h / (4.0 * wo_h)
-        }
+        Bsdf::Glossy { alpha, .. } => glossy_half(alpha, wo, wi, n)
+            .map_or(0.0, |(h, cos_h, d)| glossy_density(wo, h, cos_h, d)),
         Bsdf::Mirror { .. } | Bsdf::Glass { .. } => 0.0,
     }
 }
@@ -189,21 +208,12 @@ pub fn eval_pdf(b: &Bsdf, wo: Vec3, wi: Vec3, n: Vec3) -> (Vec3, f32) {
     match *b {
         Bsdf::Diffuse { albedo } => (albedo / PI, cos_i / PI),
         Bsdf::Glossy { tint, alpha } => {
-            let h = (wo + wi).normalize_or_zero();
-            if h == Vec3::ZERO {
-                return (Vec3::ZERO, 0.0);
-            }
-            let cos_h = h.dot(n);
-            let d = ggx_d(alpha, cos_h, sin2_between(h, n));
-            let g = smith_g1(alpha, cos_o) * smith_g1(alpha, cos_i);
-            let f = tint * (d * g / (4.0 * cos_o * cos_i));
-            let wo_h = wo.dot(h);
-            let p = if wo_h <= 0.0 {
-                0.0
-            } else {
-                d * cos_h / (4.0 * wo_h)
-            };
-            (f, p)
+            glossy_half(alpha, wo, wi, n).map_or((Vec3::ZERO, 0.0), |(h, cos_h, d)| {
+                (
+                    glossy_value(tint, alpha, d, cos_o, cos_i),
+                    glossy_density(wo, h, cos_h, d),
+                )
+            })
         }
         Bsdf::Mirror { .. } | Bsdf::Glass { .. } => (Vec3::ZERO, 0.0),
     }
